@@ -1,0 +1,51 @@
+//! Compiles the GLSL in `../shaders` to SPIR-V with `glslc`.
+//!
+//! Each entry is (source, output name, extra defines); the SPIR-V lands in `OUT_DIR` and is
+//! embedded by `src/shaders.rs`.
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const SHADERS: &[(&str, &str, &[&str])] = &[
+    ("scene.vert", "scene.vert.spv", &[]),
+    ("scene.frag", "scene.frag.spv", &[]),
+    (
+        "scene.frag",
+        "scene_counting.frag.spv",
+        &["COUNT_FRAGMENTS"],
+    ),
+];
+
+fn main() {
+    let src_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders");
+    let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
+    println!("cargo:rerun-if-changed={}", src_dir.display());
+    println!("cargo:rerun-if-env-changed=GLSLC");
+    let glslc = std::env::var("GLSLC").unwrap_or_else(|_| "glslc".to_string());
+
+    for (source, output, defines) in SHADERS {
+        let src = src_dir.join(source);
+        println!("cargo:rerun-if-changed={}", src.display());
+        let mut cmd = Command::new(&glslc);
+        cmd.arg("--target-env=vulkan1.1").arg("-O").arg("-Werror");
+        for d in *defines {
+            cmd.arg(format!("-D{d}"));
+        }
+        cmd.arg(&src).arg("-o").arg(out_dir.join(output));
+        let status = match cmd.status() {
+            Ok(s) => s,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                eprintln!(
+                    "error: `{glslc}` was not found, and foveate compiles its shaders with it.\n\
+                     Install it: `sudo apt-get install glslc` (Debian/Ubuntu), or use the \
+                     Vulkan SDK / Android NDK copy and point GLSLC at it."
+                );
+                std::process::exit(1);
+            }
+            Err(e) => panic!("could not run {glslc}: {e}"),
+        };
+        if !status.success() {
+            eprintln!("error: glslc failed on {}", src.display());
+            std::process::exit(1);
+        }
+    }
+}

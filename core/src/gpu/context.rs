@@ -1,0 +1,498 @@
+use std::ffi::{c_void, CStr, CString};
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex};
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+
+use super::{GpuError, VkResultExt};
+use crate::plan::{DeviceCaps, DriverQuirks};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// How to open the GPU.
+#[derive(Clone, Debug, Default)]
+pub struct GpuOptions {
+    /// Enable `VK_LAYER_KHRONOS_validation` and collect its messages.
+    pub validation: bool,
+    /// Pick a device by index or by (case-insensitive) part of its name instead of the best.
+    pub device: Option<String>,
+}
+
+impl GpuOptions {
+    /// Options from the environment: `FOVEATE_VALIDATION=1` and `FOVEATE_DEVICE=<index|name>`.
+    pub fn from_env() -> Self {
+        Self {
+            validation: std::env::var("FOVEATE_VALIDATION")
+                .is_ok_and(|v| v != "0" && !v.is_empty()),
+            device: std::env::var("FOVEATE_DEVICE")
+                .ok()
+                .filter(|d| !d.is_empty()),
+        }
+    }
+}
+
+/// Validation messages the debug messenger collected, for the owner to inspect.
+#[derive(Default)]
+struct ValidationLog {
+    messages: Mutex<Vec<String>>,
+}
+
+unsafe extern "system" fn debug_callback(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    kind: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    let relevant = severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
+        || (severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING)
+            && kind.contains(vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION));
+    if relevant && !data.is_null() && !user.is_null() {
+        // SAFETY: the loader passes valid callback data; `user` is the boxed log owned by the
+        // instance, which outlives the messenger.
+        let (data, log) = unsafe { (&*data, &*(user as *const ValidationLog)) };
+        let text = unsafe { data.message_as_c_str() }
+            .map(|m| m.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        if let Ok(mut messages) = log.messages.lock() {
+            messages.push(format!("[{severity:?}] {text}"));
+        }
+    }
+    vk::FALSE
+}
+
+struct Messenger {
+    loader: ash::ext::debug_utils::Instance,
+    raw: vk::DebugUtilsMessengerEXT,
+    log: Box<ValidationLog>,
+}
+
+/// Owns the instance and the debug messenger.
+pub(crate) struct InstanceOwner {
+    _entry: ash::Entry,
+    pub(crate) instance: ash::Instance,
+    messenger: Option<Messenger>,
+}
+
+impl Drop for InstanceOwner {
+    fn drop(&mut self) {
+        // SAFETY: every device and object of this instance has been destroyed: devices hold an
+        // Arc to this owner.
+        unsafe {
+            if let Some(m) = self.messenger.take() {
+                m.loader.destroy_debug_utils_messenger(m.raw, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+impl InstanceOwner {
+    fn new(options: &GpuOptions) -> Result<Arc<Self>, GpuError> {
+        // SAFETY: loading the system Vulkan loader library.
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::Loader(e.to_string()))?;
+        let mut layers = Vec::new();
+        let mut extensions = Vec::new();
+        if options.validation {
+            let available = unsafe { entry.enumerate_instance_layer_properties() }
+                .vk("vkEnumerateInstanceLayerProperties")?;
+            if !available
+                .iter()
+                .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER))
+            {
+                return Err(GpuError::NoValidationLayer);
+            }
+            layers.push(VALIDATION_LAYER.as_ptr());
+            extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+        }
+        let app_name = CString::new("foveate").expect("no NUL in literal");
+        let app = vk::ApplicationInfo::default()
+            .application_name(&app_name)
+            .engine_name(&app_name)
+            .api_version(vk::API_VERSION_1_1);
+        let info = vk::InstanceCreateInfo::default()
+            .application_info(&app)
+            .enabled_layer_names(&layers)
+            .enabled_extension_names(&extensions);
+        // SAFETY: the create info only points at locals that outlive the call.
+        let instance = unsafe { entry.create_instance(&info, None) }.vk("vkCreateInstance")?;
+        let mut owner = InstanceOwner {
+            _entry: entry,
+            instance,
+            messenger: None,
+        };
+        if options.validation {
+            let log = Box::<ValidationLog>::default();
+            let loader = ash::ext::debug_utils::Instance::new(&owner._entry, &owner.instance);
+            let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+                .message_severity(
+                    vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                        | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+                )
+                .message_type(
+                    vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                        | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                        | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+                )
+                .pfn_user_callback(Some(debug_callback))
+                .user_data(&*log as *const ValidationLog as *mut c_void);
+            // SAFETY: `log` is boxed and lives in the owner as long as the messenger.
+            let raw = unsafe { loader.create_debug_utils_messenger(&info, None) }
+                .vk("vkCreateDebugUtilsMessengerEXT")?;
+            owner.messenger = Some(Messenger { loader, raw, log });
+        }
+        Ok(Arc::new(owner))
+    }
+}
+
+/// Owns the logical device and the allocator; every resource holds an `Arc` to it, so the
+/// device is destroyed only after the last resource.
+pub(crate) struct DeviceOwner {
+    pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
+    pub(crate) device: ash::Device,
+    instance: Arc<InstanceOwner>,
+}
+
+impl Drop for DeviceOwner {
+    fn drop(&mut self) {
+        // SAFETY: no resource of this device remains (they hold Arcs to it); the allocator
+        // frees its memory blocks before the device goes.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+        }
+    }
+}
+
+/// What `foveate devices` prints about a physical device.
+#[derive(Clone, Debug)]
+pub struct DeviceInfo {
+    pub index: usize,
+    pub name: String,
+    pub device_type: String,
+    pub api_version: String,
+    pub driver: String,
+    pub max_multiview_views: u32,
+    pub sample_counts: Vec<u32>,
+    pub fragment_density_map: bool,
+    pub fragment_shading_rate: bool,
+    pub lazily_allocated_memory: bool,
+    /// Why foveate cannot use it, if it cannot.
+    pub unusable: Option<String>,
+}
+
+struct Candidate {
+    physical: vk::PhysicalDevice,
+    info: DeviceInfo,
+    queue_family: Option<u32>,
+    score: u32,
+}
+
+/// The opened GPU: device, graphics queue, capabilities.
+pub struct Gpu {
+    pub(crate) dev: Arc<DeviceOwner>,
+    pub(crate) physical: vk::PhysicalDevice,
+    pub(crate) queue: vk::Queue,
+    pub(crate) queue_family: u32,
+    /// Nanoseconds per timestamp tick.
+    pub(crate) timestamp_period_ns: f64,
+    caps: DeviceCaps,
+    info: DeviceInfo,
+}
+
+impl Gpu {
+    /// Opens the best device (discrete > integrated > virtual > CPU, so lavapipe where nothing
+    /// else exists), or the one `options.device` names.
+    pub fn new(options: &GpuOptions) -> Result<Self, GpuError> {
+        let instance = InstanceOwner::new(options)?;
+        let candidates = candidates(&instance.instance)?;
+        let chosen = choose(&candidates, options.device.as_deref())?;
+        let queue_family = chosen.queue_family.ok_or(GpuError::NoDevice)?;
+        let physical = chosen.physical;
+        let vk_instance = &instance.instance;
+
+        // SAFETY: queries on a valid physical device.
+        let (supported, props) = unsafe {
+            (
+                vk_instance.get_physical_device_features(physical),
+                vk_instance.get_physical_device_properties(physical),
+            )
+        };
+        let features = vk::PhysicalDeviceFeatures::default()
+            .fragment_stores_and_atomics(supported.fragment_stores_and_atomics == vk::TRUE)
+            .shader_clip_distance(supported.shader_clip_distance == vk::TRUE);
+        let mut multiview = vk::PhysicalDeviceMultiviewFeatures::default().multiview(true);
+        let priorities = [1.0];
+        let queues = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&priorities)];
+        let info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queues)
+            .enabled_features(&features)
+            .push_next(&mut multiview);
+        // SAFETY: the create info points at locals that outlive the call.
+        let device =
+            unsafe { vk_instance.create_device(physical, &info, None) }.vk("vkCreateDevice")?;
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: vk_instance.clone(),
+            device: device.clone(),
+            physical_device: physical,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        });
+        let allocator = match allocator {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: nothing was created on the device yet.
+                unsafe { device.destroy_device(None) };
+                return Err(e.into());
+            }
+        };
+
+        let family_props =
+            unsafe { vk_instance.get_physical_device_queue_family_properties(physical) };
+        let timestamps = props.limits.timestamp_compute_and_graphics == vk::TRUE
+            || family_props[queue_family as usize].timestamp_valid_bits > 0;
+        let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver_props);
+        unsafe { vk_instance.get_physical_device_properties2(physical, &mut props2) };
+        let caps = DeviceCaps {
+            device_name: chosen.info.name.clone(),
+            max_multiview_views: chosen.info.max_multiview_views,
+            framebuffer_sample_counts: (props.limits.framebuffer_color_sample_counts
+                & props.limits.framebuffer_depth_sample_counts)
+                .as_raw(),
+            max_image_dimension_2d: props.limits.max_image_dimension2_d,
+            max_viewport_dimension: props.limits.max_viewport_dimensions[0]
+                .min(props.limits.max_viewport_dimensions[1]),
+            viewport_bounds: (
+                props.limits.viewport_bounds_range[0],
+                props.limits.viewport_bounds_range[1],
+            ),
+            max_framebuffer_layers: props.limits.max_framebuffer_layers,
+            lazily_allocated_memory: chosen.info.lazily_allocated_memory,
+            fragment_stores_and_atomics: supported.fragment_stores_and_atomics == vk::TRUE,
+            shader_clip_distance: supported.shader_clip_distance == vk::TRUE,
+            timestamps,
+            quirks: DriverQuirks::for_driver_id(driver_props.driver_id.as_raw()),
+        };
+        let dev = Arc::new(DeviceOwner {
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            device,
+            instance,
+        });
+        Ok(Gpu {
+            dev,
+            physical,
+            queue,
+            queue_family,
+            timestamp_period_ns: props.limits.timestamp_period as f64,
+            caps,
+            info: chosen.info.clone(),
+        })
+    }
+
+    /// Every physical device with what foveate needs to know of it.
+    pub fn list_devices() -> Result<Vec<DeviceInfo>, GpuError> {
+        let instance = InstanceOwner::new(&GpuOptions::default())?;
+        Ok(candidates(&instance.instance)?
+            .into_iter()
+            .map(|c| c.info)
+            .collect())
+    }
+
+    pub fn caps(&self) -> &DeviceCaps {
+        &self.caps
+    }
+
+    pub fn info(&self) -> &DeviceInfo {
+        &self.info
+    }
+
+    pub fn device(&self) -> &ash::Device {
+        &self.dev.device
+    }
+
+    pub(crate) fn instance(&self) -> &ash::Instance {
+        &self.dev.instance.instance
+    }
+
+    /// Takes the validation messages collected so far (empty without validation).
+    pub fn take_validation_messages(&self) -> Vec<String> {
+        self.dev
+            .instance
+            .messenger
+            .as_ref()
+            .and_then(|m| {
+                m.log
+                    .messages
+                    .lock()
+                    .ok()
+                    .map(|mut v| std::mem::take(&mut *v))
+            })
+            .unwrap_or_default()
+    }
+
+    /// An error listing the validation messages collected so far, if there are any.
+    pub fn check_validation(&self) -> Result<(), GpuError> {
+        let messages = self.take_validation_messages();
+        if messages.is_empty() {
+            Ok(())
+        } else {
+            Err(GpuError::Validation(messages))
+        }
+    }
+
+    pub fn validation_enabled(&self) -> bool {
+        self.dev.instance.messenger.is_some()
+    }
+
+    /// Waits until the device is idle.
+    pub fn wait_idle(&self) -> Result<(), GpuError> {
+        unsafe { self.dev.device.device_wait_idle() }.vk("vkDeviceWaitIdle")
+    }
+}
+
+fn candidates(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError> {
+    // SAFETY: plain queries on a valid instance.
+    let physicals =
+        unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    let mut out = Vec::new();
+    for (index, &physical) in physicals.iter().enumerate() {
+        let props = unsafe { instance.get_physical_device_properties(physical) };
+        let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
+        let memory = unsafe { instance.get_physical_device_memory_properties(physical) };
+        let extensions =
+            unsafe { instance.enumerate_device_extension_properties(physical) }.unwrap_or_default();
+        let has_ext = |name: &CStr| {
+            extensions
+                .iter()
+                .any(|e| e.extension_name_as_c_str() == Ok(name))
+        };
+        let api = props.api_version;
+        let api_ok = vk::api_version_major(api) > 1 || vk::api_version_minor(api) >= 1;
+        let (mut multiview_props, mut multiview_features) = (
+            vk::PhysicalDeviceMultiviewProperties::default(),
+            vk::PhysicalDeviceMultiviewFeatures::default(),
+        );
+        let mut driver = vk::PhysicalDeviceDriverProperties::default();
+        if api_ok {
+            let mut p2 = vk::PhysicalDeviceProperties2::default()
+                .push_next(&mut multiview_props)
+                .push_next(&mut driver);
+            let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut multiview_features);
+            unsafe {
+                instance.get_physical_device_properties2(physical, &mut p2);
+                instance.get_physical_device_features2(physical, &mut f2);
+            }
+        }
+        let queue_family = families
+            .iter()
+            .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
+            .map(|i| i as u32);
+        let multiview = multiview_features.multiview == vk::TRUE;
+        let unusable = if !api_ok {
+            Some("needs Vulkan 1.1".to_string())
+        } else if queue_family.is_none() {
+            Some("no graphics queue".to_string())
+        } else if !multiview {
+            Some("no multiview".to_string())
+        } else {
+            None
+        };
+        let samples = props.limits.framebuffer_color_sample_counts
+            & props.limits.framebuffer_depth_sample_counts;
+        let lazily = memory.memory_types[..memory.memory_type_count as usize]
+            .iter()
+            .any(|t| {
+                t.property_flags
+                    .contains(vk::MemoryPropertyFlags::LAZILY_ALLOCATED)
+            });
+        let name = props
+            .device_name_as_c_str()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let driver_name = driver
+            .driver_name_as_c_str()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let driver_info = driver
+            .driver_info_as_c_str()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let info = DeviceInfo {
+            index,
+            name,
+            device_type: format!("{:?}", props.device_type)
+                .to_lowercase()
+                .replace('_', " "),
+            api_version: format!(
+                "{}.{}.{}",
+                vk::api_version_major(api),
+                vk::api_version_minor(api),
+                vk::api_version_patch(api)
+            ),
+            driver: format!("{driver_name} {driver_info}").trim().to_string(),
+            max_multiview_views: if multiview {
+                multiview_props.max_multiview_view_count
+            } else {
+                0
+            },
+            sample_counts: (0..7)
+                .map(|b| 1u32 << b)
+                .filter(|s| samples.as_raw() & s != 0)
+                .collect(),
+            fragment_density_map: has_ext(ash::ext::fragment_density_map::NAME),
+            fragment_shading_rate: has_ext(ash::khr::fragment_shading_rate::NAME),
+            lazily_allocated_memory: lazily,
+            unusable,
+        };
+        let score = match props.device_type {
+            vk::PhysicalDeviceType::DISCRETE_GPU => 4,
+            vk::PhysicalDeviceType::INTEGRATED_GPU => 3,
+            vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+            _ => 1,
+        };
+        out.push(Candidate {
+            physical,
+            info,
+            queue_family,
+            score,
+        });
+    }
+    Ok(out)
+}
+
+fn choose<'a>(
+    candidates: &'a [Candidate],
+    wanted: Option<&str>,
+) -> Result<&'a Candidate, GpuError> {
+    let usable = || candidates.iter().filter(|c| c.info.unusable.is_none());
+    match wanted {
+        None => usable().max_by_key(|c| c.score).ok_or(GpuError::NoDevice),
+        Some(w) => {
+            let lower = w.to_lowercase();
+            usable()
+                .find(|c| {
+                    w.parse::<usize>().ok() == Some(c.info.index)
+                        || c.info.name.to_lowercase().contains(&lower)
+                })
+                .ok_or_else(|| GpuError::DeviceNotFound {
+                    wanted: w.to_string(),
+                    available: candidates
+                        .iter()
+                        .map(|c| match &c.info.unusable {
+                            None => format!("{}: {}", c.info.index, c.info.name),
+                            Some(why) => {
+                                format!("{}: {} (unusable: {why})", c.info.index, c.info.name)
+                            }
+                        })
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                })
+        }
+    }
+}

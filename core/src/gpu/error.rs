@@ -1,0 +1,38 @@
+use ash::vk;
+
+use crate::plan::ConfigError;
+
+/// Everything that can go wrong talking to Vulkan, with what to do about it where we know.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error("cannot load the Vulkan loader ({0}); install `libvulkan1` and a driver (`mesa-vulkan-drivers` provides lavapipe)")]
+    Loader(String),
+    #[error("{call} failed: {result}")]
+    Vk {
+        call: &'static str,
+        result: vk::Result,
+    },
+    #[error("no usable Vulkan device (Vulkan 1.1 with a graphics queue and multiview); install `mesa-vulkan-drivers` for lavapipe")]
+    NoDevice,
+    #[error("no Vulkan device matches `{wanted}`; available: {available}")]
+    DeviceNotFound { wanted: String, available: String },
+    #[error("validation was requested but VK_LAYER_KHRONOS_validation is not installed (`apt-get install vulkan-validationlayers`)")]
+    NoValidationLayer,
+    #[error("GPU memory: {0}")]
+    Memory(#[from] gpu_allocator::AllocationError),
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    #[error("Vulkan validation reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
+    Validation(Vec<String>),
+}
+
+/// Converts `vk::Result` at the boundary, naming the call that failed.
+pub trait VkResultExt<T> {
+    fn vk(self, call: &'static str) -> Result<T, GpuError>;
+}
+
+impl<T> VkResultExt<T> for Result<T, vk::Result> {
+    fn vk(self, call: &'static str) -> Result<T, GpuError> {
+        self.map_err(|result| GpuError::Vk { call, result })
+    }
+}

@@ -1,0 +1,59 @@
+//! Owned Vulkan handles: each wrapper destroys its handle on drop and keeps the device alive
+//! until then.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::DeviceOwner;
+
+macro_rules! owned_handle {
+    ($(#[$doc:meta])* $name:ident, $raw:ty, $destroy:ident) => {
+        $(#[$doc])*
+        pub struct $name {
+            dev: Arc<DeviceOwner>,
+            pub raw: $raw,
+        }
+
+        impl $name {
+            /// Takes ownership of `raw`, which must have been created on `dev`'s device.
+            pub(crate) fn from_raw(dev: &Arc<DeviceOwner>, raw: $raw) -> Self {
+                Self { dev: dev.clone(), raw }
+            }
+        }
+
+        impl Drop for $name {
+            fn drop(&mut self) {
+                // SAFETY: the handle was created on this device and is owned only here; users
+                // keep it alive until the GPU work using it has completed (fence waited).
+                unsafe { self.dev.device.$destroy(self.raw, None) }
+            }
+        }
+    };
+}
+
+owned_handle!(RenderPass, vk::RenderPass, destroy_render_pass);
+owned_handle!(Framebuffer, vk::Framebuffer, destroy_framebuffer);
+owned_handle!(Pipeline, vk::Pipeline, destroy_pipeline);
+owned_handle!(PipelineLayout, vk::PipelineLayout, destroy_pipeline_layout);
+owned_handle!(
+    DescriptorSetLayout,
+    vk::DescriptorSetLayout,
+    destroy_descriptor_set_layout
+);
+owned_handle!(
+    /// Descriptor sets allocated from the pool die with it.
+    DescriptorPool,
+    vk::DescriptorPool,
+    destroy_descriptor_pool
+);
+owned_handle!(ShaderModule, vk::ShaderModule, destroy_shader_module);
+owned_handle!(
+    /// Command buffers allocated from the pool die with it.
+    CommandPool,
+    vk::CommandPool,
+    destroy_command_pool
+);
+owned_handle!(Fence, vk::Fence, destroy_fence);
+owned_handle!(QueryPool, vk::QueryPool, destroy_query_pool);
+owned_handle!(ImageView, vk::ImageView, destroy_image_view);

@@ -1,0 +1,71 @@
+use ash::vk;
+
+use super::{CommandPool, Fence, Gpu, GpuError, VkResultExt};
+
+impl Gpu {
+    /// Records commands with `record`, submits them and waits for completion. For set-up and
+    /// readback, not for frames.
+    pub fn one_shot(&self, record: impl FnOnce(vk::CommandBuffer)) -> Result<(), GpuError> {
+        let pool = self.command_pool(vk::CommandPoolCreateFlags::TRANSIENT)?;
+        let cmd = self.allocate_command_buffer(&pool)?;
+        let fence = self.fence()?;
+        let device = self.device();
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: fresh command buffer from a pool owned here; waited on before the pool drops.
+        unsafe { device.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
+        record(cmd);
+        unsafe { device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
+        self.submit(cmd, &fence)?;
+        self.wait(&fence)
+    }
+
+    pub fn command_pool(&self, flags: vk::CommandPoolCreateFlags) -> Result<CommandPool, GpuError> {
+        let info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(self.queue_family)
+            .flags(flags);
+        let raw =
+            unsafe { self.device().create_command_pool(&info, None) }.vk("vkCreateCommandPool")?;
+        Ok(CommandPool::from_raw(&self.dev, raw))
+    }
+
+    pub fn allocate_command_buffer(
+        &self,
+        pool: &CommandPool,
+    ) -> Result<vk::CommandBuffer, GpuError> {
+        let info = vk::CommandBufferAllocateInfo::default()
+            .command_pool(pool.raw)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        let buffers = unsafe { self.device().allocate_command_buffers(&info) }
+            .vk("vkAllocateCommandBuffers")?;
+        Ok(buffers[0])
+    }
+
+    pub fn fence(&self) -> Result<Fence, GpuError> {
+        let raw = unsafe {
+            self.device()
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+        }
+        .vk("vkCreateFence")?;
+        Ok(Fence::from_raw(&self.dev, raw))
+    }
+
+    /// Submits one command buffer to the graphics queue, signalling `fence` (unsignalled).
+    pub fn submit(&self, cmd: vk::CommandBuffer, fence: &Fence) -> Result<(), GpuError> {
+        let cmds = [cmd];
+        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        unsafe { self.device().queue_submit(self.queue, &submit, fence.raw) }.vk("vkQueueSubmit")
+    }
+
+    /// Waits for `fence` and resets it for the next submission.
+    pub fn wait(&self, fence: &Fence) -> Result<(), GpuError> {
+        let fences = [fence.raw];
+        unsafe {
+            self.device()
+                .wait_for_fences(&fences, true, u64::MAX)
+                .vk("vkWaitForFences")?;
+            self.device().reset_fences(&fences).vk("vkResetFences")
+        }
+    }
+}

@@ -1,0 +1,294 @@
+use std::fs::File;
+use std::io::{BufReader, BufWriter};
+use std::path::{Path, PathBuf};
+
+/// Why an image could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    #[error("cannot open {path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("cannot decode PNG {path}: {source}")]
+    Decode {
+        path: PathBuf,
+        source: png::DecodingError,
+    },
+    #[error("cannot encode PNG {path}: {source}")]
+    Encode {
+        path: PathBuf,
+        source: png::EncodingError,
+    },
+    #[error("{path} is {found:?}; only 8-bit RGBA PNGs are read")]
+    UnsupportedPng {
+        path: PathBuf,
+        found: (png::ColorType, png::BitDepth),
+    },
+    #[error("images differ in size: {a:?} vs {b:?}")]
+    SizeMismatch { a: (u32, u32), b: (u32, u32) },
+}
+
+/// An 8-bit sRGB RGBA image, rows top to bottom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RgbaImage {
+    pub width: u32,
+    pub height: u32,
+    pub data: Vec<u8>,
+}
+
+impl RgbaImage {
+    pub fn new(width: u32, height: u32) -> Self {
+        Self {
+            width,
+            height,
+            data: vec![0; width as usize * height as usize * 4],
+        }
+    }
+
+    pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
+        let i = (y as usize * self.width as usize + x as usize) * 4;
+        [
+            self.data[i],
+            self.data[i + 1],
+            self.data[i + 2],
+            self.data[i + 3],
+        ]
+    }
+
+    pub fn set_pixel(&mut self, x: u32, y: u32, p: [u8; 4]) {
+        let i = (y as usize * self.width as usize + x as usize) * 4;
+        self.data[i..i + 4].copy_from_slice(&p);
+    }
+
+    /// The `w`×`h` region at (`x`, `y`).
+    pub fn crop(&self, x: u32, y: u32, w: u32, h: u32) -> RgbaImage {
+        let mut out = RgbaImage::new(w, h);
+        for row in 0..h {
+            let src = ((y + row) as usize * self.width as usize + x as usize) * 4;
+            let dst = row as usize * w as usize * 4;
+            out.data[dst..dst + w as usize * 4]
+                .copy_from_slice(&self.data[src..src + w as usize * 4]);
+        }
+        out
+    }
+
+    /// Places `a` and `b` side by side (same height).
+    pub fn side_by_side(a: &RgbaImage, b: &RgbaImage) -> RgbaImage {
+        let mut out = RgbaImage::new(a.width + b.width, a.height.max(b.height));
+        for (img, x0) in [(a, 0), (b, a.width)] {
+            for y in 0..img.height {
+                let src = (y * img.width * 4) as usize;
+                let dst = ((y * out.width + x0) * 4) as usize;
+                out.data[dst..dst + (img.width * 4) as usize]
+                    .copy_from_slice(&img.data[src..src + (img.width * 4) as usize]);
+            }
+        }
+        out
+    }
+
+    pub fn save_png(&self, path: &Path) -> Result<(), ImageError> {
+        let file = File::create(path).map_err(|source| ImageError::Io {
+            path: path.into(),
+            source,
+        })?;
+        let mut encoder = png::Encoder::new(BufWriter::new(file), self.width, self.height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        let encode = |source| ImageError::Encode {
+            path: path.into(),
+            source,
+        };
+        let mut writer = encoder.write_header().map_err(encode)?;
+        writer.write_image_data(&self.data).map_err(encode)?;
+        writer.finish().map_err(encode)
+    }
+
+    pub fn load_png(path: &Path) -> Result<RgbaImage, ImageError> {
+        let file = File::open(path).map_err(|source| ImageError::Io {
+            path: path.into(),
+            source,
+        })?;
+        let decode = |source| ImageError::Decode {
+            path: path.into(),
+            source,
+        };
+        let mut reader = png::Decoder::new(BufReader::new(file))
+            .read_info()
+            .map_err(decode)?;
+        let (color, depth) = reader.output_color_type();
+        if color != png::ColorType::Rgba || depth != png::BitDepth::Eight {
+            return Err(ImageError::UnsupportedPng {
+                path: path.into(),
+                found: (color, depth),
+            });
+        }
+        let mut data = vec![0; reader.output_buffer_size().unwrap_or(0)];
+        let info = reader.next_frame(&mut data).map_err(decode)?;
+        data.truncate(info.buffer_size());
+        Ok(RgbaImage {
+            width: info.width,
+            height: info.height,
+            data,
+        })
+    }
+
+    fn check_size(&self, other: &RgbaImage) -> Result<(), ImageError> {
+        if (self.width, self.height) != (other.width, other.height) {
+            return Err(ImageError::SizeMismatch {
+                a: (self.width, self.height),
+                b: (other.width, other.height),
+            });
+        }
+        Ok(())
+    }
+
+    /// Rec. 709 luma of every pixel in 0..1 (on the stored sRGB values, as SSIM is defined).
+    fn luma(&self) -> Vec<f64> {
+        self.data
+            .chunks_exact(4)
+            .map(|p| (0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64) / 255.0)
+            .collect()
+    }
+
+    /// Mean structural similarity (SSIM) of the luma over 8×8 windows at stride 4: 1 for
+    /// identical images, lower as structure differs.
+    pub fn ssim(&self, other: &RgbaImage) -> Result<f64, ImageError> {
+        self.check_size(other)?;
+        let (a, b) = (self.luma(), other.luma());
+        let (w, h) = (self.width as usize, self.height as usize);
+        const WIN: usize = 8;
+        const STRIDE: usize = 4;
+        let (c1, c2) = ((0.01f64).powi(2), (0.03f64).powi(2));
+        let mut total = 0.0;
+        let mut windows = 0usize;
+        let mut y = 0;
+        while y + WIN <= h {
+            let mut x = 0;
+            while x + WIN <= w {
+                let (mut sa, mut sb, mut saa, mut sbb, mut sab) = (0.0, 0.0, 0.0, 0.0, 0.0);
+                for dy in 0..WIN {
+                    for dx in 0..WIN {
+                        let i = (y + dy) * w + x + dx;
+                        sa += a[i];
+                        sb += b[i];
+                        saa += a[i] * a[i];
+                        sbb += b[i] * b[i];
+                        sab += a[i] * b[i];
+                    }
+                }
+                let n = (WIN * WIN) as f64;
+                let (ma, mb) = (sa / n, sb / n);
+                let va = saa / n - ma * ma;
+                let vb = sbb / n - mb * mb;
+                let cov = sab / n - ma * mb;
+                total += ((2.0 * ma * mb + c1) * (2.0 * cov + c2))
+                    / ((ma * ma + mb * mb + c1) * (va + vb + c2));
+                windows += 1;
+                x += STRIDE;
+            }
+            y += STRIDE;
+        }
+        Ok(if windows == 0 {
+            1.0
+        } else {
+            total / windows as f64
+        })
+    }
+
+    /// Peak signal-to-noise ratio over RGB in dB (infinite for identical images).
+    pub fn psnr(&self, other: &RgbaImage) -> Result<f64, ImageError> {
+        self.check_size(other)?;
+        let mut sq = 0.0f64;
+        let mut n = 0usize;
+        for (pa, pb) in self.data.chunks_exact(4).zip(other.data.chunks_exact(4)) {
+            for c in 0..3 {
+                let d = pa[c] as f64 - pb[c] as f64;
+                sq += d * d;
+                n += 1;
+            }
+        }
+        let mse = sq / n.max(1) as f64;
+        Ok(if mse == 0.0 {
+            f64::INFINITY
+        } else {
+            10.0 * (255.0f64 * 255.0 / mse).log10()
+        })
+    }
+
+    /// A picture of where two images differ: black where equal, brighter red the larger the
+    /// largest channel difference (amplified 4×).
+    pub fn diff_image(&self, other: &RgbaImage) -> Result<RgbaImage, ImageError> {
+        self.check_size(other)?;
+        let mut out = RgbaImage::new(self.width, self.height);
+        for (i, (pa, pb)) in self
+            .data
+            .chunks_exact(4)
+            .zip(other.data.chunks_exact(4))
+            .enumerate()
+        {
+            let d = (0..3).map(|c| pa[c].abs_diff(pb[c])).max().unwrap_or(0);
+            let v = (d as u32 * 4).min(255) as u8;
+            out.data[i * 4..i * 4 + 4].copy_from_slice(&[v, v / 4, v / 4, 255]);
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn gradient(w: u32, h: u32, shift: u8) -> RgbaImage {
+        let mut img = RgbaImage::new(w, h);
+        for y in 0..h {
+            for x in 0..w {
+                let v = ((x * 255 / w) as u8).wrapping_add(shift);
+                img.set_pixel(x, y, [v, (y * 255 / h) as u8, 128, 255]);
+            }
+        }
+        img
+    }
+
+    #[test]
+    fn identical_images_are_perfect() {
+        let a = gradient(32, 24, 0);
+        assert_eq!(a.ssim(&a).unwrap(), 1.0);
+        assert!(a.psnr(&a).unwrap().is_infinite());
+    }
+
+    #[test]
+    fn noise_lowers_ssim_and_psnr() {
+        let a = gradient(64, 64, 0);
+        let mut b = a.clone();
+        for (i, v) in b.data.iter_mut().enumerate() {
+            if i % 4 != 3 {
+                *v = v.wrapping_add(((i * 7919) % 41) as u8);
+            }
+        }
+        let ssim = a.ssim(&b).unwrap();
+        assert!(ssim < 0.9 && ssim > -1.0, "ssim {ssim}");
+        assert!(a.psnr(&b).unwrap() < 30.0);
+    }
+
+    #[test]
+    fn png_round_trip_and_side_by_side() {
+        let a = gradient(8, 4, 0);
+        let b = gradient(8, 4, 50);
+        let sbs = RgbaImage::side_by_side(&a, &b);
+        assert_eq!(sbs.crop(8, 0, 8, 4), b);
+        let path = std::env::temp_dir().join(format!("foveate-png-{}.png", std::process::id()));
+        sbs.save_png(&path).unwrap();
+        assert_eq!(RgbaImage::load_png(&path).unwrap(), sbs);
+        let _ = std::fs::remove_file(path);
+    }
+
+    #[test]
+    fn size_mismatch_is_an_error() {
+        assert!(matches!(
+            gradient(4, 4, 0).ssim(&gradient(4, 5, 0)),
+            Err(ImageError::SizeMismatch { .. })
+        ));
+    }
+}

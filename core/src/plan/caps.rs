@@ -1,0 +1,65 @@
+/// What the device can do, as far as planning cares. Filled from Vulkan by
+/// `gpu::Gpu::caps`; built by hand in tests so the planner is tested without a GPU.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DeviceCaps {
+    pub device_name: String,
+    /// `maxMultiviewViewCount`; 0 when multiview is unsupported.
+    pub max_multiview_views: u32,
+    /// Sample counts usable for both colour and depth attachments (bit n set = 2ⁿ samples).
+    pub framebuffer_sample_counts: u32,
+    pub max_image_dimension_2d: u32,
+    /// `maxViewportDimensions` (the smaller of the two).
+    pub max_viewport_dimension: u32,
+    /// `viewportBoundsRange`.
+    pub viewport_bounds: (f32, f32),
+    pub max_framebuffer_layers: u32,
+    /// Whether a memory type with `LAZILY_ALLOCATED` exists (tile GPUs; lavapipe has none).
+    pub lazily_allocated_memory: bool,
+    pub fragment_stores_and_atomics: bool,
+    pub shader_clip_distance: bool,
+    pub timestamps: bool,
+    pub quirks: DriverQuirks,
+}
+
+impl DeviceCaps {
+    pub fn supports_samples(&self, samples: u32) -> bool {
+        samples.is_power_of_two() && self.framebuffer_sample_counts & samples != 0
+    }
+
+    /// Supported sample counts, ascending.
+    pub fn sample_counts(&self) -> Vec<u32> {
+        (0..7)
+            .map(|b| 1u32 << b)
+            .filter(|s| self.framebuffer_sample_counts & s != 0)
+            .collect()
+    }
+}
+
+/// Everything foveate knows a driver gets wrong or lacks, in one place, so that no other code
+/// tests driver names.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DriverQuirks {
+    /// `FRAGMENT_SHADER_INVOCATIONS` counts whole raster blocks, not pixels (lavapipe).
+    pub fragment_invocations_count_blocks: bool,
+    /// An occlusion query in a multiview pass reports the sum of all views in its first query
+    /// and leaves the others unavailable (lavapipe).
+    pub multiview_occlusion_sums_views: bool,
+    /// In a multiview pass, primitives the driver has to clip are rasterised into the first
+    /// view's layer, whatever their view (lavapipe, Mesa 22.3: every primitive crossing the
+    /// viewport edge or the eye plane). The planner works around it with an emulated guard
+    /// band; the test `lavapipe_multiview_clipping_quirk_is_real` measures the bug itself.
+    pub multiview_clipping_drops_views: bool,
+}
+
+impl DriverQuirks {
+    /// The quirks of the driver with this Vulkan driver ID (`VkDriverId` as a raw value).
+    pub fn for_driver_id(driver_id: i32) -> Self {
+        const MESA_LLVMPIPE: i32 = 13;
+        let lavapipe = driver_id == MESA_LLVMPIPE;
+        Self {
+            fragment_invocations_count_blocks: lavapipe,
+            multiview_occlusion_sums_views: lavapipe,
+            multiview_clipping_drops_views: lavapipe,
+        }
+    }
+}

@@ -1,0 +1,155 @@
+use std::fmt;
+use std::str::FromStr;
+
+use super::ConfigError;
+use crate::view::{HmdProfile, HMD_PROFILES};
+
+/// foveate's own limit on views in one pass: two eyes, or two eyes × (periphery, fovea).
+pub const MAX_VIEWS: u32 = 4;
+
+/// How the two eyes' views are submitted (seed 004, and Vulkan multiview).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum StereoMode {
+    /// One render pass, view mask 0b11, `gl_ViewIndex` picks the eye (`VK_KHR_multiview`).
+    Multiview,
+    /// The whole scene recorded twice, one render pass per eye.
+    TwoPass,
+    /// One pass, each object drawn twice with the view state (viewport, eye index) switched.
+    PerObject,
+    /// One pass, instance count doubled; the eye comes from the instance index and each eye is
+    /// squeezed into its half of a double-wide target with a clip distance (seed 004).
+    Instanced,
+}
+
+impl StereoMode {
+    pub const ALL: [StereoMode; 4] = [
+        StereoMode::Multiview,
+        StereoMode::TwoPass,
+        StereoMode::PerObject,
+        StereoMode::Instanced,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            StereoMode::Multiview => "multiview",
+            StereoMode::TwoPass => "two-pass",
+            StereoMode::PerObject => "per-object",
+            StereoMode::Instanced => "instanced",
+        }
+    }
+}
+
+impl fmt::Display for StereoMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for StereoMode {
+    type Err = ConfigError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        StereoMode::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| {
+                ConfigError::new(
+                    "stereo",
+                    s,
+                    "one of multiview, two-pass, per-object, instanced",
+                )
+            })
+    }
+}
+
+/// Per-eye render resolution in pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Resolution {
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Resolution {
+    pub fn square(n: u32) -> Self {
+        Self {
+            width: n,
+            height: n,
+        }
+    }
+
+    pub fn pixels(self) -> u64 {
+        self.width as u64 * self.height as u64
+    }
+}
+
+impl fmt::Display for Resolution {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}x{}", self.width, self.height)
+    }
+}
+
+impl FromStr for Resolution {
+    type Err = ConfigError;
+    /// `1024` (square) or `1440x1600`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let bad = || ConfigError::new("resolution", s, "a pixel count `N` or `WxH`");
+        let parse = |t: &str| t.trim().parse::<u32>().map_err(|_| bad());
+        match s.split_once(['x', 'X']) {
+            Some((w, h)) => Ok(Resolution {
+                width: parse(w)?,
+                height: parse(h)?,
+            }),
+            None => parse(s).map(Resolution::square),
+        }
+    }
+}
+
+/// Everything a user chooses about a frame. Validated by [`super::plan`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderConfig {
+    /// Headset profile name (see [`HMD_PROFILES`]).
+    pub hmd: String,
+    /// Per-eye resolution; `None` uses the headset's panel resolution.
+    pub resolution: Option<Resolution>,
+    pub stereo: StereoMode,
+    /// Number of views rendered: 2 for stereo (4 arrives with foveation).
+    pub views: u32,
+    /// MSAA samples on the scene pass: 1 or 4.
+    pub msaa: u32,
+    /// Interpupillary distance override in metres.
+    pub ipd_m: Option<f32>,
+    /// Outward cant of each eye in degrees, overriding the profile's.
+    pub cant_deg: Option<f32>,
+    pub near: f32,
+    pub far: f32,
+    /// Count shaded fragments per view (an atomic counter in the fragment shader).
+    pub count_fragments: bool,
+    /// Record GPU timestamps around the frame.
+    pub timestamps: bool,
+}
+
+impl Default for RenderConfig {
+    fn default() -> Self {
+        Self {
+            hmd: "index".into(),
+            resolution: Some(Resolution::square(1024)),
+            stereo: StereoMode::Multiview,
+            views: 2,
+            msaa: 4,
+            ipd_m: None,
+            cant_deg: None,
+            near: 0.05,
+            far: 500.0,
+            count_fragments: true,
+            timestamps: true,
+        }
+    }
+}
+
+impl RenderConfig {
+    pub fn hmd_profile(&self) -> Result<&'static HmdProfile, ConfigError> {
+        HmdProfile::by_name(&self.hmd).ok_or_else(|| {
+            let names: Vec<_> = HMD_PROFILES.iter().map(|p| p.name).collect();
+            ConfigError::new("hmd", &self.hmd, format!("one of {}", names.join(", ")))
+        })
+    }
+}

@@ -1,0 +1,623 @@
+use super::derive::{is_transient, Access, LoadOp, StoreOp};
+use super::{ConfigError, DeviceCaps, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
+use crate::scene::Scene;
+use crate::view::{Eye, EyeParams, HmdProfile};
+
+/// Pixel formats the planner uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Colour: 8-bit sRGB, so MSAA resolves and blending happen in linear light.
+    Rgba8Srgb,
+    /// Reverse-Z depth without stencil.
+    D32,
+    /// Reverse-Z depth with stencil, only when an effect writes stencil masks.
+    D32S8,
+}
+
+impl Format {
+    pub fn bytes_per_pixel(self) -> u64 {
+        match self {
+            Format::Rgba8Srgb | Format::D32 => 4,
+            // D32_SFLOAT_S8_UINT is commonly stored as 4 + 1 bytes (plus padding).
+            Format::D32S8 => 5,
+        }
+    }
+
+    pub fn is_depth(self) -> bool {
+        matches!(self, Format::D32 | Format::D32S8)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AttachmentRole {
+    Color,
+    Depth,
+    /// Single-sample target an MSAA colour attachment resolves into inside the pass.
+    Resolve,
+}
+
+/// Index into [`FramePlan::attachments`].
+pub type AttachmentId = usize;
+
+/// One image the frame renders into, and its fate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AttachmentPlan {
+    pub name: &'static str,
+    pub role: AttachmentRole,
+    pub format: Format,
+    pub samples: u32,
+    pub width: u32,
+    pub height: u32,
+    pub layers: u32,
+    /// Read after the frame (readback or presentation).
+    pub read_after_frame: bool,
+    /// Never loaded nor stored by any pass: may live on tile only.
+    pub transient: bool,
+}
+
+impl AttachmentPlan {
+    pub fn bytes(&self) -> u64 {
+        self.width as u64
+            * self.height as u64
+            * self.layers as u64
+            * self.samples as u64
+            * self.format.bytes_per_pixel()
+    }
+
+    fn layer_bytes(&self) -> u64 {
+        self.bytes() / self.layers as u64
+    }
+}
+
+/// A pass's use of (some layers of) an attachment, with the ops derived from intent.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Use {
+    pub attachment: AttachmentId,
+    pub base_layer: u32,
+    pub layer_count: u32,
+    pub access: Access,
+    pub load: LoadOp,
+    pub store: StoreOp,
+}
+
+impl Use {
+    fn new(attachment: AttachmentId, base_layer: u32, layer_count: u32, access: Access) -> Self {
+        // Ops are placeholders until `derive_ops` has seen the whole frame.
+        Self {
+            attachment,
+            base_layer,
+            layer_count,
+            access,
+            load: LoadOp::from_access(access),
+            store: StoreOp::DontCare,
+        }
+    }
+
+    fn overlaps(&self, other: &Use) -> bool {
+        self.attachment == other.attachment
+            && self.base_layer < other.base_layer + other.layer_count
+            && other.base_layer < self.base_layer + self.layer_count
+    }
+}
+
+/// How a pass submits the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Submission {
+    /// Once, broadcast to the views in the pass's view mask.
+    Multiview,
+    /// Once, for one eye.
+    SingleEye(Eye),
+    /// Every object twice, switching eye and viewport between the draws.
+    PerObject,
+    /// Every draw with its instance count doubled.
+    Instanced,
+}
+
+/// One render pass of the frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PassPlan {
+    pub name: &'static str,
+    /// Multiview view mask; 0 for a pass without multiview.
+    pub view_mask: u32,
+    pub color: Use,
+    pub depth: Use,
+    /// In-pass MSAA resolve target (`pResolveAttachments`).
+    pub resolve: Option<Use>,
+    pub submission: Submission,
+    /// Emulated guard band: clip-space x and y are divided by this factor and the viewport
+    /// grown by it, so primitives reaching less than this many view widths past the edge need
+    /// no clipping. 1 = off; set only to work around [`DriverQuirks`](super::DriverQuirks).
+    pub guard_band: u32,
+}
+
+impl PassPlan {
+    pub fn uses(&self) -> impl Iterator<Item = &Use> {
+        [Some(&self.color), Some(&self.depth), self.resolve.as_ref()]
+            .into_iter()
+            .flatten()
+    }
+
+    fn uses_mut(&mut self) -> impl Iterator<Item = &mut Use> {
+        [
+            Some(&mut self.color),
+            Some(&mut self.depth),
+            self.resolve.as_mut(),
+        ]
+        .into_iter()
+        .flatten()
+    }
+}
+
+/// How the two eyes' images are laid out in the frame's images.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TargetLayout {
+    /// One array layer per eye (multiview, two-pass).
+    Layered,
+    /// Both eyes side by side in one double-wide image (per-object, instanced).
+    SideBySide,
+}
+
+/// A buffer that exists only because an effect asked for it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BufferPlan {
+    pub name: &'static str,
+    pub bytes: u64,
+}
+
+/// Everything a frame consists of, decided before any Vulkan object exists.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FramePlan {
+    pub hmd: &'static HmdProfile,
+    pub eyes: EyeParams,
+    pub eye_resolution: Resolution,
+    pub stereo: StereoMode,
+    pub views: u32,
+    pub samples: u32,
+    pub near: f32,
+    pub far: f32,
+    pub layout: TargetLayout,
+    pub attachments: Vec<AttachmentPlan>,
+    pub passes: Vec<PassPlan>,
+    /// Effect-only buffers (e.g. the fragment counter); empty when no such effect is on.
+    pub buffers: Vec<BufferPlan>,
+    /// Timestamp queries per frame; 0 when timing is off.
+    pub timestamp_queries: u32,
+    /// Draw calls one frame records for the scene it was planned with.
+    pub draw_calls: u64,
+}
+
+impl FramePlan {
+    pub fn count_fragments(&self) -> bool {
+        self.buffers.iter().any(|b| b.name == FRAGMENT_COUNTER)
+    }
+
+    /// The attachment read after the frame: the stereo image.
+    pub fn output(&self) -> AttachmentId {
+        self.attachments
+            .iter()
+            .position(|a| a.read_after_frame)
+            .expect("every plan has an output attachment")
+    }
+
+    /// Bytes of attachments that must be backed by memory (not transient).
+    pub fn resident_bytes(&self) -> u64 {
+        self.attachments
+            .iter()
+            .filter(|a| !a.transient)
+            .map(AttachmentPlan::bytes)
+            .sum()
+    }
+
+    /// Bytes of attachments that may live on tile only.
+    pub fn transient_bytes(&self) -> u64 {
+        self.attachments
+            .iter()
+            .filter(|a| a.transient)
+            .map(AttachmentPlan::bytes)
+            .sum()
+    }
+
+    /// Estimated external memory traffic per frame on a tile GPU: bytes loaded into tile
+    /// memory plus bytes stored out of it (the readback copy of the output included).
+    pub fn external_traffic_bytes(&self) -> u64 {
+        let attachment_traffic: u64 = self
+            .passes
+            .iter()
+            .flat_map(|p| p.uses())
+            .map(|u| {
+                let a = &self.attachments[u.attachment];
+                let bytes = a.layer_bytes() * u.layer_count as u64;
+                let loaded = if u.load == LoadOp::Load { bytes } else { 0 };
+                let stored = if u.store == StoreOp::Store { bytes } else { 0 };
+                loaded + stored
+            })
+            .sum();
+        attachment_traffic + self.attachments[self.output()].bytes()
+    }
+}
+
+pub(crate) const FRAGMENT_COUNTER: &str = "fragment counter";
+
+/// Plans a frame. Rejects a configuration the device or foveate cannot render with an error
+/// naming the field, the value and the limit.
+pub fn plan(
+    scene: &Scene,
+    config: &RenderConfig,
+    caps: &DeviceCaps,
+) -> Result<FramePlan, ConfigError> {
+    let hmd = config.hmd_profile()?;
+    let eyes = validate_eyes(config, hmd)?;
+    let eye_resolution = validate_resolution(config, hmd, caps)?;
+    validate_views(config, caps)?;
+    validate_msaa(config, caps)?;
+    validate_depth_range(config)?;
+    validate_features(config, caps)?;
+
+    let layout = match config.stereo {
+        StereoMode::Multiview | StereoMode::TwoPass => TargetLayout::Layered,
+        StereoMode::PerObject | StereoMode::Instanced => TargetLayout::SideBySide,
+    };
+    let mut attachments = Vec::new();
+    let mut passes = scene_passes(config, eye_resolution, layout, &mut attachments);
+    if caps.quirks.multiview_clipping_drops_views {
+        let k = guard_band(eye_resolution, caps);
+        for p in passes.iter_mut().filter(|p| p.view_mask != 0) {
+            p.guard_band = k;
+        }
+    }
+    let mut plan = FramePlan {
+        hmd,
+        eyes,
+        eye_resolution,
+        stereo: config.stereo,
+        views: config.views,
+        samples: config.msaa,
+        near: config.near,
+        far: config.far,
+        layout,
+        attachments,
+        passes,
+        buffers: Vec::new(),
+        timestamp_queries: if config.timestamps { 2 } else { 0 },
+        draw_calls: draw_calls(scene, config.stereo),
+    };
+    if config.count_fragments {
+        plan.buffers.push(BufferPlan {
+            name: FRAGMENT_COUNTER,
+            bytes: 4 * MAX_VIEWS as u64,
+        });
+    }
+    derive_ops(&mut plan);
+    Ok(plan)
+}
+
+/// The scene pass(es) of a stereo frame and the attachments they use.
+fn scene_passes(
+    config: &RenderConfig,
+    eye: Resolution,
+    layout: TargetLayout,
+    attachments: &mut Vec<AttachmentPlan>,
+) -> Vec<PassPlan> {
+    let msaa = config.msaa > 1;
+    let (width, layers) = match layout {
+        TargetLayout::Layered => (eye.width, 2),
+        TargetLayout::SideBySide => (eye.width * 2, 1),
+    };
+    // Two-pass renders one layer at a time, so its per-pass scratch images need one layer.
+    let scratch_layers = if config.stereo == StereoMode::TwoPass {
+        1
+    } else {
+        layers
+    };
+    let mut add = |name, role, format, samples, layers, read_after_frame| {
+        attachments.push(AttachmentPlan {
+            name,
+            role,
+            format,
+            samples,
+            width,
+            height: eye.height,
+            layers,
+            read_after_frame,
+            transient: false,
+        });
+        attachments.len() - 1
+    };
+    let color = if msaa {
+        add(
+            "scene colour (MSAA)",
+            AttachmentRole::Color,
+            Format::Rgba8Srgb,
+            config.msaa,
+            scratch_layers,
+            false,
+        )
+    } else {
+        add(
+            "stereo colour",
+            AttachmentRole::Color,
+            Format::Rgba8Srgb,
+            1,
+            layers,
+            true,
+        )
+    };
+    let depth = add(
+        "scene depth",
+        AttachmentRole::Depth,
+        Format::D32,
+        config.msaa,
+        scratch_layers,
+        false,
+    );
+    let resolve = msaa.then(|| {
+        add(
+            "stereo colour",
+            AttachmentRole::Resolve,
+            Format::Rgba8Srgb,
+            1,
+            layers,
+            true,
+        )
+    });
+
+    let pass = |name, view_mask, layer: Option<u32>, submission| {
+        let (base, count) = layer.map_or((0, layers), |l| (l, 1));
+        let scratch_base = if scratch_layers == 1 { 0 } else { base };
+        let color_use = if msaa {
+            Use::new(color, scratch_base, count, Access::Clear)
+        } else {
+            Use::new(color, base, count, Access::Clear)
+        };
+        PassPlan {
+            name,
+            view_mask,
+            color: color_use,
+            depth: Use::new(depth, scratch_base, count, Access::Clear),
+            resolve: resolve.map(|r| Use::new(r, base, count, Access::Overwrite)),
+            submission,
+            guard_band: 1,
+        }
+    };
+    match config.stereo {
+        StereoMode::Multiview => vec![pass("scene (multiview)", 0b11, None, Submission::Multiview)],
+        StereoMode::TwoPass => vec![
+            pass(
+                "scene (left eye)",
+                0,
+                Some(0),
+                Submission::SingleEye(Eye::Left),
+            ),
+            pass(
+                "scene (right eye)",
+                0,
+                Some(1),
+                Submission::SingleEye(Eye::Right),
+            ),
+        ],
+        StereoMode::PerObject => vec![pass("scene (per-object)", 0, None, Submission::PerObject)],
+        StereoMode::Instanced => vec![pass("scene (instanced)", 0, None, Submission::Instanced)],
+    }
+}
+
+/// The largest guard band (a power of two up to 8) whose grown viewport the device accepts.
+fn guard_band(eye: Resolution, caps: &DeviceCaps) -> u32 {
+    let side = eye.width.max(eye.height) as f32;
+    let fits = |k: u32| {
+        let k = k as f32;
+        k * side <= caps.max_viewport_dimension as f32
+            && -(k - 1.0) * 0.5 * side >= caps.viewport_bounds.0
+            && (k + 1.0) * 0.5 * side <= caps.viewport_bounds.1
+    };
+    [8, 4, 2].into_iter().find(|&k| fits(k)).unwrap_or(1)
+}
+
+/// Fills in every use's store op and every attachment's transient flag from declared intent:
+/// a use stores only if a later pass keeps its contents or the frame's reader needs them and no
+/// later pass replaces them first.
+fn derive_ops(plan: &mut FramePlan) {
+    let all_uses: Vec<(usize, Use)> = plan
+        .passes
+        .iter()
+        .enumerate()
+        .flat_map(|(i, p)| p.uses().map(move |u| (i, *u)))
+        .collect();
+    for (i, pass) in plan.passes.iter_mut().enumerate() {
+        for u in pass.uses_mut() {
+            let later = all_uses.iter().filter(|(j, v)| *j > i && v.overlaps(u));
+            let mut kept_later = false;
+            let mut replaced_later = false;
+            for (_, v) in later {
+                match v.access {
+                    Access::Keep if !replaced_later => kept_later = true,
+                    Access::Clear | Access::Overwrite => replaced_later = true,
+                    Access::Keep => {}
+                }
+            }
+            let read_by_frame_reader =
+                plan.attachments[u.attachment].read_after_frame && !replaced_later;
+            u.load = LoadOp::from_access(u.access);
+            u.store = StoreOp::from_read_later(kept_later || read_by_frame_reader);
+        }
+    }
+    for (id, a) in plan.attachments.iter_mut().enumerate() {
+        let uses: Vec<&Use> = plan
+            .passes
+            .iter()
+            .flat_map(|p| p.uses())
+            .filter(|u| u.attachment == id)
+            .collect();
+        let loads: Vec<LoadOp> = uses.iter().map(|u| u.load).collect();
+        let stores: Vec<StoreOp> = uses.iter().map(|u| u.store).collect();
+        a.transient = !a.read_after_frame && is_transient(&loads, &stores);
+    }
+}
+
+/// Draw calls one frame records: the scene's draws (one per mesh) or, per object, two per
+/// instance.
+fn draw_calls(scene: &Scene, stereo: StereoMode) -> u64 {
+    let meshes = scene.draws().count() as u64;
+    match stereo {
+        StereoMode::Multiview | StereoMode::Instanced => meshes,
+        StereoMode::TwoPass => 2 * meshes,
+        StereoMode::PerObject => 2 * scene.instance_count() as u64,
+    }
+}
+
+fn validate_eyes(config: &RenderConfig, hmd: &HmdProfile) -> Result<EyeParams, ConfigError> {
+    let ipd = config.ipd_m.unwrap_or(crate::view::DEFAULT_IPD_M);
+    if !ipd.is_finite() || !(0.0..=0.1).contains(&ipd) {
+        return Err(ConfigError::new(
+            "ipd",
+            ipd,
+            "a finite distance in metres, 0 ≤ ipd ≤ 0.1",
+        ));
+    }
+    let mut eyes = hmd.eyes(ipd);
+    if let Some(cant) = config.cant_deg {
+        if !cant.is_finite() || cant.abs() > 45.0 {
+            return Err(ConfigError::new(
+                "cant",
+                cant,
+                "finite degrees, |cant| ≤ 45",
+            ));
+        }
+        eyes.cant_rad = cant.to_radians();
+    }
+    Ok(eyes)
+}
+
+fn validate_resolution(
+    config: &RenderConfig,
+    hmd: &HmdProfile,
+    caps: &DeviceCaps,
+) -> Result<Resolution, ConfigError> {
+    let res = config.resolution.unwrap_or(Resolution {
+        width: hmd.panel_per_eye.0,
+        height: hmd.panel_per_eye.1,
+    });
+    let side_by_side = matches!(config.stereo, StereoMode::PerObject | StereoMode::Instanced);
+    let max_width = if side_by_side {
+        caps.max_image_dimension_2d / 2
+    } else {
+        caps.max_image_dimension_2d
+    };
+    let max_height = caps.max_image_dimension_2d;
+    if res.width == 0 || res.height == 0 || res.width > max_width || res.height > max_height {
+        let why = if side_by_side {
+            " (both eyes share one double-wide image)"
+        } else {
+            ""
+        };
+        return Err(ConfigError::new(
+            "resolution",
+            res,
+            format!(
+                "each side 1..={} wide and 1..={max_height} high per eye on this device{why}",
+                max_width
+            ),
+        ));
+    }
+    Ok(res)
+}
+
+fn validate_views(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), ConfigError> {
+    let limit = MAX_VIEWS.min(caps.max_multiview_views);
+    if config.views == 0 || config.views > limit {
+        return Err(ConfigError::new(
+            "views",
+            config.views,
+            format!(
+                "at most {limit} (foveate renders up to {MAX_VIEWS} views in one pass; this device's maxMultiviewViewCount is {})",
+                caps.max_multiview_views
+            ),
+        ));
+    }
+    if config.views != 2 {
+        return Err(ConfigError::new(
+            "views",
+            config.views,
+            "stereo rendering uses exactly 2 views",
+        ));
+    }
+    Ok(())
+}
+
+fn validate_msaa(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), ConfigError> {
+    let device: Vec<String> = caps.sample_counts().iter().map(u32::to_string).collect();
+    if !matches!(config.msaa, 1 | 4) || !caps.supports_samples(config.msaa) {
+        return Err(ConfigError::new(
+            "msaa",
+            config.msaa,
+            format!(
+                "1 or 4, and one the device supports (it supports {})",
+                device.join(", ")
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn validate_depth_range(config: &RenderConfig) -> Result<(), ConfigError> {
+    if !config.near.is_finite() || config.near <= 0.0 {
+        return Err(ConfigError::new(
+            "near",
+            config.near,
+            "a finite distance > 0",
+        ));
+    }
+    if config.far.is_nan() || config.far <= config.near {
+        return Err(ConfigError::new(
+            "far",
+            config.far,
+            format!("greater than near ({})", config.near),
+        ));
+    }
+    Ok(())
+}
+
+fn validate_features(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), ConfigError> {
+    let need = |ok: bool, field, value: &str, what: &str| {
+        if ok {
+            Ok(())
+        } else {
+            Err(ConfigError::new(
+                field,
+                value,
+                format!("needs {what}, which {} lacks", caps.device_name),
+            ))
+        }
+    };
+    match config.stereo {
+        StereoMode::Multiview => need(
+            caps.max_multiview_views >= 2,
+            "stereo",
+            "multiview",
+            "VK_KHR_multiview",
+        )?,
+        StereoMode::Instanced => need(
+            caps.shader_clip_distance,
+            "stereo",
+            "instanced",
+            "shaderClipDistance",
+        )?,
+        _ => {}
+    }
+    if config.count_fragments {
+        need(
+            caps.fragment_stores_and_atomics,
+            "count_fragments",
+            "true",
+            "fragmentStoresAndAtomics",
+        )?;
+    }
+    if config.timestamps {
+        need(
+            caps.timestamps,
+            "timestamps",
+            "true",
+            "timestamp queries on the graphics queue",
+        )?;
+    }
+    Ok(())
+}

@@ -1,0 +1,21 @@
+//! From a [`RenderConfig`], a scene and the device's capabilities to a [`FramePlan`]: which
+//! passes and attachments a frame has and what happens to each attachment's contents.
+//!
+//! Pure: no Vulkan objects are created here, so every rule is unit-tested without a GPU and
+//! `foveate plan` prints exactly what the renderer will build.
+
+mod caps;
+mod config;
+mod derive;
+mod error;
+mod frame_plan;
+mod print;
+
+pub use caps::{DeviceCaps, DriverQuirks};
+pub use config::{RenderConfig, Resolution, StereoMode, MAX_VIEWS};
+pub use derive::{Access, LoadOp, StoreOp};
+pub use error::ConfigError;
+pub use frame_plan::{
+    plan, AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, Format, FramePlan, PassPlan,
+    Submission, TargetLayout, Use,
+};

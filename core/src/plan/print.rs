@@ -1,0 +1,125 @@
+use std::fmt;
+
+use super::{FramePlan, Submission, TargetLayout};
+
+fn mib(bytes: u64) -> String {
+    format!("{:.2} MiB", bytes as f64 / (1024.0 * 1024.0))
+}
+
+impl fmt::Display for FramePlan {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let fov = self.eyes.left_fov;
+        writeln!(
+            f,
+            "frame plan: {} ({}), {} per eye, stereo {}, {} views, MSAA {}x",
+            self.hmd.display_name,
+            self.hmd.name,
+            self.eye_resolution,
+            self.stereo,
+            self.views,
+            self.samples
+        )?;
+        writeln!(
+            f,
+            "  eyes: IPD {:.1} mm, cant {:.1}°, left-eye tangents l/r/u/d {:.3}/{:.3}/{:.3}/{:.3}; depth reverse-Z, near {} far {}",
+            self.eyes.ipd_m * 1000.0,
+            self.eyes.cant_rad.to_degrees(),
+            fov.left,
+            fov.right,
+            fov.up,
+            fov.down,
+            self.near,
+            self.far
+        )?;
+        let layout = match self.layout {
+            TargetLayout::Layered => "one array layer per eye",
+            TargetLayout::SideBySide => "both eyes side by side in one image",
+        };
+        writeln!(
+            f,
+            "  layout: {layout}; {} draw calls per frame",
+            self.draw_calls
+        )?;
+
+        writeln!(f, "attachments:")?;
+        writeln!(
+            f,
+            "  {:<2} {:<20} {:<8} {:<10} {:>7} {:>11} {:>6} {:>9} {:>11}",
+            "#", "name", "role", "format", "samples", "extent", "layers", "transient", "bytes"
+        )?;
+        for (i, a) in self.attachments.iter().enumerate() {
+            writeln!(
+                f,
+                "  {:<2} {:<20} {:<8} {:<10} {:>7} {:>11} {:>6} {:>9} {:>11}",
+                i,
+                a.name,
+                format!("{:?}", a.role).to_lowercase(),
+                format!("{:?}", a.format),
+                a.samples,
+                format!("{}x{}", a.width, a.height),
+                a.layers,
+                if a.transient { "yes" } else { "no" },
+                mib(a.bytes())
+            )?;
+        }
+
+        writeln!(f, "passes:")?;
+        for p in &self.passes {
+            let submission = match p.submission {
+                Submission::Multiview => "scene once, broadcast by multiview".to_string(),
+                Submission::SingleEye(eye) => {
+                    format!("scene once for the {eye:?} eye").to_lowercase()
+                }
+                Submission::PerObject => "each object twice, view state switched".to_string(),
+                Submission::Instanced => {
+                    "instance count doubled, clip-space half viewports".to_string()
+                }
+            };
+            writeln!(
+                f,
+                "  {} — view mask {:#04b}; {submission}",
+                p.name, p.view_mask
+            )?;
+            if p.guard_band > 1 {
+                writeln!(
+                    f,
+                    "    guard band x{} (works around this driver clipping multiview primitives into view 0)",
+                    p.guard_band
+                )?;
+            }
+            for (what, u) in [
+                ("colour", Some(&p.color)),
+                ("depth", Some(&p.depth)),
+                ("resolve", p.resolve.as_ref()),
+            ] {
+                let Some(u) = u else { continue };
+                writeln!(
+                    f,
+                    "    {what:<7} #{} layers {}..{}: load {}, store {}",
+                    u.attachment,
+                    u.base_layer,
+                    u.base_layer + u.layer_count,
+                    u.load,
+                    u.store
+                )?;
+            }
+        }
+        if !self.buffers.is_empty() {
+            writeln!(f, "effect buffers:")?;
+            for b in &self.buffers {
+                writeln!(f, "  {} ({} bytes)", b.name, b.bytes)?;
+            }
+        }
+        writeln!(
+            f,
+            "memory: {} resident, {} transient (on tile where the device offers lazily allocated memory)",
+            mib(self.resident_bytes()),
+            mib(self.transient_bytes())
+        )?;
+        write!(
+            f,
+            "estimated external traffic per frame (tile GPU): {} (attachment loads + stores + output readback)",
+            mib(self.external_traffic_bytes())
+        )
+    }
+}

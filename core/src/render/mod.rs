@@ -1,0 +1,10 @@
+//! The renderer: compiles a [`FramePlan`](crate::plan::FramePlan) into Vulkan objects and
+//! records, submits and measures frames.
+
+mod pipelines;
+mod record;
+mod renderer;
+mod scene_buffers;
+mod targets;
+
+pub use renderer::{FrameStats, Renderer, StereoImage};

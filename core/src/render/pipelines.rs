@@ -1,0 +1,265 @@
+use std::ffi::CStr;
+
+use ash::vk;
+
+use crate::gpu::{
+    Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, Pipeline, PipelineLayout,
+    ShaderModule, VkResultExt,
+};
+use crate::plan::{FramePlan, PassPlan, Submission};
+use crate::scene::Vertex;
+use crate::shaders::{ShaderBinary, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_VERT};
+
+const ENTRY: &CStr = c"main";
+
+/// The scene shaders' resources: views (binding 0), instances (1) and, only when fragment
+/// counting is on, the counter (2).
+pub(crate) struct SceneBindings {
+    pub layout: PipelineLayout,
+    _set_layout: DescriptorSetLayout,
+    _pool: DescriptorPool,
+    pub set: vk::DescriptorSet,
+}
+
+impl SceneBindings {
+    pub fn new(
+        gpu: &Gpu,
+        views: &Buffer,
+        instances: &Buffer,
+        counter: Option<&Buffer>,
+    ) -> Result<Self, GpuError> {
+        let device = gpu.device();
+        let mut bindings = vec![
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(0)
+                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(1)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::VERTEX),
+        ];
+        if counter.is_some() {
+            bindings.push(
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(2)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .descriptor_count(1)
+                    .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+            );
+        }
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        // SAFETY: plain object creation with locals alive for each call.
+        let set_layout = DescriptorSetLayout::from_raw(
+            &gpu.dev,
+            unsafe { device.create_descriptor_set_layout(&info, None) }
+                .vk("vkCreateDescriptorSetLayout")?,
+        );
+        let sizes = [
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::UNIFORM_BUFFER,
+                descriptor_count: 1,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                descriptor_count: 2,
+            },
+        ];
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(1)
+            .pool_sizes(&sizes);
+        let pool = DescriptorPool::from_raw(
+            &gpu.dev,
+            unsafe { device.create_descriptor_pool(&pool_info, None) }
+                .vk("vkCreateDescriptorPool")?,
+        );
+        let layouts = [set_layout.raw];
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(pool.raw)
+            .set_layouts(&layouts);
+        let set =
+            unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
+
+        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = [Some(views), Some(instances), counter]
+            .into_iter()
+            .flatten()
+            .map(|b| {
+                [vk::DescriptorBufferInfo {
+                    buffer: b.raw,
+                    offset: 0,
+                    range: vk::WHOLE_SIZE,
+                }]
+            })
+            .collect();
+        let writes: Vec<vk::WriteDescriptorSet> = infos
+            .iter()
+            .enumerate()
+            .map(|(i, info)| {
+                let ty = if i == 0 {
+                    vk::DescriptorType::UNIFORM_BUFFER
+                } else {
+                    vk::DescriptorType::STORAGE_BUFFER
+                };
+                vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(i as u32)
+                    .descriptor_type(ty)
+                    .buffer_info(info)
+            })
+            .collect();
+        unsafe { device.update_descriptor_sets(&writes, &[]) };
+
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::VERTEX,
+            offset: 0,
+            size: 4,
+        }];
+        let layout_info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&layouts)
+            .push_constant_ranges(&push);
+        let layout = PipelineLayout::from_raw(
+            &gpu.dev,
+            unsafe { device.create_pipeline_layout(&layout_info, None) }
+                .vk("vkCreatePipelineLayout")?,
+        );
+        Ok(SceneBindings {
+            layout,
+            _set_layout: set_layout,
+            _pool: pool,
+            set,
+        })
+    }
+}
+
+fn shader_module(gpu: &Gpu, shader: &ShaderBinary) -> Result<ShaderModule, GpuError> {
+    let words = shader.words();
+    let info = vk::ShaderModuleCreateInfo::default().code(&words);
+    let raw =
+        unsafe { gpu.device().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+    Ok(ShaderModule::from_raw(&gpu.dev, raw))
+}
+
+/// The vertex shader's `VIEW_SOURCE` for a submission (see `shaders/scene.vert`).
+fn view_source(submission: Submission) -> u32 {
+    match submission {
+        Submission::Multiview => 0,
+        Submission::SingleEye(_) | Submission::PerObject => 1,
+        Submission::Instanced => 2,
+    }
+}
+
+/// The scene pipeline for one pass of the plan.
+pub(crate) fn scene_pipeline(
+    gpu: &Gpu,
+    plan: &FramePlan,
+    pass: &PassPlan,
+    render_pass: vk::RenderPass,
+    layout: &PipelineLayout,
+) -> Result<Pipeline, GpuError> {
+    let vert = shader_module(gpu, &SCENE_VERT)?;
+    let frag = shader_module(
+        gpu,
+        if plan.count_fragments() {
+            &SCENE_FRAG_COUNTING
+        } else {
+            &SCENE_FRAG
+        },
+    )?;
+    let mut spec_data = view_source(pass.submission).to_le_bytes().to_vec();
+    spec_data.extend_from_slice(&(1.0 / pass.guard_band as f32).to_le_bytes());
+    let spec_entries = [
+        vk::SpecializationMapEntry {
+            constant_id: 0,
+            offset: 0,
+            size: 4,
+        },
+        vk::SpecializationMapEntry {
+            constant_id: 1,
+            offset: 4,
+            size: 4,
+        },
+    ];
+    let spec = vk::SpecializationInfo::default()
+        .map_entries(&spec_entries)
+        .data(&spec_data);
+    let stages = [
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::VERTEX)
+            .module(vert.raw)
+            .name(ENTRY)
+            .specialization_info(&spec),
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::FRAGMENT)
+            .module(frag.raw)
+            .name(ENTRY),
+    ];
+    let bindings = [vk::VertexInputBindingDescription {
+        binding: 0,
+        stride: std::mem::size_of::<Vertex>() as u32,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }];
+    let attributes = [
+        vk::VertexInputAttributeDescription {
+            location: 0,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: 0,
+        },
+        vk::VertexInputAttributeDescription {
+            location: 1,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: 12,
+        },
+    ];
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+        .vertex_binding_descriptions(&bindings)
+        .vertex_attribute_descriptions(&attributes);
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(vk::CullModeFlags::BACK)
+        // The projections keep the image upright (Vulkan NDC y down), so on-screen winding is
+        // the geometry's own: counter-clockwise faces the viewer.
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(vk::SampleCountFlags::from_raw(plan.samples));
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(true)
+        // Reverse-Z: nearer is greater.
+        .depth_compare_op(vk::CompareOp::GREATER);
+    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(layout.raw)
+        .render_pass(render_pass)
+        .subpass(0);
+    // SAFETY: all referenced state lives on this stack frame for the call.
+    let pipelines = unsafe {
+        gpu.device()
+            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+    }
+    .map_err(|(_, e)| e)
+    .vk("vkCreateGraphicsPipelines")?;
+    Ok(Pipeline::from_raw(&gpu.dev, pipelines[0]))
+}

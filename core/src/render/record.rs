@@ -1,0 +1,207 @@
+//! Recording one frame: the plan's passes with the scene submitted as each pass's
+//! [`Submission`] says.
+
+use ash::vk;
+
+use super::renderer::Renderer;
+use crate::plan::{PassPlan, Submission};
+use crate::scene::Draw;
+use crate::view::Eye;
+
+/// Linear-light clear colour of the sky.
+const SKY: [f32; 4] = [0.22, 0.38, 0.62, 1.0];
+
+impl Renderer<'_> {
+    /// Records the whole frame into `cmd` (already begun).
+    pub(super) fn record(&self, cmd: vk::CommandBuffer) {
+        let device = self.gpu.device();
+        // SAFETY (whole function): every handle recorded belongs to this renderer, which waits
+        // for the frame's fence before anything it owns can be dropped.
+        unsafe {
+            if let Some(q) = &self.queries {
+                device.cmd_reset_query_pool(cmd, q.raw, 0, self.plan.timestamp_queries);
+                device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, q.raw, 0);
+            }
+            if let Some(counter) = &self.counter {
+                device.cmd_fill_buffer(cmd, counter.raw, 0, vk::WHOLE_SIZE, 0);
+                memory_barrier(
+                    device,
+                    cmd,
+                    (
+                        vk::PipelineStageFlags::TRANSFER,
+                        vk::AccessFlags::TRANSFER_WRITE,
+                    ),
+                    (
+                        vk::PipelineStageFlags::FRAGMENT_SHADER,
+                        vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                    ),
+                );
+            }
+            for (pass_plan, (pass, pipeline)) in self.plan.passes.iter().zip(&self.passes) {
+                let clears = [
+                    vk::ClearValue {
+                        color: vk::ClearColorValue { float32: SKY },
+                    },
+                    // Reverse-Z: clear to the far plane, 0.
+                    vk::ClearValue {
+                        depth_stencil: vk::ClearDepthStencilValue {
+                            depth: 0.0,
+                            stencil: 0,
+                        },
+                    },
+                    vk::ClearValue::default(),
+                ];
+                let begin = vk::RenderPassBeginInfo::default()
+                    .render_pass(pass.render_pass.raw)
+                    .framebuffer(pass.framebuffer.raw)
+                    .render_area(vk::Rect2D {
+                        offset: vk::Offset2D::default(),
+                        extent: pass.extent,
+                    })
+                    .clear_values(&clears);
+                device.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+                device.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.bindings.layout.raw,
+                    0,
+                    &[self.bindings.set],
+                    &[],
+                );
+                device.cmd_bind_vertex_buffers(cmd, 0, &[self.scene.vertices.raw], &[0]);
+                device.cmd_bind_index_buffer(cmd, self.scene.indices.raw, 0, vk::IndexType::UINT32);
+                self.record_submission(cmd, pass_plan, pass.extent);
+                device.cmd_end_render_pass(cmd);
+            }
+            if self.counter.is_some() {
+                memory_barrier(
+                    device,
+                    cmd,
+                    (
+                        vk::PipelineStageFlags::FRAGMENT_SHADER,
+                        vk::AccessFlags::SHADER_WRITE,
+                    ),
+                    (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+                );
+            }
+            if let Some(q) = &self.queries {
+                device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, q.raw, 1);
+            }
+        }
+    }
+
+    unsafe fn record_submission(
+        &self,
+        cmd: vk::CommandBuffer,
+        pass: &PassPlan,
+        extent: vk::Extent2D,
+    ) {
+        let eye_width = self.plan.eye_resolution.width;
+        let full = rect(0, extent.width, extent.height);
+        let submission = pass.submission;
+        match submission {
+            Submission::Multiview | Submission::Instanced => {
+                self.set_view(cmd, full, 0, pass.guard_band);
+                let doubled = submission == Submission::Instanced;
+                for draw in &self.scene.draws {
+                    self.draw(cmd, draw, doubled);
+                }
+            }
+            Submission::SingleEye(eye) => {
+                self.set_view(cmd, full, eye.index() as u32, pass.guard_band);
+                for draw in &self.scene.draws {
+                    self.draw(cmd, draw, false);
+                }
+            }
+            Submission::PerObject => {
+                for draw in &self.scene.draws {
+                    for i in 0..draw.instance_count {
+                        let one = Draw {
+                            first_instance: draw.first_instance + i,
+                            instance_count: 1,
+                            ..*draw
+                        };
+                        for eye in Eye::BOTH {
+                            let x = eye.index() as u32 * eye_width;
+                            self.set_view(
+                                cmd,
+                                rect(x, eye_width, extent.height),
+                                eye.index() as u32,
+                                pass.guard_band,
+                            );
+                            self.draw(cmd, &one, false);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Viewport, scissor and the eye index the vertex shader reads in push-constant modes. The
+    /// viewport is `guard_band` times larger than `area` and centred on it; the scissor is `area`.
+    unsafe fn set_view(&self, cmd: vk::CommandBuffer, area: vk::Rect2D, eye: u32, guard_band: u32) {
+        let device = self.gpu.device();
+        let k = guard_band as f32;
+        let (w, h) = (area.extent.width as f32, area.extent.height as f32);
+        let viewport = vk::Viewport {
+            x: area.offset.x as f32 - (k - 1.0) * 0.5 * w,
+            y: -(k - 1.0) * 0.5 * h,
+            width: k * w,
+            height: k * h,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        device.cmd_set_viewport(cmd, 0, &[viewport]);
+        device.cmd_set_scissor(cmd, 0, &[area]);
+        device.cmd_push_constants(
+            cmd,
+            self.bindings.layout.raw,
+            vk::ShaderStageFlags::VERTEX,
+            0,
+            &eye.to_le_bytes(),
+        );
+    }
+
+    /// One indexed draw; `doubled` doubles instance count and first instance for instanced
+    /// stereo, so instance 2k is object k's left eye and 2k+1 its right.
+    unsafe fn draw(&self, cmd: vk::CommandBuffer, draw: &Draw, doubled: bool) {
+        let mesh = self.scene.meshes[draw.mesh];
+        let k = if doubled { 2 } else { 1 };
+        self.gpu.device().cmd_draw_indexed(
+            cmd,
+            mesh.index_count,
+            draw.instance_count * k,
+            mesh.first_index,
+            mesh.vertex_offset,
+            draw.first_instance * k,
+        );
+    }
+}
+
+fn rect(x: u32, width: u32, height: u32) -> vk::Rect2D {
+    vk::Rect2D {
+        offset: vk::Offset2D { x: x as i32, y: 0 },
+        extent: vk::Extent2D { width, height },
+    }
+}
+
+pub(super) unsafe fn memory_barrier(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    src: (vk::PipelineStageFlags, vk::AccessFlags),
+    dst: (vk::PipelineStageFlags, vk::AccessFlags),
+) {
+    let barrier = [vk::MemoryBarrier::default()
+        .src_access_mask(src.1)
+        .dst_access_mask(dst.1)];
+    device.cmd_pipeline_barrier(
+        cmd,
+        src.0,
+        dst.0,
+        vk::DependencyFlags::empty(),
+        &barrier,
+        &[],
+        &[],
+    );
+}

@@ -1,0 +1,314 @@
+use std::time::Instant;
+
+use ash::vk;
+use glam::{Mat4, Vec4};
+
+use super::pipelines::{scene_pipeline, SceneBindings};
+use super::record::memory_barrier;
+use super::scene_buffers::SceneBuffers;
+use super::targets::{compile_pass, create_images, CompiledPass};
+use crate::gpu::{
+    Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, Pipeline, QueryPool,
+    VkResultExt,
+};
+use crate::metrics::RgbaImage;
+use crate::plan::{FramePlan, TargetLayout, MAX_VIEWS};
+use crate::scene::Scene;
+use crate::view::Eye;
+
+/// The per-frame uniform block (`Views` in the shaders, std140).
+#[repr(C)]
+#[derive(Clone, Copy)]
+struct ViewsBlock {
+    view_proj: [Mat4; MAX_VIEWS as usize],
+    light_dir: Vec4,
+}
+
+/// What one frame cost, measured.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameStats {
+    /// CPU time recording the command buffer.
+    pub cpu_record_ms: f64,
+    /// CPU time of the `vkQueueSubmit` call.
+    pub cpu_submit_ms: f64,
+    /// Wall time from the start of recording to the frame's fence signalling.
+    pub frame_ms: f64,
+    /// GPU time between the frame's first and last timestamp (when timestamps are planned).
+    pub gpu_ms: Option<f64>,
+    /// Fragments shaded per view (when fragment counting is planned; empty otherwise).
+    pub fragments: Vec<u64>,
+}
+
+/// The two eyes' images of the last frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StereoImage {
+    pub left: RgbaImage,
+    pub right: RgbaImage,
+}
+
+impl StereoImage {
+    pub fn eye(&self, eye: Eye) -> &RgbaImage {
+        match eye {
+            Eye::Left => &self.left,
+            Eye::Right => &self.right,
+        }
+    }
+
+    pub fn side_by_side(&self) -> RgbaImage {
+        RgbaImage::side_by_side(&self.left, &self.right)
+    }
+}
+
+/// A [`FramePlan`] compiled into Vulkan objects for one scene.
+///
+/// Frames are rendered one at a time (the CPU waits for each frame's fence), so everything a
+/// recorded command buffer uses is alive and idle whenever the renderer is touched again.
+pub struct Renderer<'g> {
+    pub(super) gpu: &'g Gpu,
+    pub(super) plan: FramePlan,
+    // Passes (framebuffers, views) go before the images they view.
+    pub(super) passes: Vec<(CompiledPass, Pipeline)>,
+    images: Vec<Image>,
+    pub(super) bindings: SceneBindings,
+    pub(super) scene: SceneBuffers,
+    views_block: Buffer,
+    pub(super) counter: Option<Buffer>,
+    pub(super) queries: Option<QueryPool>,
+    readback: Option<Buffer>,
+    cmd: vk::CommandBuffer,
+    frame_pool: CommandPool,
+    fence: Fence,
+    light_dir: Vec4,
+    frames_rendered: u64,
+}
+
+impl<'g> Renderer<'g> {
+    /// Builds everything `plan` calls for, and nothing else: no counter buffer without fragment
+    /// counting, no query pool without timestamps, no MSAA images at 1×.
+    pub fn new(gpu: &'g Gpu, plan: &FramePlan, scene: &Scene) -> Result<Self, GpuError> {
+        let scene_buffers = SceneBuffers::upload(gpu, scene)?;
+        let views_block = Buffer::new(
+            gpu,
+            "views",
+            std::mem::size_of::<ViewsBlock>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let counter = plan
+            .buffers
+            .iter()
+            .find(|b| plan.count_fragments() && b.bytes > 0)
+            .map(|b| {
+                Buffer::new(
+                    gpu,
+                    b.name,
+                    b.bytes,
+                    vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+                    MemoryLocation::GpuToCpu,
+                )
+            })
+            .transpose()?;
+        let bindings = SceneBindings::new(
+            gpu,
+            &views_block,
+            &scene_buffers.instances,
+            counter.as_ref(),
+        )?;
+        let images = create_images(gpu, plan)?;
+        let passes = plan
+            .passes
+            .iter()
+            .map(|p| {
+                let compiled = compile_pass(gpu, plan, p, &images)?;
+                let pipeline =
+                    scene_pipeline(gpu, plan, p, compiled.render_pass.raw, &bindings.layout)?;
+                Ok((compiled, pipeline))
+            })
+            .collect::<Result<Vec<_>, GpuError>>()?;
+        let queries = (plan.timestamp_queries > 0)
+            .then(|| {
+                let info = vk::QueryPoolCreateInfo::default()
+                    .query_type(vk::QueryType::TIMESTAMP)
+                    .query_count(plan.timestamp_queries);
+                unsafe { gpu.device().create_query_pool(&info, None) }
+                    .vk("vkCreateQueryPool")
+                    .map(|raw| QueryPool::from_raw(&gpu.dev, raw))
+            })
+            .transpose()?;
+        let frame_pool = gpu.command_pool(vk::CommandPoolCreateFlags::TRANSIENT)?;
+        let cmd = gpu.allocate_command_buffer(&frame_pool)?;
+        Ok(Renderer {
+            gpu,
+            plan: plan.clone(),
+            passes,
+            images,
+            bindings,
+            scene: scene_buffers,
+            views_block,
+            counter,
+            queries,
+            readback: None,
+            cmd,
+            frame_pool,
+            fence: gpu.fence()?,
+            light_dir: scene.light_dir.extend(0.0),
+            frames_rendered: 0,
+        })
+    }
+
+    pub fn plan(&self) -> &FramePlan {
+        &self.plan
+    }
+
+    /// Renders one frame with the head at `world_from_head` and waits for it.
+    pub fn render_frame(&mut self, world_from_head: Mat4) -> Result<FrameStats, GpuError> {
+        let plan = &self.plan;
+        let mut view_proj = [Mat4::IDENTITY; MAX_VIEWS as usize];
+        for eye in Eye::BOTH {
+            view_proj[eye.index()] = plan.eyes.projection(eye, plan.near, plan.far)
+                * plan.eyes.view(eye, world_from_head);
+        }
+        self.views_block.write(&[ViewsBlock {
+            view_proj,
+            light_dir: self.light_dir,
+        }]);
+
+        let device = self.gpu.device();
+        let start = Instant::now();
+        // SAFETY: the previous frame's fence was waited on, so the pool's buffer is idle.
+        unsafe {
+            device
+                .reset_command_pool(self.frame_pool.raw, vk::CommandPoolResetFlags::empty())
+                .vk("vkResetCommandPool")?;
+            let begin = vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            device
+                .begin_command_buffer(self.cmd, &begin)
+                .vk("vkBeginCommandBuffer")?;
+        }
+        self.record(self.cmd);
+        unsafe { device.end_command_buffer(self.cmd) }.vk("vkEndCommandBuffer")?;
+        let recorded = Instant::now();
+        self.gpu.submit(self.cmd, &self.fence)?;
+        let submitted = Instant::now();
+        self.gpu.wait(&self.fence)?;
+        let done = Instant::now();
+        self.frames_rendered += 1;
+
+        let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;
+        Ok(FrameStats {
+            cpu_record_ms: ms(start, recorded),
+            cpu_submit_ms: ms(recorded, submitted),
+            frame_ms: ms(start, done),
+            gpu_ms: self.read_gpu_time()?,
+            fragments: self.read_fragment_counts(),
+        })
+    }
+
+    fn read_gpu_time(&self) -> Result<Option<f64>, GpuError> {
+        let Some(q) = &self.queries else {
+            return Ok(None);
+        };
+        let mut ticks = [0u64; 2];
+        unsafe {
+            self.gpu.device().get_query_pool_results(
+                q.raw,
+                0,
+                &mut ticks,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .vk("vkGetQueryPoolResults")?;
+        Ok(Some(
+            ticks[1].wrapping_sub(ticks[0]) as f64 * self.gpu.timestamp_period_ns / 1e6,
+        ))
+    }
+
+    fn read_fragment_counts(&mut self) -> Vec<u64> {
+        let views = self.plan.views as usize;
+        self.counter
+            .as_mut()
+            .map(|c| c.read_u32s(views).into_iter().map(u64::from).collect())
+            .unwrap_or_default()
+    }
+
+    /// Copies the last frame's stereo image back to the CPU.
+    pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
+        assert!(self.frames_rendered > 0, "readback needs a rendered frame");
+        let output = &self.plan.attachments[self.plan.output()];
+        let image = &self.images[self.plan.output()];
+        let size = output.bytes();
+        if self.readback.is_none() {
+            self.readback = Some(Buffer::new(
+                self.gpu,
+                "readback",
+                size,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?);
+        }
+        let buffer = self.readback.as_mut().expect("created above");
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: output.layers,
+            })
+            .image_extent(vk::Extent3D {
+                width: output.width,
+                height: output.height,
+                depth: 1,
+            });
+        let device = self.gpu.device();
+        let (image_raw, buffer_raw) = (image.raw, buffer.raw);
+        self.gpu.one_shot(|cmd| unsafe {
+            // The output's render pass left it in TRANSFER_SRC_OPTIMAL.
+            device.cmd_copy_image_to_buffer(
+                cmd,
+                image_raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                buffer_raw,
+                &[region],
+            );
+            memory_barrier(
+                device,
+                cmd,
+                (
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                ),
+                (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+            );
+        })?;
+        let bytes = &buffer.mapped()[..size as usize];
+        let (w, h) = (output.width, output.height);
+        let whole = |data: &[u8], width| RgbaImage {
+            width,
+            height: h,
+            data: data.to_vec(),
+        };
+        Ok(match self.plan.layout {
+            TargetLayout::Layered => {
+                let layer = (w * h * 4) as usize;
+                StereoImage {
+                    left: whole(&bytes[..layer], w),
+                    right: whole(&bytes[layer..2 * layer], w),
+                }
+            }
+            TargetLayout::SideBySide => {
+                let both = whole(bytes, w);
+                let eye_w = w / 2;
+                StereoImage {
+                    left: both.crop(0, 0, eye_w, h),
+                    right: both.crop(eye_w, 0, eye_w, h),
+                }
+            }
+        })
+    }
+
+    /// Whether the transient attachments got lazily allocated memory (tile GPUs).
+    pub fn lazy_attachments(&self) -> usize {
+        self.images.iter().filter(|i| i.lazy).count()
+    }
+}

@@ -1,0 +1,122 @@
+use ash::vk;
+
+use crate::gpu::{pod_bytes, Buffer, Gpu, GpuError, MemoryLocation};
+use crate::scene::{Draw, Scene, Vertex};
+
+/// Where one mesh lives in the shared vertex and index buffers.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MeshRange {
+    pub first_index: u32,
+    pub index_count: u32,
+    pub vertex_offset: i32,
+}
+
+/// The scene on the GPU: all meshes in one vertex and one index buffer, all instances in one
+/// storage buffer, and the draw list.
+pub(crate) struct SceneBuffers {
+    pub vertices: Buffer,
+    pub indices: Buffer,
+    pub instances: Buffer,
+    pub meshes: Vec<MeshRange>,
+    pub draws: Vec<Draw>,
+}
+
+impl SceneBuffers {
+    pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
+        let mut vertices: Vec<Vertex> = Vec::new();
+        let mut indices: Vec<u32> = Vec::new();
+        let meshes = scene
+            .meshes
+            .iter()
+            .map(|m| {
+                let range = MeshRange {
+                    first_index: indices.len() as u32,
+                    index_count: m.indices.len() as u32,
+                    vertex_offset: vertices.len() as i32,
+                };
+                vertices.extend_from_slice(&m.vertices);
+                indices.extend_from_slice(&m.indices);
+                range
+            })
+            .collect();
+        let instances = scene.flat_instances();
+        Ok(SceneBuffers {
+            vertices: upload(
+                gpu,
+                "vertices",
+                pod_bytes(&vertices),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+            )?,
+            indices: upload(
+                gpu,
+                "indices",
+                pod_bytes(&indices),
+                vk::BufferUsageFlags::INDEX_BUFFER,
+            )?,
+            instances: upload(
+                gpu,
+                "instances",
+                pod_bytes(&instances),
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+            )?,
+            meshes,
+            draws: scene.draws().collect(),
+        })
+    }
+}
+
+/// A device-local buffer filled through a staging copy.
+fn upload(
+    gpu: &Gpu,
+    name: &str,
+    bytes: &[u8],
+    usage: vk::BufferUsageFlags,
+) -> Result<Buffer, GpuError> {
+    let size = bytes.len().max(4) as u64;
+    let mut staging = Buffer::new(
+        gpu,
+        "staging",
+        size,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::CpuToGpu,
+    )?;
+    staging.mapped()[..bytes.len()].copy_from_slice(bytes);
+    let buffer = Buffer::new(
+        gpu,
+        name,
+        size,
+        usage | vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuOnly,
+    )?;
+    gpu.one_shot(|cmd| {
+        let region = [vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size,
+        }];
+        // SAFETY: both buffers are alive until one_shot has waited for the copy.
+        unsafe {
+            gpu.device()
+                .cmd_copy_buffer(cmd, staging.raw, buffer.raw, &region)
+        };
+        let barrier = [vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+            .dst_access_mask(
+                vk::AccessFlags::VERTEX_ATTRIBUTE_READ
+                    | vk::AccessFlags::INDEX_READ
+                    | vk::AccessFlags::SHADER_READ,
+            )];
+        unsafe {
+            gpu.device().cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::VERTEX_INPUT | vk::PipelineStageFlags::VERTEX_SHADER,
+                vk::DependencyFlags::empty(),
+                &barrier,
+                &[],
+                &[],
+            )
+        };
+    })?;
+    Ok(buffer)
+}

@@ -1,0 +1,218 @@
+//! The frame's images, render passes and framebuffers, built straight from the plan: every
+//! load/store op, layout and usage flag here comes from a plan decision.
+
+use ash::vk;
+
+use crate::gpu::{
+    Framebuffer, Gpu, GpuError, Image, ImageDesc, ImageView, RenderPass, VkResultExt,
+};
+use crate::plan::{
+    AttachmentPlan, AttachmentRole, Format, FramePlan, LoadOp, PassPlan, StoreOp, Use,
+};
+
+pub(crate) fn vk_format(format: Format) -> vk::Format {
+    match format {
+        Format::Rgba8Srgb => vk::Format::R8G8B8A8_SRGB,
+        Format::D32 => vk::Format::D32_SFLOAT,
+        Format::D32S8 => vk::Format::D32_SFLOAT_S8_UINT,
+    }
+}
+
+fn usage(a: &AttachmentPlan) -> vk::ImageUsageFlags {
+    let mut usage = if a.format.is_depth() {
+        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+    } else {
+        vk::ImageUsageFlags::COLOR_ATTACHMENT
+    };
+    if a.transient {
+        usage |= vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
+    }
+    if a.read_after_frame {
+        usage |= vk::ImageUsageFlags::TRANSFER_SRC;
+    }
+    usage
+}
+
+/// One image per planned attachment.
+pub(crate) fn create_images(gpu: &Gpu, plan: &FramePlan) -> Result<Vec<Image>, GpuError> {
+    plan.attachments
+        .iter()
+        .map(|a| {
+            Image::new(
+                gpu,
+                &ImageDesc {
+                    name: a.name,
+                    format: vk_format(a.format),
+                    width: a.width,
+                    height: a.height,
+                    layers: a.layers,
+                    samples: a.samples,
+                    usage: usage(a),
+                },
+            )
+        })
+        .collect()
+}
+
+/// A render pass of the plan made concrete.
+pub(crate) struct CompiledPass {
+    pub render_pass: RenderPass,
+    pub framebuffer: Framebuffer,
+    _views: Vec<ImageView>,
+    pub extent: vk::Extent2D,
+}
+
+fn attachment_layout(a: &AttachmentPlan) -> vk::ImageLayout {
+    if a.format.is_depth() {
+        vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+    } else {
+        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL
+    }
+}
+
+fn description(plan: &FramePlan, u: &Use) -> vk::AttachmentDescription {
+    let a = &plan.attachments[u.attachment];
+    let load = match u.load {
+        LoadOp::Clear => vk::AttachmentLoadOp::CLEAR,
+        LoadOp::Load => vk::AttachmentLoadOp::LOAD,
+        LoadOp::DontCare => vk::AttachmentLoadOp::DONT_CARE,
+    };
+    let store = match u.store {
+        StoreOp::Store => vk::AttachmentStoreOp::STORE,
+        StoreOp::DontCare => vk::AttachmentStoreOp::DONT_CARE,
+    };
+    let working = attachment_layout(a);
+    // Contents that are loaded must already be in the working layout; otherwise UNDEFINED lets
+    // the driver skip preserving them. The frame's output ends ready for the transfer reading it.
+    let initial = if u.load == LoadOp::Load {
+        working
+    } else {
+        vk::ImageLayout::UNDEFINED
+    };
+    let last = if a.read_after_frame && u.store == StoreOp::Store {
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL
+    } else {
+        working
+    };
+    let stencil = a.format == Format::D32S8;
+    vk::AttachmentDescription::default()
+        .format(vk_format(a.format))
+        .samples(vk::SampleCountFlags::from_raw(a.samples))
+        .load_op(load)
+        .store_op(store)
+        .stencil_load_op(if stencil {
+            load
+        } else {
+            vk::AttachmentLoadOp::DONT_CARE
+        })
+        .stencil_store_op(if stencil {
+            store
+        } else {
+            vk::AttachmentStoreOp::DONT_CARE
+        })
+        .initial_layout(initial)
+        .final_layout(last)
+}
+
+pub(crate) fn compile_pass(
+    gpu: &Gpu,
+    plan: &FramePlan,
+    pass: &PassPlan,
+    images: &[Image],
+) -> Result<CompiledPass, GpuError> {
+    let uses: Vec<&Use> = pass.uses().collect();
+    let descriptions: Vec<vk::AttachmentDescription> =
+        uses.iter().map(|u| description(plan, u)).collect();
+    let color_ref = [vk::AttachmentReference {
+        attachment: 0,
+        layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+    }];
+    let depth_ref = vk::AttachmentReference {
+        attachment: 1,
+        layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+    };
+    let resolve_ref = [vk::AttachmentReference {
+        attachment: 2,
+        layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+    }];
+    debug_assert_eq!(
+        plan.attachments[pass.depth.attachment].role,
+        AttachmentRole::Depth
+    );
+    let mut subpass = vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .color_attachments(&color_ref)
+        .depth_stencil_attachment(&depth_ref);
+    if pass.resolve.is_some() {
+        subpass = subpass.resolve_attachments(&resolve_ref);
+    }
+    let attachment_stages = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+        | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+        | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
+    let attachment_writes =
+        vk::AccessFlags::COLOR_ATTACHMENT_WRITE | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE;
+    let dependencies = [
+        // Earlier frames' attachment writes and the readback's reads finish before we write.
+        vk::SubpassDependency::default()
+            .src_subpass(vk::SUBPASS_EXTERNAL)
+            .dst_subpass(0)
+            .src_stage_mask(attachment_stages | vk::PipelineStageFlags::TRANSFER)
+            .dst_stage_mask(attachment_stages)
+            .src_access_mask(attachment_writes)
+            .dst_access_mask(
+                attachment_writes
+                    | vk::AccessFlags::COLOR_ATTACHMENT_READ
+                    | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
+            ),
+        // The output is copied out after the pass.
+        vk::SubpassDependency::default()
+            .src_subpass(0)
+            .dst_subpass(vk::SUBPASS_EXTERNAL)
+            .src_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT)
+            .dst_stage_mask(vk::PipelineStageFlags::TRANSFER)
+            .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+            .dst_access_mask(vk::AccessFlags::TRANSFER_READ),
+    ];
+    let subpasses = [subpass];
+    let masks = [pass.view_mask];
+    let mut multiview = vk::RenderPassMultiviewCreateInfo::default()
+        .view_masks(&masks)
+        .correlation_masks(&masks);
+    let mut info = vk::RenderPassCreateInfo::default()
+        .attachments(&descriptions)
+        .subpasses(&subpasses)
+        .dependencies(&dependencies);
+    if pass.view_mask != 0 {
+        info = info.push_next(&mut multiview);
+    }
+    // SAFETY: the create info points at locals alive for the call.
+    let raw = unsafe { gpu.device().create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
+    let render_pass = RenderPass::from_raw(&gpu.dev, raw);
+
+    // Multiview framebuffers have one layer and array views holding every view's layer.
+    let array = pass.view_mask != 0;
+    let views = uses
+        .iter()
+        .map(|u| images[u.attachment].view(u.base_layer, u.layer_count, array))
+        .collect::<Result<Vec<_>, _>>()?;
+    let raw_views: Vec<vk::ImageView> = views.iter().map(|v| v.raw).collect();
+    let color = &plan.attachments[pass.color.attachment];
+    let extent = vk::Extent2D {
+        width: color.width,
+        height: color.height,
+    };
+    let fb_info = vk::FramebufferCreateInfo::default()
+        .render_pass(render_pass.raw)
+        .attachments(&raw_views)
+        .width(extent.width)
+        .height(extent.height)
+        .layers(1);
+    let raw =
+        unsafe { gpu.device().create_framebuffer(&fb_info, None) }.vk("vkCreateFramebuffer")?;
+    Ok(CompiledPass {
+        framebuffer: Framebuffer::from_raw(&gpu.dev, raw),
+        render_pass,
+        _views: views,
+        extent,
+    })
+}

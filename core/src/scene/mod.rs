@@ -1,0 +1,114 @@
+//! Scenes: meshes, instances drawn with instanced draws, and the head pose to view them from.
+
+mod default_scene;
+mod shapes;
+
+pub use default_scene::default_scene;
+pub use shapes::{cube, ground_grid, ground_quad, uv_sphere};
+
+use glam::{Mat4, Vec3, Vec4};
+
+/// A vertex as the scene shaders read it (location 0: position, 1: normal).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+}
+
+/// Indexed triangle geometry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    pub name: &'static str,
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+}
+
+impl Mesh {
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+}
+
+/// One placed object, laid out as the shaders' `Instance` struct (std430: mat4 + vec4).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instance {
+    pub model: Mat4,
+    pub color: Vec4,
+}
+
+impl Instance {
+    pub fn new(model: Mat4, rgb: Vec3) -> Self {
+        Self {
+            model,
+            color: rgb.extend(1.0),
+        }
+    }
+}
+
+/// All instances of one mesh: one instanced draw call.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DrawBatch {
+    pub mesh: usize,
+    pub instances: Vec<Instance>,
+}
+
+/// A draw as the renderer records it: mesh, and a range of the flattened instance buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Draw {
+    pub mesh: usize,
+    pub first_instance: u32,
+    pub instance_count: u32,
+}
+
+/// Meshes, their instances and where the viewer's head is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub meshes: Vec<Mesh>,
+    pub batches: Vec<DrawBatch>,
+    /// World pose of the head (the point between the eyes).
+    pub head: Mat4,
+    /// Direction the light travels (world space, normalised).
+    pub light_dir: Vec3,
+}
+
+impl Scene {
+    pub fn instance_count(&self) -> usize {
+        self.batches.iter().map(|b| b.instances.len()).sum()
+    }
+
+    /// Triangles submitted per view.
+    pub fn triangle_count(&self) -> usize {
+        self.batches
+            .iter()
+            .map(|b| self.meshes[b.mesh].triangle_count() * b.instances.len())
+            .sum()
+    }
+
+    /// The draws in order, each naming its slice of [`Scene::flat_instances`]; empty batches
+    /// are skipped.
+    pub fn draws(&self) -> impl Iterator<Item = Draw> + '_ {
+        let mut first = 0u32;
+        self.batches
+            .iter()
+            .filter(|b| !b.instances.is_empty())
+            .map(move |b| {
+                let draw = Draw {
+                    mesh: b.mesh,
+                    first_instance: first,
+                    instance_count: b.instances.len() as u32,
+                };
+                first += draw.instance_count;
+                draw
+            })
+    }
+
+    /// Every instance, batch after batch, in the order [`Scene::draws`] indexes them.
+    pub fn flat_instances(&self) -> Vec<Instance> {
+        self.batches
+            .iter()
+            .flat_map(|b| b.instances.iter().copied())
+            .collect()
+    }
+}

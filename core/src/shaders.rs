@@ -1,0 +1,34 @@
+//! SPIR-V compiled from `shaders/` by the build script.
+
+/// One compiled shader: a name for messages and its SPIR-V bytes.
+pub struct ShaderBinary {
+    pub name: &'static str,
+    pub spirv: &'static [u8],
+}
+
+macro_rules! spirv {
+    ($name:literal) => {
+        ShaderBinary {
+            name: $name,
+            spirv: include_bytes!(concat!(env!("OUT_DIR"), "/", $name)),
+        }
+    };
+}
+
+pub const SCENE_VERT: ShaderBinary = spirv!("scene.vert.spv");
+pub const SCENE_FRAG: ShaderBinary = spirv!("scene.frag.spv");
+/// The scene fragment shader with the per-view fragment counter compiled in.
+pub const SCENE_FRAG_COUNTING: ShaderBinary = spirv!("scene_counting.frag.spv");
+
+/// Every shader the renderer can use (the spirv-val test walks this list).
+pub const ALL: &[ShaderBinary] = &[SCENE_VERT, SCENE_FRAG, SCENE_FRAG_COUNTING];
+
+impl ShaderBinary {
+    /// The SPIR-V as 32-bit words, as Vulkan wants it.
+    pub fn words(&self) -> Vec<u32> {
+        self.spirv
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect()
+    }
+}

@@ -1,0 +1,154 @@
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::{Args, Parser, Subcommand};
+use foveate::gpu::{Gpu, GpuOptions};
+use foveate::plan::{RenderConfig, Resolution, StereoMode};
+use foveate::scene::default_scene;
+
+#[derive(Parser)]
+#[command(
+    name = "foveate",
+    version,
+    about = "Stereo and foveated VR rendering on Vulkan, measured"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+    /// Vulkan device to use: index or part of its name (default: the best; env FOVEATE_DEVICE).
+    #[arg(long, global = true)]
+    device: Option<String>,
+    /// Enable VK_LAYER_KHRONOS_validation and fail on any message (env FOVEATE_VALIDATION=1).
+    #[arg(long, global = true)]
+    validation: bool,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render the default scene, write a side-by-side PNG, print plan, frame times and pixel counts.
+    Render(RenderArgs),
+    /// Print the frame plan: passes, attachments, load/store ops, transient images, bytes.
+    Plan(ConfigArgs),
+    /// List Vulkan devices with what foveate cares about.
+    Devices,
+}
+
+/// Frame configuration shared by `render` and `plan`.
+#[derive(Args, Clone)]
+pub struct ConfigArgs {
+    /// Headset profile: index, vive, rift-cv1, quest2.
+    #[arg(long, default_value = "index")]
+    pub hmd: String,
+    /// Stereo submission: multiview, two-pass, per-object, instanced (`render` also takes `all`).
+    #[arg(long, default_value = "multiview")]
+    pub stereo: String,
+    /// MSAA samples on the scene pass: 1 or 4.
+    #[arg(long, default_value_t = 4)]
+    pub msaa: u32,
+    /// Per-eye resolution: N (square), WxH, or `native` for the headset's panel.
+    #[arg(long, default_value = "1024")]
+    pub res: String,
+    /// Views per pass (2 for stereo).
+    #[arg(long, default_value_t = 2)]
+    pub views: u32,
+    /// Interpupillary distance in millimetres (default 64).
+    #[arg(long)]
+    pub ipd_mm: Option<f32>,
+    /// Outward cant of each eye in degrees (default: the headset's).
+    #[arg(long)]
+    pub cant: Option<f32>,
+}
+
+impl ConfigArgs {
+    /// The config for one stereo mode (`stereo` may be `all`; the caller picks the mode).
+    pub fn config(&self, stereo: StereoMode) -> Result<RenderConfig> {
+        let resolution = match self.res.as_str() {
+            "native" => None,
+            r => Some(r.parse::<Resolution>()?),
+        };
+        Ok(RenderConfig {
+            hmd: self.hmd.clone(),
+            resolution,
+            stereo,
+            views: self.views,
+            msaa: self.msaa,
+            ipd_m: self.ipd_mm.map(|mm| mm / 1000.0),
+            cant_deg: self.cant,
+            ..RenderConfig::default()
+        })
+    }
+
+    /// The stereo modes asked for: one, or all four for `all`.
+    pub fn stereo_modes(&self) -> Result<Vec<StereoMode>> {
+        if self.stereo == "all" {
+            Ok(StereoMode::ALL.to_vec())
+        } else {
+            Ok(vec![self.stereo.parse()?])
+        }
+    }
+}
+
+#[derive(Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Frames to render (the first is a warm-up and not counted in the statistics).
+    #[arg(long, default_value_t = 10)]
+    pub frames: u32,
+    /// Where to write the side-by-side PNG (with `--stereo all`, one file per mode is written,
+    /// the mode's name inserted before the extension).
+    #[arg(long, default_value = "frame.png")]
+    pub out: PathBuf,
+}
+
+impl Cli {
+    fn gpu_options(&self) -> GpuOptions {
+        let env = GpuOptions::from_env();
+        GpuOptions {
+            validation: self.validation || env.validation,
+            device: self.device.clone().or(env.device),
+        }
+    }
+
+    pub fn run(&self) -> Result<()> {
+        match &self.command {
+            Command::Devices => devices(),
+            Command::Plan(args) => {
+                let gpu = Gpu::new(&self.gpu_options())?;
+                let scene = default_scene();
+                for mode in args.stereo_modes()? {
+                    let plan = foveate::plan(&scene, &args.config(mode)?, gpu.caps())?;
+                    println!("{plan}\n");
+                }
+                Ok(())
+            }
+            Command::Render(args) => crate::render_cmd::render(&self.gpu_options(), args),
+        }
+    }
+}
+
+fn devices() -> Result<()> {
+    let devices = Gpu::list_devices()?;
+    if devices.is_empty() {
+        println!("no Vulkan devices found (install mesa-vulkan-drivers for lavapipe)");
+    }
+    for d in devices {
+        let yes = |b: bool| if b { "yes" } else { "no" };
+        println!("[{}] {} ({})", d.index, d.name, d.device_type);
+        println!("    Vulkan {}; driver {}", d.api_version, d.driver);
+        println!(
+            "    multiview: max {} views; MSAA sample counts: {:?}",
+            d.max_multiview_views, d.sample_counts
+        );
+        println!(
+            "    fragment density map: {}; fragment shading rate (VRS): {}; lazily allocated memory: {}",
+            yes(d.fragment_density_map),
+            yes(d.fragment_shading_rate),
+            yes(d.lazily_allocated_memory)
+        );
+        if let Some(why) = d.unusable {
+            println!("    unusable by foveate: {why}");
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,18 @@
+//! `foveate`: render, plan and inspect stereo VR frames on Vulkan (lavapipe by default where no
+//! GPU exists).
+
+mod cli;
+mod render_cmd;
+
+use clap::Parser;
+
+fn main() -> std::process::ExitCode {
+    let cli = cli::Cli::parse();
+    match cli.run() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

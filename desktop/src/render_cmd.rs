@@ -1,0 +1,127 @@
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::Stats;
+use foveate::render::{FrameStats, Renderer};
+use foveate::scene::default_scene;
+use foveate::StereoMode;
+
+use crate::cli::RenderArgs;
+
+/// What one mode's run measured.
+struct ModeResult {
+    mode: StereoMode,
+    frame: Stats,
+    gpu: Option<Stats>,
+    record: Stats,
+    fragments: Vec<u64>,
+    draw_calls: u64,
+}
+
+pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
+    anyhow::ensure!(
+        args.frames >= 1,
+        "invalid frames = {}: at least 1",
+        args.frames
+    );
+    let gpu = Gpu::new(options)?;
+    let scene = default_scene();
+    let modes = args.config.stereo_modes()?;
+    println!("device: {}", gpu.info().name);
+    let mut results = Vec::new();
+    for &mode in &modes {
+        let plan = foveate::plan(&scene, &args.config.config(mode)?, gpu.caps())?;
+        println!("{plan}\n");
+        let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
+        let mut frames: Vec<FrameStats> = Vec::new();
+        for i in 0..args.frames {
+            let stats = renderer.render_frame(scene.head)?;
+            if i > 0 || args.frames == 1 {
+                frames.push(stats);
+            }
+            eprint!("\r{mode}: frame {}/{}", i + 1, args.frames);
+            let _ = std::io::stderr().flush();
+        }
+        eprintln!();
+        let image = renderer.readback()?.side_by_side();
+        let out = output_path(&args.out, mode, modes.len() > 1);
+        image
+            .save_png(&out)
+            .with_context(|| format!("writing {}", out.display()))?;
+        println!(
+            "wrote {} ({}x{}, left eye | right eye)",
+            out.display(),
+            image.width,
+            image.height
+        );
+        gpu.check_validation()?;
+        let series = |f: fn(&FrameStats) -> f64| frames.iter().map(f).collect::<Vec<_>>();
+        results.push(ModeResult {
+            mode,
+            frame: Stats::of(&series(|f| f.frame_ms)).expect("at least one frame"),
+            gpu: Stats::of(&frames.iter().filter_map(|f| f.gpu_ms).collect::<Vec<_>>()),
+            record: Stats::of(&series(|f| f.cpu_record_ms)).expect("at least one frame"),
+            fragments: frames
+                .last()
+                .map(|f| f.fragments.clone())
+                .unwrap_or_default(),
+            draw_calls: plan.draw_calls,
+        });
+        let pixels = plan.eye_resolution.pixels();
+        print_result(results.last().expect("just pushed"), pixels);
+    }
+    if results.len() > 1 {
+        print_comparison(&results);
+    }
+    Ok(())
+}
+
+fn output_path(out: &Path, mode: StereoMode, per_mode: bool) -> PathBuf {
+    if !per_mode {
+        return out.to_path_buf();
+    }
+    let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
+    let ext = out.extension().and_then(|s| s.to_str()).unwrap_or("png");
+    out.with_file_name(format!("{stem}-{mode}.{ext}"))
+}
+
+fn print_result(r: &ModeResult, eye_pixels: u64) {
+    let gpu = r
+        .gpu
+        .map_or("n/a".to_string(), |g| format!("{:.2} ms", g.median));
+    println!(
+        "{}: frame time median {:.2} ms (mean {:.2}, p95 {:.2}, {} frames); GPU {gpu}; CPU record {:.3} ms; {} draw calls",
+        r.mode, r.frame.median, r.frame.mean, r.frame.p95, r.frame.count, r.record.median, r.draw_calls
+    );
+    for (view, &n) in r.fragments.iter().enumerate() {
+        let eye = if view == 0 { "left" } else { "right" };
+        println!(
+            "  view {view} ({eye} eye): {n} fragments shaded = {:.3} per pixel of {eye_pixels}",
+            n as f64 / eye_pixels as f64
+        );
+    }
+}
+
+fn print_comparison(results: &[ModeResult]) {
+    let base = &results[0];
+    println!(
+        "\n{:<11} {:>12} {:>8} {:>12} {:>8} {:>14} {:>8}",
+        "stereo", "frame ms", "ratio", "GPU ms", "ratio", "CPU record ms", "ratio"
+    );
+    for r in results {
+        let gpu = |s: &Option<Stats>| s.map_or(f64::NAN, |g| g.median);
+        println!(
+            "{:<11} {:>12.2} {:>8.2} {:>12.2} {:>8.2} {:>14.3} {:>8.2}",
+            r.mode.name(),
+            r.frame.median,
+            r.frame.median / base.frame.median,
+            gpu(&r.gpu),
+            gpu(&r.gpu) / gpu(&base.gpu),
+            r.record.median,
+            r.record.median / base.record.median
+        );
+    }
+    println!("(ratios to {}, medians from this run)", base.mode);
+}

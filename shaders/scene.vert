@@ -1,0 +1,74 @@
+#version 450
+#extension GL_EXT_multiview : require
+
+// Where this vertex's view comes from; one shader serves every stereo mode so the
+// modes differ only in how the frame is submitted, never in what is shaded.
+//   0: multiview (gl_ViewIndex)
+//   1: push constant (two-pass and per-object modes)
+//   2: instanced stereo (instance index low bit; seed 004's clip-space half viewport)
+layout(constant_id = 0) const uint VIEW_SOURCE = 0;
+// Emulated guard band (1/K, see PassPlan::guard_band): the viewport is K times larger than the
+// render area, so x and y shrink by K to land on the same pixels.
+layout(constant_id = 1) const float CLIP_XY_SCALE = 1.0;
+
+layout(std140, set = 0, binding = 0) uniform Views {
+    mat4 view_proj[4];
+    vec4 light_dir;
+} views;
+
+struct Instance {
+    mat4 model;
+    vec4 color;
+};
+layout(std430, set = 0, binding = 1) readonly buffer Instances {
+    Instance instances[];
+};
+
+layout(push_constant) uniform Push {
+    uint view;
+} pc;
+
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+
+layout(location = 0) out vec3 out_normal;
+layout(location = 1) out vec3 out_color;
+layout(location = 2) flat out uint out_view;
+
+out gl_PerVertex {
+    vec4 gl_Position;
+    float gl_ClipDistance[1];
+};
+
+void main() {
+    uint view;
+    uint instance;
+    if (VIEW_SOURCE == 2u) {
+        // The draw doubled instanceCount and firstInstance, so each object shows up as two
+        // consecutive instances: even ones for the left eye, odd ones for the right.
+        view = uint(gl_InstanceIndex) & 1u;
+        instance = uint(gl_InstanceIndex) >> 1;
+    } else {
+        view = VIEW_SOURCE == 0u ? gl_ViewIndex : pc.view;
+        instance = uint(gl_InstanceIndex);
+    }
+
+    Instance inst = instances[instance];
+    vec4 world = inst.model * vec4(in_position, 1.0);
+    vec4 clip = views.view_proj[view] * world;
+
+    if (VIEW_SOURCE == 2u) {
+        // Keep each eye inside its half: clip against the inner edge of its own frustum
+        // (x <= w for the left eye, x >= -w for the right), then squeeze x into that half.
+        gl_ClipDistance[0] = view == 0u ? clip.w - clip.x : clip.w + clip.x;
+        clip.x = clip.x * 0.5 + (view == 0u ? -0.5 : 0.5) * clip.w;
+    } else {
+        gl_ClipDistance[0] = 1.0;
+    }
+
+    clip.xy *= CLIP_XY_SCALE;
+    gl_Position = clip;
+    out_normal = mat3(inst.model) * in_normal;
+    out_color = inst.color.rgb;
+    out_view = view;
+}
