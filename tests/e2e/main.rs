@@ -1,1 +1,9 @@
-fn main() {}
+//! End-to-end tests on a real Vulkan device (lavapipe in CI) with validation on: any validation
+//! message fails the test that caused it.
+
+mod config_errors;
+mod fragment_counter;
+mod golden;
+mod quirks;
+mod shaders;
+mod stereo;

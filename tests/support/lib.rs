@@ -1,1 +1,109 @@
+//! Helpers for the end-to-end tests: a validated GPU, one-call rendering, golden images.
 
+use std::path::{Path, PathBuf};
+
+use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::RgbaImage;
+use foveate::plan::{FramePlan, RenderConfig};
+use foveate::render::{FrameStats, Renderer, StereoImage};
+use foveate::scene::Scene;
+
+/// The test GPU: validation always on (`FOVEATE_DEVICE` may pick the device).
+pub fn gpu() -> Gpu {
+    let options = GpuOptions {
+        validation: true,
+        device: std::env::var("FOVEATE_DEVICE").ok(),
+    };
+    Gpu::new(&options).expect("a Vulkan device with VK_LAYER_KHRONOS_validation (see README)")
+}
+
+/// Fails the test if validation reported anything.
+pub fn assert_validation_clean(gpu: &Gpu) {
+    if let Err(e) = gpu.check_validation() {
+        panic!("{e}");
+    }
+}
+
+/// Plans, renders `frames` frames and reads the last one back; validation must stay silent.
+pub fn render_plan(
+    gpu: &Gpu,
+    scene: &Scene,
+    plan: &FramePlan,
+    frames: u32,
+) -> (StereoImage, FrameStats) {
+    let mut renderer = Renderer::new(gpu, plan, scene).expect("renderer");
+    let mut stats = FrameStats::default();
+    for _ in 0..frames {
+        stats = renderer.render_frame(scene.head).expect("frame");
+    }
+    let image = renderer.readback().expect("readback");
+    drop(renderer);
+    assert_validation_clean(gpu);
+    (image, stats)
+}
+
+pub fn render(gpu: &Gpu, scene: &Scene, config: &RenderConfig) -> (StereoImage, FrameStats) {
+    let plan = foveate::plan(scene, config, gpu.caps()).expect("valid config");
+    render_plan(gpu, scene, &plan, 1)
+}
+
+fn golden_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("golden")
+}
+
+/// Where failing comparisons leave the actual image and a diff picture.
+pub fn failure_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/golden-failures")
+}
+
+/// Compares `actual` with `tests/golden/<name>.png` by SSIM. With `FOVEATE_BLESS=1` the
+/// reference is (re)written instead. On failure the actual image and a diff are written to
+/// `target/golden-failures/`.
+pub fn assert_matches_golden(name: &str, actual: &RgbaImage, min_ssim: f64) {
+    let path = golden_dir().join(format!("{name}.png"));
+    if std::env::var("FOVEATE_BLESS").is_ok_and(|v| v == "1") {
+        actual.save_png(&path).expect("write golden image");
+        eprintln!("blessed {}", path.display());
+        return;
+    }
+    let expected = RgbaImage::load_png(&path).unwrap_or_else(|e| {
+        panic!("{e}\n(create it with FOVEATE_BLESS=1 cargo test -p foveate-tests)")
+    });
+    let ssim = expected.ssim(actual).unwrap_or(f64::NEG_INFINITY);
+    if ssim < min_ssim {
+        let dir = failure_dir();
+        std::fs::create_dir_all(&dir).expect("create failure dir");
+        let actual_path = dir.join(format!("{name}-actual.png"));
+        actual.save_png(&actual_path).expect("write actual");
+        if let Ok(diff) = expected.diff_image(actual) {
+            diff.save_png(&dir.join(format!("{name}-diff.png")))
+                .expect("write diff");
+        }
+        panic!(
+            "{name}: SSIM {ssim:.4} < {min_ssim} against {}; actual and diff written to {}",
+            path.display(),
+            dir.display()
+        );
+    }
+}
+
+/// Centroid (x, y) of the pixels that differ from `background` by more than `threshold` in any
+/// channel, or `None` if there are none.
+pub fn centroid_of_non_background(
+    img: &RgbaImage,
+    background: [u8; 4],
+    threshold: u8,
+) -> Option<(f64, f64)> {
+    let (mut sx, mut sy, mut n) = (0.0, 0.0, 0u64);
+    for y in 0..img.height {
+        for x in 0..img.width {
+            let p = img.pixel(x, y);
+            if (0..3).any(|c| p[c].abs_diff(background[c]) > threshold) {
+                sx += x as f64 + 0.5;
+                sy += y as f64 + 0.5;
+                n += 1;
+            }
+        }
+    }
+    (n > 0).then(|| (sx / n as f64, sy / n as f64))
+}

@@ -272,7 +272,6 @@ impl Gpu {
                 props.limits.viewport_bounds_range[0],
                 props.limits.viewport_bounds_range[1],
             ),
-            max_framebuffer_layers: props.limits.max_framebuffer_layers,
             lazily_allocated_memory: chosen.info.lazily_allocated_memory,
             fragment_stores_and_atomics: supported.fragment_stores_and_atomics == vk::TRUE,
             shader_clip_distance: supported.shader_clip_distance == vk::TRUE,

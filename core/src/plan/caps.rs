@@ -12,7 +12,6 @@ pub struct DeviceCaps {
     pub max_viewport_dimension: u32,
     /// `viewportBoundsRange`.
     pub viewport_bounds: (f32, f32),
-    pub max_framebuffer_layers: u32,
     /// Whether a memory type with `LAZILY_ALLOCATED` exists (tile GPUs; lavapipe has none).
     pub lazily_allocated_memory: bool,
     pub fragment_stores_and_atomics: bool,

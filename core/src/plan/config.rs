@@ -2,7 +2,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use super::ConfigError;
-use crate::view::{HmdProfile, HMD_PROFILES};
+use crate::view::{FovTangents, HmdProfile, HMD_PROFILES};
 
 /// foveate's own limit on views in one pass: two eyes, or two eyes × (periphery, fovea).
 pub const MAX_VIEWS: u32 = 4;
@@ -119,6 +119,8 @@ pub struct RenderConfig {
     pub ipd_m: Option<f32>,
     /// Outward cant of each eye in degrees, overriding the profile's.
     pub cant_deg: Option<f32>,
+    /// Left-eye FOV tangents overriding the profile's (the right eye mirrors them).
+    pub fov: Option<FovTangents>,
     pub near: f32,
     pub far: f32,
     /// Count shaded fragments per view (an atomic counter in the fragment shader).
@@ -137,6 +139,7 @@ impl Default for RenderConfig {
             msaa: 4,
             ipd_m: None,
             cant_deg: None,
+            fov: None,
             near: 0.05,
             far: 500.0,
             count_fragments: true,

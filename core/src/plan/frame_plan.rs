@@ -151,8 +151,11 @@ impl PassPlan {
 /// How the two eyes' images are laid out in the frame's images.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TargetLayout {
-    /// One array layer per eye (multiview, two-pass).
+    /// One array layer per eye of one image (multiview).
     Layered,
+    /// One image per eye (two-pass: each pass renders its eye's own image, as naive engines
+    /// do; it also sidesteps lavapipe resolving into layer 0 whatever the view's base layer).
+    PerEye,
     /// Both eyes side by side in one double-wide image (per-object, instanced).
     SideBySide,
 }
@@ -191,12 +194,11 @@ impl FramePlan {
         self.buffers.iter().any(|b| b.name == FRAGMENT_COUNTER)
     }
 
-    /// The attachment read after the frame: the stereo image.
-    pub fn output(&self) -> AttachmentId {
-        self.attachments
-            .iter()
-            .position(|a| a.read_after_frame)
-            .expect("every plan has an output attachment")
+    /// The attachments read after the frame, in eye order: the stereo image.
+    pub fn outputs(&self) -> Vec<AttachmentId> {
+        (0..self.attachments.len())
+            .filter(|&i| self.attachments[i].read_after_frame)
+            .collect()
     }
 
     /// Bytes of attachments that must be backed by memory (not transient).
@@ -232,7 +234,12 @@ impl FramePlan {
                 loaded + stored
             })
             .sum();
-        attachment_traffic + self.attachments[self.output()].bytes()
+        attachment_traffic
+            + self
+                .outputs()
+                .iter()
+                .map(|&i| self.attachments[i].bytes())
+                .sum::<u64>()
     }
 }
 
@@ -254,7 +261,8 @@ pub fn plan(
     validate_features(config, caps)?;
 
     let layout = match config.stereo {
-        StereoMode::Multiview | StereoMode::TwoPass => TargetLayout::Layered,
+        StereoMode::Multiview => TargetLayout::Layered,
+        StereoMode::TwoPass => TargetLayout::PerEye,
         StereoMode::PerObject | StereoMode::Instanced => TargetLayout::SideBySide,
     };
     let mut attachments = Vec::new();
@@ -299,17 +307,14 @@ fn scene_passes(
     attachments: &mut Vec<AttachmentPlan>,
 ) -> Vec<PassPlan> {
     let msaa = config.msaa > 1;
+    // Per-pass image shape: one layer per view for multiview, one double-wide image for the
+    // side-by-side modes, one single-layer image per eye for two-pass.
     let (width, layers) = match layout {
         TargetLayout::Layered => (eye.width, 2),
         TargetLayout::SideBySide => (eye.width * 2, 1),
+        TargetLayout::PerEye => (eye.width, 1),
     };
-    // Two-pass renders one layer at a time, so its per-pass scratch images need one layer.
-    let scratch_layers = if config.stereo == StereoMode::TwoPass {
-        1
-    } else {
-        layers
-    };
-    let mut add = |name, role, format, samples, layers, read_after_frame| {
+    let mut add = |name, role, format, samples, read_after_frame| {
         attachments.push(AttachmentPlan {
             name,
             role,
@@ -323,80 +328,87 @@ fn scene_passes(
         });
         attachments.len() - 1
     };
-    let color = if msaa {
+    // Scratch images are shared by the passes (two-pass reuses them for the second eye).
+    let color = msaa.then(|| {
         add(
             "scene colour (MSAA)",
             AttachmentRole::Color,
             Format::Rgba8Srgb,
             config.msaa,
-            scratch_layers,
             false,
         )
-    } else {
-        add(
-            "stereo colour",
-            AttachmentRole::Color,
-            Format::Rgba8Srgb,
-            1,
-            layers,
-            true,
-        )
-    };
+    });
     let depth = add(
         "scene depth",
         AttachmentRole::Depth,
         Format::D32,
         config.msaa,
-        scratch_layers,
         false,
     );
-    let resolve = msaa.then(|| {
-        add(
+    let output_role = if msaa {
+        AttachmentRole::Resolve
+    } else {
+        AttachmentRole::Color
+    };
+    let outputs: Vec<AttachmentId> = match layout {
+        TargetLayout::PerEye => vec![
+            add("left eye colour", output_role, Format::Rgba8Srgb, 1, true),
+            add("right eye colour", output_role, Format::Rgba8Srgb, 1, true),
+        ],
+        _ => vec![add(
             "stereo colour",
-            AttachmentRole::Resolve,
+            output_role,
             Format::Rgba8Srgb,
             1,
-            layers,
             true,
-        )
-    });
+        )],
+    };
 
-    let pass = |name, view_mask, layer: Option<u32>, submission| {
-        let (base, count) = layer.map_or((0, layers), |l| (l, 1));
-        let scratch_base = if scratch_layers == 1 { 0 } else { base };
-        let color_use = if msaa {
-            Use::new(color, scratch_base, count, Access::Clear)
-        } else {
-            Use::new(color, base, count, Access::Clear)
-        };
+    let pass = |name, view_mask, output: AttachmentId, submission| {
+        let whole = |id, access| Use::new(id, 0, layers, access);
         PassPlan {
             name,
             view_mask,
-            color: color_use,
-            depth: Use::new(depth, scratch_base, count, Access::Clear),
-            resolve: resolve.map(|r| Use::new(r, base, count, Access::Overwrite)),
+            color: whole(color.unwrap_or(output), Access::Clear),
+            depth: whole(depth, Access::Clear),
+            resolve: color.map(|_| whole(output, Access::Overwrite)),
             submission,
             guard_band: 1,
         }
     };
     match config.stereo {
-        StereoMode::Multiview => vec![pass("scene (multiview)", 0b11, None, Submission::Multiview)],
+        StereoMode::Multiview => vec![pass(
+            "scene (multiview)",
+            0b11,
+            outputs[0],
+            Submission::Multiview,
+        )],
         StereoMode::TwoPass => vec![
             pass(
                 "scene (left eye)",
                 0,
-                Some(0),
+                outputs[0],
                 Submission::SingleEye(Eye::Left),
             ),
             pass(
                 "scene (right eye)",
                 0,
-                Some(1),
+                outputs[1],
                 Submission::SingleEye(Eye::Right),
             ),
         ],
-        StereoMode::PerObject => vec![pass("scene (per-object)", 0, None, Submission::PerObject)],
-        StereoMode::Instanced => vec![pass("scene (instanced)", 0, None, Submission::Instanced)],
+        StereoMode::PerObject => vec![pass(
+            "scene (per-object)",
+            0,
+            outputs[0],
+            Submission::PerObject,
+        )],
+        StereoMode::Instanced => vec![pass(
+            "scene (instanced)",
+            0,
+            outputs[0],
+            Submission::Instanced,
+        )],
     }
 }
 
@@ -483,6 +495,23 @@ fn validate_eyes(config: &RenderConfig, hmd: &HmdProfile) -> Result<EyeParams, C
             ));
         }
         eyes.cant_rad = cant.to_radians();
+    }
+    if let Some(fov) = config.fov {
+        // Each half-angle within (-89°, 89°) and the two halves of an axis spanning > 0.
+        let max = 89f32.to_radians().tan();
+        let ok = |t: f32| t.is_finite() && t.abs() < max;
+        let valid = fov.as_array().into_iter().all(ok)
+            && fov.left + fov.right > 0.0
+            && fov.up + fov.down > 0.0;
+        if !valid {
+            return Err(ConfigError::new(
+                "fov",
+                format!("{:?}", fov.as_array()),
+                format!("finite tangents with |t| < {max:.1} (89°) spanning a positive angle on each axis"),
+            ));
+        }
+        eyes.left_fov = fov;
+        eyes.right_fov = fov.mirrored();
     }
     Ok(eyes)
 }

@@ -19,3 +19,6 @@ pub use frame_plan::{
     plan, AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, Format, FramePlan, PassPlan,
     Submission, TargetLayout, Use,
 };
+
+#[cfg(test)]
+mod tests;

@@ -33,6 +33,7 @@ impl fmt::Display for FramePlan {
         )?;
         let layout = match self.layout {
             TargetLayout::Layered => "one array layer per eye",
+            TargetLayout::PerEye => "one image per eye",
             TargetLayout::SideBySide => "both eyes side by side in one image",
         };
         writeln!(

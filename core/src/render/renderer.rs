@@ -235,10 +235,12 @@ impl<'g> Renderer<'g> {
     /// Copies the last frame's stereo image back to the CPU.
     pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
         assert!(self.frames_rendered > 0, "readback needs a rendered frame");
-        let output = &self.plan.attachments[self.plan.output()];
-        let image = &self.images[self.plan.output()];
-        let size = output.bytes();
-        if self.readback.is_none() {
+        let outputs = self.plan.outputs();
+        let size: u64 = outputs
+            .iter()
+            .map(|&i| self.plan.attachments[i].bytes())
+            .sum();
+        if self.readback.as_ref().is_none_or(|b| b.size < size) {
             self.readback = Some(Buffer::new(
                 self.gpu,
                 "readback",
@@ -248,29 +250,40 @@ impl<'g> Renderer<'g> {
             )?);
         }
         let buffer = self.readback.as_mut().expect("created above");
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: output.layers,
-            })
-            .image_extent(vk::Extent3D {
-                width: output.width,
-                height: output.height,
-                depth: 1,
-            });
+        // Every layer of every output, one after the other.
+        let mut copies = Vec::new();
+        let mut offset = 0;
+        for &id in &outputs {
+            let a = &self.plan.attachments[id];
+            let region = vk::BufferImageCopy::default()
+                .buffer_offset(offset)
+                .image_subresource(vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: a.layers,
+                })
+                .image_extent(vk::Extent3D {
+                    width: a.width,
+                    height: a.height,
+                    depth: 1,
+                });
+            copies.push((self.images[id].raw, region));
+            offset += a.bytes();
+        }
         let device = self.gpu.device();
-        let (image_raw, buffer_raw) = (image.raw, buffer.raw);
+        let buffer_raw = buffer.raw;
         self.gpu.one_shot(|cmd| unsafe {
-            // The output's render pass left it in TRANSFER_SRC_OPTIMAL.
-            device.cmd_copy_image_to_buffer(
-                cmd,
-                image_raw,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                buffer_raw,
-                &[region],
-            );
+            for (image, region) in &copies {
+                // The outputs' render passes left them in TRANSFER_SRC_OPTIMAL.
+                device.cmd_copy_image_to_buffer(
+                    cmd,
+                    *image,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    buffer_raw,
+                    &[*region],
+                );
+            }
             memory_barrier(
                 device,
                 cmd,
@@ -282,26 +295,26 @@ impl<'g> Renderer<'g> {
             );
         })?;
         let bytes = &buffer.mapped()[..size as usize];
-        let (w, h) = (output.width, output.height);
-        let whole = |data: &[u8], width| RgbaImage {
-            width,
-            height: h,
-            data: data.to_vec(),
-        };
+        let first = &self.plan.attachments[outputs[0]];
+        let (w, h) = (first.width, first.height);
+        let mut slices = bytes
+            .chunks_exact((w * h * 4) as usize)
+            .map(|data| RgbaImage {
+                width: w,
+                height: h,
+                data: data.to_vec(),
+            });
+        let mut next = || slices.next().expect("two eyes' worth of layers");
         Ok(match self.plan.layout {
-            TargetLayout::Layered => {
-                let layer = (w * h * 4) as usize;
-                StereoImage {
-                    left: whole(&bytes[..layer], w),
-                    right: whole(&bytes[layer..2 * layer], w),
-                }
-            }
+            TargetLayout::Layered | TargetLayout::PerEye => StereoImage {
+                left: next(),
+                right: next(),
+            },
             TargetLayout::SideBySide => {
-                let both = whole(bytes, w);
-                let eye_w = w / 2;
+                let both = next();
                 StereoImage {
-                    left: both.crop(0, 0, eye_w, h),
-                    right: both.crop(eye_w, 0, eye_w, h),
+                    left: both.crop(0, 0, w / 2, h),
+                    right: both.crop(w / 2, 0, w / 2, h),
                 }
             }
         })

@@ -24,7 +24,7 @@ pub fn reverse_z_projection(fov: FovTangents, near: f32, far: f32) -> Mat4 {
     Mat4::from_cols(
         Vec4::new(2.0 / w, 0.0, 0.0, 0.0),
         Vec4::new(0.0, -2.0 / h, 0.0, 0.0),
-        Vec4::new((right - left) / w, (up - down) / h, a, -1.0),
+        Vec4::new((right - left) / w, (down - up) / h, a, -1.0),
         Vec4::new(0.0, 0.0, b, 0.0),
     )
 }

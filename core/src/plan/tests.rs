@@ -1,0 +1,391 @@
+//! The planner's rules, checked without a GPU against hand-written device capabilities.
+
+use super::*;
+use crate::scene::default_scene;
+
+fn caps() -> DeviceCaps {
+    DeviceCaps {
+        device_name: "test device".into(),
+        max_multiview_views: 4,
+        framebuffer_sample_counts: 0b101, // 1 and 4 samples
+        max_image_dimension_2d: 8192,
+        max_viewport_dimension: 8192,
+        viewport_bounds: (-16384.0, 16384.0),
+        lazily_allocated_memory: true,
+        fragment_stores_and_atomics: true,
+        shader_clip_distance: true,
+        timestamps: true,
+        quirks: DriverQuirks::default(),
+    }
+}
+
+fn config(stereo: StereoMode, msaa: u32) -> RenderConfig {
+    RenderConfig {
+        stereo,
+        msaa,
+        resolution: Some(Resolution::square(512)),
+        ..RenderConfig::default()
+    }
+}
+
+fn planned(config: &RenderConfig) -> FramePlan {
+    plan(&default_scene(), config, &caps()).expect("valid config")
+}
+
+fn attachment<'a>(plan: &'a FramePlan, u: &Use) -> &'a AttachmentPlan {
+    &plan.attachments[u.attachment]
+}
+
+#[test]
+fn msaa_scene_pass_is_transient_and_resolved_in_the_pass() {
+    for stereo in StereoMode::ALL {
+        let plan = planned(&config(stereo, 4));
+        for pass in &plan.passes {
+            for u in [&pass.color, &pass.depth] {
+                let a = attachment(&plan, u);
+                assert_eq!(a.samples, 4, "{stereo}: {}", a.name);
+                assert_eq!(
+                    (u.load, u.store),
+                    (LoadOp::Clear, StoreOp::DontCare),
+                    "{stereo}: {}",
+                    a.name
+                );
+                assert!(a.transient, "{stereo}: {} must be transient", a.name);
+            }
+            let resolve = pass.resolve.expect("MSAA resolves inside the pass");
+            let target = attachment(&plan, &resolve);
+            assert_eq!((target.samples, target.role), (1, AttachmentRole::Resolve));
+            assert_eq!(
+                (resolve.load, resolve.store),
+                (LoadOp::DontCare, StoreOp::Store),
+                "{stereo}"
+            );
+            assert!(!target.transient && target.read_after_frame);
+        }
+    }
+}
+
+#[test]
+fn without_msaa_there_is_no_multisampled_image_and_no_resolve() {
+    for stereo in StereoMode::ALL {
+        let plan = planned(&config(stereo, 1));
+        assert!(plan.attachments.iter().all(|a| a.samples == 1), "{stereo}");
+        assert!(
+            plan.attachments
+                .iter()
+                .all(|a| a.role != AttachmentRole::Resolve),
+            "{stereo}"
+        );
+        for pass in &plan.passes {
+            assert!(pass.resolve.is_none());
+            assert_eq!(
+                (pass.color.load, pass.color.store),
+                (LoadOp::Clear, StoreOp::Store)
+            );
+            assert_eq!(
+                (pass.depth.load, pass.depth.store),
+                (LoadOp::Clear, StoreOp::DontCare)
+            );
+        }
+        let colours = if stereo == StereoMode::TwoPass { 2 } else { 1 };
+        assert_eq!(
+            plan.attachments.len(),
+            colours + 1,
+            "{stereo}: colour (one per eye for two-pass) and depth only"
+        );
+    }
+}
+
+#[test]
+fn depth_has_no_stencil_while_no_effect_needs_it() {
+    for stereo in StereoMode::ALL {
+        let plan = planned(&config(stereo, 4));
+        assert!(
+            plan.attachments.iter().all(|a| a.format != Format::D32S8),
+            "{stereo}"
+        );
+    }
+}
+
+#[test]
+fn stereo_modes_lay_out_their_targets() {
+    let multiview = planned(&config(StereoMode::Multiview, 4));
+    assert_eq!(multiview.passes.len(), 1);
+    assert_eq!(multiview.passes[0].view_mask, 0b11);
+    assert!(multiview
+        .attachments
+        .iter()
+        .all(|a| a.layers == 2 && a.width == 512));
+
+    let two_pass = planned(&config(StereoMode::TwoPass, 4));
+    assert_eq!(two_pass.passes.len(), 2);
+    assert!(two_pass.passes.iter().all(|p| p.view_mask == 0));
+    assert!(two_pass.attachments.iter().all(|a| a.layers == 1));
+    // Scratch MSAA images are shared by both passes; each eye resolves into its own image.
+    let outputs = two_pass.outputs();
+    assert_eq!(outputs.len(), 2);
+    for (eye, pass) in two_pass.passes.iter().enumerate() {
+        let resolve = pass.resolve.unwrap();
+        assert_eq!(resolve.attachment, outputs[eye]);
+        assert_eq!(resolve.store, StoreOp::Store, "each eye's image is stored");
+        assert_eq!(pass.color.attachment, two_pass.passes[0].color.attachment);
+    }
+
+    for stereo in [StereoMode::PerObject, StereoMode::Instanced] {
+        let plan = planned(&config(stereo, 4));
+        assert_eq!(plan.layout, TargetLayout::SideBySide);
+        assert!(
+            plan.attachments
+                .iter()
+                .all(|a| a.layers == 1 && a.width == 1024),
+            "{stereo}"
+        );
+    }
+}
+
+#[test]
+fn draw_calls_follow_the_submission_strategy() {
+    let scene = default_scene();
+    let meshes = scene.draws().count() as u64;
+    let calls = |s| planned(&config(s, 1)).draw_calls;
+    assert_eq!(calls(StereoMode::Multiview), meshes);
+    assert_eq!(calls(StereoMode::Instanced), meshes);
+    assert_eq!(calls(StereoMode::TwoPass), 2 * meshes);
+    assert_eq!(
+        calls(StereoMode::PerObject),
+        2 * scene.instance_count() as u64
+    );
+}
+
+#[test]
+fn effects_that_are_off_leave_nothing_behind() {
+    let off = RenderConfig {
+        count_fragments: false,
+        timestamps: false,
+        ..config(StereoMode::Multiview, 1)
+    };
+    let plan = planned(&off);
+    assert!(plan.buffers.is_empty());
+    assert_eq!(plan.timestamp_queries, 0);
+    assert!(!plan.count_fragments());
+    let on = planned(&config(StereoMode::Multiview, 1));
+    assert_eq!(on.buffers.len(), 1);
+    assert_eq!(on.timestamp_queries, 2);
+}
+
+#[test]
+fn bytes_and_traffic_add_up() {
+    let plan = planned(&config(StereoMode::Multiview, 4));
+    let eye = 512 * 512;
+    // MSAA colour + depth: 2 layers × 4 samples × 4 bytes each, all transient.
+    assert_eq!(plan.transient_bytes(), 2 * (eye * 2 * 4 * 4));
+    assert_eq!(plan.resident_bytes(), eye * 2 * 4);
+    // Only the resolve target is stored, then read back once.
+    assert_eq!(plan.external_traffic_bytes(), 2 * eye * 2 * 4);
+}
+
+#[test]
+fn guard_band_only_where_the_driver_needs_it() {
+    let plan = planned(&config(StereoMode::Multiview, 4));
+    assert!(plan.passes.iter().all(|p| p.guard_band == 1));
+    let mut quirky = caps();
+    quirky.quirks.multiview_clipping_drops_views = true;
+    let plan = super::plan(&default_scene(), &config(StereoMode::Multiview, 4), &quirky).unwrap();
+    assert_eq!(plan.passes[0].guard_band, 8);
+    // Only multiview passes need it.
+    let plan = super::plan(&default_scene(), &config(StereoMode::TwoPass, 4), &quirky).unwrap();
+    assert!(plan.passes.iter().all(|p| p.guard_band == 1));
+    // A grown viewport the device cannot take is not used.
+    quirky.max_viewport_dimension = 1024;
+    let plan = super::plan(&default_scene(), &config(StereoMode::Multiview, 4), &quirky).unwrap();
+    assert_eq!(plan.passes[0].guard_band, 2);
+}
+
+fn rejected(config: &RenderConfig, caps: &DeviceCaps) -> ConfigError {
+    plan(&default_scene(), config, caps).expect_err("config must be rejected")
+}
+
+#[test]
+fn bad_configs_name_field_value_and_limit() {
+    let base = config(StereoMode::Multiview, 4);
+    let e = rejected(
+        &RenderConfig {
+            views: 5,
+            ..base.clone()
+        },
+        &caps(),
+    );
+    assert_eq!((e.field, e.value.as_str()), ("views", "5"));
+    assert!(e.limit.contains("at most 4"), "{e}");
+
+    let e = rejected(
+        &RenderConfig {
+            msaa: 8,
+            ..base.clone()
+        },
+        &caps(),
+    );
+    assert_eq!((e.field, e.value.as_str()), ("msaa", "8"));
+    assert!(e.limit.contains("1, 4"), "{e}");
+
+    let e = rejected(
+        &RenderConfig {
+            resolution: Some(Resolution {
+                width: 0,
+                height: 512,
+            }),
+            ..base.clone()
+        },
+        &caps(),
+    );
+    assert_eq!((e.field, e.value.as_str()), ("resolution", "0x512"));
+    assert!(e.limit.contains("1..=8192"), "{e}");
+
+    let e = rejected(
+        &RenderConfig {
+            ipd_m: Some(f32::NAN),
+            ..base.clone()
+        },
+        &caps(),
+    );
+    assert_eq!((e.field, e.value.as_str()), ("ipd", "NaN"));
+
+    let e = rejected(
+        &RenderConfig {
+            hmd: "pimax".into(),
+            ..base.clone()
+        },
+        &caps(),
+    );
+    assert_eq!((e.field, e.value.as_str()), ("hmd", "pimax"));
+    assert!(
+        e.limit.contains("index") && e.limit.contains("quest2"),
+        "{e}"
+    );
+
+    let e = rejected(
+        &RenderConfig {
+            near: 0.0,
+            ..base.clone()
+        },
+        &caps(),
+    );
+    assert_eq!(e.field, "near");
+    let e = rejected(
+        &RenderConfig {
+            far: 0.01,
+            ..base.clone()
+        },
+        &caps(),
+    );
+    assert_eq!(e.field, "far");
+    let e = rejected(
+        &RenderConfig {
+            cant_deg: Some(f32::INFINITY),
+            ..base.clone()
+        },
+        &caps(),
+    );
+    assert_eq!(e.field, "cant");
+    let bad_fov = crate::view::FovTangents {
+        left: -1.0,
+        right: 0.5,
+        up: 1.0,
+        down: 1.0,
+    };
+    let e = rejected(
+        &RenderConfig {
+            fov: Some(bad_fov),
+            ..base.clone()
+        },
+        &caps(),
+    );
+    assert_eq!(e.field, "fov");
+    // Side-by-side modes need twice the width.
+    let wide = RenderConfig {
+        resolution: Some(Resolution::square(5000)),
+        stereo: StereoMode::Instanced,
+        ..base.clone()
+    };
+    assert_eq!(rejected(&wide, &caps()).field, "resolution");
+    assert!(plan(
+        &default_scene(),
+        &RenderConfig {
+            stereo: StereoMode::Multiview,
+            ..wide
+        },
+        &caps()
+    )
+    .is_ok());
+}
+
+#[test]
+fn device_limits_are_the_limits() {
+    let base = config(StereoMode::Multiview, 4);
+    let mut two_views = caps();
+    two_views.max_multiview_views = 2;
+    let e = rejected(
+        &RenderConfig {
+            views: 3,
+            ..base.clone()
+        },
+        &two_views,
+    );
+    assert!(e.limit.contains("at most 2"), "{e}");
+
+    let mut no_multiview = caps();
+    no_multiview.max_multiview_views = 0;
+    let e = rejected(&base, &no_multiview);
+    assert_eq!((e.field, e.value.as_str()), ("views", "2"));
+
+    let mut no_clip = caps();
+    no_clip.shader_clip_distance = false;
+    let e = rejected(
+        &RenderConfig {
+            stereo: StereoMode::Instanced,
+            ..base.clone()
+        },
+        &no_clip,
+    );
+    assert_eq!(e.field, "stereo");
+    assert!(e.limit.contains("shaderClipDistance"));
+
+    let mut no_msaa = caps();
+    no_msaa.framebuffer_sample_counts = 1;
+    assert_eq!(rejected(&base, &no_msaa).field, "msaa");
+}
+
+#[test]
+fn parsing_resolution_and_mode() {
+    assert_eq!(
+        "1024".parse::<Resolution>().unwrap(),
+        Resolution::square(1024)
+    );
+    assert_eq!(
+        "1440x1600".parse::<Resolution>().unwrap(),
+        Resolution {
+            width: 1440,
+            height: 1600
+        }
+    );
+    assert_eq!("abc".parse::<Resolution>().unwrap_err().field, "resolution");
+    assert_eq!(
+        "two-pass".parse::<StereoMode>().unwrap(),
+        StereoMode::TwoPass
+    );
+    assert_eq!("stereo".parse::<StereoMode>().unwrap_err().field, "stereo");
+}
+
+#[test]
+fn the_plan_prints_its_decisions() {
+    let text = planned(&config(StereoMode::Multiview, 4)).to_string();
+    for needle in [
+        "view mask 0b11",
+        "load CLEAR, store DONT_CARE",
+        "load DONT_CARE, store STORE",
+        "transient",
+        "traffic",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+}

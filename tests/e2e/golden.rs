@@ -1,0 +1,25 @@
+use foveate::plan::{RenderConfig, Resolution, StereoMode};
+use foveate::scene::default_scene;
+use foveate_tests::{assert_matches_golden, gpu, render};
+
+/// The default scene at 128²/eye against committed references (re-bless with
+/// `FOVEATE_BLESS=1 cargo test -p foveate-tests --test e2e golden`).
+#[test]
+fn default_scene_matches_golden_images() {
+    let gpu = gpu();
+    let scene = default_scene();
+    for msaa in [1, 4] {
+        let config = RenderConfig {
+            stereo: StereoMode::Multiview,
+            msaa,
+            resolution: Some(Resolution::square(128)),
+            ..RenderConfig::default()
+        };
+        let (image, _) = render(&gpu, &scene, &config);
+        assert_matches_golden(
+            &format!("default-index-128-msaa{msaa}"),
+            &image.side_by_side(),
+            0.98,
+        );
+    }
+}
