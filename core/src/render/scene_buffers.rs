@@ -1,5 +1,6 @@
 use ash::vk;
 
+use super::record::memory_barrier;
 use crate::gpu::{pod_bytes, Buffer, Gpu, GpuError, MemoryLocation};
 use crate::scene::{Draw, Scene, Vertex};
 
@@ -99,22 +100,21 @@ fn upload(
             gpu.device()
                 .cmd_copy_buffer(cmd, staging.raw, buffer.raw, &region)
         };
-        let barrier = [vk::MemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-            .dst_access_mask(
-                vk::AccessFlags::VERTEX_ATTRIBUTE_READ
-                    | vk::AccessFlags::INDEX_READ
-                    | vk::AccessFlags::SHADER_READ,
-            )];
+        // SAFETY: recorded into one_shot's command buffer.
         unsafe {
-            gpu.device().cmd_pipeline_barrier(
+            memory_barrier(
+                gpu.device(),
                 cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::VERTEX_INPUT | vk::PipelineStageFlags::VERTEX_SHADER,
-                vk::DependencyFlags::empty(),
-                &barrier,
-                &[],
-                &[],
+                (
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                ),
+                (
+                    vk::PipelineStageFlags::VERTEX_INPUT | vk::PipelineStageFlags::VERTEX_SHADER,
+                    vk::AccessFlags::VERTEX_ATTRIBUTE_READ
+                        | vk::AccessFlags::INDEX_READ
+                        | vk::AccessFlags::SHADER_READ,
+                ),
             )
         };
     })?;

@@ -21,6 +21,8 @@ pub struct HmdProfile {
 pub const DEFAULT_IPD_M: f32 = 0.064;
 
 /// The profiles foveate knows, each citing where its numbers come from.
+// Tangents are quoted digit for digit from their source, more digits than f32 keeps.
+#[allow(clippy::excessive_precision)]
 pub const HMD_PROFILES: &[HmdProfile] = &[
     // Valve Index: 1440×1600 LCD per eye (Valve's published specification). Valve does not
     // publish per-eye tangents; these are approximate values of the OpenVR raw projection as

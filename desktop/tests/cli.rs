@@ -1,0 +1,134 @@
+//! The `foveate` command line as a user runs it (validation on).
+
+use std::process::{Command, Output};
+
+fn foveate(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .arg("--validation")
+        .args(args)
+        .output()
+        .expect("run foveate")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn render_writes_a_stereo_png_and_prints_plan_times_and_counts() {
+    let out = std::env::temp_dir().join(format!("foveate-cli-{}.png", std::process::id()));
+    let o = foveate(&[
+        "render",
+        "--res",
+        "64",
+        "--frames",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for needle in [
+        "frame plan:",
+        "frame time median",
+        "CPU record",
+        "view 0 (left eye)",
+        "view 1 (right eye)",
+        "wrote",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+    let image = foveate::metrics::RgbaImage::load_png(&out).unwrap();
+    assert_eq!(
+        (image.width, image.height),
+        (128, 64),
+        "left | right at 64 per eye"
+    );
+    let _ = std::fs::remove_file(out);
+}
+
+#[test]
+fn render_all_modes_prints_ratios_to_multiview() {
+    let dir = std::env::temp_dir().join(format!("foveate-cli-all-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("f.png");
+    let o = foveate(&[
+        "render",
+        "--stereo",
+        "all",
+        "--msaa",
+        "1",
+        "--res",
+        "32",
+        "--frames",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.contains("ratios to multiview"), "{text}");
+    for mode in ["multiview", "two-pass", "per-object", "instanced"] {
+        assert!(dir.join(format!("f-{mode}.png")).exists(), "{mode} image");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn plan_prints_passes_and_derived_ops() {
+    let o = foveate(&[
+        "plan", "--stereo", "two-pass", "--msaa", "4", "--res", "256",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for needle in [
+        "scene (left eye)",
+        "scene (right eye)",
+        "load CLEAR, store DONT_CARE",
+        "store STORE",
+        "transient",
+        "MiB",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+}
+
+#[test]
+fn devices_lists_multiview_and_sample_counts() {
+    let o = foveate(&["devices"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("multiview: max") && text.contains("sample counts"),
+        "{text}"
+    );
+}
+
+#[test]
+fn bad_input_is_a_clear_error_not_a_panic() {
+    for (args, needle) in [
+        (&["render", "--msaa", "8", "--res", "32"][..], "msaa = 8"),
+        (&["render", "--views", "5", "--res", "32"][..], "views = 5"),
+        (&["render", "--res", "0"][..], "resolution = 0x0"),
+        (&["plan", "--hmd", "pimax"][..], "hmd = pimax"),
+        (&["plan", "--stereo", "mono"][..], "stereo = mono"),
+        (
+            &["render", "--frames", "0", "--res", "32"][..],
+            "frames = 0",
+        ),
+        (
+            &["render", "--res", "32", "--out", "/nonexistent-dir/f.png"][..],
+            "writing /nonexistent-dir/f.png",
+        ),
+    ] {
+        let o = foveate(args);
+        assert!(!o.status.success(), "{args:?} should fail");
+        let err = stderr(&o);
+        assert!(err.contains(needle), "{args:?}: `{needle}` not in\n{err}");
+        assert!(!err.contains("panicked"), "{args:?} panicked:\n{err}");
+    }
+}

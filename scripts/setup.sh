@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs what foveate needs on Debian/Ubuntu, once: the Vulkan loader, lavapipe (CPU Vulkan),
+# the Khronos validation layer, glslc and spirv-tools; checks for a Rust toolchain.
+# Idempotent and quiet when everything is already there.
+set -euo pipefail
+
+packages=(libvulkan1 mesa-vulkan-drivers vulkan-validationlayers glslc spirv-tools)
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    echo "foveate setup: installing ${missing[*]}" >&2
+    sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+
+if ! command -v cargo >/dev/null 2>&1; then
+    if [ -x "$HOME/.cargo/bin/cargo" ]; then
+        echo "foveate setup: add ~/.cargo/bin to PATH (source ~/.cargo/env)" >&2
+    else
+        echo "foveate setup: installing Rust with rustup" >&2
+        command -v curl >/dev/null || { echo "install curl first" >&2; exit 1; }
+        curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal
+    fi
+    # shellcheck disable=SC1091
+    source "$HOME/.cargo/env"
+fi
