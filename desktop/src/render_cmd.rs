@@ -35,6 +35,16 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         let plan = foveate::plan(&scene, &args.config.config(mode)?, gpu.caps())?;
         println!("{plan}\n");
         let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
+        let transient = plan.attachments.iter().filter(|a| a.transient).count();
+        println!(
+            "transient attachments in lazily allocated memory: {} of {transient}{}",
+            renderer.lazy_attachments(),
+            if gpu.caps().lazily_allocated_memory {
+                ""
+            } else {
+                " (this device has none)"
+            }
+        );
         let mut frames: Vec<FrameStats> = Vec::new();
         for i in 0..args.frames {
             let stats = renderer.render_frame(scene.head)?;

@@ -19,7 +19,7 @@ fn default_scene_matches_golden_images() {
         assert_matches_golden(
             &format!("default-index-128-msaa{msaa}"),
             &image.side_by_side(),
-            0.98,
+            0.99,
         );
     }
 }

@@ -345,10 +345,6 @@ impl Gpu {
         }
     }
 
-    pub fn validation_enabled(&self) -> bool {
-        self.dev.instance.messenger.is_some()
-    }
-
     /// Waits until the device is idle.
     pub fn wait_idle(&self) -> Result<(), GpuError> {
         unsafe { self.dev.device.device_wait_idle() }.vk("vkDeviceWaitIdle")

@@ -190,8 +190,13 @@ pub struct FramePlan {
 }
 
 impl FramePlan {
+    /// The per-view fragment counter, when fragment counting is on.
+    pub fn fragment_counter(&self) -> Option<&BufferPlan> {
+        self.buffers.iter().find(|b| b.name == FRAGMENT_COUNTER)
+    }
+
     pub fn count_fragments(&self) -> bool {
-        self.buffers.iter().any(|b| b.name == FRAGMENT_COUNTER)
+        self.fragment_counter().is_some()
     }
 
     /// The attachments read after the frame, in eye order: the stereo image.

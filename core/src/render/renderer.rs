@@ -95,9 +95,7 @@ impl<'g> Renderer<'g> {
             MemoryLocation::CpuToGpu,
         )?;
         let counter = plan
-            .buffers
-            .iter()
-            .find(|b| plan.count_fragments() && b.bytes > 0)
+            .fragment_counter()
             .map(|b| {
                 Buffer::new(
                     gpu,
@@ -320,7 +318,7 @@ impl<'g> Renderer<'g> {
         })
     }
 
-    /// Whether the transient attachments got lazily allocated memory (tile GPUs).
+    /// How many transient attachments got lazily allocated memory (tile GPUs; 0 on lavapipe).
     pub fn lazy_attachments(&self) -> usize {
         self.images.iter().filter(|i| i.lazy).count()
     }
