@@ -16,6 +16,9 @@ pub struct HmdProfile {
     pub left_fov: FovTangents,
     /// Outward cant of each eye's view in radians.
     pub cant_rad: f32,
+    /// Fraction of each eye's image hidden by the lens (the hidden-area mesh's area), where
+    /// published; `None` treats the whole image as visible.
+    pub hidden_area_fraction: Option<f32>,
 }
 
 pub const DEFAULT_IPD_M: f32 = 0.064;
@@ -39,6 +42,8 @@ pub const HMD_PROFILES: &[HmdProfile] = &[
             down: 1.471,
         },
         cant_rad: 0.0,
+        // No recorded hidden-area mesh area in the sources we have.
+        hidden_area_fraction: None,
     },
     // HTC Vive: 1080×1200 OLED per eye (HTC specification). Tangents: OpenVR raw LRBT of the
     // left eye as recorded by hmdq (hmdgdb, "HTC Vive (90Hz)"): −1.397283, 1.250510,
@@ -54,6 +59,8 @@ pub const HMD_PROFILES: &[HmdProfile] = &[
             down: 1.477517,
         },
         cant_rad: 0.0,
+        // hmdq: "Left eye HAM mesh ... mesh area: 19.10 %".
+        hidden_area_fraction: Some(0.1910),
     },
     // Oculus Rift CV1: 1080×1200 OLED per eye (Oculus specification). Tangents: Oculus runtime
     // default FOV of the left eye as recorded by hmdq (hmdgdb, "Oculus Rift CV1 (90Hz)"):
@@ -70,6 +77,8 @@ pub const HMD_PROFILES: &[HmdProfile] = &[
             down: 1.110925,
         },
         cant_rad: 0.0,
+        // hmdq: "mesh area: 14.07 %".
+        hidden_area_fraction: Some(0.1407),
     },
     // Meta Quest 2: 1832×1920 LCD per eye (Meta specification). Tangents: Oculus runtime default
     // FOV of the left eye as recorded by hmdq (hmdgdb, "Oculus Quest 2 (72Hz)"): left 1.279942
@@ -85,6 +94,8 @@ pub const HMD_PROFILES: &[HmdProfile] = &[
             down: 1.191754,
         },
         cant_rad: 0.0,
+        // hmdq: "mesh area: 9.13 %".
+        hidden_area_fraction: Some(0.0913),
     },
 ];
 

@@ -6,9 +6,11 @@
 //! where f32 needs it; the depth test is `GREATER` and depth clears to 0.
 
 mod hmd;
+mod lens;
 mod projection;
 
 pub use hmd::{HmdProfile, DEFAULT_IPD_M, HMD_PROFILES};
+pub use lens::LensRegion;
 pub use projection::reverse_z_projection;
 
 use glam::{Mat4, Quat, Vec3};

@@ -1,0 +1,495 @@
+//! Conservativeness of every fast test against the `f64` oracles, by property tests over the
+//! hard cases, plus a named catalogue of those cases.
+
+use std::f32::consts::FRAC_PI_2;
+
+use glam::{DVec3, Mat4, Quat, Vec2, Vec3};
+use proptest::prelude::*;
+
+use super::oracle;
+use super::{Aabb, Cone, CullHierarchy, CullResult, DualCone, EllipticalCone, Frustum, HierarchyParams, PerEye, Relation, RoundRobin, Sphere, StereoCull, StereoFrusta, Superfrustum, Triangle};
+use crate::view::{Eye, EyeParams, FovTangents, LensRegion};
+
+/// Spheres checked per property case.
+const PER_CASE: usize = 16;
+
+fn log_uniform(lo: f32, hi: f32) -> impl Strategy<Value = f32> {
+    (lo.ln()..hi.ln()).prop_map(f32::exp)
+}
+
+/// A coordinate: 0, or ± a magnitude from 1e-2 to 1e6.
+fn coordinate() -> impl Strategy<Value = f32> {
+    prop_oneof![Just(0.0f32), (any::<bool>(), log_uniform(1e-2, 1e6)).prop_map(|(neg, m)| if neg { -m } else { m })]
+}
+
+fn position() -> impl Strategy<Value = Vec3> {
+    (coordinate(), coordinate(), coordinate()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+fn rotation() -> impl Strategy<Value = Quat> {
+    (-3.2f32..3.2, -1.6f32..1.6, -3.2f32..3.2).prop_map(|(y, p, r)| Quat::from_euler(glam::EulerRot::YXZ, y, p, r))
+}
+
+/// FOV tangents from 1° to 80° half-angles, independently per side.
+fn fov() -> impl Strategy<Value = FovTangents> {
+    let t = || log_uniform(0.0175, 5.67);
+    (t(), t(), t(), t()).prop_map(|(left, right, up, down)| FovTangents { left, right, up, down })
+}
+
+fn unit_vector() -> impl Strategy<Value = Vec3> {
+    (-1.0f32..1.0, 0.0f32..std::f32::consts::TAU).prop_map(|(z, phi)| {
+        let s = (1.0 - z * z).sqrt();
+        Vec3::new(s * phi.cos(), s * phi.sin(), z)
+    })
+}
+
+/// A frustum anywhere, any orientation, near from 1e-4 to 1, far up to 1e4.
+fn frustum() -> impl Strategy<Value = Frustum> {
+    (position(), rotation(), fov(), log_uniform(1e-4, 1.0), log_uniform(2.0, 1e4)).prop_map(|(p, q, fov, near, k)| {
+        let far = (near * k).min(1e4).max(near * 2.0);
+        Frustum::from_eye(Mat4::from_rotation_translation(q, p), fov, near, far)
+    })
+}
+
+/// Spheres around a surface point: `(surface point index data, direction, radius, offset factor)`.
+fn sphere_params() -> impl Strategy<Value = Vec<(usize, f32, f32, Vec3, f32, f32)>> {
+    prop::collection::vec((0usize..6, 0.0f32..1.0, 0.0f32..1.0, unit_vector(), log_uniform(1e-6, 1e4), 0.0f32..2.0), PER_CASE)
+}
+
+/// A point on face `face` of the frustum at bilinear (s, t), in f64 world space.
+fn on_face(f: &Frustum, face: usize, s: f32, t: f32) -> DVec3 {
+    const FACES: [[usize; 4]; 6] = [[0, 1, 2, 3], [4, 5, 6, 7], [0, 3, 7, 4], [1, 5, 6, 2], [0, 4, 5, 1], [3, 2, 6, 7]];
+    let c = FACES[face].map(|i| f.origin.as_dvec3() + f.corners[i].as_dvec3());
+    let (s, t) = (s as f64, t as f64);
+    let a = c[0] + (c[1] - c[0]) * s;
+    let b = c[3] + (c[2] - c[3]) * s;
+    a + (b - a) * t
+}
+
+fn check_frustum_sphere(f: &Frustum, center: Vec3, r: f32) -> Result<(), TestCaseError> {
+    let s = Sphere::new(center, r);
+    if oracle::sphere_frustum(f, &s) {
+        prop_assert!(f.sphere(&s).visible(), "false negative: {s:?} against {f:?}");
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(65_536))]
+
+    /// 65 536 frusta × 16 spheres near their surfaces: no false negatives.
+    #[test]
+    fn sphere_frustum_is_conservative(f in frustum(), spheres in sphere_params()) {
+        for (face, s, t, dir, r, k) in spheres {
+            let p = on_face(&f, face, s, t) + dir.as_dvec3() * (r * k) as f64;
+            check_frustum_sphere(&f, p.as_vec3(), r)?;
+        }
+    }
+
+    /// 65 536 cones × 16 spheres at the surface, at the apex, behind and straddling the plane.
+    #[test]
+    fn sphere_cone_is_conservative(
+        apex in position(),
+        axis in unit_vector(),
+        half in prop_oneof![log_uniform(1e-4, 1e-2), 0.01f32..1.55, (1e-5f32..1e-2).prop_map(|e| FRAC_PI_2 - e)],
+        spheres in prop::collection::vec((unit_vector(), log_uniform(1e-6, 1e6), log_uniform(1e-6, 1e4), -2.0f32..2.0), PER_CASE),
+    ) {
+        let cone = Cone::new(apex, axis, half);
+        for (dir, t, r, k) in spheres {
+            // A point on the cone's surface ray nearest `dir`, then offset by k·r.
+            let perp = (dir - axis * dir.dot(axis)).try_normalize().unwrap_or(axis.any_orthonormal_vector());
+            let surface = (axis * half.cos() + perp * half.sin()) * t;
+            let center = apex.as_dvec3() + surface.as_dvec3() + dir.as_dvec3() * (r * k) as f64;
+            let s = Sphere::new(center.as_vec3(), r);
+            if oracle::sphere_cone(&cone, &s) {
+                prop_assert!(cone.intersects_sphere(&s), "false negative: {s:?} against {cone:?}");
+            }
+        }
+    }
+
+    /// Boxes whose sampled points touch the cone are accepted.
+    #[test]
+    fn aabb_cone_is_conservative(
+        apex in (-50.0f32..50.0, -50.0f32..50.0, -50.0f32..50.0),
+        axis in unit_vector(),
+        half in 0.01f32..1.55,
+        boxes in prop::collection::vec(((-60.0f32..60.0, -60.0f32..60.0, -60.0f32..60.0), (0.01f32..20.0, 0.01f32..20.0, 0.01f32..20.0)), 4),
+    ) {
+        let cone = Cone::new(Vec3::from(apex), axis, half);
+        for (c, e) in boxes {
+            let b = Aabb::new(Vec3::from(c) - Vec3::from(e), Vec3::from(c) + Vec3::from(e));
+            let touches = box_samples(&b).any(|p| oracle::cone_distance(&cone, p) == 0.0);
+            if touches {
+                prop_assert!(cone.intersects_aabb(&b), "false negative: {b:?} against {cone:?}");
+            }
+        }
+    }
+
+    /// Triangles whose sampled points touch the cone (or frustum) are accepted.
+    #[test]
+    fn triangle_tests_are_conservative(
+        f in frustum(),
+        apex in (-20.0f32..20.0, -20.0f32..20.0, -20.0f32..20.0),
+        axis in unit_vector(),
+        half in 0.01f32..1.55,
+        tris in prop::collection::vec(((-40.0f32..40.0, -40.0f32..40.0, -40.0f32..40.0), unit_vector(), unit_vector(), 0.1f32..30.0), 4),
+    ) {
+        let cone = Cone::new(Vec3::from(apex), axis, half);
+        for (c, u, v, size) in tris {
+            let a = Vec3::from(c);
+            let tri = Triangle::new(a, a + u * size, a + v * size);
+            let samples: Vec<Vec3> = triangle_samples(&tri).collect();
+            if samples.iter().any(|&p| oracle::cone_distance(&cone, p) == 0.0) {
+                prop_assert!(tri.intersects_cone(&cone), "cone false negative: {tri:?} {cone:?}");
+            }
+            let shifted = Triangle::new(tri.a + f.origin, tri.b + f.origin, tri.c + f.origin);
+            if triangle_samples(&shifted).any(|p| oracle::frustum_distance(&f, p) == 0.0) {
+                prop_assert!(shifted.intersects_frustum(&f), "frustum false negative: {shifted:?}");
+            }
+        }
+    }
+
+    /// Elliptical cones against the exact (minimised) distance.
+    #[test]
+    fn sphere_elliptical_cone_is_conservative(
+        apex in (-10.0f32..10.0, -10.0f32..10.0, -10.0f32..10.0),
+        q in rotation(),
+        tx in log_uniform(0.05, 4.0),
+        ty in log_uniform(0.05, 4.0),
+        spheres in prop::collection::vec(((-30.0f32..30.0, -30.0f32..30.0, -30.0f32..30.0), log_uniform(1e-3, 5.0)), 8),
+    ) {
+        let cone = EllipticalCone { origin: Vec3::from(apex), cone_from_world: glam::Mat3::from_quat(q), tan_x: tx, tan_y: ty };
+        for (c, r) in spheres {
+            let s = Sphere::new(Vec3::from(c) + cone.origin, r);
+            if oracle::elliptical_cone_distance(&cone, s.center) <= r as f64 * (1.0 - 1e-6) {
+                prop_assert!(cone.intersects_sphere(&s), "false negative: {s:?} against {cone:?}");
+            }
+        }
+    }
+}
+
+/// Signed distances of `p` to the frustum's planes, in f64 (positive inside).
+fn plane_distances_f64(f: &Frustum, p: DVec3) -> [f64; 6] {
+    f.planes.map(|pl| pl.truncate().as_dvec3().dot(p - f.origin.as_dvec3()) + pl.w as f64)
+}
+
+fn box_samples(b: &Aabb) -> impl Iterator<Item = Vec3> + '_ {
+    let n = 6;
+    (0..n * n * n).map(move |i| {
+        let f = |k: usize| (k % n) as f32 / (n - 1) as f32;
+        b.min + (b.max - b.min) * Vec3::new(f(i), f(i / n), f(i / (n * n)))
+    })
+}
+
+fn triangle_samples(t: &Triangle) -> impl Iterator<Item = Vec3> + '_ {
+    let n = 12;
+    (0..=n).flat_map(move |i| {
+        (0..=n - i).map(move |j| {
+            let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
+            t.a + (t.b - t.a) * u + (t.c - t.a) * v
+        })
+    })
+}
+
+/// An eye pair: IPD up to 8 cm, cant ±12°, independent asymmetric tangents per eye.
+fn eye_params() -> impl Strategy<Value = EyeParams> {
+    let t = || log_uniform(0.2, 3.0);
+    ((t(), t(), t(), t()), (t(), t(), t(), t()), 0.0f32..0.08, -12.0f32..12.0).prop_map(|(l, r, ipd, cant)| EyeParams {
+        left_fov: FovTangents { left: l.0, right: l.1, up: l.2, down: l.3 },
+        right_fov: FovTangents { left: r.0, right: r.1, up: r.2, down: r.3 },
+        ipd_m: ipd,
+        cant_rad: cant.to_radians(),
+    })
+}
+
+fn head() -> impl Strategy<Value = Mat4> {
+    (position(), rotation()).prop_map(|(p, q)| Mat4::from_rotation_translation(q, p))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(4096))]
+
+    /// The superfrustum contains both eye frusta: every eye corner is inside it, and every
+    /// sphere touching an eye frustum is accepted by it.
+    #[test]
+    fn superfrustum_contains_both_eye_frusta(
+        eyes in eye_params(),
+        head in head(),
+        near in log_uniform(1e-4, 0.5),
+        far in log_uniform(1.0, 1e4),
+        spheres in sphere_params(),
+    ) {
+        let frusta = StereoFrusta::new(&eyes, head, near, far);
+        let sf = Superfrustum::new(&eyes, head, near, far);
+        for f in &frusta.eyes {
+            for c in f.corners {
+                let p = f.origin.as_dvec3() + c.as_dvec3();
+                let worst = plane_distances_f64(&sf.frustum, p).into_iter().fold(f64::MAX, f64::min);
+                prop_assert!(worst >= -1e-6 * far as f64, "eye corner {p} outside the superfrustum {:?} by {worst}", sf.fov);
+            }
+            for &(face, s, t, dir, r, k) in &spheres {
+                let p = on_face(f, face, s, t) + dir.as_dvec3() * (r * k) as f64;
+                let sphere = Sphere::new(p.as_vec3(), r);
+                if oracle::sphere_frustum(f, &sphere) {
+                    prop_assert!(sf.sphere(&sphere), "superfrustum misses {sphere:?}");
+                }
+            }
+        }
+    }
+
+    /// Dual cones cover each eye's lens-visible region: a sphere around any point seen through a
+    /// lens is accepted (circular and elliptical).
+    #[test]
+    fn dual_cones_cover_the_lens_visible_region(
+        eyes in eye_params(),
+        head in head(),
+        hidden in 0.0f32..0.25,
+        points in prop::collection::vec((0.0f32..1.0, 0.0f32..1.0, log_uniform(0.01, 1e3), any::<bool>(), unit_vector(), log_uniform(1e-5, 2.0), 0.0f32..1.0), PER_CASE),
+    ) {
+        let regions = Eye::BOTH.map(|e| LensRegion::with_hidden_fraction(eyes.fov(e), hidden));
+        let circular = DualCone::new(&eyes, head, &regions, false);
+        let elliptical = DualCone::new(&eyes, head, &regions, true);
+        for (s, t, depth, right, dir, r, k) in points {
+            let eye = if right { Eye::Right } else { Eye::Left };
+            let fov = eyes.fov(eye);
+            let tangent = Vec2::new(-fov.left + (fov.left + fov.right) * s, -fov.down + (fov.up + fov.down) * t);
+            if !regions[eye.index()].contains(tangent) {
+                continue;
+            }
+            // The seen point exactly (f64, through the eye pose as represented); the sphere must
+            // contain it even where f32 cannot place its centre that precisely.
+            let world_from_eye = (head * eyes.head_from_eye(eye)).as_dmat4();
+            let p = world_from_eye.transform_point3(DVec3::new(tangent.x as f64, tangent.y as f64, -1.0) * depth as f64);
+            let centre = (p + dir.as_dvec3() * (r * k) as f64).as_vec3();
+            let radius = r.max((centre.as_dvec3().distance(p) * (1.0 + 1e-6)) as f32);
+            let sphere = Sphere::new(centre, radius);
+            prop_assert!(circular.sphere(&sphere), "dual cone misses {sphere:?}");
+            prop_assert!(elliptical.sphere(&sphere), "dual elliptical cone misses {sphere:?}");
+        }
+    }
+}
+
+// ---- The hard-case catalogue ----
+
+fn eye_at_origin(fov: FovTangents, near: f32, far: f32) -> Frustum {
+    Frustum::from_eye(Mat4::IDENTITY, fov, near, far)
+}
+
+#[test]
+fn half_angle_near_0_degrees() {
+    let cone = Cone::new(Vec3::ZERO, Vec3::NEG_Z, 1e-5);
+    // On the axis far away, and just off it by its radius.
+    assert!(cone.intersects_sphere(&Sphere::new(Vec3::new(0.0, 0.0, -1e4), 1e-6)));
+    let off = Sphere::new(Vec3::new(0.5, 0.0, -100.0), 0.5 + 1e-3);
+    assert!(oracle::sphere_cone(&cone, &off) && cone.intersects_sphere(&off));
+    assert!(!cone.intersects_sphere(&Sphere::new(Vec3::new(2.0, 0.0, -100.0), 0.5)));
+}
+
+#[test]
+fn half_angle_near_90_degrees() {
+    let cone = Cone::new(Vec3::ZERO, Vec3::NEG_Z, FRAC_PI_2 - 1e-5);
+    // Almost a half-space: points just in front of the plane are in.
+    assert!(cone.contains_point_tan(Vec3::new(1e3, 0.0, -0.1)));
+    let grazing = Sphere::new(Vec3::new(1e3, 0.0, 0.5), 0.51);
+    assert_eq!(oracle::sphere_cone(&cone, &grazing), true);
+    assert!(cone.intersects_sphere(&grazing));
+}
+
+/// Hale's Listing 3.2 verbatim: it rejects spheres centred behind `z = −r·cos θ` without
+/// looking at the apex. Our test must not.
+fn hale_listing_3_2(center_in_cone_space: Vec3, radius: f32, half: f32) -> bool {
+    let (s, c, t) = (half.sin(), half.cos(), half.tan());
+    if center_in_cone_space.z > -radius * c {
+        let cone_radius = t * (center_in_cone_space.z + radius / s);
+        return center_in_cone_space.truncate().length_squared() <= cone_radius * cone_radius;
+    }
+    false
+}
+
+#[test]
+fn sphere_at_the_apex() {
+    let half = 0.3f32;
+    let cone = Cone::new(Vec3::ZERO, Vec3::Z, half);
+    // Centred just behind the apex, reaching over it.
+    let s = Sphere::new(Vec3::new(0.0, 0.0, -0.99), 1.0);
+    assert!(oracle::sphere_cone(&cone, &s));
+    assert!(!hale_listing_3_2(s.center, s.radius, half), "Hale's listing misses it");
+    assert!(cone.intersects_sphere(&s), "ours does not");
+    assert!(cone.intersects_sphere(&Sphere::new(Vec3::ZERO, 1e-6)));
+}
+
+#[test]
+fn sphere_straddling_and_behind_the_cone_plane() {
+    let cone = Cone::new(Vec3::ZERO, Vec3::Z, 0.8);
+    let straddling = Sphere::new(Vec3::new(1.0, 0.0, -0.2), 0.6);
+    assert_eq!(cone.intersects_sphere(&straddling), oracle::sphere_cone(&cone, &straddling));
+    let behind = Sphere::new(Vec3::new(0.0, 0.0, -2.0), 1.0);
+    assert!(!oracle::sphere_cone(&cone, &behind) && !cone.intersects_sphere(&behind));
+    let behind_touching = Sphere::new(Vec3::new(0.3, 0.0, -1.0), 1.05);
+    assert!(oracle::sphere_cone(&cone, &behind_touching) && cone.intersects_sphere(&behind_touching));
+}
+
+#[test]
+fn tiny_and_huge_radii() {
+    let f = eye_at_origin(FovTangents::symmetric_deg(90.0, 90.0), 0.1, 1e4);
+    for r in [1e-6f32, 1e-3, 1.0, 1e2, 1e4] {
+        // Just outside the right plane by less than r.
+        let x = 10.0 + r * 0.5_f32.sqrt() * 0.9;
+        let s = Sphere::new(Vec3::new(x, 0.0, -10.0), r);
+        assert_eq!(oracle::sphere_frustum(&f, &s), true, "r {r}");
+        assert!(f.intersects_sphere(&s), "r {r}");
+    }
+    // A huge sphere enclosing the whole frustum.
+    assert_eq!(f.sphere(&Sphere::new(Vec3::ZERO, 1e5)), Relation::Intersecting);
+}
+
+#[test]
+fn positions_up_to_1e6() {
+    let eye = Mat4::from_translation(Vec3::new(1e6, -1e6, 1e6));
+    let f = Frustum::from_eye(eye, FovTangents::symmetric_deg(100.0, 100.0), 0.05, 500.0);
+    let touching = Sphere::new(Vec3::new(1e6, -1e6 + 0.5, 1e6 - 100.0), 1e-6);
+    assert!(f.intersects_sphere(&touching));
+    let cone = Cone::new(Vec3::splat(1e6), Vec3::X, 0.5);
+    let s = Sphere::new(Vec3::new(1e6 + 100.0, 1e6 + 100.0 * 0.5f32.tan() + 1e-3, 1e6), 2e-3);
+    assert!(oracle::sphere_cone(&cone, &s) && cone.intersects_sphere(&s));
+}
+
+#[test]
+fn ipd_0_superfrustum_equals_the_eye_frustum() {
+    let fov = FovTangents::symmetric_deg(100.0, 90.0);
+    let eyes = EyeParams { left_fov: fov, right_fov: fov, ipd_m: 0.0, cant_rad: 0.0 };
+    let sf = Superfrustum::new(&eyes, Mat4::IDENTITY, 0.05, 300.0);
+    let eye = StereoFrusta::new(&eyes, Mat4::IDENTITY, 0.05, 300.0).eyes[0];
+    assert_eq!(sf.recession, 0.0);
+    for (a, b) in sf.fov.as_array().iter().zip(fov.as_array()) {
+        assert!(a >= &b && (a - b) <= 2e-5 * b, "{:?} vs {fov:?}", sf.fov);
+    }
+    for (a, b) in sf.frustum.world_corners().iter().zip(eye.world_corners()) {
+        assert!((*a - b).length() < 1e-3 * b.length().max(1.0), "{a} vs {b}");
+    }
+}
+
+#[test]
+fn parallel_superfrustum_recession_is_oddous() {
+    // Oddou: recession = ipd / (tan θ₀ + tan θ₁) with the outer half-angles.
+    let fov = FovTangents { left: 1.4, right: 1.2, up: 1.4, down: 1.4 };
+    let eyes = EyeParams { left_fov: fov, right_fov: fov.mirrored(), ipd_m: 0.064, cant_rad: 0.0 };
+    let sf = Superfrustum::new(&eyes, Mat4::IDENTITY, 0.05, 100.0);
+    assert!((sf.recession - 0.064 / (1.4 + 1.4)).abs() < 1e-6, "{}", sf.recession);
+    assert!((sf.fov.left - 1.4).abs() < 1e-4 && (sf.fov.right - 1.4).abs() < 1e-4);
+}
+
+#[test]
+fn canted_eyes_plus_minus_5_and_10_degrees() {
+    let fov = FovTangents::from_angles_deg(52.0, 45.0, 48.0, 50.0);
+    for cant in [-10.0f32, -5.0, 5.0, 10.0] {
+        let eyes = EyeParams { left_fov: fov, right_fov: fov.mirrored(), ipd_m: 0.064, cant_rad: cant.to_radians() };
+        let head = Mat4::from_rotation_translation(Quat::from_rotation_y(0.3), Vec3::new(5.0, 1.6, -3.0));
+        let sf = Superfrustum::new(&eyes, head, 0.05, 320.0);
+        for f in StereoFrusta::new(&eyes, head, 0.05, 320.0).eyes {
+            assert!(f.world_corners().iter().all(|&c| sf.frustum.contains_point(c)), "cant {cant}");
+        }
+    }
+}
+
+#[test]
+fn rift_cv1_asymmetric_fov() {
+    let hmd = crate::view::HmdProfile::by_name("rift-cv1").unwrap();
+    let eyes = hmd.eyes(0.064);
+    let regions = Eye::BOTH.map(|e| LensRegion::with_hidden_fraction(eyes.fov(e), hmd.hidden_area_fraction.unwrap()));
+    let head = Mat4::IDENTITY;
+    let circular = DualCone::new(&eyes, head, &regions, false);
+    let elliptical = DualCone::new(&eyes, head, &regions, true);
+    // Hale: a circular cone around an asymmetric eye is looser than the frustum; the elliptical
+    // cone is tighter than the circular one (smaller solid angle ⇒ smaller cross-section area).
+    let c = circular.cones[0];
+    let e = elliptical.elliptical_cones[0];
+    assert!(e.tan_x * e.tan_y < c.tan * c.tan, "elliptical {} x {} vs circular {}", e.tan_x, e.tan_y, c.tan);
+    let sf = Superfrustum::new(&eyes, head, 0.05, 100.0);
+    assert!(sf.fov.left >= eyes.left_fov.left && sf.fov.right >= eyes.right_fov.right);
+}
+
+#[test]
+fn near_plane_at_1e_minus_4() {
+    let f = eye_at_origin(FovTangents::symmetric_deg(90.0, 90.0), 1e-4, 100.0);
+    let at_near = Sphere::new(Vec3::new(0.0, 0.0, -5e-5), 5.1e-5);
+    assert!(oracle::sphere_frustum(&f, &at_near) && f.intersects_sphere(&at_near));
+    let behind = Sphere::new(Vec3::new(0.0, 0.0, 1e-3), 1e-4);
+    assert!(!f.intersects_sphere(&behind));
+}
+
+#[test]
+fn point_tests_agree() {
+    let cone = Cone::new(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.3, -0.2, -1.0), 0.6);
+    for i in 0..2000 {
+        let p = Vec3::new((i % 13) as f32 - 6.0, (i % 7) as f32 - 3.0, -((i % 29) as f32) + 3.0);
+        let exact = oracle::cone_distance(&cone, p) == 0.0;
+        if (oracle::cone_distance(&cone, p)) > 1e-3 || exact {
+            assert_eq!(cone.contains_point_tan(p), exact, "{p}");
+            assert_eq!(cone.contains_point_cos(p), exact, "{p}");
+        }
+    }
+}
+
+/// Round robin culls with one eye per frame: objects only the other eye sees are missed, on
+/// alternate eyes — expected, and visible in the numbers.
+#[test]
+fn round_robin_misses_what_only_the_other_eye_sees() {
+    let fov = FovTangents::symmetric_deg(90.0, 90.0);
+    let eyes = EyeParams { left_fov: fov, right_fov: fov, ipd_m: 0.064, cant_rad: 0.0 };
+    let frusta = StereoFrusta::new(&eyes, Mat4::IDENTITY, 0.05, 100.0);
+    // Just beyond the left eye's right edge, inside the right eye's view.
+    let s = Sphere::new(Vec3::new(1.0 - 0.032 + 0.04, 0.0, -1.0), 0.01);
+    assert!(!frusta.eyes[0].intersects_sphere(&s) && frusta.eyes[1].intersects_sphere(&s));
+    assert!(!RoundRobin::new(&frusta, 0).sphere(&s));
+    assert!(RoundRobin::new(&frusta, 1).sphere(&s));
+    assert!(PerEye { frusta }.sphere(&s));
+}
+
+#[test]
+fn hierarchy_has_no_false_negatives_against_the_exact_reference() {
+    // A random field of spheres around a head.
+    let mut seed = 7u32;
+    let mut rand = || {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (seed >> 8) as f32 / (1u32 << 24) as f32
+    };
+    let spheres: Vec<Sphere> = (0..20_000)
+        .map(|_| Sphere::new(Vec3::new(rand() * 400.0 - 200.0, rand() * 60.0, rand() * 400.0 - 200.0), 0.2 + rand() * 3.0))
+        .collect();
+    let hierarchy = CullHierarchy::build(&spheres, HierarchyParams::default());
+    assert_eq!(hierarchy.len(), spheres.len());
+    let mut ids = hierarchy.ids.clone();
+    ids.sort_unstable();
+    assert!(ids.iter().enumerate().all(|(i, &id)| i as u32 == id), "every object exactly once");
+
+    let eyes = crate::view::HmdProfile::by_name("index").unwrap().eyes(0.064);
+    let head = crate::view::look_at_head(Vec3::new(3.0, 20.0, 5.0), Vec3::new(40.0, 15.0, -60.0));
+    let eye_centre = head.transform_point3(Vec3::ZERO);
+    let distance = 150.0;
+    let frusta = StereoFrusta::new(&eyes, head, 0.05, distance);
+    let exact: Vec<bool> = (0..hierarchy.len())
+        .map(|i| {
+            let s = hierarchy.spheres.get(i);
+            (s.center - eye_centre).length() <= distance + s.radius
+                && frusta.eyes.iter().any(|f| oracle::sphere_frustum(f, &s))
+        })
+        .collect();
+    let culled = |result: CullResult| {
+        let mut accepted = vec![false; hierarchy.len()];
+        for i in result.visible.indices() {
+            assert!(!accepted[i as usize], "object {i} accepted twice");
+            accepted[i as usize] = true;
+        }
+        accepted
+    };
+    let per_eye = culled(hierarchy.cull(&PerEye { frusta }, eye_centre, distance));
+    let superfrustum = culled(hierarchy.cull(&Superfrustum::new(&eyes, head, 0.05, distance), eye_centre, distance));
+    let visible = exact.iter().filter(|&&v| v).count();
+    assert!(visible > 500, "the view sees a fair share ({visible})");
+    for i in 0..hierarchy.len() {
+        if exact[i] {
+            assert!(per_eye[i] && superfrustum[i], "object {i} visible but culled");
+        }
+    }
+}
