@@ -4,6 +4,7 @@
 //! [`plan::FramePlan`]) → [`render::Renderer`] (Vulkan objects compiled from the plan) → frames
 //! with GPU timestamps and exact per-view fragment counts. See `DESIGN.md` in the shared folder.
 
+pub mod cull;
 pub mod gpu;
 pub mod metrics;
 pub mod plan;

@@ -20,7 +20,12 @@ pub struct SphereSoa {
 
 impl SphereSoa {
     pub fn with_capacity(n: usize) -> Self {
-        Self { x: Vec::with_capacity(n), y: Vec::with_capacity(n), z: Vec::with_capacity(n), r: Vec::with_capacity(n) }
+        Self {
+            x: Vec::with_capacity(n),
+            y: Vec::with_capacity(n),
+            z: Vec::with_capacity(n),
+            r: Vec::with_capacity(n),
+        }
     }
 
     pub fn push(&mut self, s: Sphere) {
@@ -45,8 +50,12 @@ impl SphereSoa {
     /// Appends the indices in `range` whose sphere may touch any of `frusta` (1 or 2).
     pub fn frustum_union(&self, frusta: &[Frustum], range: Range<usize>, out: &mut Vec<u32>) {
         match frusta {
-            [a] => self.run(range, out, |s, m| frustum_mask(&[FrustumParams::new(a)], s, m)),
-            [a, b] => self.run(range, out, |s, m| frustum_mask(&[FrustumParams::new(a), FrustumParams::new(b)], s, m)),
+            [a] => self.run(range, out, |s, m| {
+                frustum_mask(&[FrustumParams::new(a)], s, m)
+            }),
+            [a, b] => self.run(range, out, |s, m| {
+                frustum_mask(&[FrustumParams::new(a), FrustumParams::new(b)], s, m)
+            }),
             _ => panic!("frustum_union takes one or two frusta"),
         }
     }
@@ -55,7 +64,9 @@ impl SphereSoa {
     pub fn cone_union(&self, cones: &[Cone], range: Range<usize>, out: &mut Vec<u32>) {
         match cones {
             [a] => self.run(range, out, |s, m| cone_mask(&[ConeParams::new(a)], s, m)),
-            [a, b] => self.run(range, out, |s, m| cone_mask(&[ConeParams::new(a), ConeParams::new(b)], s, m)),
+            [a, b] => self.run(range, out, |s, m| {
+                cone_mask(&[ConeParams::new(a), ConeParams::new(b)], s, m)
+            }),
             _ => panic!("cone_union takes one or two cones"),
         }
     }
@@ -68,7 +79,12 @@ impl SphereSoa {
         while start < range.end {
             let end = (start + BLOCK).min(range.end);
             let n = end - start;
-            let slices = Slices { x: &self.x[start..end], y: &self.y[start..end], z: &self.z[start..end], r: &self.r[start..end] };
+            let slices = Slices {
+                x: &self.x[start..end],
+                y: &self.y[start..end],
+                z: &self.z[start..end],
+                r: &self.r[start..end],
+            };
             mask(slices, &mut flags[..n]);
             out.extend((0..n).filter(|&i| flags[i]).map(|i| (start + i) as u32));
             start = end;
@@ -117,7 +133,13 @@ struct ConeParams {
 
 impl ConeParams {
     fn new(c: &Cone) -> Self {
-        ConeParams { o: c.origin.to_array(), axis: c.axis.to_array(), tan: c.tan, sin: c.sin, sec: c.sec }
+        ConeParams {
+            o: c.origin.to_array(),
+            axis: c.axis.to_array(),
+            tan: c.tan,
+            sin: c.sin,
+            sec: c.sec,
+        }
     }
 }
 
@@ -205,7 +227,7 @@ pub fn batch_kernel() -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::view::{FovTangents, look_at_head};
+    use crate::view::{look_at_head, FovTangents};
 
     #[test]
     fn batch_paths_accept_exactly_what_scalar_tests_accept() {
@@ -223,15 +245,26 @@ mod tests {
             (seed >> 8) as f32 / (1u32 << 24) as f32
         };
         for _ in 0..5000 {
-            soa.push(Sphere::new(Vec3::new(rand() * 200.0 - 100.0, rand() * 60.0 - 30.0, rand() * 200.0 - 150.0), rand() * 5.0));
+            soa.push(Sphere::new(
+                Vec3::new(
+                    rand() * 200.0 - 100.0,
+                    rand() * 60.0 - 30.0,
+                    rand() * 200.0 - 150.0,
+                ),
+                rand() * 5.0,
+            ));
         }
         let mut batch = Vec::new();
         soa.frustum_union(&[frustum], 0..soa.len(), &mut batch);
-        let scalar: Vec<u32> = (0..soa.len() as u32).filter(|&i| frustum.intersects_sphere(&soa.get(i as usize))).collect();
+        let scalar: Vec<u32> = (0..soa.len() as u32)
+            .filter(|&i| frustum.intersects_sphere(&soa.get(i as usize)))
+            .collect();
         assert_eq!(batch, scalar);
         let mut batch = Vec::new();
         soa.cone_union(&[cone], 10..soa.len(), &mut batch);
-        let scalar: Vec<u32> = (10..soa.len() as u32).filter(|&i| cone.intersects_sphere(&soa.get(i as usize))).collect();
+        let scalar: Vec<u32> = (10..soa.len() as u32)
+            .filter(|&i| cone.intersects_sphere(&soa.get(i as usize)))
+            .collect();
         assert_eq!(batch, scalar);
     }
 }

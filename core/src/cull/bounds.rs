@@ -21,14 +21,20 @@ pub struct Aabb {
 }
 
 impl Aabb {
-    pub const EMPTY: Aabb = Aabb { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
 
     pub fn new(min: Vec3, max: Vec3) -> Self {
         Self { min, max }
     }
 
     pub fn of_sphere(s: &Sphere) -> Self {
-        Self { min: s.center - Vec3::splat(s.radius), max: s.center + Vec3::splat(s.radius) }
+        Self {
+            min: s.center - Vec3::splat(s.radius),
+            max: s.center + Vec3::splat(s.radius),
+        }
     }
 
     pub fn center(&self) -> Vec3 {
@@ -40,7 +46,10 @@ impl Aabb {
     }
 
     pub fn union(&self, other: &Aabb) -> Aabb {
-        Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
+        Aabb {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
     }
 
     pub fn is_empty(&self) -> bool {

@@ -31,7 +31,16 @@ impl Cone {
     pub fn new(origin: Vec3, axis: Vec3, half_angle: f32) -> Self {
         let t = half_angle.clamp(1e-6, std::f32::consts::FRAC_PI_2 - 1e-6);
         let (sin, cos) = t.sin_cos();
-        Cone { origin, axis: axis.normalize(), tan: sin / cos, sin, cos, sec: 1.0 / cos, sigma: 1.0 / (cos * cos), rho: cos * cos }
+        Cone {
+            origin,
+            axis: axis.normalize(),
+            tan: sin / cos,
+            sin,
+            cos,
+            sec: 1.0 / cos,
+            sigma: 1.0 / (cos * cos),
+            rho: cos * cos,
+        }
     }
 
     pub fn half_angle(&self) -> f32 {
@@ -79,7 +88,10 @@ impl Cone {
         if !self.intersects_sphere(&bound) {
             return false;
         }
-        let grown = Aabb::new(b.min - Vec3::splat(bound_slack(b)), b.max + Vec3::splat(bound_slack(b)));
+        let grown = Aabb::new(
+            b.min - Vec3::splat(bound_slack(b)),
+            b.max + Vec3::splat(bound_slack(b)),
+        );
         if grown.distance_squared(self.origin) == 0.0 {
             return true;
         }
@@ -87,9 +99,24 @@ impl Cone {
         if corners.iter().any(|&p| self.contains_point_tan(p)) {
             return true;
         }
-        const EDGES: [(usize, usize); 12] =
-            [(0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7)];
-        if EDGES.iter().any(|&(i, j)| self.intersects_segment(corners[i], corners[j])) {
+        const EDGES: [(usize, usize); 12] = [
+            (0, 1),
+            (2, 3),
+            (4, 5),
+            (6, 7),
+            (0, 2),
+            (1, 3),
+            (4, 6),
+            (5, 7),
+            (0, 4),
+            (1, 5),
+            (2, 6),
+            (3, 7),
+        ];
+        if EDGES
+            .iter()
+            .any(|&(i, j)| self.intersects_segment(corners[i], corners[j]))
+        {
             return true;
         }
         self.axis_hits_box(&grown)
@@ -146,7 +173,8 @@ impl Cone {
             }
         }
         // Slack relative to the quadratic's magnitude keeps the test conservative.
-        let scale = (nc.abs() + nd.abs()).powi(2) + self.rho * (c.length_squared() + d.length_squared());
+        let scale =
+            (nc.abs() + nd.abs()).powi(2) + self.rho * (c.length_squared() + d.length_squared());
         best >= -rounding_slack(scale)
     }
 
@@ -163,7 +191,11 @@ impl Cone {
     /// The rotation taking the cone's axis to +Z (for the view-space variants).
     pub fn view_rotation(&self) -> Mat3 {
         let forward = self.axis;
-        let helper = if forward.y.abs() < 0.99 { Vec3::Y } else { Vec3::X };
+        let helper = if forward.y.abs() < 0.99 {
+            Vec3::Y
+        } else {
+            Vec3::X
+        };
         let right = helper.cross(forward).normalize();
         let up = forward.cross(right);
         Mat3::from_cols(right, up, forward).transpose()

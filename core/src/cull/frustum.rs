@@ -19,7 +19,12 @@ impl Frustum {
     /// The frustum of an eye at `world_from_eye` (looking down its −Z) with FOV tangents and
     /// near/far distances.
     pub fn from_eye(world_from_eye: Mat4, fov: FovTangents, near: f32, far: f32) -> Self {
-        let FovTangents { left, right, up, down } = fov;
+        let FovTangents {
+            left,
+            right,
+            up,
+            down,
+        } = fov;
         let local = [
             (Vec3::new(1.0, 0.0, -left), 0.0),
             (Vec3::new(-1.0, 0.0, -right), 0.0),
@@ -44,7 +49,11 @@ impl Frustum {
             corner(far, right, up),
             corner(far, -left, up),
         ];
-        Frustum { origin, planes, corners }
+        Frustum {
+            origin,
+            planes,
+            corners,
+        }
     }
 
     /// The corners in world space.

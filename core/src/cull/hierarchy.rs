@@ -23,7 +23,11 @@ pub struct HierarchyParams {
 
 impl Default for HierarchyParams {
     fn default() -> Self {
-        HierarchyParams { chunk_size: 80.0, max_depth: 4, leaf_capacity: 48 }
+        HierarchyParams {
+            chunk_size: 80.0,
+            max_depth: 4,
+            leaf_capacity: 48,
+        }
     }
 }
 
@@ -133,7 +137,10 @@ impl CullHierarchy {
         let mut runs: Vec<Range<usize>> = Vec::new();
         let mut start = 0;
         for i in 1..=order.len() {
-            if i == order.len() || key(spheres[order[i] as usize].center) != key(spheres[order[start] as usize].center) {
+            if i == order.len()
+                || key(spheres[order[i] as usize].center)
+                    != key(spheres[order[start] as usize].center)
+            {
                 if i > start {
                     runs.push(start..i);
                 }
@@ -164,7 +171,11 @@ impl CullHierarchy {
             ids.extend(local);
             chunks.push(chunk);
         }
-        CullHierarchy { chunks, spheres: soa, ids }
+        CullHierarchy {
+            chunks,
+            spheres: soa,
+            ids,
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -181,7 +192,12 @@ impl CullHierarchy {
 
     /// The objects `culler` accepts within `draw_distance` of `eye_centre` (distance culling at
     /// chunk, node and object level), chunks in parallel.
-    pub fn cull<C: StereoCull>(&self, culler: &C, eye_centre: Vec3, draw_distance: f32) -> CullResult {
+    pub fn cull<C: StereoCull>(
+        &self,
+        culler: &C,
+        eye_centre: Vec3,
+        draw_distance: f32,
+    ) -> CullResult {
         let reach = |b: &Aabb| distance_relation(b, eye_centre, draw_distance);
         let results: Vec<CullResult> = self
             .chunks
@@ -197,7 +213,13 @@ impl CullHierarchy {
         out
     }
 
-    fn cull_chunk<C: StereoCull>(&self, chunk: &Chunk, culler: &C, eye: Vec3, distance: f32) -> CullResult {
+    fn cull_chunk<C: StereoCull>(
+        &self,
+        chunk: &Chunk,
+        culler: &C,
+        eye: Vec3,
+        distance: f32,
+    ) -> CullResult {
         let mut result = CullResult::default();
         result.stats.chunks = 1;
         let mut stack = vec![0u32];
@@ -206,7 +228,11 @@ impl CullHierarchy {
         while let Some(n) = stack.pop() {
             let node = &chunk.nodes[n as usize];
             result.stats.node_tests += 1;
-            let relation = culler.aabb(&node.bounds).intersection(distance_relation(&node.bounds, eye, distance));
+            let relation = culler.aabb(&node.bounds).intersection(distance_relation(
+                &node.bounds,
+                eye,
+                distance,
+            ));
             match relation {
                 Relation::Outside => {}
                 Relation::Inside => result.visible.ranges.push(node.own.start..node.subtree_end),
@@ -235,7 +261,11 @@ fn distance_relation(b: &Aabb, eye: Vec3, distance: f32) -> Relation {
     let d2 = distance * distance;
     if b.distance_squared(eye) > d2 {
         Relation::Outside
-    } else if b.corners().iter().all(|c| (*c - eye).length_squared() <= d2) {
+    } else if b
+        .corners()
+        .iter()
+        .all(|c| (*c - eye).length_squared() <= d2)
+    {
         Relation::Inside
     } else {
         Relation::Intersecting
@@ -244,10 +274,18 @@ fn distance_relation(b: &Aabb, eye: Vec3, distance: f32) -> Relation {
 
 /// Builds one chunk's octree; returns it with its objects in depth-first order (chunk-local
 /// `own` ranges).
-fn build_chunk(spheres: &[Sphere], members: Vec<u32>, min: Vec3, size: f32, params: HierarchyParams) -> (Chunk, Vec<u32>) {
+fn build_chunk(
+    spheres: &[Sphere],
+    members: Vec<u32>,
+    min: Vec3,
+    size: f32,
+    params: HierarchyParams,
+) -> (Chunk, Vec<u32>) {
     let mut chunk = Chunk { nodes: Vec::new() };
     let mut order = Vec::with_capacity(members.len());
-    build_node(spheres, members, min, size, 0, params, &mut chunk, &mut order);
+    build_node(
+        spheres, members, min, size, 0, params, &mut chunk, &mut order,
+    );
     (chunk, order)
 }
 
@@ -263,7 +301,12 @@ fn build_node(
     order: &mut Vec<u32>,
 ) -> u32 {
     let index = chunk.nodes.len() as u32;
-    chunk.nodes.push(Node { bounds: Aabb::EMPTY, own: 0..0, subtree_end: 0, children: Vec::new() });
+    chunk.nodes.push(Node {
+        bounds: Aabb::EMPTY,
+        own: 0..0,
+        subtree_end: 0,
+        children: Vec::new(),
+    });
     let half = size * 0.5;
     let mut own = Vec::new();
     let mut octants: [Vec<u32>; 8] = Default::default();
@@ -295,7 +338,16 @@ fn build_node(
             continue;
         }
         let offset = Vec3::new((o & 1) as f32, ((o >> 1) & 1) as f32, ((o >> 2) & 1) as f32) * half;
-        let child = build_node(spheres, objs, min + offset, half, depth + 1, params, chunk, order);
+        let child = build_node(
+            spheres,
+            objs,
+            min + offset,
+            half,
+            depth + 1,
+            params,
+            chunk,
+            order,
+        );
         bounds = bounds.union(&chunk.nodes[child as usize].bounds);
         children.push(child);
     }

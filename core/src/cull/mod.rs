@@ -19,9 +19,7 @@ pub use bounds::{Aabb, Relation, Sphere};
 pub use cone::{Cone, EllipticalCone};
 pub use frustum::Frustum;
 pub use hierarchy::{CullHierarchy, CullResult, CullStats, HierarchyParams, VisibleSet};
-pub use stereo::{
-    DualCone, PerEye, RoundRobin, StereoCull, StereoFrusta, Strategy, Superfrustum,
-};
+pub use stereo::{DualCone, PerEye, RoundRobin, StereoCull, StereoFrusta, Strategy, Superfrustum};
 pub use triangle::Triangle;
 
 /// Slack added to a radius so that `f32` rounding in a test on coordinates of magnitude `m`

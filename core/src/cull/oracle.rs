@@ -18,7 +18,11 @@ fn point_polygon_distance(p: DVec3, poly: &[DVec3]) -> f64 {
         let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
         let edge_normal = (b - a).cross(n);
         // Orient each edge's normal away from the centroid.
-        let outward = if (centroid - a).dot(edge_normal) > 0.0 { -edge_normal } else { edge_normal };
+        let outward = if (centroid - a).dot(edge_normal) > 0.0 {
+            -edge_normal
+        } else {
+            edge_normal
+        };
         (proj - a).dot(outward) <= 0.0
     });
     if inside {
@@ -37,8 +41,14 @@ fn point_polygon_distance(p: DVec3, poly: &[DVec3]) -> f64 {
 /// inside.
 pub fn frustum_distance(f: &Frustum, p: glam::Vec3) -> f64 {
     let c: Vec<DVec3> = f.corners.iter().map(|&v| d(f.origin) + d(v)).collect();
-    let faces: [[usize; 4]; 6] =
-        [[0, 1, 2, 3], [4, 5, 6, 7], [0, 3, 7, 4], [1, 5, 6, 2], [0, 4, 5, 1], [3, 2, 6, 7]];
+    let faces: [[usize; 4]; 6] = [
+        [0, 1, 2, 3],
+        [4, 5, 6, 7],
+        [0, 3, 7, 4],
+        [1, 5, 6, 2],
+        [0, 4, 5, 1],
+        [3, 2, 6, 7],
+    ];
     let centre = c.iter().copied().sum::<DVec3>() / 8.0;
     let p = d(p);
     let inside = faces.iter().all(|face| {
@@ -69,7 +79,9 @@ pub fn cone_distance(cone: &Cone, p: glam::Vec3) -> f64 {
         return 0.0;
     }
     let half = (cone.tan as f64).atan();
-    let angle = (c.dot(d(cone.axis).normalize()) / len).clamp(-1.0, 1.0).acos();
+    let angle = (c.dot(d(cone.axis).normalize()) / len)
+        .clamp(-1.0, 1.0)
+        .acos();
     if angle <= half {
         0.0
     } else if angle - half >= std::f64::consts::FRAC_PI_2 {

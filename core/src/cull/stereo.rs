@@ -15,7 +15,11 @@ pub trait StereoCull: Sync {
     /// Batch test over `soa[range]`, appending the indices that pass. The default calls
     /// [`StereoCull::sphere`]; strategies with a vectorised kernel override it.
     fn spheres(&self, soa: &SphereSoa, range: std::ops::Range<usize>, out: &mut Vec<u32>) {
-        out.extend(range.filter(|&i| self.sphere(&soa.get(i))).map(|i| i as u32));
+        out.extend(
+            range
+                .filter(|&i| self.sphere(&soa.get(i)))
+                .map(|i| i as u32),
+        );
     }
 }
 
@@ -27,8 +31,17 @@ pub struct StereoFrusta {
 
 impl StereoFrusta {
     pub fn new(eyes: &EyeParams, world_from_head: Mat4, near: f32, far: f32) -> Self {
-        let frustum = |eye| Frustum::from_eye(world_from_head * eyes.head_from_eye(eye), eyes.fov(eye), near, far);
-        StereoFrusta { eyes: [frustum(Eye::Left), frustum(Eye::Right)] }
+        let frustum = |eye| {
+            Frustum::from_eye(
+                world_from_head * eyes.head_from_eye(eye),
+                eyes.fov(eye),
+                near,
+                far,
+            )
+        };
+        StereoFrusta {
+            eyes: [frustum(Eye::Left), frustum(Eye::Right)],
+        }
     }
 }
 
@@ -77,8 +90,12 @@ impl Superfrustum {
     pub fn new(eyes: &EyeParams, world_from_head: Mat4, near: f32, far: f32) -> Self {
         let in_head = StereoFrusta::new(eyes, Mat4::IDENTITY, near, far);
         let mut apex = outer_planes_meet(eyes).unwrap_or(Vec3::ZERO);
-        let min_depth =
-            in_head.eyes.iter().flat_map(|f| f.world_corners()).map(|p| apex.z - p.z).fold(f32::MAX, f32::min);
+        let min_depth = in_head
+            .eyes
+            .iter()
+            .flat_map(|f| f.world_corners())
+            .map(|p| apex.z - p.z)
+            .fold(f32::MAX, f32::min);
         if min_depth <= near * 0.5 {
             // The outer planes meet in front of a near corner (eyes canted inwards): fall back
             // to an apex behind every corner.
@@ -95,7 +112,11 @@ impl Superfrustum {
             let points: Vec<DVec3> = world
                 .eyes
                 .iter()
-                .flat_map(|f| f.corners.map(|c| apex_from_world * (f.origin.as_dvec3() + c.as_dvec3() - origin.as_dvec3())))
+                .flat_map(|f| {
+                    f.corners.map(|c| {
+                        apex_from_world * (f.origin.as_dvec3() + c.as_dvec3() - origin.as_dvec3())
+                    })
+                })
                 .collect();
             (world_from_apex, points)
         };
@@ -122,9 +143,23 @@ impl Superfrustum {
         }
         // Round outwards: tangents and far up, near down.
         let grow = |t: f64| (t + 1e-5 * t.abs().max(1e-3)) as f32;
-        let fov = FovTangents { left: grow(l), right: grow(r), up: grow(u), down: grow(d) };
-        let frustum = Frustum::from_eye(world_from_apex, fov, (n * (1.0 - 1e-5)) as f32, (f * (1.0 + 1e-5)) as f32);
-        Superfrustum { frustum, recession: apex.z, fov }
+        let fov = FovTangents {
+            left: grow(l),
+            right: grow(r),
+            up: grow(u),
+            down: grow(d),
+        };
+        let frustum = Frustum::from_eye(
+            world_from_apex,
+            fov,
+            (n * (1.0 - 1e-5)) as f32,
+            (f * (1.0 + 1e-5)) as f32,
+        );
+        Superfrustum {
+            frustum,
+            recession: apex.z,
+            fov,
+        }
     }
 }
 
@@ -133,7 +168,10 @@ impl Superfrustum {
 fn outer_planes_meet(eyes: &EyeParams) -> Option<Vec3> {
     let edge = |eye, tangent_x: f32| {
         let m = eyes.head_from_eye(eye);
-        (m.transform_point3(Vec3::ZERO), m.transform_vector3(Vec3::new(tangent_x, 0.0, -1.0)))
+        (
+            m.transform_point3(Vec3::ZERO),
+            m.transform_vector3(Vec3::new(tangent_x, 0.0, -1.0)),
+        )
     };
     let (p, u) = edge(Eye::Left, -eyes.left_fov.left);
     let (q, v) = edge(Eye::Right, eyes.right_fov.right);
@@ -169,14 +207,20 @@ impl StereoCull for Superfrustum {
 /// The cones of one eye fitted around its lens-visible region: axis through the region's
 /// centre, wide enough that every ray of the region's bounding polygon is inside — and since a
 /// cone is convex, the whole region is.
-fn fit_cones(eyes: &EyeParams, world_from_head: Mat4, regions: &[LensRegion; 2]) -> [(Cone, EllipticalCone); 2] {
+fn fit_cones(
+    eyes: &EyeParams,
+    world_from_head: Mat4,
+    regions: &[LensRegion; 2],
+) -> [(Cone, EllipticalCone); 2] {
     Eye::BOTH.map(|eye| {
         let world_from_eye = world_from_head * eyes.head_from_eye(eye);
         let region = regions[eye.index()];
-        let (centre, _) = region.ellipse();
-        let axis_eye = Vec3::new(centre.x, centre.y, -1.0).normalize();
-        let rays: Vec<Vec3> =
-            region.bounding_polygon(64).iter().map(|p| Vec3::new(p.x, p.y, -1.0).normalize()).collect();
+        let rays: Vec<Vec3> = region
+            .bounding_polygon(64)
+            .iter()
+            .map(|p| Vec3::new(p.x, p.y, -1.0).normalize())
+            .collect();
+        let axis_eye = enclosing_axis(&rays);
         let cos_min = rays.iter().map(|r| r.dot(axis_eye)).fold(1.0f32, f32::min);
         let half_angle = cos_min.clamp(-1.0, 1.0).acos() * (1.0 + 1e-5) + 1e-6;
         let origin = world_from_eye.transform_point3(Vec3::ZERO);
@@ -198,8 +242,11 @@ fn fit_cones(eyes: &EyeParams, world_from_head: Mat4, regions: &[LensRegion; 2])
         let max_u = uv.iter().map(|p| p.0.abs()).fold(0.0f32, f32::max);
         let max_v = uv.iter().map(|p| p.1.abs()).fold(0.0f32, f32::max);
         let aspect = max_u / max_v;
-        let tan_y =
-            uv.iter().map(|&(u, v)| ((u / aspect).powi(2) + v * v).sqrt()).fold(0.0f32, f32::max) * (1.0 + 1e-5);
+        let tan_y = uv
+            .iter()
+            .map(|&(u, v)| ((u / aspect).powi(2) + v * v).sqrt())
+            .fold(0.0f32, f32::max)
+            * (1.0 + 1e-5);
         let rotation = Mat3::from_mat4(world_from_eye);
         let elliptical = EllipticalCone {
             origin,
@@ -209,6 +256,23 @@ fn fit_cones(eyes: &EyeParams, world_from_head: Mat4, regions: &[LensRegion; 2])
         };
         (circular, elliptical)
     })
+}
+
+/// The axis of (nearly) the narrowest cone around unit vectors `rays` (Bădoiu–Clarkson steps
+/// towards the farthest ray). The region's centre is a poor axis for lopsided eyes: a 124°-wide
+/// asymmetric eye needs over 90° around its centre but ~62° around this axis. The half-angle is
+/// measured afterwards over all rays, so a not-quite-optimal axis costs tightness, not safety.
+fn enclosing_axis(rays: &[Vec3]) -> Vec3 {
+    let mut axis = rays.iter().copied().sum::<Vec3>().normalize();
+    for i in 1..=400 {
+        let farthest = rays
+            .iter()
+            .copied()
+            .min_by(|a, b| a.dot(axis).total_cmp(&b.dot(axis)))
+            .unwrap_or(axis);
+        axis = (axis + (farthest - axis) / (i as f32 + 1.0)).normalize();
+    }
+    axis
 }
 
 /// One cone per eye around its lens-visible region; circular (Hale) or elliptical (his
@@ -222,9 +286,18 @@ pub struct DualCone {
 }
 
 impl DualCone {
-    pub fn new(eyes: &EyeParams, world_from_head: Mat4, regions: &[LensRegion; 2], elliptical: bool) -> Self {
+    pub fn new(
+        eyes: &EyeParams,
+        world_from_head: Mat4,
+        regions: &[LensRegion; 2],
+        elliptical: bool,
+    ) -> Self {
         let fitted = fit_cones(eyes, world_from_head, regions);
-        DualCone { cones: fitted.map(|f| f.0), elliptical_cones: fitted.map(|f| f.1), elliptical }
+        DualCone {
+            cones: fitted.map(|f| f.0),
+            elliptical_cones: fitted.map(|f| f.1),
+            elliptical,
+        }
     }
 }
 
@@ -247,7 +320,9 @@ impl StereoCull for DualCone {
 
     fn aabb(&self, b: &Aabb) -> Relation {
         if self.elliptical {
-            self.elliptical_cones[0].aabb(b).union(self.elliptical_cones[1].aabb(b))
+            self.elliptical_cones[0]
+                .aabb(b)
+                .union(self.elliptical_cones[1].aabb(b))
         } else {
             self.cones[0].aabb(b).union(self.cones[1].aabb(b))
         }
@@ -255,7 +330,11 @@ impl StereoCull for DualCone {
 
     fn spheres(&self, soa: &SphereSoa, range: std::ops::Range<usize>, out: &mut Vec<u32>) {
         if self.elliptical {
-            out.extend(range.filter(|&i| self.sphere(&soa.get(i))).map(|i| i as u32));
+            out.extend(
+                range
+                    .filter(|&i| self.sphere(&soa.get(i)))
+                    .map(|i| i as u32),
+            );
         } else {
             soa.cone_union(&self.cones, range, out);
         }
@@ -272,8 +351,15 @@ pub struct RoundRobin {
 
 impl RoundRobin {
     pub fn new(frusta: &StereoFrusta, frame: u64) -> Self {
-        let eye = if frame % 2 == 0 { Eye::Left } else { Eye::Right };
-        RoundRobin { frustum: frusta.eyes[eye.index()], eye }
+        let eye = if frame % 2 == 0 {
+            Eye::Left
+        } else {
+            Eye::Right
+        };
+        RoundRobin {
+            frustum: frusta.eyes[eye.index()],
+            eye,
+        }
     }
 }
 
@@ -306,8 +392,13 @@ pub enum Strategy {
 }
 
 impl Strategy {
-    pub const ALL: [Strategy; 5] =
-        [Strategy::PerEye, Strategy::Superfrustum, Strategy::DualCone, Strategy::DualEllipticalCone, Strategy::RoundRobin];
+    pub const ALL: [Strategy; 5] = [
+        Strategy::PerEye,
+        Strategy::Superfrustum,
+        Strategy::DualCone,
+        Strategy::DualEllipticalCone,
+        Strategy::RoundRobin,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {

@@ -7,7 +7,10 @@ use glam::{DVec3, Mat4, Quat, Vec2, Vec3};
 use proptest::prelude::*;
 
 use super::oracle;
-use super::{Aabb, Cone, CullHierarchy, CullResult, DualCone, EllipticalCone, Frustum, HierarchyParams, PerEye, Relation, RoundRobin, Sphere, StereoCull, StereoFrusta, Superfrustum, Triangle};
+use super::{
+    Aabb, Cone, CullHierarchy, CullResult, DualCone, EllipticalCone, Frustum, HierarchyParams,
+    PerEye, Relation, RoundRobin, Sphere, StereoCull, StereoFrusta, Superfrustum, Triangle,
+};
 use crate::view::{Eye, EyeParams, FovTangents, LensRegion};
 
 /// Spheres checked per property case.
@@ -19,7 +22,10 @@ fn log_uniform(lo: f32, hi: f32) -> impl Strategy<Value = f32> {
 
 /// A coordinate: 0, or ± a magnitude from 1e-2 to 1e6.
 fn coordinate() -> impl Strategy<Value = f32> {
-    prop_oneof![Just(0.0f32), (any::<bool>(), log_uniform(1e-2, 1e6)).prop_map(|(neg, m)| if neg { -m } else { m })]
+    prop_oneof![
+        Just(0.0f32),
+        (any::<bool>(), log_uniform(1e-2, 1e6)).prop_map(|(neg, m)| if neg { -m } else { m })
+    ]
 }
 
 fn position() -> impl Strategy<Value = Vec3> {
@@ -27,13 +33,19 @@ fn position() -> impl Strategy<Value = Vec3> {
 }
 
 fn rotation() -> impl Strategy<Value = Quat> {
-    (-3.2f32..3.2, -1.6f32..1.6, -3.2f32..3.2).prop_map(|(y, p, r)| Quat::from_euler(glam::EulerRot::YXZ, y, p, r))
+    (-3.2f32..3.2, -1.6f32..1.6, -3.2f32..3.2)
+        .prop_map(|(y, p, r)| Quat::from_euler(glam::EulerRot::YXZ, y, p, r))
 }
 
 /// FOV tangents from 1° to 80° half-angles, independently per side.
 fn fov() -> impl Strategy<Value = FovTangents> {
     let t = || log_uniform(0.0175, 5.67);
-    (t(), t(), t(), t()).prop_map(|(left, right, up, down)| FovTangents { left, right, up, down })
+    (t(), t(), t(), t()).prop_map(|(left, right, up, down)| FovTangents {
+        left,
+        right,
+        up,
+        down,
+    })
 }
 
 fn unit_vector() -> impl Strategy<Value = Vec3> {
@@ -45,20 +57,44 @@ fn unit_vector() -> impl Strategy<Value = Vec3> {
 
 /// A frustum anywhere, any orientation, near from 1e-4 to 1, far up to 1e4.
 fn frustum() -> impl Strategy<Value = Frustum> {
-    (position(), rotation(), fov(), log_uniform(1e-4, 1.0), log_uniform(2.0, 1e4)).prop_map(|(p, q, fov, near, k)| {
-        let far = (near * k).min(1e4).max(near * 2.0);
-        Frustum::from_eye(Mat4::from_rotation_translation(q, p), fov, near, far)
-    })
+    (
+        position(),
+        rotation(),
+        fov(),
+        log_uniform(1e-4, 1.0),
+        log_uniform(2.0, 1e4),
+    )
+        .prop_map(|(p, q, fov, near, k)| {
+            let far = (near * k).min(1e4).max(near * 2.0);
+            Frustum::from_eye(Mat4::from_rotation_translation(q, p), fov, near, far)
+        })
 }
 
 /// Spheres around a surface point: `(surface point index data, direction, radius, offset factor)`.
 fn sphere_params() -> impl Strategy<Value = Vec<(usize, f32, f32, Vec3, f32, f32)>> {
-    prop::collection::vec((0usize..6, 0.0f32..1.0, 0.0f32..1.0, unit_vector(), log_uniform(1e-6, 1e4), 0.0f32..2.0), PER_CASE)
+    prop::collection::vec(
+        (
+            0usize..6,
+            0.0f32..1.0,
+            0.0f32..1.0,
+            unit_vector(),
+            log_uniform(1e-6, 1e4),
+            0.0f32..2.0,
+        ),
+        PER_CASE,
+    )
 }
 
 /// A point on face `face` of the frustum at bilinear (s, t), in f64 world space.
 fn on_face(f: &Frustum, face: usize, s: f32, t: f32) -> DVec3 {
-    const FACES: [[usize; 4]; 6] = [[0, 1, 2, 3], [4, 5, 6, 7], [0, 3, 7, 4], [1, 5, 6, 2], [0, 4, 5, 1], [3, 2, 6, 7]];
+    const FACES: [[usize; 4]; 6] = [
+        [0, 1, 2, 3],
+        [4, 5, 6, 7],
+        [0, 3, 7, 4],
+        [1, 5, 6, 2],
+        [0, 4, 5, 1],
+        [3, 2, 6, 7],
+    ];
     let c = FACES[face].map(|i| f.origin.as_dvec3() + f.corners[i].as_dvec3());
     let (s, t) = (s as f64, t as f64);
     let a = c[0] + (c[1] - c[0]) * s;
@@ -69,7 +105,10 @@ fn on_face(f: &Frustum, face: usize, s: f32, t: f32) -> DVec3 {
 fn check_frustum_sphere(f: &Frustum, center: Vec3, r: f32) -> Result<(), TestCaseError> {
     let s = Sphere::new(center, r);
     if oracle::sphere_frustum(f, &s) {
-        prop_assert!(f.sphere(&s).visible(), "false negative: {s:?} against {f:?}");
+        prop_assert!(
+            f.sphere(&s).visible(),
+            "false negative: {s:?} against {f:?}"
+        );
     }
     Ok(())
 }
@@ -170,7 +209,8 @@ proptest! {
 
 /// Signed distances of `p` to the frustum's planes, in f64 (positive inside).
 fn plane_distances_f64(f: &Frustum, p: DVec3) -> [f64; 6] {
-    f.planes.map(|pl| pl.truncate().as_dvec3().dot(p - f.origin.as_dvec3()) + pl.w as f64)
+    f.planes
+        .map(|pl| pl.truncate().as_dvec3().dot(p - f.origin.as_dvec3()) + pl.w as f64)
 }
 
 fn box_samples(b: &Aabb) -> impl Iterator<Item = Vec3> + '_ {
@@ -194,12 +234,28 @@ fn triangle_samples(t: &Triangle) -> impl Iterator<Item = Vec3> + '_ {
 /// An eye pair: IPD up to 8 cm, cant ±12°, independent asymmetric tangents per eye.
 fn eye_params() -> impl Strategy<Value = EyeParams> {
     let t = || log_uniform(0.2, 3.0);
-    ((t(), t(), t(), t()), (t(), t(), t(), t()), 0.0f32..0.08, -12.0f32..12.0).prop_map(|(l, r, ipd, cant)| EyeParams {
-        left_fov: FovTangents { left: l.0, right: l.1, up: l.2, down: l.3 },
-        right_fov: FovTangents { left: r.0, right: r.1, up: r.2, down: r.3 },
-        ipd_m: ipd,
-        cant_rad: cant.to_radians(),
-    })
+    (
+        (t(), t(), t(), t()),
+        (t(), t(), t(), t()),
+        0.0f32..0.08,
+        -12.0f32..12.0,
+    )
+        .prop_map(|(l, r, ipd, cant)| EyeParams {
+            left_fov: FovTangents {
+                left: l.0,
+                right: l.1,
+                up: l.2,
+                down: l.3,
+            },
+            right_fov: FovTangents {
+                left: r.0,
+                right: r.1,
+                up: r.2,
+                down: r.3,
+            },
+            ipd_m: ipd,
+            cant_rad: cant.to_radians(),
+        })
 }
 
 fn head() -> impl Strategy<Value = Mat4> {
@@ -313,7 +369,10 @@ fn sphere_at_the_apex() {
     // Centred just behind the apex, reaching over it.
     let s = Sphere::new(Vec3::new(0.0, 0.0, -0.99), 1.0);
     assert!(oracle::sphere_cone(&cone, &s));
-    assert!(!hale_listing_3_2(s.center, s.radius, half), "Hale's listing misses it");
+    assert!(
+        !hale_listing_3_2(s.center, s.radius, half),
+        "Hale's listing misses it"
+    );
     assert!(cone.intersects_sphere(&s), "ours does not");
     assert!(cone.intersects_sphere(&Sphere::new(Vec3::ZERO, 1e-6)));
 }
@@ -322,11 +381,16 @@ fn sphere_at_the_apex() {
 fn sphere_straddling_and_behind_the_cone_plane() {
     let cone = Cone::new(Vec3::ZERO, Vec3::Z, 0.8);
     let straddling = Sphere::new(Vec3::new(1.0, 0.0, -0.2), 0.6);
-    assert_eq!(cone.intersects_sphere(&straddling), oracle::sphere_cone(&cone, &straddling));
+    assert_eq!(
+        cone.intersects_sphere(&straddling),
+        oracle::sphere_cone(&cone, &straddling)
+    );
     let behind = Sphere::new(Vec3::new(0.0, 0.0, -2.0), 1.0);
     assert!(!oracle::sphere_cone(&cone, &behind) && !cone.intersects_sphere(&behind));
     let behind_touching = Sphere::new(Vec3::new(0.3, 0.0, -1.0), 1.05);
-    assert!(oracle::sphere_cone(&cone, &behind_touching) && cone.intersects_sphere(&behind_touching));
+    assert!(
+        oracle::sphere_cone(&cone, &behind_touching) && cone.intersects_sphere(&behind_touching)
+    );
 }
 
 #[test]
@@ -340,7 +404,10 @@ fn tiny_and_huge_radii() {
         assert!(f.intersects_sphere(&s), "r {r}");
     }
     // A huge sphere enclosing the whole frustum.
-    assert_eq!(f.sphere(&Sphere::new(Vec3::ZERO, 1e5)), Relation::Intersecting);
+    assert_eq!(
+        f.sphere(&Sphere::new(Vec3::ZERO, 1e5)),
+        Relation::Intersecting
+    );
 }
 
 #[test]
@@ -350,14 +417,22 @@ fn positions_up_to_1e6() {
     let touching = Sphere::new(Vec3::new(1e6, -1e6 + 0.5, 1e6 - 100.0), 1e-6);
     assert!(f.intersects_sphere(&touching));
     let cone = Cone::new(Vec3::splat(1e6), Vec3::X, 0.5);
-    let s = Sphere::new(Vec3::new(1e6 + 100.0, 1e6 + 100.0 * 0.5f32.tan() + 1e-3, 1e6), 2e-3);
+    let s = Sphere::new(
+        Vec3::new(1e6 + 100.0, 1e6 + 100.0 * 0.5f32.tan() + 1e-3, 1e6),
+        2e-3,
+    );
     assert!(oracle::sphere_cone(&cone, &s) && cone.intersects_sphere(&s));
 }
 
 #[test]
 fn ipd_0_superfrustum_equals_the_eye_frustum() {
     let fov = FovTangents::symmetric_deg(100.0, 90.0);
-    let eyes = EyeParams { left_fov: fov, right_fov: fov, ipd_m: 0.0, cant_rad: 0.0 };
+    let eyes = EyeParams {
+        left_fov: fov,
+        right_fov: fov,
+        ipd_m: 0.0,
+        cant_rad: 0.0,
+    };
     let sf = Superfrustum::new(&eyes, Mat4::IDENTITY, 0.05, 300.0);
     let eye = StereoFrusta::new(&eyes, Mat4::IDENTITY, 0.05, 300.0).eyes[0];
     assert_eq!(sf.recession, 0.0);
@@ -372,10 +447,24 @@ fn ipd_0_superfrustum_equals_the_eye_frustum() {
 #[test]
 fn parallel_superfrustum_recession_is_oddous() {
     // Oddou: recession = ipd / (tan θ₀ + tan θ₁) with the outer half-angles.
-    let fov = FovTangents { left: 1.4, right: 1.2, up: 1.4, down: 1.4 };
-    let eyes = EyeParams { left_fov: fov, right_fov: fov.mirrored(), ipd_m: 0.064, cant_rad: 0.0 };
+    let fov = FovTangents {
+        left: 1.4,
+        right: 1.2,
+        up: 1.4,
+        down: 1.4,
+    };
+    let eyes = EyeParams {
+        left_fov: fov,
+        right_fov: fov.mirrored(),
+        ipd_m: 0.064,
+        cant_rad: 0.0,
+    };
     let sf = Superfrustum::new(&eyes, Mat4::IDENTITY, 0.05, 100.0);
-    assert!((sf.recession - 0.064 / (1.4 + 1.4)).abs() < 1e-6, "{}", sf.recession);
+    assert!(
+        (sf.recession - 0.064 / (1.4 + 1.4)).abs() < 1e-6,
+        "{}",
+        sf.recession
+    );
     assert!((sf.fov.left - 1.4).abs() < 1e-4 && (sf.fov.right - 1.4).abs() < 1e-4);
 }
 
@@ -383,11 +472,22 @@ fn parallel_superfrustum_recession_is_oddous() {
 fn canted_eyes_plus_minus_5_and_10_degrees() {
     let fov = FovTangents::from_angles_deg(52.0, 45.0, 48.0, 50.0);
     for cant in [-10.0f32, -5.0, 5.0, 10.0] {
-        let eyes = EyeParams { left_fov: fov, right_fov: fov.mirrored(), ipd_m: 0.064, cant_rad: cant.to_radians() };
-        let head = Mat4::from_rotation_translation(Quat::from_rotation_y(0.3), Vec3::new(5.0, 1.6, -3.0));
+        let eyes = EyeParams {
+            left_fov: fov,
+            right_fov: fov.mirrored(),
+            ipd_m: 0.064,
+            cant_rad: cant.to_radians(),
+        };
+        let head =
+            Mat4::from_rotation_translation(Quat::from_rotation_y(0.3), Vec3::new(5.0, 1.6, -3.0));
         let sf = Superfrustum::new(&eyes, head, 0.05, 320.0);
         for f in StereoFrusta::new(&eyes, head, 0.05, 320.0).eyes {
-            assert!(f.world_corners().iter().all(|&c| sf.frustum.contains_point(c)), "cant {cant}");
+            assert!(
+                f.world_corners()
+                    .iter()
+                    .all(|&c| sf.frustum.contains_point(c)),
+                "cant {cant}"
+            );
         }
     }
 }
@@ -396,7 +496,8 @@ fn canted_eyes_plus_minus_5_and_10_degrees() {
 fn rift_cv1_asymmetric_fov() {
     let hmd = crate::view::HmdProfile::by_name("rift-cv1").unwrap();
     let eyes = hmd.eyes(0.064);
-    let regions = Eye::BOTH.map(|e| LensRegion::with_hidden_fraction(eyes.fov(e), hmd.hidden_area_fraction.unwrap()));
+    let regions = Eye::BOTH
+        .map(|e| LensRegion::with_hidden_fraction(eyes.fov(e), hmd.hidden_area_fraction.unwrap()));
     let head = Mat4::IDENTITY;
     let circular = DualCone::new(&eyes, head, &regions, false);
     let elliptical = DualCone::new(&eyes, head, &regions, true);
@@ -404,7 +505,13 @@ fn rift_cv1_asymmetric_fov() {
     // cone is tighter than the circular one (smaller solid angle ⇒ smaller cross-section area).
     let c = circular.cones[0];
     let e = elliptical.elliptical_cones[0];
-    assert!(e.tan_x * e.tan_y < c.tan * c.tan, "elliptical {} x {} vs circular {}", e.tan_x, e.tan_y, c.tan);
+    assert!(
+        e.tan_x * e.tan_y < c.tan * c.tan,
+        "elliptical {} x {} vs circular {}",
+        e.tan_x,
+        e.tan_y,
+        c.tan
+    );
     let sf = Superfrustum::new(&eyes, head, 0.05, 100.0);
     assert!(sf.fov.left >= eyes.left_fov.left && sf.fov.right >= eyes.right_fov.right);
 }
@@ -422,7 +529,11 @@ fn near_plane_at_1e_minus_4() {
 fn point_tests_agree() {
     let cone = Cone::new(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.3, -0.2, -1.0), 0.6);
     for i in 0..2000 {
-        let p = Vec3::new((i % 13) as f32 - 6.0, (i % 7) as f32 - 3.0, -((i % 29) as f32) + 3.0);
+        let p = Vec3::new(
+            (i % 13) as f32 - 6.0,
+            (i % 7) as f32 - 3.0,
+            -((i % 29) as f32) + 3.0,
+        );
         let exact = oracle::cone_distance(&cone, p) == 0.0;
         if (oracle::cone_distance(&cone, p)) > 1e-3 || exact {
             assert_eq!(cone.contains_point_tan(p), exact, "{p}");
@@ -436,7 +547,12 @@ fn point_tests_agree() {
 #[test]
 fn round_robin_misses_what_only_the_other_eye_sees() {
     let fov = FovTangents::symmetric_deg(90.0, 90.0);
-    let eyes = EyeParams { left_fov: fov, right_fov: fov, ipd_m: 0.064, cant_rad: 0.0 };
+    let eyes = EyeParams {
+        left_fov: fov,
+        right_fov: fov,
+        ipd_m: 0.064,
+        cant_rad: 0.0,
+    };
     let frusta = StereoFrusta::new(&eyes, Mat4::IDENTITY, 0.05, 100.0);
     // Just beyond the left eye's right edge, inside the right eye's view.
     let s = Sphere::new(Vec3::new(1.0 - 0.032 + 0.04, 0.0, -1.0), 0.01);
@@ -455,15 +571,29 @@ fn hierarchy_has_no_false_negatives_against_the_exact_reference() {
         (seed >> 8) as f32 / (1u32 << 24) as f32
     };
     let spheres: Vec<Sphere> = (0..20_000)
-        .map(|_| Sphere::new(Vec3::new(rand() * 400.0 - 200.0, rand() * 60.0, rand() * 400.0 - 200.0), 0.2 + rand() * 3.0))
+        .map(|_| {
+            Sphere::new(
+                Vec3::new(
+                    rand() * 400.0 - 200.0,
+                    rand() * 60.0,
+                    rand() * 400.0 - 200.0,
+                ),
+                0.2 + rand() * 3.0,
+            )
+        })
         .collect();
     let hierarchy = CullHierarchy::build(&spheres, HierarchyParams::default());
     assert_eq!(hierarchy.len(), spheres.len());
     let mut ids = hierarchy.ids.clone();
     ids.sort_unstable();
-    assert!(ids.iter().enumerate().all(|(i, &id)| i as u32 == id), "every object exactly once");
+    assert!(
+        ids.iter().enumerate().all(|(i, &id)| i as u32 == id),
+        "every object exactly once"
+    );
 
-    let eyes = crate::view::HmdProfile::by_name("index").unwrap().eyes(0.064);
+    let eyes = crate::view::HmdProfile::by_name("index")
+        .unwrap()
+        .eyes(0.064);
     let head = crate::view::look_at_head(Vec3::new(3.0, 20.0, 5.0), Vec3::new(40.0, 15.0, -60.0));
     let eye_centre = head.transform_point3(Vec3::ZERO);
     let distance = 150.0;
@@ -484,12 +614,19 @@ fn hierarchy_has_no_false_negatives_against_the_exact_reference() {
         accepted
     };
     let per_eye = culled(hierarchy.cull(&PerEye { frusta }, eye_centre, distance));
-    let superfrustum = culled(hierarchy.cull(&Superfrustum::new(&eyes, head, 0.05, distance), eye_centre, distance));
+    let superfrustum = culled(hierarchy.cull(
+        &Superfrustum::new(&eyes, head, 0.05, distance),
+        eye_centre,
+        distance,
+    ));
     let visible = exact.iter().filter(|&&v| v).count();
     assert!(visible > 500, "the view sees a fair share ({visible})");
     for i in 0..hierarchy.len() {
         if exact[i] {
-            assert!(per_eye[i] && superfrustum[i], "object {i} visible but culled");
+            assert!(
+                per_eye[i] && superfrustum[i],
+                "object {i} visible but culled"
+            );
         }
     }
 }

@@ -19,7 +19,11 @@ impl Triangle {
     #[inline]
     pub fn intersects_frustum(&self, f: &Frustum) -> bool {
         let slack = super::rounding_slack(
-            (self.a - f.origin).abs().max((self.b - f.origin).abs()).max((self.c - f.origin).abs()).max_element()
+            (self.a - f.origin)
+                .abs()
+                .max((self.b - f.origin).abs())
+                .max((self.c - f.origin).abs())
+                .max_element()
                 + f.planes[5].w,
         );
         (0..6).all(|i| {
@@ -35,7 +39,10 @@ impl Triangle {
         if cone.contains_point_tan(a) || cone.contains_point_tan(b) || cone.contains_point_tan(c) {
             return true;
         }
-        if cone.intersects_segment(a, b) || cone.intersects_segment(b, c) || cone.intersects_segment(c, a) {
+        if cone.intersects_segment(a, b)
+            || cone.intersects_segment(b, c)
+            || cone.intersects_segment(c, a)
+        {
             return true;
         }
         self.hit_by_ray(cone.origin, cone.axis)

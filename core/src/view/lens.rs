@@ -26,8 +26,7 @@ impl LensRegion {
             } else if k >= std::f64::consts::SQRT_2 {
                 1.0
             } else {
-                (pi * k * k - 4.0 * (k * k * (1.0 / k).acos() - (k * k - 1.0).sqrt()))
-                    / 4.0
+                (pi * k * k - 4.0 * (k * k * (1.0 / k).acos() - (k * k - 1.0).sqrt())) / 4.0
             }
         };
         let (mut lo, mut hi) = (0.0, std::f64::consts::SQRT_2);
@@ -39,7 +38,10 @@ impl LensRegion {
                 hi = mid;
             }
         }
-        LensRegion { fov, scale: hi as f32 }
+        LensRegion {
+            fov,
+            scale: hi as f32,
+        }
     }
 
     /// Centre and semi-axes of the ellipse in tangent space.
@@ -63,7 +65,12 @@ impl LensRegion {
             .collect();
         let f = self.fov;
         // Clip against x ≥ −left, x ≤ right, y ≥ −down, y ≤ up (Sutherland–Hodgman).
-        for (axis, sign, bound) in [(0, 1.0, -f.left), (0, -1.0, f.right), (1, 1.0, -f.down), (1, -1.0, f.up)] {
+        for (axis, sign, bound) in [
+            (0, 1.0, -f.left),
+            (0, -1.0, f.right),
+            (1, 1.0, -f.down),
+            (1, -1.0, f.up),
+        ] {
             let inside = |p: Vec2| sign * (p[axis] - bound) >= 0.0;
             let mut out = Vec::with_capacity(poly.len() + 2);
             for i in 0..poly.len() {
@@ -86,7 +93,11 @@ impl LensRegion {
         let f = self.fov;
         let (centre, axes) = self.ellipse();
         let q = (p - centre) / axes;
-        p.x >= -f.left && p.x <= f.right && p.y >= -f.down && p.y <= f.up && q.length_squared() <= 1.0
+        p.x >= -f.left
+            && p.x <= f.right
+            && p.y >= -f.down
+            && p.y <= f.up
+            && q.length_squared() <= 1.0
     }
 }
 
@@ -110,7 +121,10 @@ mod tests {
                 }
             }
             let measured_hidden = 1.0 - inside as f32 / (n * n) as f32;
-            assert!((measured_hidden - hidden).abs() < 0.003, "{hidden}: {measured_hidden}");
+            assert!(
+                (measured_hidden - hidden).abs() < 0.003,
+                "{hidden}: {measured_hidden}"
+            );
         }
     }
 
