@@ -31,6 +31,8 @@ enum Command {
     Plan(ConfigArgs),
     /// List Vulkan devices with what foveate cares about.
     Devices,
+    /// Culling benchmarks: Hale's intersection tables, and stereo strategies on the thesis scene.
+    CullBench(crate::cull_cmd::CullBenchArgs),
 }
 
 /// Frame configuration shared by `render` and `plan`.
@@ -123,6 +125,7 @@ impl Cli {
                 Ok(())
             }
             Command::Render(args) => crate::render_cmd::render(&self.gpu_options(), args),
+            Command::CullBench(args) => crate::cull_cmd::cull_bench(args),
         }
     }
 }

@@ -2,6 +2,7 @@
 //! GPU exists).
 
 mod cli;
+mod cull_cmd;
 mod render_cmd;
 
 use clap::Parser;

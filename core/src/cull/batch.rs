@@ -86,7 +86,14 @@ impl SphereSoa {
                 r: &self.r[start..end],
             };
             mask(slices, &mut flags[..n]);
-            out.extend((0..n).filter(|&i| flags[i]).map(|i| (start + i) as u32));
+            // Branch-free compaction: write every index, advance only past the passing ones.
+            let mut k = out.len();
+            out.resize(k + n, 0);
+            for (i, &pass) in flags[..n].iter().enumerate() {
+                out[k] = (start + i) as u32;
+                k += pass as usize;
+            }
+            out.truncate(k);
             start = end;
         }
     }
@@ -151,7 +158,7 @@ fn frustum_kernel<const N: usize>(ps: &[FrustumParams; N], s: Slices<'_>, mask: 
         let mut any = false;
         for p in ps {
             let (dx, dy, dz) = (x[i] - p.o[0], y[i] - p.o[1], z[i] - p.o[2]);
-            let m = dx.abs().max(dy.abs()).max(dz.abs());
+            let m = dx.abs() + dy.abs() + dz.abs();
             let reach = -(r[i] + SLACK * (m + p.far));
             let mut all = true;
             for k in 0..6 {
@@ -171,7 +178,7 @@ fn cone_kernel<const N: usize>(ps: &[ConeParams; N], s: Slices<'_>, mask: &mut [
         let mut any = false;
         for p in ps {
             let (cx, cy, cz) = (x[i] - p.o[0], y[i] - p.o[1], z[i] - p.o[2]);
-            let m = cx.abs().max(cy.abs()).max(cz.abs());
+            let m = cx.abs() + cy.abs() + cz.abs();
             let rr = r[i] + SLACK * (m + r[i]);
             let a = cx * p.axis[0] + cy * p.axis[1] + cz * p.axis[2];
             let cc = cx * cx + cy * cy + cz * cz;

@@ -67,17 +67,27 @@ impl Cone {
     #[inline]
     pub fn intersects_sphere(&self, s: &Sphere) -> bool {
         let c = s.center - self.origin;
-        let r = s.radius + rounding_slack(c.abs().max_element() + s.radius);
+        let r = s.radius + rounding_slack(c.abs().element_sum() + s.radius);
         let a = c.dot(self.axis);
-        if a <= -r * self.sin {
-            return c.length_squared() <= r * r;
+        // The distance from the axis comes from the perpendicular vector itself: |c|² − a²
+        // would cancel catastrophically for narrow cones.
+        sphere_in_axis_frame(
+            a,
+            (c - self.axis * a).length_squared(),
+            c.length_squared(),
+            r,
+            self,
+        )
+    }
+
+    /// The cone's frame, for Hale's fastest sphere variant: transform the centre so the cone is
+    /// z-aligned with its apex at the origin, then test there (his Listing 3.2, with the apex
+    /// case fixed).
+    pub fn view(&self) -> ConeView {
+        ConeView {
+            cone: *self,
+            cone_from_world: self.view_rotation(),
         }
-        // Inside the cone whose apex is moved back by r / sin θ along the axis; the offset
-        // radius a·tan θ + r / cos θ is the same quantity, stable as θ → 0. The distance from
-        // the axis comes from the perpendicular vector itself: |c|² − a² would cancel
-        // catastrophically for narrow cones.
-        let reach = a * self.tan + r * self.sec;
-        (c - self.axis * a).length_squared() <= reach * reach
     }
 
     /// Conservative box test: the box's bounding sphere first, then exact-or-conservative
@@ -202,6 +212,50 @@ impl Cone {
     }
 }
 
+/// The sphere test in the cone's axis frame: axial coordinate `a`, squared distance from the
+/// axis `perp_sq`, squared distance from the apex `cc`, radius `r` (slack included). Behind
+/// `a = −r·sin θ` only the apex can be within r; in front, the cone with its apex moved back by
+/// r / sin θ decides — its radius at `a` is a·tan θ + r / cos θ, stable as θ → 0.
+#[inline(always)]
+fn sphere_in_axis_frame(a: f32, perp_sq: f32, cc: f32, r: f32, cone: &Cone) -> bool {
+    if a <= -r * cone.sin {
+        return cc <= r * r;
+    }
+    let reach = a * cone.tan + r * cone.sec;
+    perp_sq <= reach * reach
+}
+
+/// A cone with its view rotation precomputed (see [`Cone::view`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConeView {
+    pub cone: Cone,
+    /// World to cone frame: the axis becomes +Z.
+    pub cone_from_world: Mat3,
+}
+
+impl ConeView {
+    #[inline]
+    pub fn intersects_sphere(&self, s: &Sphere) -> bool {
+        let q = self.cone_from_world * (s.center - self.cone.origin);
+        let r = s.radius + rounding_slack(q.abs().max_element() + s.radius);
+        sphere_in_axis_frame(
+            q.z,
+            q.x * q.x + q.y * q.y,
+            q.length_squared(),
+            r,
+            &self.cone,
+        )
+    }
+
+    /// Point test in the cone frame (Hale eq. 3.1): z > 0 ∧ x² + y² ≤ tan²θ z².
+    #[inline]
+    pub fn contains_point(&self, p: Vec3) -> bool {
+        let q = self.cone_from_world * (p - self.cone.origin);
+        let t = self.cone.tan * q.z;
+        q.z > 0.0 && q.x * q.x + q.y * q.y <= t * t
+    }
+}
+
 fn bound_slack(b: &Aabb) -> f32 {
     rounding_slack(b.min.abs().max(b.max.abs()).max_element())
 }
@@ -215,29 +269,37 @@ pub struct EllipticalCone {
     pub cone_from_world: Mat3,
     pub tan_x: f32,
     pub tan_y: f32,
+    /// x scale making it circular, and that circular cone (apex at the origin, axis +Z).
+    scale_x: f32,
+    circular: Cone,
 }
 
 impl EllipticalCone {
+    pub fn new(origin: Vec3, cone_from_world: Mat3, tan_x: f32, tan_y: f32) -> Self {
+        let circular = Cone::new(Vec3::ZERO, Vec3::Z, tan_y.atan());
+        EllipticalCone {
+            origin,
+            cone_from_world,
+            tan_x,
+            tan_y,
+            scale_x: tan_y / tan_x,
+            circular,
+        }
+    }
+
     pub fn contains_point(&self, p: Vec3) -> bool {
         let q = self.cone_from_world * (p - self.origin);
         q.z > 0.0 && (q.x / self.tan_x).powi(2) + (q.y / self.tan_y).powi(2) <= q.z * q.z
     }
 
-    /// The circular cone the elliptical one becomes when x is scaled by `tan_y / tan_x`, and the
-    /// scale — spheres turn into ellipsoids there, bounded by a sphere of radius r·max(1, k).
-    #[inline]
-    fn circular(&self) -> (f32, Cone) {
-        let k = self.tan_y / self.tan_x;
-        (k, Cone::new(Vec3::ZERO, Vec3::Z, self.tan_y.atan()))
-    }
-
-    /// Conservative sphere test.
+    /// Conservative sphere test: scaling x by `tan_y / tan_x` makes the cone circular and the
+    /// sphere an ellipsoid, bounded by a sphere of radius r·max(1, scale).
     #[inline]
     pub fn intersects_sphere(&self, s: &Sphere) -> bool {
         let q = self.cone_from_world * (s.center - self.origin);
-        let (k, cone) = self.circular();
+        let k = self.scale_x;
         let scaled = Sphere::new(Vec3::new(q.x * k, q.y, q.z), s.radius * k.max(1.0));
-        cone.intersects_sphere(&scaled)
+        self.circular.intersects_sphere(&scaled)
     }
 
     /// Conservative box relation: the box's bounding sphere; Inside when all corners are.

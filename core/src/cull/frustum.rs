@@ -71,7 +71,7 @@ impl Frustum {
     #[inline]
     fn relation_with_reach(&self, center: Vec3, reach: impl Fn(Vec3) -> f32) -> Relation {
         let rel = center - self.origin;
-        let slack = rounding_slack(rel.abs().max_element() + self.planes[5].w);
+        let slack = rounding_slack(rel.abs().element_sum() + self.planes[5].w);
         let mut inside = true;
         for pl in &self.planes {
             let n = pl.truncate();

@@ -10,21 +10,26 @@ mod bounds;
 mod cone;
 mod frustum;
 mod hierarchy;
+pub mod measure;
 pub mod oracle;
 mod stereo;
 mod triangle;
 
 pub use batch::{batch_kernel, SphereSoa};
 pub use bounds::{Aabb, Relation, Sphere};
-pub use cone::{Cone, EllipticalCone};
+pub use cone::{Cone, ConeView, EllipticalCone};
 pub use frustum::Frustum;
 pub use hierarchy::{CullHierarchy, CullResult, CullStats, HierarchyParams, VisibleSet};
-pub use stereo::{DualCone, PerEye, RoundRobin, StereoCull, StereoFrusta, Strategy, Superfrustum};
+pub use stereo::{
+    CullView, DualCone, PerEye, RoundRobin, StereoCull, StereoFrusta, Strategy, Superfrustum,
+};
 pub use triangle::Triangle;
 
 /// Slack added to a radius so that `f32` rounding in a test on coordinates of magnitude `m`
 /// can never turn a touching object into a rejected one. Relative error of a few dot
-/// products is below 8 ulp of the largest magnitude involved; 32 leaves margin.
+/// products is below 8 ulp of the largest magnitude involved; 32 leaves margin. Callers pass
+/// the L1 norm of the relative position (an upper bound of the largest component that is
+/// cheaper than a max in the vectorised kernels).
 #[inline(always)]
 pub(crate) fn rounding_slack(magnitude: f32) -> f32 {
     32.0 * f32::EPSILON * magnitude

@@ -248,12 +248,12 @@ fn fit_cones(
             .fold(0.0f32, f32::max)
             * (1.0 + 1e-5);
         let rotation = Mat3::from_mat4(world_from_eye);
-        let elliptical = EllipticalCone {
+        let elliptical = EllipticalCone::new(
             origin,
-            cone_from_world: cone_from_eye * rotation.transpose(),
-            tan_x: tan_y * aspect,
+            cone_from_eye * rotation.transpose(),
+            tan_y * aspect,
             tan_y,
-        };
+        );
         (circular, elliptical)
     })
 }
@@ -407,6 +407,55 @@ impl Strategy {
             Strategy::DualCone => "dual-cone",
             Strategy::DualEllipticalCone => "dual-elliptical-cone",
             Strategy::RoundRobin => "round-robin",
+        }
+    }
+}
+
+/// Everything a strategy needs to build its volume for one frame.
+#[derive(Clone, Copy, Debug)]
+pub struct CullView<'a> {
+    pub eyes: &'a EyeParams,
+    pub world_from_head: Mat4,
+    pub near: f32,
+    pub draw_distance: f32,
+    pub frame: u64,
+    pub lens_regions: &'a [LensRegion; 2],
+}
+
+impl Strategy {
+    /// Builds this strategy's volume for `view` and culls `hierarchy` with it (the volume's
+    /// construction counts as culling work).
+    pub fn cull(self, hierarchy: &super::CullHierarchy, view: &CullView<'_>) -> super::CullResult {
+        let centre = view.world_from_head.transform_point3(Vec3::ZERO);
+        let frusta = || {
+            StereoFrusta::new(
+                view.eyes,
+                view.world_from_head,
+                view.near,
+                view.draw_distance,
+            )
+        };
+        let distance = view.draw_distance;
+        match self {
+            Strategy::PerEye => hierarchy.cull(&PerEye { frusta: frusta() }, centre, distance),
+            Strategy::Superfrustum => hierarchy.cull(
+                &Superfrustum::new(view.eyes, view.world_from_head, view.near, distance),
+                centre,
+                distance,
+            ),
+            Strategy::DualCone | Strategy::DualEllipticalCone => hierarchy.cull(
+                &DualCone::new(
+                    view.eyes,
+                    view.world_from_head,
+                    view.lens_regions,
+                    self == Strategy::DualEllipticalCone,
+                ),
+                centre,
+                distance,
+            ),
+            Strategy::RoundRobin => {
+                hierarchy.cull(&RoundRobin::new(&frusta(), view.frame), centre, distance)
+            }
         }
     }
 }

@@ -197,7 +197,7 @@ proptest! {
         ty in log_uniform(0.05, 4.0),
         spheres in prop::collection::vec(((-30.0f32..30.0, -30.0f32..30.0, -30.0f32..30.0), log_uniform(1e-3, 5.0)), 8),
     ) {
-        let cone = EllipticalCone { origin: Vec3::from(apex), cone_from_world: glam::Mat3::from_quat(q), tan_x: tx, tan_y: ty };
+        let cone = EllipticalCone::new(Vec3::from(apex), glam::Mat3::from_quat(q), tx, ty);
         for (c, r) in spheres {
             let s = Sphere::new(Vec3::from(c) + cone.origin, r);
             if oracle::elliptical_cone_distance(&cone, s.center) <= r as f64 * (1.0 - 1e-6) {
@@ -347,7 +347,7 @@ fn half_angle_near_90_degrees() {
     // Almost a half-space: points just in front of the plane are in.
     assert!(cone.contains_point_tan(Vec3::new(1e3, 0.0, -0.1)));
     let grazing = Sphere::new(Vec3::new(1e3, 0.0, 0.5), 0.51);
-    assert_eq!(oracle::sphere_cone(&cone, &grazing), true);
+    assert!(oracle::sphere_cone(&cone, &grazing));
     assert!(cone.intersects_sphere(&grazing));
 }
 
@@ -400,7 +400,7 @@ fn tiny_and_huge_radii() {
         // Just outside the right plane by less than r.
         let x = 10.0 + r * 0.5_f32.sqrt() * 0.9;
         let s = Sphere::new(Vec3::new(x, 0.0, -10.0), r);
-        assert_eq!(oracle::sphere_frustum(&f, &s), true, "r {r}");
+        assert!(oracle::sphere_frustum(&f, &s), "r {r}");
         assert!(f.intersects_sphere(&s), "r {r}");
     }
     // A huge sphere enclosing the whole frustum.
@@ -626,6 +626,37 @@ fn hierarchy_has_no_false_negatives_against_the_exact_reference() {
             assert!(
                 per_eye[i] && superfrustum[i],
                 "object {i} visible but culled"
+            );
+        }
+    }
+}
+
+#[test]
+fn view_transform_variant_agrees_with_the_direct_test() {
+    let cone = Cone::new(Vec3::new(1.0, -2.0, 0.5), Vec3::new(0.3, 0.4, -1.0), 0.6);
+    let view = cone.view();
+    for i in 0..4000 {
+        let f = i as f32;
+        let s = Sphere::new(
+            Vec3::new(
+                (f * 0.37).sin() * 9.0,
+                (f * 0.11).cos() * 7.0,
+                -(f * 0.013) % 12.0,
+            ),
+            0.05 + (f * 0.7).sin().abs(),
+        );
+        if oracle::sphere_cone(&cone, &s) {
+            assert!(
+                view.intersects_sphere(&s) && cone.intersects_sphere(&s),
+                "{s:?}"
+            );
+        }
+        let p = s.center;
+        if oracle::cone_distance(&cone, p) > 1e-3 || oracle::cone_distance(&cone, p) == 0.0 {
+            assert_eq!(
+                view.contains_point(p),
+                oracle::cone_distance(&cone, p) == 0.0,
+                "{p}"
             );
         }
     }

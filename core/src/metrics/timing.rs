@@ -1,5 +1,6 @@
 /// Summary statistics of a series of measurements (times in whatever unit they came in).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// An empty series' summary (`Default`) is all zeros.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Stats {
     pub count: usize,
     pub median: f64,

@@ -1,0 +1,221 @@
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use foveate::cull::measure::{hale_tables, rails_bench, RailsParams};
+use foveate::cull::{batch_kernel, CullHierarchy, HierarchyParams, Strategy};
+use foveate::scene::ThesisScene;
+use foveate::view::{Eye, HmdProfile, LensRegion, DEFAULT_IPD_M};
+
+#[derive(Args)]
+pub struct CullBenchArgs {
+    /// Size of the thesis scene: 1 is the full 711 × 22 × 711 (11.1 M instances).
+    #[arg(long, default_value_t = 1.0)]
+    scale: f32,
+    /// Frames along the rails (spread over two rail loops).
+    #[arg(long, default_value_t = 200)]
+    frames: u64,
+    /// Draw distance (thesis: 320).
+    #[arg(long, default_value_t = 320.0)]
+    draw_distance: f32,
+    /// Headset profile for the eyes and lens regions.
+    #[arg(long, default_value = "index")]
+    hmd: String,
+    /// Strategies, comma-separated: per-eye, superfrustum, dual-cone, dual-elliptical-cone, round-robin.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "per-eye,superfrustum,dual-cone,dual-elliptical-cone,round-robin"
+    )]
+    strategies: Vec<String>,
+    /// Measure false positives and misses against the exact f64 reference every N frames (0: off).
+    #[arg(long, default_value_t = 20)]
+    reference_every: u64,
+    /// Objects per side for the intersection tables (Hale: 64, i.e. 64³ objects).
+    #[arg(long, default_value_t = 64)]
+    micro_side: usize,
+    /// Passes over the objects for the intersection tables (Hale: 10).
+    #[arg(long, default_value_t = 10)]
+    micro_passes: usize,
+    /// Skip the intersection tables.
+    #[arg(long)]
+    skip_micro: bool,
+    /// Skip the thesis-scene run.
+    #[arg(long)]
+    skip_scene: bool,
+    /// Also write the tables as CSV to this file.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+}
+
+fn strategy(name: &str) -> Result<Strategy> {
+    Strategy::ALL
+        .into_iter()
+        .find(|s| s.name() == name)
+        .ok_or_else(|| {
+            let names: Vec<_> = Strategy::ALL.iter().map(|s| s.name()).collect();
+            anyhow::anyhow!("invalid strategies = {name}: one of {}", names.join(", "))
+        })
+}
+
+/// A progress bar on stderr, redrawn only when its percentage changes.
+fn progress(label: &str, done: u64, total: u64) {
+    let percent = |d: u64| d * 100 / total.max(1);
+    if done != total && done > 1 && percent(done) == percent(done - 1) {
+        return;
+    }
+    let width = 30;
+    let filled = (done * width / total.max(1)) as usize;
+    eprint!(
+        "\r{label} [{}{}] {done}/{total}",
+        "#".repeat(filled),
+        " ".repeat(width as usize - filled)
+    );
+    if done == total {
+        eprintln!();
+    }
+    let _ = std::io::stderr().flush();
+}
+
+pub fn cull_bench(args: &CullBenchArgs) -> Result<()> {
+    let strategies = args
+        .strategies
+        .iter()
+        .map(|s| strategy(s))
+        .collect::<Result<Vec<_>>>()?;
+    anyhow::ensure!(args.frames >= 1, "invalid frames = 0: at least 1");
+    anyhow::ensure!(
+        args.draw_distance.is_finite() && args.draw_distance > 0.0,
+        "invalid draw_distance = {}: a finite distance > 0",
+        args.draw_distance
+    );
+    let mut csv = String::from("table,name,ns_per_test_or_ms_median,ratio_or_p95,visible_or_hits,false_positive_rate,miss_rate\n");
+    println!(
+        "cull-bench on {} threads (rayon), batch kernel: {}",
+        rayon::current_num_threads(),
+        batch_kernel()
+    );
+
+    if !args.skip_micro {
+        anyhow::ensure!(
+            args.micro_side >= 2 && args.micro_passes >= 1,
+            "invalid micro_side/micro_passes: at least 2 and 1"
+        );
+        let n = args.micro_side.pow(3);
+        println!("\nIntersection tests (Hale, Tables 4.1-4.4 in form): {n} objects x {} passes, one thread", args.micro_passes);
+        println!(
+            "{:<6} {:<52} {:>10} {:>9} {:>10} {:>8}",
+            "table", "test", "total ms", "ns/test", "hits", "ratio"
+        );
+        for r in hale_tables(args.micro_side, args.micro_passes) {
+            println!(
+                "{:<6} {:<52} {:>10.2} {:>9.2} {:>10} {:>8.2}",
+                r.table, r.name, r.total_ms, r.ns_per_test, r.hits, r.ratio
+            );
+            let _ = writeln!(
+                csv,
+                "{},{},{:.4},{:.4},{},,",
+                r.table, r.name, r.ns_per_test, r.ratio, r.hits
+            );
+        }
+        println!("(ratio: time per test relative to sphere-frustum, this run)");
+    }
+
+    if !args.skip_scene {
+        let hmd = HmdProfile::by_name(&args.hmd).ok_or_else(|| {
+            anyhow::anyhow!(
+                "invalid hmd = {}: one of {}",
+                args.hmd,
+                HmdProfile::names().join(", ")
+            )
+        })?;
+        let eyes = hmd.eyes(DEFAULT_IPD_M);
+        let regions = Eye::BOTH.map(|e| {
+            LensRegion::with_hidden_fraction(eyes.fov(e), hmd.hidden_area_fraction.unwrap_or(0.0))
+        });
+        let t = Instant::now();
+        let count = ThesisScene::instance_count(args.scale)?;
+        eprintln!("generating the thesis scene ({count} instances) ...");
+        let scene = ThesisScene::new(args.scale)?;
+        let bounds = scene.bounds();
+        let generated = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let hierarchy = CullHierarchy::build(&bounds, HierarchyParams::default());
+        drop(bounds);
+        println!(
+            "\nThesis scene: {} instances (scale {}), generated in {generated:.1} s; {} chunks, hierarchy built in {:.1} s",
+            scene.len(),
+            args.scale,
+            hierarchy.chunk_count(),
+            t.elapsed().as_secs_f64()
+        );
+        let params = RailsParams {
+            eyes: &eyes,
+            lens_regions: &regions,
+            frames: args.frames,
+            draw_distance: args.draw_distance,
+            near: 0.05,
+            reference_every: args.reference_every,
+            extent: scene.extent(),
+        };
+        let reports = rails_bench(&hierarchy, &strategies, &params, &mut |d, t| {
+            progress("culling", d, t)
+        });
+        let base = reports[0].time_ms.median;
+        println!(
+            "Stereo culling along the rails: {} frames, draw distance {}, {} ({})",
+            args.frames, args.draw_distance, hmd.display_name, hmd.name
+        );
+        println!(
+            "{:<22} {:>10} {:>8} {:>8} {:>11} {:>11} {:>12} {:>9} {:>9}",
+            "strategy",
+            "median ms",
+            "p95 ms",
+            "ratio",
+            "visible",
+            "node tests",
+            "object tests",
+            "false +",
+            "misses"
+        );
+        let pct = |x: Option<f64>| x.map_or("n/a".to_string(), |v| format!("{:.2}%", v * 100.0));
+        for r in &reports {
+            println!(
+                "{:<22} {:>10.3} {:>8.3} {:>8.2} {:>11.0} {:>11.0} {:>12.0} {:>9} {:>9}",
+                r.strategy.name(),
+                r.time_ms.median,
+                r.time_ms.p95,
+                r.time_ms.median / base,
+                r.visible.median,
+                r.node_tests.median,
+                r.object_tests.median,
+                pct(r.false_positive_rate),
+                pct(r.miss_rate)
+            );
+            let _ = writeln!(
+                csv,
+                "rails,{},{:.4},{:.4},{:.0},{},{}",
+                r.strategy.name(),
+                r.time_ms.median,
+                r.time_ms.p95,
+                r.visible.median,
+                r.false_positive_rate
+                    .map_or(String::new(), |v| format!("{v:.6}")),
+                r.miss_rate.map_or(String::new(), |v| format!("{v:.6}"))
+            );
+        }
+        println!(
+            "(medians per frame; ratio to {}; false + and misses against the exact f64 per-eye reference on every {}th frame; dual-cone misses are objects only in the lens-hidden corners)",
+            reports[0].strategy.name(),
+            args.reference_every
+        );
+    }
+    if let Some(path) = &args.csv {
+        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
