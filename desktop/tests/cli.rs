@@ -137,28 +137,62 @@ fn bad_input_is_a_clear_error_not_a_panic() {
 fn cull_bench_prints_both_tables_and_writes_csv() {
     let csv = std::env::temp_dir().join(format!("foveate-cull-{}.csv", std::process::id()));
     let o = foveate(&[
-        "cull-bench", "--scale", "0.02", "--frames", "4", "--reference-every", "2", "--micro-side", "8",
-        "--micro-passes", "1", "--csv", csv.to_str().unwrap(),
+        "cull-bench",
+        "--scale",
+        "0.02",
+        "--frames",
+        "4",
+        "--reference-every",
+        "2",
+        "--micro-side",
+        "8",
+        "--micro-passes",
+        "1",
+        "--csv",
+        csv.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
-    for needle in ["sphere-frustum (baseline)", "triangle-cone", "superfrustum", "dual-elliptical-cone", "round-robin", "false +"] {
+    for needle in [
+        "sphere-frustum (baseline)",
+        "triangle-cone",
+        "superfrustum",
+        "dual-elliptical-cone",
+        "round-robin",
+        "false +",
+    ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }
     let written = std::fs::read_to_string(&csv).unwrap();
-    assert!(written.lines().count() > 15 && written.contains("rails,per-eye"), "{written}");
+    assert!(
+        written.lines().count() > 15 && written.contains("rails,per-eye"),
+        "{written}"
+    );
     let _ = std::fs::remove_file(csv);
 }
 
 #[test]
 fn cull_bench_rejects_bad_input() {
     for (args, needle) in [
-        (&["cull-bench", "--strategies", "octree"][..], "strategies = octree"),
-        (&["cull-bench", "--scale", "0", "--skip-micro"][..], "scale = 0"),
-        (&["cull-bench", "--draw-distance=-5", "--skip-micro"][..], "draw_distance = -5"),
+        (
+            &["cull-bench", "--strategies", "octree"][..],
+            "strategies = octree",
+        ),
+        (
+            &["cull-bench", "--scale", "0", "--skip-micro"][..],
+            "scale = 0",
+        ),
+        (
+            &["cull-bench", "--draw-distance=-5", "--skip-micro"][..],
+            "draw_distance = -5",
+        ),
     ] {
         let o = foveate(args);
         assert!(!o.status.success(), "{args:?} should fail");
-        assert!(stderr(&o).contains(needle), "{args:?}: `{needle}` not in {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(needle),
+            "{args:?}: `{needle}` not in {}",
+            stderr(&o)
+        );
     }
 }

@@ -16,6 +16,16 @@ pub struct Frustum {
 }
 
 impl Frustum {
+    /// The six faces as corner indices (near, far, left, right, bottom, top).
+    pub const FACES: [[usize; 4]; 6] = [
+        [0, 1, 2, 3],
+        [4, 5, 6, 7],
+        [0, 3, 7, 4],
+        [1, 5, 6, 2],
+        [0, 4, 5, 1],
+        [3, 2, 6, 7],
+    ];
+
     /// The frustum of an eye at `world_from_eye` (looking down its −Z) with FOV tangents and
     /// near/far distances.
     pub fn from_eye(world_from_eye: Mat4, fov: FovTangents, near: f32, far: f32) -> Self {
@@ -109,7 +119,12 @@ impl Frustum {
     }
 
     /// Whether a point is inside (conservatively, within rounding slack).
+    #[inline]
     pub fn contains_point(&self, p: Vec3) -> bool {
-        self.sphere(&Sphere::new(p, 0.0)) != Relation::Outside
+        let rel = p - self.origin;
+        let slack = rounding_slack(rel.abs().element_sum() + self.planes[5].w);
+        self.planes
+            .iter()
+            .all(|pl| pl.truncate().dot(rel) + pl.w >= -slack)
     }
 }

@@ -71,17 +71,21 @@ pub fn hale_tables(side: usize, passes: usize) -> Vec<MicroRow> {
     let t = half_angle.tan();
     let world_from_cone =
         Mat4::from_rotation_translation(glam::Quat::from_rotation_arc(Vec3::NEG_Z, axis), origin);
-    let frustum = Frustum::from_eye(
-        world_from_cone,
-        FovTangents {
-            left: t,
-            right: t,
-            up: t,
-            down: t,
-        },
-        0.01,
-        4.0 * side as f32,
-    );
+    // The frustum with the cone's angle on every side, from a pose.
+    let same_angle = |pose: Mat4| {
+        Frustum::from_eye(
+            pose,
+            FovTangents {
+                left: t,
+                right: t,
+                up: t,
+                down: t,
+            },
+            0.01,
+            4.0 * side as f32,
+        )
+    };
+    let frustum = same_angle(world_from_cone);
     let spacing = 1.0;
     let point = |i: usize| {
         let (x, y, z) = (i % side, (i / side) % side, i / (side * side));
@@ -101,17 +105,7 @@ pub fn hale_tables(side: usize, passes: usize) -> Vec<MicroRow> {
     let mut soa = SphereSoa::with_capacity(n);
     spheres.iter().for_each(|&s| soa.push(s));
     let second_cone = Cone::new(origin + Vec3::X * 0.064, axis, half_angle);
-    let second_frustum = Frustum::from_eye(
-        Mat4::from_translation(Vec3::X * 0.064) * world_from_cone,
-        FovTangents {
-            left: t,
-            right: t,
-            up: t,
-            down: t,
-        },
-        0.01,
-        4.0 * side as f32,
-    );
+    let second_frustum = same_angle(Mat4::from_translation(Vec3::X * 0.064) * world_from_cone);
     // Hale's Table 4.4 mesh: 188 928 vertices, i.e. 62 976 triangles (scaled with `side`).
     let triangle_count = 62_976 * n / (64 * 64 * 64);
     let triangles: Vec<Triangle> = (0..triangle_count.max(1))

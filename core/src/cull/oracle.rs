@@ -41,14 +41,7 @@ fn point_polygon_distance(p: DVec3, poly: &[DVec3]) -> f64 {
 /// inside.
 pub fn frustum_distance(f: &Frustum, p: glam::Vec3) -> f64 {
     let c: Vec<DVec3> = f.corners.iter().map(|&v| d(f.origin) + d(v)).collect();
-    let faces: [[usize; 4]; 6] = [
-        [0, 1, 2, 3],
-        [4, 5, 6, 7],
-        [0, 3, 7, 4],
-        [1, 5, 6, 2],
-        [0, 4, 5, 1],
-        [3, 2, 6, 7],
-    ];
+    let faces = Frustum::FACES;
     let centre = c.iter().copied().sum::<DVec3>() / 8.0;
     let p = d(p);
     let inside = faces.iter().all(|face| {

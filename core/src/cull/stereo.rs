@@ -186,23 +186,30 @@ fn outer_planes_meet(eyes: &EyeParams) -> Option<Vec3> {
     (s <= 0.0 && meet.is_finite()).then_some(Vec3::new(meet.x, 0.0, meet.z))
 }
 
-impl StereoCull for Superfrustum {
-    fn name(&self) -> &'static str {
-        "superfrustum"
-    }
+/// Strategies that cull with one frustum (`self.frustum`).
+macro_rules! single_frustum_culler {
+    ($ty:ty, $name:literal) => {
+        impl StereoCull for $ty {
+            fn name(&self) -> &'static str {
+                $name
+            }
 
-    fn sphere(&self, s: &Sphere) -> bool {
-        self.frustum.intersects_sphere(s)
-    }
+            fn sphere(&self, s: &Sphere) -> bool {
+                self.frustum.intersects_sphere(s)
+            }
 
-    fn aabb(&self, b: &Aabb) -> Relation {
-        self.frustum.aabb(b)
-    }
+            fn aabb(&self, b: &Aabb) -> Relation {
+                self.frustum.aabb(b)
+            }
 
-    fn spheres(&self, soa: &SphereSoa, range: std::ops::Range<usize>, out: &mut Vec<u32>) {
-        soa.frustum_union(std::slice::from_ref(&self.frustum), range, out);
-    }
+            fn spheres(&self, soa: &SphereSoa, range: std::ops::Range<usize>, out: &mut Vec<u32>) {
+                soa.frustum_union(std::slice::from_ref(&self.frustum), range, out);
+            }
+        }
+    };
 }
+
+single_frustum_culler!(Superfrustum, "superfrustum");
 
 /// The cones of one eye fitted around its lens-visible region: axis through the region's
 /// centre, wide enough that every ray of the region's bounding polygon is inside — and since a
@@ -363,23 +370,7 @@ impl RoundRobin {
     }
 }
 
-impl StereoCull for RoundRobin {
-    fn name(&self) -> &'static str {
-        "round robin"
-    }
-
-    fn sphere(&self, s: &Sphere) -> bool {
-        self.frustum.intersects_sphere(s)
-    }
-
-    fn aabb(&self, b: &Aabb) -> Relation {
-        self.frustum.aabb(b)
-    }
-
-    fn spheres(&self, soa: &SphereSoa, range: std::ops::Range<usize>, out: &mut Vec<u32>) {
-        soa.frustum_union(std::slice::from_ref(&self.frustum), range, out);
-    }
-}
+single_frustum_culler!(RoundRobin, "round robin");
 
 /// The strategies by name, for benchmarks and the CLI.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -87,15 +87,7 @@ fn sphere_params() -> impl Strategy<Value = Vec<(usize, f32, f32, Vec3, f32, f32
 
 /// A point on face `face` of the frustum at bilinear (s, t), in f64 world space.
 fn on_face(f: &Frustum, face: usize, s: f32, t: f32) -> DVec3 {
-    const FACES: [[usize; 4]; 6] = [
-        [0, 1, 2, 3],
-        [4, 5, 6, 7],
-        [0, 3, 7, 4],
-        [1, 5, 6, 2],
-        [0, 4, 5, 1],
-        [3, 2, 6, 7],
-    ];
-    let c = FACES[face].map(|i| f.origin.as_dvec3() + f.corners[i].as_dvec3());
+    let c = Frustum::FACES[face].map(|i| f.origin.as_dvec3() + f.corners[i].as_dvec3());
     let (s, t) = (s as f64, t as f64);
     let a = c[0] + (c[1] - c[0]) * s;
     let b = c[3] + (c[2] - c[3]) * s;
