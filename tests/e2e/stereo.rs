@@ -118,6 +118,16 @@ fn eyes_see_the_expected_disparity() {
     );
 }
 
+/// Reading back before rendering is an error, not a panic.
+#[test]
+fn readback_before_any_frame_is_an_error() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let plan = foveate::plan(&scene, &config(StereoMode::Multiview, 1), gpu.caps()).unwrap();
+    let mut renderer = foveate::render::Renderer::new(&gpu, &plan, &scene).unwrap();
+    assert!(matches!(renderer.readback(), Err(foveate::gpu::GpuError::NoFrameRendered)));
+}
+
 /// A switched-off effect records and allocates nothing: no counter, no timestamps.
 #[test]
 fn switched_off_effects_measure_nothing() {

@@ -232,7 +232,9 @@ impl<'g> Renderer<'g> {
 
     /// Copies the last frame's stereo image back to the CPU.
     pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
-        assert!(self.frames_rendered > 0, "readback needs a rendered frame");
+        if self.frames_rendered == 0 {
+            return Err(GpuError::NoFrameRendered);
+        }
         let outputs = self.plan.outputs();
         let size: u64 = outputs
             .iter()
