@@ -5,6 +5,7 @@
 //! with GPU timestamps and exact per-view fragment counts. See `DESIGN.md` in the shared folder.
 
 pub mod cull;
+pub mod foveation;
 pub mod gpu;
 pub mod metrics;
 pub mod plan;

@@ -125,7 +125,10 @@ fn readback_before_any_frame_is_an_error() {
     let scene = default_scene();
     let plan = foveate::plan(&scene, &config(StereoMode::Multiview, 1), gpu.caps()).unwrap();
     let mut renderer = foveate::render::Renderer::new(&gpu, &plan, &scene).unwrap();
-    assert!(matches!(renderer.readback(), Err(foveate::gpu::GpuError::NoFrameRendered)));
+    assert!(matches!(
+        renderer.readback(),
+        Err(foveate::gpu::GpuError::NoFrameRendered)
+    ));
 }
 
 /// A switched-off effect records and allocates nothing: no counter, no timestamps.

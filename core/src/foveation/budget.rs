@@ -1,0 +1,144 @@
+//! The analytic pixel budget of a foveated frame (seed 001, Tables 2–4). Issue 4 measures the
+//! same quantities on the GPU and compares them with these formulas.
+
+/// Arm's tables were computed with π taken as 3.14; pass it to reproduce their printed cells.
+#[allow(clippy::approx_constant)] // deliberately Arm's rounded π, not ours
+pub const ARM_PI: f64 = 3.14;
+
+/// Pixels shaded per frame, both eyes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelBudget {
+    pub fovea: f64,
+    pub periphery: f64,
+}
+
+impl PixelBudget {
+    pub fn total(&self) -> f64 {
+        self.fovea + self.periphery
+    }
+
+    /// Reduction in percent against plain stereo at `screen`² per eye.
+    pub fn reduction_percent(&self, screen: u32) -> f64 {
+        100.0 * (1.0 - self.total() / (2.0 * screen as f64 * screen as f64))
+    }
+
+    /// Four views of `view`² pixels (two fovea, two periphery); with `stencil`, the fovea keeps
+    /// its inscribed circle and the periphery drops the circle the fovea covers — `fovea_size`
+    /// screen pixels across (default: the fovea view, 1:1 on screen), which is `fovea_size ·
+    /// ratio` periphery pixels for a periphery at `ratio` of the screen resolution.
+    pub fn analytic(
+        view: u32,
+        ratio: f64,
+        stencil: bool,
+        fovea_size: Option<u32>,
+        pi: f64,
+    ) -> PixelBudget {
+        let v = view as f64;
+        if !stencil {
+            return PixelBudget {
+                fovea: 2.0 * v * v,
+                periphery: 2.0 * v * v,
+            };
+        }
+        let fovea_diameter = fovea_size.map_or(v, |f| f as f64);
+        let hole = fovea_diameter * ratio;
+        PixelBudget {
+            fovea: 2.0 * pi * (fovea_diameter / 2.0).powi(2),
+            periphery: 2.0 * (v * v - pi * (hole / 2.0).powi(2)),
+        }
+    }
+}
+
+/// One printed row of Arm's Tables 2–4.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArmRow {
+    pub view: u32,
+    pub ratio: f64,
+    pub fovea: f64,
+    pub periphery: f64,
+    pub total: f64,
+    pub reduction_percent: f64,
+}
+
+/// Arm's printed rows: table 2 (no stencil), 3 (stencil), 4 (stencil, fixed 256² fovea).
+pub fn arm_table(table: u32) -> &'static [ArmRow] {
+    const fn row(
+        view: u32,
+        ratio: f64,
+        fovea: f64,
+        periphery: f64,
+        total: f64,
+        reduction_percent: f64,
+    ) -> ArmRow {
+        ArmRow {
+            view,
+            ratio,
+            fovea,
+            periphery,
+            total,
+            reduction_percent,
+        }
+    }
+    const T2: [ArmRow; 3] = [
+        row(716, 0.7, 1_025_312.0, 1_025_312.0, 2_050_624.0, 2.2),
+        row(512, 0.5, 524_288.0, 524_288.0, 1_048_576.0, 50.0),
+        row(366, 0.35, 267_912.0, 267_912.0, 535_824.0, 74.4),
+    ];
+    const T3: [ArmRow; 3] = [
+        row(716, 0.7, 804_870.0, 630_926.0, 1_435_796.0, 31.5),
+        row(512, 0.5, 411_566.0, 421_396.0, 832_963.0, 60.2),
+        row(366, 0.35, 210_311.0, 242_149.0, 452_460.0, 78.4),
+    ];
+    const T4: [ArmRow; 2] = [
+        row(716, 0.7, 102_892.0, 975_008.0, 1_077_899.0, 48.6),
+        row(512, 0.5, 102_892.0, 498_565.0, 601_457.0, 71.3),
+    ];
+    match table {
+        2 => &T2,
+        3 => &T3,
+        4 => &T4,
+        _ => &[],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The formulas with π = 3.14 give Arm's printed cells (to their rounding; their Table 3
+    /// total 832,963 is one more than its own fovea + periphery cells).
+    #[test]
+    fn formulas_reproduce_arms_tables() {
+        for (table, stencil, fovea) in [(2, false, None), (3, true, None), (4, true, Some(256))] {
+            for r in arm_table(table) {
+                let b = PixelBudget::analytic(r.view, r.ratio, stencil, fovea, ARM_PI);
+                // Within a pixel or 0.02 %: Arm rounded Table 4's hole to whole pixels (179 for
+                // 256 · 0.7 = 179.2) but not Table 3's (501.2), 113 pixels apart at 716².
+                let close =
+                    |ours: f64, printed: f64| (ours - printed).abs() <= 1.5f64.max(2e-4 * printed);
+                assert!(
+                    close(b.fovea, r.fovea),
+                    "table {table} {}: fovea {} vs {}",
+                    r.view,
+                    b.fovea,
+                    r.fovea
+                );
+                assert!(
+                    close(b.periphery, r.periphery),
+                    "table {table} {}: periphery {}",
+                    r.view,
+                    b.periphery
+                );
+                assert!(
+                    close(b.total(), r.total),
+                    "table {table} {}: total {}",
+                    r.view,
+                    b.total()
+                );
+                // Arm truncates its percentages to one decimal (74.45 → 74.4, 60.28 → 60.2).
+                let truncated = (b.reduction_percent(1024) * 10.0 + 1e-6).floor() / 10.0;
+                assert_eq!(truncated, r.reduction_percent, "table {table} {}", r.view);
+            }
+        }
+    }
+}

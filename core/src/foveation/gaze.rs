@@ -1,0 +1,248 @@
+//! Gaze input: trace files, simulated traces, and a filter that turns bad samples into a
+//! sensible gaze instead of a panic.
+
+use std::path::Path;
+
+use glam::Vec2;
+
+/// One eye-tracker sample: time in seconds, each eye's gaze in normalised image coordinates
+/// (−1…1, x right, y up; 0 is the image centre), and the tracker's validity flag.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GazeSample {
+    pub t: f64,
+    pub left: Vec2,
+    pub right: Vec2,
+    pub valid: bool,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum GazeError {
+    #[error("cannot read gaze trace {path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("gaze trace {path}, line {line}: {message} (expected `time,left_x,left_y,right_x,right_y,valid`)")]
+    Parse {
+        path: String,
+        line: usize,
+        message: String,
+    },
+}
+
+/// Reads a CSV trace: `time,left_x,left_y,right_x,right_y,valid` per line, an optional header,
+/// `#` comments. Times must not go backwards. NaN coordinates are accepted (the filter handles
+/// them); malformed lines are errors naming the line.
+pub fn parse_gaze_csv(path: &Path) -> Result<Vec<GazeSample>, GazeError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| GazeError::Io {
+        path: name.clone(),
+        source,
+    })?;
+    let mut samples: Vec<GazeSample> = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty()
+            || line.starts_with('#')
+            || (i == 0 && line.starts_with(|c: char| c.is_alphabetic()))
+        {
+            continue;
+        }
+        let err = |message: String| GazeError::Parse {
+            path: name.clone(),
+            line: i + 1,
+            message,
+        };
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        if fields.len() != 6 {
+            return Err(err(format!("{} fields", fields.len())));
+        }
+        let num = |k: usize| {
+            fields[k]
+                .parse::<f64>()
+                .map_err(|_| err(format!("field {} = `{}` is not a number", k + 1, fields[k])))
+        };
+        let valid = match fields[5] {
+            "1" | "true" => true,
+            "0" | "false" => false,
+            v => return Err(err(format!("valid = `{v}`: 0/1 or true/false"))),
+        };
+        let t = num(0)?;
+        if !t.is_finite() || samples.last().is_some_and(|s| t < s.t) {
+            return Err(err(format!(
+                "time = {t}: finite and not before the previous sample"
+            )));
+        }
+        let v = |a: usize| Ok::<_, GazeError>(Vec2::new(num(a)? as f32, num(a + 1)? as f32));
+        samples.push(GazeSample {
+            t,
+            left: v(1)?,
+            right: v(3)?,
+            valid,
+        });
+    }
+    Ok(samples)
+}
+
+/// Turns raw samples into the gaze to render with: a sample that is invalid, NaN or outside
+/// −1…1 is replaced by the last good gaze; after `timeout` seconds without a good one, the gaze
+/// returns to the centre.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GazeFilter {
+    pub timeout: f64,
+    last_good: Option<(f64, [Vec2; 2])>,
+}
+
+impl GazeFilter {
+    pub fn new(timeout: f64) -> Self {
+        GazeFilter {
+            timeout,
+            last_good: None,
+        }
+    }
+
+    pub fn update(&mut self, s: &GazeSample) -> [Vec2; 2] {
+        let ok = |v: Vec2| v.is_finite() && v.x.abs() <= 1.0 && v.y.abs() <= 1.0;
+        if s.valid && ok(s.left) && ok(s.right) {
+            self.last_good = Some((s.t, [s.left, s.right]));
+            return [s.left, s.right];
+        }
+        match self.last_good {
+            Some((t, gaze)) if s.t - t <= self.timeout => gaze,
+            _ => [Vec2::ZERO; 2],
+        }
+    }
+}
+
+/// A deterministic simulated trace at `rate` Hz for `seconds`: fixations of 200–400 ms joined by
+/// 40 ms saccades, both eyes together.
+pub fn simulated_trace(seconds: f64, rate: f64, seed: u32) -> Vec<GazeSample> {
+    let mut state = seed.wrapping_mul(2_654_435_761).max(1);
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        state as f32 / u32::MAX as f32
+    };
+    let mut target = Vec2::ZERO;
+    let mut from = Vec2::ZERO;
+    let (mut fixation_end, mut saccade_end) = (0.0, 0.0);
+    let n = (seconds * rate).round() as usize;
+    (0..n)
+        .map(|i| {
+            let t = i as f64 / rate;
+            if t >= fixation_end {
+                from = target;
+                target = Vec2::new(next() * 1.6 - 0.8, next() * 1.2 - 0.6);
+                saccade_end = t + 0.04;
+                fixation_end = saccade_end + 0.2 + 0.2 * next() as f64;
+            }
+            let k = if t < saccade_end {
+                (1.0 - (saccade_end - t) / 0.04) as f32
+            } else {
+                1.0
+            };
+            let g = from.lerp(target, k);
+            GazeSample {
+                t,
+                left: g,
+                right: g,
+                valid: true,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(t: f64, x: f32, valid: bool) -> GazeSample {
+        GazeSample {
+            t,
+            left: Vec2::new(x, 0.1),
+            right: Vec2::new(x, 0.1),
+            valid,
+        }
+    }
+
+    #[test]
+    fn bad_samples_fall_back_to_last_good_then_centre() {
+        let mut f = GazeFilter::new(0.5);
+        assert_eq!(
+            f.update(&sample(0.0, f32::NAN, true)),
+            [Vec2::ZERO; 2],
+            "nothing good yet: centre"
+        );
+        assert_eq!(f.update(&sample(0.1, 0.4, true))[0], Vec2::new(0.4, 0.1));
+        assert_eq!(
+            f.update(&sample(0.2, f32::NAN, true))[0],
+            Vec2::new(0.4, 0.1),
+            "NaN"
+        );
+        assert_eq!(
+            f.update(&sample(0.3, 3.0, true))[0],
+            Vec2::new(0.4, 0.1),
+            "out of range"
+        );
+        assert_eq!(
+            f.update(&sample(0.4, 0.2, false))[0],
+            Vec2::new(0.4, 0.1),
+            "invalid"
+        );
+        assert_eq!(
+            f.update(&sample(0.7, f32::INFINITY, true)),
+            [Vec2::ZERO; 2],
+            "timed out: centre"
+        );
+        assert_eq!(
+            f.update(&sample(0.8, -0.3, true))[0],
+            Vec2::new(-0.3, 0.1),
+            "recovers"
+        );
+    }
+
+    #[test]
+    fn csv_round_trip_and_errors_name_the_line() {
+        let dir = std::env::temp_dir().join(format!("foveate-gaze-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let good = dir.join("good.csv");
+        std::fs::write(
+            &good,
+            "time,lx,ly,rx,ry,valid\n# comment\n0.0,0.1,0.2,0.1,0.2,1\n0.01,NaN,0,0,0,0\n",
+        )
+        .unwrap();
+        let s = parse_gaze_csv(&good).unwrap();
+        assert_eq!(s.len(), 2);
+        assert!(s[1].left.x.is_nan() && !s[1].valid);
+        let bad = dir.join("bad.csv");
+        std::fs::write(&bad, "0.0,0.1,0.2,0.1,0.2,1\n0.01,x,0,0,0,1\n").unwrap();
+        let e = parse_gaze_csv(&bad).unwrap_err().to_string();
+        assert!(e.contains("line 2") && e.contains("`x`"), "{e}");
+        std::fs::write(&bad, "0.5,0,0,0,0,1\n0.1,0,0,0,0,1\n").unwrap();
+        assert!(parse_gaze_csv(&bad)
+            .unwrap_err()
+            .to_string()
+            .contains("line 2"));
+        assert!(parse_gaze_csv(&dir.join("missing.csv"))
+            .unwrap_err()
+            .to_string()
+            .contains("missing.csv"));
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
+    #[test]
+    fn simulated_traces_fixate_and_saccade_within_range() {
+        let trace = simulated_trace(3.0, 120.0, 7);
+        assert_eq!(trace.len(), 360);
+        assert!(trace
+            .iter()
+            .all(|s| s.valid && s.left.abs().max_element() <= 1.0));
+        let jumps = trace
+            .windows(2)
+            .filter(|w| (w[1].left - w[0].left).length() > 0.01)
+            .count();
+        assert!(jumps > 10 && jumps < 200, "{jumps} moving samples");
+        assert_eq!(trace, simulated_trace(3.0, 120.0, 7), "deterministic");
+    }
+}

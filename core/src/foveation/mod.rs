@@ -1,0 +1,11 @@
+//! Foveation maths that needs no GPU (Arm whitepaper, seed 001 §3): the inset field of view,
+//! where the fovea views look for a gaze, the analytic pixel budget of Tables 2–4, and gaze
+//! input that never panics on bad samples.
+
+mod budget;
+mod gaze;
+mod inset;
+
+pub use budget::{arm_table, ArmRow, PixelBudget, ARM_PI};
+pub use gaze::{parse_gaze_csv, simulated_trace, GazeError, GazeFilter, GazeSample};
+pub use inset::{fovea_tangents, inset_fov_deg};
