@@ -22,30 +22,39 @@ impl PixelBudget {
         100.0 * (1.0 - self.total() / (2.0 * screen as f64 * screen as f64))
     }
 
-    /// Four views of `view`² pixels (two fovea, two periphery); with `stencil`, the fovea keeps
-    /// its inscribed circle and the periphery drops the circle the fovea covers — `fovea_size`
-    /// screen pixels across (default: the fovea view, 1:1 on screen), which is `fovea_size ·
-    /// ratio` periphery pixels for a periphery at `ratio` of the screen resolution.
+    /// Four views of `view` pixels each (two fovea, two periphery). With stencil masks the fovea
+    /// keeps its inset circle of `fovea_circle_px` and the periphery drops the hole of
+    /// `periphery_hole_px` the fovea covers (both diameters in their own view's pixels).
     pub fn analytic(
-        view: u32,
-        ratio: f64,
+        view: (u32, u32),
+        fovea_circle_px: f64,
+        periphery_hole_px: f64,
         stencil: bool,
-        fovea_size: Option<u32>,
         pi: f64,
     ) -> PixelBudget {
-        let v = view as f64;
+        let area = view.0 as f64 * view.1 as f64;
         if !stencil {
             return PixelBudget {
-                fovea: 2.0 * v * v,
-                periphery: 2.0 * v * v,
+                fovea: 2.0 * area,
+                periphery: 2.0 * area,
             };
         }
-        let fovea_diameter = fovea_size.map_or(v, |f| f as f64);
-        let hole = fovea_diameter * ratio;
         PixelBudget {
-            fovea: 2.0 * pi * (fovea_diameter / 2.0).powi(2),
-            periphery: 2.0 * (v * v - pi * (hole / 2.0).powi(2)),
+            fovea: 2.0 * pi * (fovea_circle_px / 2.0).powi(2),
+            periphery: 2.0 * (area - pi * (periphery_hole_px / 2.0).powi(2)),
         }
+    }
+
+    /// The budget of a resolved foveation, with the true π.
+    pub fn of(g: &super::FoveationGeometry) -> PixelBudget {
+        let view = (g.view.width, g.view.height);
+        PixelBudget::analytic(
+            view,
+            g.fovea_circle_px as f64,
+            g.periphery_hole_px as f64,
+            g.stencil,
+            std::f64::consts::PI,
+        )
     }
 }
 
@@ -111,7 +120,16 @@ mod tests {
     fn formulas_reproduce_arms_tables() {
         for (table, stencil, fovea) in [(2, false, None), (3, true, None), (4, true, Some(256))] {
             for r in arm_table(table) {
-                let b = PixelBudget::analytic(r.view, r.ratio, stencil, fovea, ARM_PI);
+                // Arm's definitions: the inset circle is the fovea size (or the view), the hole is
+                // that size times the ratio.
+                let circle = fovea.map_or(r.view as f64, |f: u32| f as f64);
+                let b = PixelBudget::analytic(
+                    (r.view, r.view),
+                    circle,
+                    circle * r.ratio,
+                    stencil,
+                    ARM_PI,
+                );
                 // Within a pixel or 0.02 %: Arm rounded Table 4's hole to whole pixels (179 for
                 // 256 · 0.7 = 179.2) but not Table 3's (501.2), 113 pixels apart at 716².
                 let close =

@@ -3,9 +3,11 @@
 //! input that never panics on bad samples.
 
 mod budget;
+mod config;
 mod gaze;
 mod inset;
 
 pub use budget::{arm_table, ArmRow, PixelBudget, ARM_PI};
+pub use config::{FoveationConfig, FoveationGeometry};
 pub use gaze::{parse_gaze_csv, simulated_trace, GazeError, GazeFilter, GazeSample};
 pub use inset::{fovea_tangents, inset_fov_deg};

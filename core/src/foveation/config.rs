@@ -1,0 +1,175 @@
+use crate::plan::{ConfigError, Resolution};
+
+/// What a user chooses about foveation (seed 001 §3.3–3.6).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FoveationConfig {
+    /// Arm's ratio: the fovea window is `ratio` times the periphery's extent, and each view's
+    /// resolution defaults to `ratio` times the screen's (so the fovea maps 1:1 to the screen).
+    pub ratio: f32,
+    /// Pixels per side of all four views, overriding screen × ratio (Arm rounded 358 up to 366).
+    pub view_resolution: Option<u32>,
+    /// Inset/outset stencil masks inside the pass.
+    pub stencil: bool,
+    /// Diameter of the fovea region on the screen in pixels (Arm's Table 4: 256); default: the
+    /// whole fovea window.
+    pub fovea_size: Option<u32>,
+    /// Width in screen pixels of the band where fovea and periphery are blended; the periphery
+    /// keeps it so both images exist there.
+    pub blend_band_px: f32,
+}
+
+impl Default for FoveationConfig {
+    fn default() -> Self {
+        FoveationConfig {
+            ratio: 0.35,
+            view_resolution: None,
+            stencil: true,
+            fovea_size: None,
+            blend_band_px: 0.0,
+        }
+    }
+}
+
+/// Foveation as the planner resolved it for a screen resolution.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FoveationGeometry {
+    pub ratio: f32,
+    /// Size of each of the four views.
+    pub view: Resolution,
+    /// The fovea region's diameter on the screen (pixels).
+    pub fovea_screen_px: f32,
+    /// The inset circle's diameter in fovea-view pixels.
+    pub fovea_circle_px: f32,
+    /// The periphery's hole (what the fovea covers, less the blend band) in periphery pixels.
+    pub periphery_hole_px: f32,
+    pub stencil: bool,
+    pub blend_band_px: f32,
+}
+
+impl FoveationConfig {
+    /// Validates and resolves against the per-eye screen resolution.
+    pub fn geometry(&self, screen: Resolution) -> Result<FoveationGeometry, ConfigError> {
+        if !self.ratio.is_finite() || self.ratio <= 0.0 || self.ratio > 1.0 {
+            return Err(ConfigError::new("ratio", self.ratio, "0 < ratio ≤ 1"));
+        }
+        let view = match self.view_resolution {
+            Some(0) => return Err(ConfigError::new("view_resolution", 0, "at least 1 pixel")),
+            Some(v) => Resolution::square(v),
+            None => Resolution {
+                width: ((screen.width as f32 * self.ratio).round() as u32).max(1),
+                height: ((screen.height as f32 * self.ratio).round() as u32).max(1),
+            },
+        };
+        let window_px = self.ratio * screen.width as f32;
+        let fovea_screen_px = match self.fovea_size {
+            Some(f) if f == 0 || f as f32 > window_px + 0.5 => {
+                return Err(ConfigError::new(
+                    "fovea_size",
+                    f,
+                    format!(
+                        "1..={} screen pixels (the fovea window at ratio {})",
+                        window_px.round(),
+                        self.ratio
+                    ),
+                ))
+            }
+            Some(f) => f as f32,
+            None => window_px,
+        };
+        if !self.blend_band_px.is_finite()
+            || self.blend_band_px < 0.0
+            || 2.0 * self.blend_band_px >= fovea_screen_px
+        {
+            return Err(ConfigError::new(
+                "blend_band",
+                self.blend_band_px,
+                format!(
+                    "0 ≤ band < {} (half the fovea's {fovea_screen_px} px)",
+                    fovea_screen_px / 2.0
+                ),
+            ));
+        }
+        // Fovea-view pixels per screen pixel, and periphery pixels per screen pixel.
+        let fovea_scale = view.width as f32 / window_px;
+        let periphery_scale = view.width as f32 / screen.width as f32;
+        Ok(FoveationGeometry {
+            ratio: self.ratio,
+            view,
+            fovea_screen_px,
+            fovea_circle_px: fovea_screen_px * fovea_scale,
+            periphery_hole_px: (fovea_screen_px - 2.0 * self.blend_band_px) * periphery_scale,
+            stencil: self.stencil,
+            blend_band_px: self.blend_band_px,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arms_rows_resolve_to_arms_geometry() {
+        let screen = Resolution::square(1024);
+        let g = FoveationConfig {
+            ratio: 0.35,
+            view_resolution: Some(366),
+            ..Default::default()
+        }
+        .geometry(screen)
+        .unwrap();
+        assert_eq!(g.view, Resolution::square(366));
+        assert!(
+            (g.periphery_hole_px - 366.0 * 0.35).abs() < 0.01,
+            "Arm: the hole is view × ratio"
+        );
+        assert!(
+            (g.fovea_circle_px - 366.0).abs() < 0.01,
+            "the inset circle fills the fovea view"
+        );
+        let g = FoveationConfig {
+            ratio: 0.5,
+            fovea_size: Some(256),
+            ..Default::default()
+        }
+        .geometry(screen)
+        .unwrap();
+        assert_eq!(
+            (g.view.width, g.fovea_circle_px, g.periphery_hole_px),
+            (512, 256.0, 128.0)
+        );
+    }
+
+    #[test]
+    fn bad_values_name_field_value_and_limit() {
+        let screen = Resolution::square(1024);
+        let e = FoveationConfig {
+            ratio: 0.0,
+            ..Default::default()
+        }
+        .geometry(screen)
+        .unwrap_err();
+        assert_eq!((e.field, e.value.as_str()), ("ratio", "0"));
+        let e = FoveationConfig {
+            ratio: f32::NAN,
+            ..Default::default()
+        }
+        .geometry(screen)
+        .unwrap_err();
+        assert_eq!(e.field, "ratio");
+        let e = FoveationConfig {
+            fovea_size: Some(900),
+            ..Default::default()
+        }
+        .geometry(screen)
+        .unwrap_err();
+        assert_eq!((e.field, e.value.as_str()), ("fovea_size", "900"));
+        let e = FoveationConfig {
+            blend_band_px: 500.0,
+            ..Default::default()
+        }
+        .geometry(screen)
+        .unwrap_err();
+        assert_eq!(e.field, "blend_band");
+    }
+}
