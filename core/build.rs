@@ -13,6 +13,10 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
         "scene_counting.frag.spv",
         &["COUNT_FRAGMENTS"],
     ),
+    ("mask.vert", "mask.vert.spv", &[]),
+    ("mask.frag", "mask.frag.spv", &[]),
+    ("coverage.vert", "coverage.vert.spv", &[]),
+    ("coverage.frag", "coverage.frag.spv", &[]),
 ];
 
 fn main() {

@@ -20,8 +20,26 @@ pub const SCENE_FRAG: ShaderBinary = spirv!("scene.frag.spv");
 /// The scene fragment shader with the per-view fragment counter compiled in.
 pub const SCENE_FRAG_COUNTING: ShaderBinary = spirv!("scene_counting.frag.spv");
 
+/// Stencil mask fans, one shape per view.
+pub const MASK_VERT: ShaderBinary = spirv!("mask.vert.spv");
+pub const MASK_FRAG: ShaderBinary = spirv!("mask.frag.spv");
+/// The coverage probe: a full-view triangle counted per view.
+pub const COVERAGE_VERT: ShaderBinary = spirv!("coverage.vert.spv");
+pub const COVERAGE_FRAG: ShaderBinary = spirv!("coverage.frag.spv");
+
+/// Vertices of one mask fan (128 triangles; see `shaders/mask.vert`).
+pub const MASK_VERTICES: u32 = 128 * 3;
+
 /// Every shader the renderer can use (the spirv-val test walks this list).
-pub const ALL: &[ShaderBinary] = &[SCENE_VERT, SCENE_FRAG, SCENE_FRAG_COUNTING];
+pub const ALL: &[ShaderBinary] = &[
+    SCENE_VERT,
+    SCENE_FRAG,
+    SCENE_FRAG_COUNTING,
+    MASK_VERT,
+    MASK_FRAG,
+    COVERAGE_VERT,
+    COVERAGE_FRAG,
+];
 
 impl ShaderBinary {
     /// The SPIR-V as 32-bit words, as Vulkan wants it.

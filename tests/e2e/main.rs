@@ -2,6 +2,7 @@
 //! message fails the test that caused it.
 
 mod config_errors;
+mod foveation;
 mod fragment_counter;
 mod golden;
 mod quirks;

@@ -6,8 +6,10 @@ mod budget;
 mod config;
 mod gaze;
 mod inset;
+mod views;
 
 pub use budget::{arm_table, ArmRow, PixelBudget, ARM_PI};
 pub use config::{FoveationConfig, FoveationGeometry};
 pub use gaze::{parse_gaze_csv, simulated_trace, GazeError, GazeFilter, GazeSample};
 pub use inset::{fovea_tangents, inset_fov_deg};
+pub use views::{fovea_views, gaze_tangent, mask_shapes};

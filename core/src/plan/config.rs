@@ -2,6 +2,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use super::ConfigError;
+use crate::foveation::FoveationConfig;
 use crate::view::{FovTangents, HmdProfile, HMD_PROFILES};
 
 /// foveate's own limit on views in one pass: two eyes, or two eyes × (periphery, fovea).
@@ -127,6 +128,11 @@ pub struct RenderConfig {
     pub count_fragments: bool,
     /// Record GPU timestamps around the frame.
     pub timestamps: bool,
+    /// Foveated rendering: four views (periphery and fovea per eye) in one multiview pass.
+    pub foveation: Option<FoveationConfig>,
+    /// Count every pixel each view renders (a full-view draw under the pass's stencil masks,
+    /// counted by the fragment counter) — `foveate pixels` measures with it.
+    pub coverage_probe: bool,
 }
 
 impl Default for RenderConfig {
@@ -144,6 +150,8 @@ impl Default for RenderConfig {
             far: 500.0,
             count_fragments: true,
             timestamps: true,
+            foveation: None,
+            coverage_probe: false,
         }
     }
 }

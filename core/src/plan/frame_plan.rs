@@ -1,5 +1,6 @@
 use super::derive::{is_transient, Access, LoadOp, StoreOp};
 use super::{ConfigError, DeviceCaps, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
+use crate::foveation::FoveationGeometry;
 use crate::scene::Scene;
 use crate::view::{Eye, EyeParams, HmdProfile};
 
@@ -124,6 +125,11 @@ pub struct PassPlan {
     /// In-pass MSAA resolve target (`pResolveAttachments`).
     pub resolve: Option<Use>,
     pub submission: Submission,
+    /// Inset/outset stencil masks are written per view at the start of the pass; scene draws
+    /// test them (never write them).
+    pub stencil_masks: bool,
+    /// A full-view draw under the masks, counted per view, after the scene.
+    pub coverage_probe: bool,
     /// Emulated guard band: clip-space x and y are divided by this factor and the viewport
     /// grown by it, so primitives reaching less than this many view widths past the edge need
     /// no clipping. 1 = off; set only to work around [`DriverQuirks`](super::DriverQuirks).
@@ -187,6 +193,8 @@ pub struct FramePlan {
     pub timestamp_queries: u32,
     /// Draw calls one frame records for the scene it was planned with.
     pub draw_calls: u64,
+    /// Foveation as resolved for this frame; `None` renders plain stereo.
+    pub foveation: Option<FoveationGeometry>,
 }
 
 impl FramePlan {
@@ -261,6 +269,10 @@ pub fn plan(
     let eyes = validate_eyes(config, hmd)?;
     let eye_resolution = validate_resolution(config, hmd, caps)?;
     validate_views(config, caps)?;
+    let foveation = config
+        .foveation
+        .map(|f| f.geometry(eye_resolution))
+        .transpose()?;
     validate_msaa(config, caps)?;
     validate_depth_range(config)?;
     validate_features(config, caps)?;
@@ -271,9 +283,10 @@ pub fn plan(
         StereoMode::PerObject | StereoMode::Instanced => TargetLayout::SideBySide,
     };
     let mut attachments = Vec::new();
-    let mut passes = scene_passes(config, eye_resolution, layout, &mut attachments);
+    let render_resolution = foveation.map_or(eye_resolution, |f| f.view);
+    let mut passes = scene_passes(config, render_resolution, layout, &mut attachments);
     if caps.quirks.multiview_clipping_drops_views {
-        let k = guard_band(eye_resolution, caps);
+        let k = guard_band(render_resolution, caps);
         for p in passes.iter_mut().filter(|p| p.view_mask != 0) {
             p.guard_band = k;
         }
@@ -293,6 +306,7 @@ pub fn plan(
         buffers: Vec::new(),
         timestamp_queries: if config.timestamps { 2 } else { 0 },
         draw_calls: draw_calls(scene, config.stereo),
+        foveation,
     };
     if config.count_fragments {
         plan.buffers.push(BufferPlan {
@@ -315,7 +329,7 @@ fn scene_passes(
     // Per-pass image shape: one layer per view for multiview, one double-wide image for the
     // side-by-side modes, one single-layer image per eye for two-pass.
     let (width, layers) = match layout {
-        TargetLayout::Layered => (eye.width, 2),
+        TargetLayout::Layered => (eye.width, config.views),
         TargetLayout::SideBySide => (eye.width * 2, 1),
         TargetLayout::PerEye => (eye.width, 1),
     };
@@ -343,10 +357,16 @@ fn scene_passes(
             false,
         )
     });
+    let stencil_masks = config.foveation.is_some_and(|f| f.stencil);
+    let depth_format = if stencil_masks {
+        Format::D32S8
+    } else {
+        Format::D32
+    };
     let depth = add(
         "scene depth",
         AttachmentRole::Depth,
-        Format::D32,
+        depth_format,
         config.msaa,
         false,
     );
@@ -378,16 +398,20 @@ fn scene_passes(
             depth: whole(depth, Access::Clear),
             resolve: color.map(|_| whole(output, Access::Overwrite)),
             submission,
+            stencil_masks,
+            coverage_probe: config.coverage_probe,
             guard_band: 1,
         }
     };
     match config.stereo {
-        StereoMode::Multiview => vec![pass(
-            "scene (multiview)",
-            0b11,
-            outputs[0],
-            Submission::Multiview,
-        )],
+        StereoMode::Multiview => {
+            let (name, mask) = if config.views == 4 {
+                ("scene (foveated multiview)", 0b1111)
+            } else {
+                ("scene (multiview)", 0b11)
+            };
+            vec![pass(name, mask, outputs[0], Submission::Multiview)]
+        }
         StereoMode::TwoPass => vec![
             pass(
                 "scene (left eye)",
@@ -567,11 +591,28 @@ fn validate_views(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), Config
             ),
         ));
     }
-    if config.views != 2 {
+    let wanted = if config.foveation.is_some() { 4 } else { 2 };
+    if config.views != wanted {
+        let why = if wanted == 4 {
+            "foveated rendering uses exactly 4 views (periphery and fovea per eye)"
+        } else {
+            "stereo rendering uses exactly 2 views (4 with foveation)"
+        };
+        return Err(ConfigError::new("views", config.views, why));
+    }
+    if config.foveation.is_some() && config.stereo != StereoMode::Multiview {
         return Err(ConfigError::new(
-            "views",
-            config.views,
-            "stereo rendering uses exactly 2 views",
+            "stereo",
+            config.stereo,
+            "foveation renders its 4 views with multiview",
+        ));
+    }
+    if config.coverage_probe && (config.stereo != StereoMode::Multiview || !config.count_fragments)
+    {
+        return Err(ConfigError::new(
+            "coverage_probe",
+            "true",
+            "needs multiview and fragment counting",
         ));
     }
     Ok(())

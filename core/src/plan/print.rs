@@ -41,6 +41,19 @@ impl fmt::Display for FramePlan {
             "  layout: {layout}; {} draw calls per frame",
             self.draw_calls
         )?;
+        if let Some(g) = &self.foveation {
+            writeln!(
+                f,
+                "  foveation: ratio {}, 4 views of {}, fovea {:.0} px on screen ({:.1} px inset circle), periphery hole {:.1} px, blend band {} px, stencil masks {}",
+                g.ratio,
+                g.view,
+                g.fovea_screen_px,
+                g.fovea_circle_px,
+                g.periphery_hole_px,
+                g.blend_band_px,
+                if g.stencil { "on" } else { "off" }
+            )?;
+        }
 
         writeln!(f, "attachments:")?;
         writeln!(
@@ -81,6 +94,15 @@ impl fmt::Display for FramePlan {
                 "  {} — view mask {:#04b}; {submission}",
                 p.name, p.view_mask
             )?;
+            if p.stencil_masks {
+                writeln!(f, "    stencil masks first: inset circle in the fovea views, outset (hole) in the periphery views")?;
+            }
+            if p.coverage_probe {
+                writeln!(
+                    f,
+                    "    coverage probe last: a full-view draw per view, counted"
+                )?;
+            }
             if p.guard_band > 1 {
                 writeln!(
                     f,

@@ -389,3 +389,93 @@ fn the_plan_prints_its_decisions() {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }
 }
+
+fn foveated(stencil: bool) -> RenderConfig {
+    RenderConfig {
+        views: 4,
+        foveation: Some(crate::foveation::FoveationConfig {
+            ratio: 0.5,
+            stencil,
+            ..Default::default()
+        }),
+        ..config(StereoMode::Multiview, 4)
+    }
+}
+
+#[test]
+fn foveation_plans_four_low_resolution_views_in_one_pass() {
+    let plan = planned(&foveated(true));
+    assert_eq!(plan.passes.len(), 1);
+    let pass = &plan.passes[0];
+    assert_eq!(pass.view_mask, 0b1111);
+    assert!(pass.stencil_masks);
+    assert!(
+        plan.attachments
+            .iter()
+            .all(|a| a.layers == 4 && a.width == 256),
+        "4 views at 512 × 0.5"
+    );
+    let depth = attachment(&plan, &pass.depth);
+    assert_eq!(
+        depth.format,
+        Format::D32S8,
+        "stencil only because the masks need it"
+    );
+    assert_eq!(
+        (pass.depth.load, pass.depth.store),
+        (LoadOp::Clear, StoreOp::DontCare)
+    );
+    assert!(depth.transient);
+}
+
+#[test]
+fn no_masks_no_stencil() {
+    let plan = planned(&foveated(false));
+    assert!(!plan.passes[0].stencil_masks);
+    assert!(plan.attachments.iter().all(|a| a.format != Format::D32S8));
+}
+
+#[test]
+fn foveation_needs_four_views_and_multiview() {
+    let e = rejected(
+        &RenderConfig {
+            views: 2,
+            ..foveated(true)
+        },
+        &caps(),
+    );
+    assert_eq!((e.field, e.value.as_str()), ("views", "2"));
+    let e = rejected(
+        &RenderConfig {
+            stereo: StereoMode::TwoPass,
+            ..foveated(true)
+        },
+        &caps(),
+    );
+    assert_eq!(e.field, "stereo");
+    let e = rejected(
+        &RenderConfig {
+            views: 4,
+            ..config(StereoMode::Multiview, 4)
+        },
+        &caps(),
+    );
+    assert!(e.limit.contains("4 with foveation"), "{e}");
+    let bad_ratio = RenderConfig {
+        foveation: Some(crate::foveation::FoveationConfig {
+            ratio: 1.5,
+            ..Default::default()
+        }),
+        ..foveated(true)
+    };
+    assert_eq!(rejected(&bad_ratio, &caps()).field, "ratio");
+    let probe_without_counter = RenderConfig {
+        coverage_probe: true,
+        count_fragments: false,
+        ..foveated(true)
+    };
+    assert_eq!(
+        rejected(&probe_without_counter, &caps()).field,
+        "coverage_probe"
+    );
+}

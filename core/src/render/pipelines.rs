@@ -8,7 +8,10 @@ use crate::gpu::{
 };
 use crate::plan::{FramePlan, PassPlan, Submission};
 use crate::scene::Vertex;
-use crate::shaders::{ShaderBinary, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_VERT};
+use crate::shaders::{
+    ShaderBinary, COVERAGE_FRAG, COVERAGE_VERT, MASK_FRAG, MASK_VERT, SCENE_FRAG,
+    SCENE_FRAG_COUNTING, SCENE_VERT,
+};
 
 const ENTRY: &CStr = c"main";
 
@@ -27,29 +30,36 @@ impl SceneBindings {
         views: &Buffer,
         instances: &Buffer,
         counter: Option<&Buffer>,
+        masks: Option<&Buffer>,
     ) -> Result<Self, GpuError> {
         let device = gpu.device();
-        let mut bindings = vec![
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(0)
-                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(1)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::VERTEX),
-        ];
-        if counter.is_some() {
-            bindings.push(
+        // (binding, type, stages, buffer): only what this plan uses exists.
+        let uniform = vk::DescriptorType::UNIFORM_BUFFER;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let resources: Vec<(u32, vk::DescriptorType, vk::ShaderStageFlags, &Buffer)> = [
+            Some((
+                0,
+                uniform,
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                views,
+            )),
+            Some((1, storage, vk::ShaderStageFlags::VERTEX, instances)),
+            counter.map(|b| (2, storage, vk::ShaderStageFlags::FRAGMENT, b)),
+            masks.map(|b| (3, uniform, vk::ShaderStageFlags::VERTEX, b)),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        let bindings: Vec<vk::DescriptorSetLayoutBinding> = resources
+            .iter()
+            .map(|&(binding, ty, stages, _)| {
                 vk::DescriptorSetLayoutBinding::default()
-                    .binding(2)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .binding(binding)
+                    .descriptor_type(ty)
                     .descriptor_count(1)
-                    .stage_flags(vk::ShaderStageFlags::FRAGMENT),
-            );
-        }
+                    .stage_flags(stages)
+            })
+            .collect();
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: plain object creation with locals alive for each call.
         let set_layout = DescriptorSetLayout::from_raw(
@@ -59,11 +69,11 @@ impl SceneBindings {
         );
         let sizes = [
             vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::UNIFORM_BUFFER,
-                descriptor_count: 1,
+                ty: uniform,
+                descriptor_count: 2,
             },
             vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_BUFFER,
+                ty: storage,
                 descriptor_count: 2,
             },
         ];
@@ -82,30 +92,24 @@ impl SceneBindings {
         let set =
             unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
 
-        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = [Some(views), Some(instances), counter]
-            .into_iter()
-            .flatten()
-            .map(|b| {
+        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = resources
+            .iter()
+            .map(|r| {
                 [vk::DescriptorBufferInfo {
-                    buffer: b.raw,
+                    buffer: r.3.raw,
                     offset: 0,
                     range: vk::WHOLE_SIZE,
                 }]
             })
             .collect();
-        let writes: Vec<vk::WriteDescriptorSet> = infos
+        let writes: Vec<vk::WriteDescriptorSet> = resources
             .iter()
-            .enumerate()
-            .map(|(i, info)| {
-                let ty = if i == 0 {
-                    vk::DescriptorType::UNIFORM_BUFFER
-                } else {
-                    vk::DescriptorType::STORAGE_BUFFER
-                };
+            .zip(&infos)
+            .map(|(r, info)| {
                 vk::WriteDescriptorSet::default()
                     .dst_set(set)
-                    .dst_binding(i as u32)
-                    .descriptor_type(ty)
+                    .dst_binding(r.0)
+                    .descriptor_type(r.1)
                     .buffer_info(info)
             })
             .collect();
@@ -150,23 +154,40 @@ fn view_source(submission: Submission) -> u32 {
     }
 }
 
-/// The scene pipeline for one pass of the plan.
-pub(crate) fn scene_pipeline(
+/// What a pipeline of a scene pass draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PipelineKind {
+    /// The scene's meshes: depth tested and written, stencil tested when the pass has masks.
+    Scene,
+    /// Stencil mask fans: stencil written (reference set per draw), nothing else.
+    Mask,
+    /// The coverage probe: a full-view triangle, stencil tested, counted, nothing written.
+    Coverage,
+}
+
+/// A pipeline for one pass of the plan.
+pub(crate) fn pass_pipeline(
     gpu: &Gpu,
     plan: &FramePlan,
     pass: &PassPlan,
+    kind: PipelineKind,
     render_pass: vk::RenderPass,
     layout: &PipelineLayout,
 ) -> Result<Pipeline, GpuError> {
-    let vert = shader_module(gpu, &SCENE_VERT)?;
-    let frag = shader_module(
-        gpu,
-        if plan.count_fragments() {
-            &SCENE_FRAG_COUNTING
-        } else {
-            &SCENE_FRAG
-        },
-    )?;
+    let (vert, frag) = match kind {
+        PipelineKind::Scene => (
+            &SCENE_VERT,
+            if plan.count_fragments() {
+                &SCENE_FRAG_COUNTING
+            } else {
+                &SCENE_FRAG
+            },
+        ),
+        PipelineKind::Mask => (&MASK_VERT, &MASK_FRAG),
+        PipelineKind::Coverage => (&COVERAGE_VERT, &COVERAGE_FRAG),
+    };
+    let vert = shader_module(gpu, vert)?;
+    let frag = shader_module(gpu, frag)?;
     let mut spec_data = view_source(pass.submission).to_le_bytes().to_vec();
     spec_data.extend_from_slice(&(1.0 / pass.guard_band as f32).to_le_bytes());
     let spec_entries = [
@@ -181,8 +202,14 @@ pub(crate) fn scene_pipeline(
             size: 4,
         },
     ];
+    // The mask and coverage shaders only declare constant 1.
+    let spec_entries = if kind == PipelineKind::Scene {
+        &spec_entries[..]
+    } else {
+        &spec_entries[1..]
+    };
     let spec = vk::SpecializationInfo::default()
-        .map_entries(&spec_entries)
+        .map_entries(spec_entries)
         .data(&spec_data);
     let stages = [
         vk::PipelineShaderStageCreateInfo::default()
@@ -214,9 +241,13 @@ pub(crate) fn scene_pipeline(
             offset: 12,
         },
     ];
-    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(&bindings)
-        .vertex_attribute_descriptions(&attributes);
+    let vertex_input = if kind == PipelineKind::Scene {
+        vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(&bindings)
+            .vertex_attribute_descriptions(&attributes)
+    } else {
+        vk::PipelineVertexInputStateCreateInfo::default()
+    };
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
         .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
     let viewport = vk::PipelineViewportStateCreateInfo::default()
@@ -224,22 +255,51 @@ pub(crate) fn scene_pipeline(
         .scissor_count(1);
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(vk::CullModeFlags::BACK)
         // The projections keep the image upright (Vulkan NDC y down), so on-screen winding is
-        // the geometry's own: counter-clockwise faces the viewer.
+        // the geometry's own: counter-clockwise faces the viewer. Masks and the probe are 2D.
+        .cull_mode(if kind == PipelineKind::Scene {
+            vk::CullModeFlags::BACK
+        } else {
+            vk::CullModeFlags::NONE
+        })
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
         .rasterization_samples(vk::SampleCountFlags::from_raw(plan.samples));
+    let stencil_op = |compare, pass_op, write_mask| vk::StencilOpState {
+        fail_op: vk::StencilOp::KEEP,
+        pass_op,
+        depth_fail_op: vk::StencilOp::KEEP,
+        compare_op: compare,
+        compare_mask: 0xff,
+        write_mask,
+        reference: 0,
+    };
+    let stencil = match kind {
+        PipelineKind::Mask => stencil_op(vk::CompareOp::ALWAYS, vk::StencilOp::REPLACE, 0xff),
+        // Scene draws and the probe test the masks and never write them.
+        _ => stencil_op(vk::CompareOp::EQUAL, vk::StencilOp::KEEP, 0),
+    };
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
-        .depth_write_enable(true)
+        .depth_test_enable(kind == PipelineKind::Scene)
+        .depth_write_enable(kind == PipelineKind::Scene)
         // Reverse-Z: nearer is greater.
-        .depth_compare_op(vk::CompareOp::GREATER);
-    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
-        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+        .depth_compare_op(vk::CompareOp::GREATER)
+        .stencil_test_enable(pass.stencil_masks)
+        .front(stencil)
+        .back(stencil);
+    let write = if kind == PipelineKind::Scene {
+        vk::ColorComponentFlags::RGBA
+    } else {
+        vk::ColorComponentFlags::empty()
+    };
+    let blend_attachments =
+        [vk::PipelineColorBlendAttachmentState::default().color_write_mask(write)];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
-    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let mut dynamic_states = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    if pass.stencil_masks {
+        dynamic_states.push(vk::DynamicState::STENCIL_REFERENCE);
+    }
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
     let info = vk::GraphicsPipelineCreateInfo::default()
         .stages(&stages)

@@ -37,7 +37,7 @@ impl Renderer<'_> {
                     ),
                 );
             }
-            for (pass_plan, (pass, pipeline)) in self.plan.passes.iter().zip(&self.passes) {
+            for (pass_plan, (pass, pipelines)) in self.plan.passes.iter().zip(&self.passes) {
                 let clears = [
                     vk::ClearValue {
                         color: vk::ClearColorValue { float32: SKY },
@@ -60,7 +60,6 @@ impl Renderer<'_> {
                     })
                     .clear_values(&clears);
                 device.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
                 device.cmd_bind_descriptor_sets(
                     cmd,
                     vk::PipelineBindPoint::GRAPHICS,
@@ -69,9 +68,18 @@ impl Renderer<'_> {
                     &[self.bindings.set],
                     &[],
                 );
+                if let Some(mask) = &pipelines.mask {
+                    self.record_masks(cmd, mask, pass_plan, pass.extent);
+                }
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipelines.scene.raw);
                 device.cmd_bind_vertex_buffers(cmd, 0, &[self.scene.vertices.raw], &[0]);
                 device.cmd_bind_index_buffer(cmd, self.scene.indices.raw, 0, vk::IndexType::UINT32);
                 self.record_submission(cmd, pass_plan, pass.extent);
+                if let Some(coverage) = &pipelines.coverage {
+                    // Full-view triangle, counted per view under the same stencil state.
+                    device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, coverage.raw);
+                    device.cmd_draw(cmd, 3, 1, 0, 0);
+                }
                 device.cmd_end_render_pass(cmd);
             }
             if self.counter.is_some() {
@@ -136,6 +144,37 @@ impl Renderer<'_> {
                 }
             }
         }
+    }
+
+    /// The stencil masks of a pass, written before anything else: every view's keep shape as
+    /// 1, then its drop shape as 0. Leaves the reference at 1, which scene draws test against.
+    unsafe fn record_masks(
+        &self,
+        cmd: vk::CommandBuffer,
+        mask: &crate::gpu::Pipeline,
+        pass: &PassPlan,
+        extent: vk::Extent2D,
+    ) {
+        let device = self.gpu.device();
+        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, mask.raw);
+        self.set_view(
+            cmd,
+            rect(0, extent.width, extent.height),
+            0,
+            pass.guard_band,
+        );
+        for (shape_set, reference) in [(0u32, 1u32), (1, 0)] {
+            device.cmd_set_stencil_reference(cmd, vk::StencilFaceFlags::FRONT_AND_BACK, reference);
+            device.cmd_push_constants(
+                cmd,
+                self.bindings.layout.raw,
+                vk::ShaderStageFlags::VERTEX,
+                0,
+                &shape_set.to_le_bytes(),
+            );
+            device.cmd_draw(cmd, crate::shaders::MASK_VERTICES, 1, 0, 0);
+        }
+        device.cmd_set_stencil_reference(cmd, vk::StencilFaceFlags::FRONT_AND_BACK, 1);
     }
 
     /// Viewport, scissor and the eye index the vertex shader reads in push-constant modes. The

@@ -1,12 +1,13 @@
 use std::time::Instant;
 
 use ash::vk;
-use glam::{Mat4, Vec4};
+use glam::{Mat4, Vec2, Vec4};
 
-use super::pipelines::{scene_pipeline, SceneBindings};
+use super::pipelines::{pass_pipeline, PipelineKind, SceneBindings};
 use super::record::memory_barrier;
 use super::scene_buffers::SceneBuffers;
 use super::targets::{compile_pass, create_images, CompiledPass};
+use crate::foveation::{fovea_views, mask_shapes};
 use crate::gpu::{
     Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, Pipeline, QueryPool,
     VkResultExt,
@@ -14,6 +15,7 @@ use crate::gpu::{
 use crate::metrics::RgbaImage;
 use crate::plan::{FramePlan, TargetLayout, MAX_VIEWS};
 use crate::scene::Scene;
+use crate::view::reverse_z_projection;
 use crate::view::Eye;
 
 /// The per-frame uniform block (`Views` in the shaders, std140).
@@ -59,6 +61,14 @@ impl StereoImage {
     }
 }
 
+/// The pipelines of one planned pass: mask and coverage pipelines exist only when the pass has
+/// masks or a coverage probe.
+pub(super) struct PassPipelines {
+    pub scene: Pipeline,
+    pub mask: Option<Pipeline>,
+    pub coverage: Option<Pipeline>,
+}
+
 /// A [`FramePlan`] compiled into Vulkan objects for one scene.
 ///
 /// Frames are rendered one at a time (the CPU waits for each frame's fence), so everything a
@@ -67,18 +77,22 @@ pub struct Renderer<'g> {
     pub(super) gpu: &'g Gpu,
     pub(super) plan: FramePlan,
     // Passes (framebuffers, views) go before the images they view.
-    pub(super) passes: Vec<(CompiledPass, Pipeline)>,
+    pub(super) passes: Vec<(CompiledPass, PassPipelines)>,
     images: Vec<Image>,
     pub(super) bindings: SceneBindings,
     pub(super) scene: SceneBuffers,
     views_block: Buffer,
     pub(super) counter: Option<Buffer>,
+    /// Stencil mask shapes (only when a pass has masks), rewritten each frame from the gaze.
+    masks: Option<Buffer>,
     pub(super) queries: Option<QueryPool>,
     readback: Option<Buffer>,
     cmd: vk::CommandBuffer,
     frame_pool: CommandPool,
     fence: Fence,
     light_dir: Vec4,
+    /// Each eye's gaze, normalised (−1…1, x right, y up); moves the fovea views.
+    gaze: [Vec2; 2],
     frames_rendered: u64,
 }
 
@@ -106,11 +120,27 @@ impl<'g> Renderer<'g> {
                 )
             })
             .transpose()?;
+        let masks = plan
+            .passes
+            .iter()
+            .any(|p| p.stencil_masks)
+            .then(|| {
+                let bytes = std::mem::size_of::<[Vec4; 8]>() as u64;
+                Buffer::new(
+                    gpu,
+                    "stencil masks",
+                    bytes,
+                    vk::BufferUsageFlags::UNIFORM_BUFFER,
+                    MemoryLocation::CpuToGpu,
+                )
+            })
+            .transpose()?;
         let bindings = SceneBindings::new(
             gpu,
             &views_block,
             &scene_buffers.instances,
             counter.as_ref(),
+            masks.as_ref(),
         )?;
         let images = create_images(gpu, plan)?;
         let passes = plan
@@ -118,9 +148,28 @@ impl<'g> Renderer<'g> {
             .iter()
             .map(|p| {
                 let compiled = compile_pass(gpu, plan, p, &images)?;
-                let pipeline =
-                    scene_pipeline(gpu, plan, p, compiled.render_pass.raw, &bindings.layout)?;
-                Ok((compiled, pipeline))
+                let pipeline = |kind| {
+                    pass_pipeline(
+                        gpu,
+                        plan,
+                        p,
+                        kind,
+                        compiled.render_pass.raw,
+                        &bindings.layout,
+                    )
+                };
+                let pipelines = PassPipelines {
+                    scene: pipeline(PipelineKind::Scene)?,
+                    mask: p
+                        .stencil_masks
+                        .then(|| pipeline(PipelineKind::Mask))
+                        .transpose()?,
+                    coverage: p
+                        .coverage_probe
+                        .then(|| pipeline(PipelineKind::Coverage))
+                        .transpose()?,
+                };
+                Ok((compiled, pipelines))
             })
             .collect::<Result<Vec<_>, GpuError>>()?;
         let queries = (plan.timestamp_queries > 0)
@@ -144,18 +193,26 @@ impl<'g> Renderer<'g> {
             scene: scene_buffers,
             views_block,
             counter,
+            masks,
             queries,
             readback: None,
             cmd,
             frame_pool,
             fence: gpu.fence()?,
             light_dir: scene.light_dir.extend(0.0),
+            gaze: [Vec2::ZERO; 2],
             frames_rendered: 0,
         })
     }
 
     pub fn plan(&self) -> &FramePlan {
         &self.plan
+    }
+
+    /// Sets each eye's gaze (normalised −1…1, x right, y up) for the following frames. Filter
+    /// raw tracker samples first ([`crate::foveation::GazeFilter`]).
+    pub fn set_gaze(&mut self, gaze: [Vec2; 2]) {
+        self.gaze = gaze;
     }
 
     /// Renders one frame with the head at `world_from_head` and waits for it.
@@ -165,6 +222,18 @@ impl<'g> Renderer<'g> {
         for eye in Eye::BOTH {
             view_proj[eye.index()] = plan.eyes.projection(eye, plan.near, plan.far)
                 * plan.eyes.view(eye, world_from_head);
+        }
+        if let Some(g) = &plan.foveation {
+            // Views 2 and 3: each eye's fovea window around its gaze, from the same eye centre.
+            let fovea = fovea_views(&plan.eyes, g.ratio, self.gaze);
+            for eye in Eye::BOTH {
+                view_proj[2 + eye.index()] =
+                    reverse_z_projection(fovea[eye.index()], plan.near, plan.far)
+                        * plan.eyes.view(eye, world_from_head);
+            }
+            if let Some(masks) = &mut self.masks {
+                masks.write(&mask_shapes(g, &plan.eyes, &fovea));
+            }
         }
         self.views_block.write(&[ViewsBlock {
             view_proj,

@@ -1,0 +1,4 @@
+#version 450
+
+// Stencil-only: the pipeline writes no colour and no depth.
+void main() {}
