@@ -33,6 +33,8 @@ enum Command {
     Devices,
     /// Culling benchmarks: Hale's intersection tables, and stereo strategies on the thesis scene.
     CullBench(crate::cull_cmd::CullBenchArgs),
+    /// Arm's foveation pixel tables 2-4, every cell measured on the GPU beside the formula.
+    Pixels(crate::pixels_cmd::PixelsArgs),
 }
 
 /// Frame configuration shared by `render` and `plan`.
@@ -126,6 +128,7 @@ impl Cli {
             }
             Command::Render(args) => crate::render_cmd::render(&self.gpu_options(), args),
             Command::CullBench(args) => crate::cull_cmd::cull_bench(args),
+            Command::Pixels(args) => crate::pixels_cmd::pixels(&self.gpu_options(), args),
         }
     }
 }

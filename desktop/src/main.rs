@@ -3,6 +3,7 @@
 
 mod cli;
 mod cull_cmd;
+mod pixels_cmd;
 mod render_cmd;
 
 use clap::Parser;

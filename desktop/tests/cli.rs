@@ -196,3 +196,39 @@ fn cull_bench_rejects_bad_input() {
         );
     }
 }
+
+#[test]
+fn pixels_prints_arms_three_tables_measured_beside_the_formula() {
+    let o = foveate(&[
+        "pixels",
+        "--res",
+        "128",
+        "--rows",
+        "90:0.7,64:0.5",
+        "--fovea-size",
+        "32",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for needle in [
+        "Table 2",
+        "Table 3",
+        "Table 4",
+        "fixed fovea 32x32",
+        "stereo 128x128 x 2 views: 32768 measured, 32768 analytic",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+    let o = foveate(&["pixels", "--rows", "512"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("rows = 512"),
+        "{}",
+        stderr(&o)
+    );
+    let o = foveate(&["pixels", "--res", "128", "--rows", "64:1.5"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("ratio = 1.5"),
+        "{}",
+        stderr(&o)
+    );
+}
