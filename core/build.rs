@@ -17,6 +17,8 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
     ("mask.frag", "mask.frag.spv", &[]),
     ("coverage.vert", "coverage.vert.spv", &[]),
     ("coverage.frag", "coverage.frag.spv", &[]),
+    ("composite.vert", "composite.vert.spv", &[]),
+    ("composite.frag", "composite.frag.spv", &[]),
 ];
 
 fn main() {

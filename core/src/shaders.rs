@@ -27,6 +27,10 @@ pub const MASK_FRAG: ShaderBinary = spirv!("mask.frag.spv");
 pub const COVERAGE_VERT: ShaderBinary = spirv!("coverage.vert.spv");
 pub const COVERAGE_FRAG: ShaderBinary = spirv!("coverage.frag.spv");
 
+/// Composition of a foveated frame: periphery upscaled, fovea blended over it.
+pub const COMPOSITE_VERT: ShaderBinary = spirv!("composite.vert.spv");
+pub const COMPOSITE_FRAG: ShaderBinary = spirv!("composite.frag.spv");
+
 /// Vertices of one mask fan (128 triangles; see `shaders/mask.vert`).
 pub const MASK_VERTICES: u32 = 128 * 3;
 
@@ -39,6 +43,8 @@ pub const ALL: &[ShaderBinary] = &[
     MASK_FRAG,
     COVERAGE_VERT,
     COVERAGE_FRAG,
+    COMPOSITE_VERT,
+    COMPOSITE_FRAG,
 ];
 
 impl ShaderBinary {

@@ -2,6 +2,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand};
+use foveate::foveation::FoveationConfig;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::plan::{RenderConfig, Resolution, StereoMode};
 use foveate::scene::default_scene;
@@ -61,6 +62,27 @@ pub struct ConfigArgs {
     /// Outward cant of each eye in degrees (default: the headset's).
     #[arg(long)]
     pub cant: Option<f32>,
+    /// Foveated rendering at this ratio (e.g. 0.35): four views, composed per eye.
+    #[arg(long)]
+    pub foveate: Option<f32>,
+    /// Pixels per side of the four foveated views (default: resolution × ratio).
+    #[arg(long)]
+    pub view_res: Option<u32>,
+    /// Fixed fovea diameter on screen in pixels (default: the whole fovea window).
+    #[arg(long)]
+    pub fovea_size: Option<u32>,
+    /// Blend band in screen pixels at the fovea's edge (smoothstep).
+    #[arg(long, default_value_t = 16.0)]
+    pub blend_band: f32,
+    /// Foveation without the inset/outset stencil masks.
+    #[arg(long)]
+    pub no_stencil: bool,
+    /// Gaze of both eyes, normalised: X,Y in -1..1 (x right, y up).
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    pub gaze: Option<Vec<f32>>,
+    /// Tint the composed image: fovea green, band yellow, periphery blue.
+    #[arg(long)]
+    pub tint: bool,
 }
 
 impl ConfigArgs {
@@ -70,11 +92,25 @@ impl ConfigArgs {
             "native" => None,
             r => Some(r.parse::<Resolution>()?),
         };
+        let foveation = self.foveate.map(|ratio| FoveationConfig {
+            ratio,
+            view_resolution: self.view_res,
+            stencil: !self.no_stencil,
+            fovea_size: self.fovea_size,
+            blend_band_px: self.blend_band,
+            debug_tint: self.tint,
+        });
         Ok(RenderConfig {
             hmd: self.hmd.clone(),
             resolution,
             stereo,
-            views: self.views,
+            // Foveation renders four views unless the user asked for something else.
+            views: if foveation.is_some() && self.views == 2 {
+                4
+            } else {
+                self.views
+            },
+            foveation,
             msaa: self.msaa,
             ipd_m: self.ipd_mm.map(|mm| mm / 1000.0),
             cant_deg: self.cant,

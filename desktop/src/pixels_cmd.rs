@@ -116,6 +116,7 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
                 stencil,
                 fovea_size,
                 blend_band_px: args.blend_band,
+                debug_tint: false,
             };
             let config = RenderConfig {
                 views: 4,

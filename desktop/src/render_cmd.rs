@@ -35,6 +35,20 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         let plan = foveate::plan(&scene, &args.config.config(mode)?, gpu.caps())?;
         println!("{plan}\n");
         let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
+        if let Some(g) = &args.config.gaze {
+            anyhow::ensure!(
+                g.len() == 2,
+                "invalid gaze = {g:?}: two numbers X,Y in -1..1"
+            );
+            let gaze = glam::Vec2::new(g[0], g[1]);
+            anyhow::ensure!(
+                gaze.is_finite(),
+                "invalid gaze = {},{}: finite numbers in -1..1",
+                g[0],
+                g[1]
+            );
+            renderer.set_gaze([gaze.clamp(glam::Vec2::NEG_ONE, glam::Vec2::ONE); 2]);
+        }
         let transient = plan.attachments.iter().filter(|a| a.transient).count();
         println!(
             "transient attachments in lazily allocated memory: {} of {transient}{}",
@@ -105,10 +119,11 @@ fn print_result(r: &ModeResult, eye_pixels: u64) {
         "{}: frame time median {:.2} ms (mean {:.2}, p95 {:.2}, {} frames); GPU {gpu}; CPU record {:.3} ms; {} draw calls",
         r.mode, r.frame.median, r.frame.mean, r.frame.p95, r.frame.count, r.record.median, r.draw_calls
     );
+    const NAMES: [&str; 4] = ["left eye", "right eye", "left fovea", "right fovea"];
     for (view, &n) in r.fragments.iter().enumerate() {
-        let eye = if view == 0 { "left" } else { "right" };
+        let eye = NAMES[view.min(3)];
         println!(
-            "  view {view} ({eye} eye): {n} fragments shaded = {:.3} per pixel of {eye_pixels}",
+            "  view {view} ({eye}): {n} fragments shaded = {:.3} per pixel of {eye_pixels}",
             n as f64 / eye_pixels as f64
         );
     }

@@ -130,7 +130,83 @@ fn default_scene_renders_foveated_with_a_moving_gaze() {
         );
     }
     let image = renderer.readback().unwrap();
-    assert_eq!(image.left.width, plan.foveation.unwrap().view.width);
+    assert_eq!(image.left.width, 128, "composed at full resolution");
     drop(renderer);
     foveate_tests::assert_validation_clean(&gpu);
+}
+
+/// Composition: inside the fovea the composed image is the full-resolution reference (the fovea
+/// view maps 1:1 to the screen); the periphery is an upscaled approximation; and crossing the
+/// blend band introduces no step that neither side has.
+#[test]
+fn composition_keeps_the_fovea_exact_and_the_band_seamless() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let screen = 128u32;
+    let reference_config = RenderConfig {
+        resolution: Some(Resolution::square(screen)),
+        msaa: 4,
+        ..RenderConfig::default()
+    };
+    let (reference, _) = foveate_tests::render(&gpu, &scene, &reference_config);
+    let band = 8.0;
+    let f = FoveationConfig {
+        ratio: 0.5,
+        blend_band_px: band,
+        ..Default::default()
+    };
+    let (foveated_image, _) = foveate_tests::render(
+        &gpu,
+        &scene,
+        &RenderConfig {
+            coverage_probe: false,
+            ..foveated(screen, f, 4)
+        },
+    );
+    let geometry = f.geometry(Resolution::square(screen)).unwrap();
+    let (cx, cy) = (screen as f32 / 2.0, screen as f32 / 2.0);
+    let radius = geometry.fovea_screen_px / 2.0;
+    let dist =
+        |x: u32, y: u32| ((x as f32 + 0.5 - cx).powi(2) + (y as f32 + 0.5 - cy).powi(2)).sqrt();
+    for eye in foveate::view::Eye::BOTH {
+        let (a, b) = (reference.eye(eye), foveated_image.eye(eye));
+        let fovea = a
+            .psnr_where(b, |x, y| dist(x, y) < radius - band - 1.0)
+            .unwrap()
+            .unwrap();
+        let periphery = a
+            .psnr_where(b, |x, y| dist(x, y) > radius + 1.0)
+            .unwrap()
+            .unwrap();
+        assert!(
+            fovea > 40.0,
+            "{eye:?}: fovea PSNR {fovea:.1} dB against the full-resolution reference"
+        );
+        assert!(
+            periphery < fovea,
+            "{eye:?}: periphery {periphery:.1} dB should be the approximation"
+        );
+        // Seam: along the row through the gaze, neighbouring pixels in the band differ no more
+        // than the larger neighbour step the reference or the fovea/periphery sides show.
+        let row = cy as u32;
+        let step = |img: &foveate::metrics::RgbaImage, x: u32| {
+            let (p, q) = (img.pixel(x, row), img.pixel(x + 1, row));
+            (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap()
+        };
+        let in_band = |x: u32| (dist(x, row) - (radius - band / 2.0)).abs() <= band / 2.0;
+        let worst_band = (0..screen - 1)
+            .filter(|&x| in_band(x))
+            .map(|x| step(b, x))
+            .max()
+            .unwrap();
+        let worst_elsewhere = (0..screen - 1)
+            .filter(|&x| !in_band(x))
+            .map(|x| step(b, x).max(step(a, x)))
+            .max()
+            .unwrap();
+        assert!(
+            worst_band <= worst_elsewhere + 8,
+            "{eye:?}: step {worst_band} in the band vs {worst_elsewhere} elsewhere"
+        );
+    }
 }

@@ -16,6 +16,8 @@ pub struct FoveationConfig {
     /// Width in screen pixels of the band where fovea and periphery are blended; the periphery
     /// keeps it so both images exist there.
     pub blend_band_px: f32,
+    /// Tint the composed image: fovea green, band yellow, periphery blue.
+    pub debug_tint: bool,
 }
 
 impl Default for FoveationConfig {
@@ -26,6 +28,7 @@ impl Default for FoveationConfig {
             stencil: true,
             fovea_size: None,
             blend_band_px: 0.0,
+            debug_tint: false,
         }
     }
 }
@@ -44,6 +47,7 @@ pub struct FoveationGeometry {
     pub periphery_hole_px: f32,
     pub stencil: bool,
     pub blend_band_px: f32,
+    pub debug_tint: bool,
 }
 
 impl FoveationConfig {
@@ -100,6 +104,7 @@ impl FoveationConfig {
             periphery_hole_px: (fovea_screen_px - 2.0 * self.blend_band_px) * periphery_scale,
             stencil: self.stencil,
             blend_band_px: self.blend_band_px,
+            debug_tint: self.debug_tint,
         })
     }
 }

@@ -11,7 +11,7 @@ pub use context::{DeviceInfo, Gpu, GpuOptions};
 pub use error::{GpuError, VkResultExt};
 pub use handles::{
     CommandPool, DescriptorPool, DescriptorSetLayout, Fence, Framebuffer, ImageView, Pipeline,
-    PipelineLayout, QueryPool, RenderPass, ShaderModule,
+    PipelineLayout, QueryPool, RenderPass, Sampler, ShaderModule,
 };
 pub(crate) use memory::pod_bytes;
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};

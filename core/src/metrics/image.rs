@@ -217,6 +217,35 @@ impl RgbaImage {
         })
     }
 
+    /// PSNR over the pixels where `region(x, y)` holds (a fovea, a band, a periphery);
+    /// `None` for an empty region.
+    pub fn psnr_where(
+        &self,
+        other: &RgbaImage,
+        region: impl Fn(u32, u32) -> bool,
+    ) -> Result<Option<f64>, ImageError> {
+        self.check_size(other)?;
+        let (mut sq, mut n) = (0.0f64, 0usize);
+        for y in 0..self.height {
+            for x in 0..self.width {
+                if region(x, y) {
+                    let (a, b) = (self.pixel(x, y), other.pixel(x, y));
+                    sq += (0..3)
+                        .map(|c| (a[c] as f64 - b[c] as f64).powi(2))
+                        .sum::<f64>();
+                    n += 3;
+                }
+            }
+        }
+        Ok((n > 0).then(|| {
+            if sq == 0.0 {
+                f64::INFINITY
+            } else {
+                10.0 * (255.0f64.powi(2) * n as f64 / sq).log10()
+            }
+        }))
+    }
+
     /// A picture of where two images differ: black where equal, brighter red the larger the
     /// largest channel difference (amplified 4×).
     pub fn diff_image(&self, other: &RgbaImage) -> Result<RgbaImage, ImageError> {

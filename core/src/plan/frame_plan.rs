@@ -52,6 +52,8 @@ pub struct AttachmentPlan {
     pub layers: u32,
     /// Read after the frame (readback or presentation).
     pub read_after_frame: bool,
+    /// Sampled by a later pass (a texture, not an attachment, there).
+    pub sampled: bool,
     /// Never loaded nor stored by any pass: may live on tile only.
     pub transient: bool,
 }
@@ -114,16 +116,28 @@ pub enum Submission {
     Instanced,
 }
 
+/// What a pass does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PassKind {
+    /// Draws the scene (and, when planned, stencil masks and the coverage probe).
+    Scene,
+    /// Composes each eye at full resolution from the periphery and fovea views it samples.
+    Composite,
+}
+
 /// One render pass of the frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PassPlan {
     pub name: &'static str,
+    pub kind: PassKind,
     /// Multiview view mask; 0 for a pass without multiview.
     pub view_mask: u32,
     pub color: Use,
-    pub depth: Use,
+    pub depth: Option<Use>,
     /// In-pass MSAA resolve target (`pResolveAttachments`).
     pub resolve: Option<Use>,
+    /// Attachments of earlier passes this pass samples.
+    pub samples: Vec<AttachmentId>,
     pub submission: Submission,
     /// Inset/outset stencil masks are written per view at the start of the pass; scene draws
     /// test them (never write them).
@@ -138,15 +152,19 @@ pub struct PassPlan {
 
 impl PassPlan {
     pub fn uses(&self) -> impl Iterator<Item = &Use> {
-        [Some(&self.color), Some(&self.depth), self.resolve.as_ref()]
-            .into_iter()
-            .flatten()
+        [
+            Some(&self.color),
+            self.depth.as_ref(),
+            self.resolve.as_ref(),
+        ]
+        .into_iter()
+        .flatten()
     }
 
     fn uses_mut(&mut self) -> impl Iterator<Item = &mut Use> {
         [
             Some(&mut self.color),
-            Some(&mut self.depth),
+            self.depth.as_mut(),
             self.resolve.as_mut(),
         ]
         .into_iter()
@@ -285,10 +303,20 @@ pub fn plan(
     let mut attachments = Vec::new();
     let render_resolution = foveation.map_or(eye_resolution, |f| f.view);
     let mut passes = scene_passes(config, render_resolution, layout, &mut attachments);
+    if foveation.is_some() {
+        let composite = composite_pass(&passes[0], eye_resolution, &mut attachments);
+        passes.push(composite);
+    }
     if caps.quirks.multiview_clipping_drops_views {
-        let k = guard_band(render_resolution, caps);
         for p in passes.iter_mut().filter(|p| p.view_mask != 0) {
-            p.guard_band = k;
+            let a = &attachments[p.color.attachment];
+            p.guard_band = guard_band(
+                Resolution {
+                    width: a.width,
+                    height: a.height,
+                },
+                caps,
+            );
         }
     }
     let mut plan = FramePlan {
@@ -343,6 +371,7 @@ fn scene_passes(
             height: eye.height,
             layers,
             read_after_frame,
+            sampled: false,
             transient: false,
         });
         attachments.len() - 1
@@ -395,9 +424,11 @@ fn scene_passes(
             name,
             view_mask,
             color: whole(color.unwrap_or(output), Access::Clear),
-            depth: whole(depth, Access::Clear),
+            depth: Some(whole(depth, Access::Clear)),
             resolve: color.map(|_| whole(output, Access::Overwrite)),
             submission,
+            kind: PassKind::Scene,
+            samples: Vec::new(),
             stencil_masks,
             coverage_probe: config.coverage_probe,
             guard_band: 1,
@@ -441,6 +472,45 @@ fn scene_passes(
     }
 }
 
+/// Composition of a foveated frame: each eye at full resolution, the fovea over the bilinearly
+/// upscaled periphery, from the scene pass's views sampled as a texture (which therefore is
+/// stored, not read after the frame).
+fn composite_pass(
+    scene: &PassPlan,
+    eye: Resolution,
+    attachments: &mut Vec<AttachmentPlan>,
+) -> PassPlan {
+    let views = scene
+        .resolve
+        .map_or(scene.color.attachment, |r| r.attachment);
+    attachments[views].read_after_frame = false;
+    attachments.push(AttachmentPlan {
+        name: "stereo colour",
+        role: AttachmentRole::Color,
+        format: Format::Rgba8Srgb,
+        samples: 1,
+        width: eye.width,
+        height: eye.height,
+        layers: 2,
+        read_after_frame: true,
+        sampled: false,
+        transient: false,
+    });
+    PassPlan {
+        name: "composite (fovea over periphery)",
+        kind: PassKind::Composite,
+        view_mask: 0b11,
+        color: Use::new(attachments.len() - 1, 0, 2, Access::Overwrite),
+        depth: None,
+        resolve: None,
+        samples: vec![views],
+        submission: Submission::Multiview,
+        stencil_masks: false,
+        coverage_probe: false,
+        guard_band: 1,
+    }
+}
+
 /// The largest guard band (a power of two up to 8) whose grown viewport the device accepts.
 fn guard_band(eye: Resolution, caps: &DeviceCaps) -> u32 {
     let side = eye.width.max(eye.height) as f32;
@@ -463,6 +533,15 @@ fn derive_ops(plan: &mut FramePlan) {
         .enumerate()
         .flat_map(|(i, p)| p.uses().map(move |u| (i, *u)))
         .collect();
+    // Attachments sampled by some pass after pass i.
+    let sampled_after: Vec<Vec<AttachmentId>> = (0..plan.passes.len())
+        .map(|i| {
+            plan.passes[i + 1..]
+                .iter()
+                .flat_map(|p| p.samples.iter().copied())
+                .collect()
+        })
+        .collect();
     for (i, pass) in plan.passes.iter_mut().enumerate() {
         for u in pass.uses_mut() {
             let later = all_uses.iter().filter(|(j, v)| *j > i && v.overlaps(u));
@@ -475,6 +554,7 @@ fn derive_ops(plan: &mut FramePlan) {
                     Access::Keep => {}
                 }
             }
+            kept_later |= sampled_after[i].contains(&u.attachment);
             let read_by_frame_reader =
                 plan.attachments[u.attachment].read_after_frame && !replaced_later;
             u.load = LoadOp::from_access(u.access);
@@ -490,7 +570,8 @@ fn derive_ops(plan: &mut FramePlan) {
             .collect();
         let loads: Vec<LoadOp> = uses.iter().map(|u| u.load).collect();
         let stores: Vec<StoreOp> = uses.iter().map(|u| u.store).collect();
-        a.transient = !a.read_after_frame && is_transient(&loads, &stores);
+        a.sampled = plan.passes.iter().any(|p| p.samples.contains(&id));
+        a.transient = !a.read_after_frame && !a.sampled && is_transient(&loads, &stores);
     }
 }
 

@@ -94,6 +94,13 @@ impl fmt::Display for FramePlan {
                 "  {} — view mask {:#04b}; {submission}",
                 p.name, p.view_mask
             )?;
+            for &id in &p.samples {
+                writeln!(
+                    f,
+                    "    samples #{id} ({}) as a texture",
+                    self.attachments[id].name
+                )?;
+            }
             if p.stencil_masks {
                 writeln!(f, "    stencil masks first: inset circle in the fovea views, outset (hole) in the periphery views")?;
             }
@@ -112,7 +119,7 @@ impl fmt::Display for FramePlan {
             }
             for (what, u) in [
                 ("colour", Some(&p.color)),
-                ("depth", Some(&p.depth)),
+                ("depth", p.depth.as_ref()),
                 ("resolve", p.resolve.as_ref()),
             ] {
                 let Some(u) = u else { continue };

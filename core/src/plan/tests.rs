@@ -41,7 +41,7 @@ fn msaa_scene_pass_is_transient_and_resolved_in_the_pass() {
     for stereo in StereoMode::ALL {
         let plan = planned(&config(stereo, 4));
         for pass in &plan.passes {
-            for u in [&pass.color, &pass.depth] {
+            for u in [&pass.color, &pass.depth.expect("scene passes have depth")] {
                 let a = attachment(&plan, u);
                 assert_eq!(a.samples, 4, "{stereo}: {}", a.name);
                 assert_eq!(
@@ -83,7 +83,7 @@ fn without_msaa_there_is_no_multisampled_image_and_no_resolve() {
                 (LoadOp::Clear, StoreOp::Store)
             );
             assert_eq!(
-                (pass.depth.load, pass.depth.store),
+                (pass.depth.unwrap().load, pass.depth.unwrap().store),
                 (LoadOp::Clear, StoreOp::DontCare)
             );
         }
@@ -405,27 +405,57 @@ fn foveated(stencil: bool) -> RenderConfig {
 #[test]
 fn foveation_plans_four_low_resolution_views_in_one_pass() {
     let plan = planned(&foveated(true));
-    assert_eq!(plan.passes.len(), 1);
+    assert_eq!(plan.passes.len(), 2, "scene pass + composition");
     let pass = &plan.passes[0];
-    assert_eq!(pass.view_mask, 0b1111);
+    assert_eq!((pass.kind, pass.view_mask), (PassKind::Scene, 0b1111));
     assert!(pass.stencil_masks);
-    assert!(
-        plan.attachments
-            .iter()
-            .all(|a| a.layers == 4 && a.width == 256),
-        "4 views at 512 × 0.5"
-    );
-    let depth = attachment(&plan, &pass.depth);
+    for u in pass.uses() {
+        let a = attachment(&plan, u);
+        assert!(
+            a.layers == 4 && a.width == 256,
+            "{}: 4 views at 512 × 0.5",
+            a.name
+        );
+    }
+    let depth = attachment(&plan, &pass.depth.unwrap());
     assert_eq!(
         depth.format,
         Format::D32S8,
         "stencil only because the masks need it"
     );
     assert_eq!(
-        (pass.depth.load, pass.depth.store),
+        (pass.depth.unwrap().load, pass.depth.unwrap().store),
         (LoadOp::Clear, StoreOp::DontCare)
     );
     assert!(depth.transient);
+}
+
+#[test]
+fn composition_samples_the_views_which_are_therefore_stored() {
+    let plan = planned(&foveated(true));
+    let (scene, composite) = (&plan.passes[0], &plan.passes[1]);
+    let views = scene.resolve.expect("MSAA 4 resolves").attachment;
+    assert_eq!(
+        scene.resolve.unwrap().store,
+        StoreOp::Store,
+        "sampled later, so stored"
+    );
+    let views_plan = &plan.attachments[views];
+    assert!(views_plan.sampled && !views_plan.transient && !views_plan.read_after_frame);
+    assert_eq!(composite.kind, PassKind::Composite);
+    assert_eq!(composite.samples, vec![views]);
+    assert!(composite.depth.is_none() && composite.resolve.is_none());
+    let out = attachment(&plan, &composite.color);
+    assert_eq!(
+        (out.width, out.layers, out.read_after_frame),
+        (512, 2, true),
+        "full resolution, one layer per eye"
+    );
+    assert_eq!(
+        (composite.color.load, composite.color.store),
+        (LoadOp::DontCare, StoreOp::Store)
+    );
+    assert_eq!(plan.outputs(), vec![composite.color.attachment]);
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! The renderer: compiles a [`FramePlan`](crate::plan::FramePlan) into Vulkan objects and
 //! records, submits and measures frames.
 
+mod composite;
 mod pipelines;
 mod record;
 mod renderer;

@@ -9,8 +9,8 @@ use crate::gpu::{
 use crate::plan::{FramePlan, PassPlan, Submission};
 use crate::scene::Vertex;
 use crate::shaders::{
-    ShaderBinary, COVERAGE_FRAG, COVERAGE_VERT, MASK_FRAG, MASK_VERT, SCENE_FRAG,
-    SCENE_FRAG_COUNTING, SCENE_VERT,
+    ShaderBinary, COMPOSITE_FRAG, COMPOSITE_VERT, COVERAGE_FRAG, COVERAGE_VERT, MASK_FRAG,
+    MASK_VERT, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_VERT,
 };
 
 const ENTRY: &CStr = c"main";
@@ -163,6 +163,9 @@ pub(crate) enum PipelineKind {
     Mask,
     /// The coverage probe: a full-view triangle, stencil tested, counted, nothing written.
     Coverage,
+    /// Composition of a foveated frame: a full-view triangle sampling the views (single-sampled,
+    /// no depth).
+    Composite,
 }
 
 /// A pipeline for one pass of the plan.
@@ -185,6 +188,7 @@ pub(crate) fn pass_pipeline(
         ),
         PipelineKind::Mask => (&MASK_VERT, &MASK_FRAG),
         PipelineKind::Coverage => (&COVERAGE_VERT, &COVERAGE_FRAG),
+        PipelineKind::Composite => (&COMPOSITE_VERT, &COMPOSITE_FRAG),
     };
     let vert = shader_module(gpu, vert)?;
     let frag = shader_module(gpu, frag)?;
@@ -264,8 +268,13 @@ pub(crate) fn pass_pipeline(
         })
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
+    let samples = if kind == PipelineKind::Composite {
+        1
+    } else {
+        plan.samples
+    };
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::from_raw(plan.samples));
+        .rasterization_samples(vk::SampleCountFlags::from_raw(samples));
     let stencil_op = |compare, pass_op, write_mask| vk::StencilOpState {
         fail_op: vk::StencilOp::KEEP,
         pass_op,
@@ -288,7 +297,8 @@ pub(crate) fn pass_pipeline(
         .stencil_test_enable(pass.stencil_masks)
         .front(stencil)
         .back(stencil);
-    let write = if kind == PipelineKind::Scene {
+    let writes_colour = matches!(kind, PipelineKind::Scene | PipelineKind::Composite);
+    let write = if writes_colour {
         vk::ColorComponentFlags::RGBA
     } else {
         vk::ColorComponentFlags::empty()

@@ -4,7 +4,7 @@
 use ash::vk;
 
 use super::renderer::Renderer;
-use crate::plan::{PassPlan, Submission};
+use crate::plan::{PassKind, PassPlan, Submission};
 use crate::scene::Draw;
 use crate::view::Eye;
 
@@ -60,25 +60,60 @@ impl Renderer<'_> {
                     })
                     .clear_values(&clears);
                 device.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
-                device.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    self.bindings.layout.raw,
-                    0,
-                    &[self.bindings.set],
-                    &[],
-                );
-                if let Some(mask) = &pipelines.mask {
-                    self.record_masks(cmd, mask, pass_plan, pass.extent);
-                }
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipelines.scene.raw);
-                device.cmd_bind_vertex_buffers(cmd, 0, &[self.scene.vertices.raw], &[0]);
-                device.cmd_bind_index_buffer(cmd, self.scene.indices.raw, 0, vk::IndexType::UINT32);
-                self.record_submission(cmd, pass_plan, pass.extent);
-                if let Some(coverage) = &pipelines.coverage {
-                    // Full-view triangle, counted per view under the same stencil state.
-                    device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, coverage.raw);
-                    device.cmd_draw(cmd, 3, 1, 0, 0);
+                match (pass_plan.kind, &pipelines.scene, &self.composite) {
+                    (PassKind::Composite, _, Some(composite)) => {
+                        device.cmd_bind_pipeline(
+                            cmd,
+                            vk::PipelineBindPoint::GRAPHICS,
+                            composite.pipeline.raw,
+                        );
+                        device.cmd_bind_descriptor_sets(
+                            cmd,
+                            vk::PipelineBindPoint::GRAPHICS,
+                            composite.layout.raw,
+                            0,
+                            &[composite.set],
+                            &[],
+                        );
+                        self.set_viewport(
+                            cmd,
+                            rect(0, pass.extent.width, pass.extent.height),
+                            pass_plan.guard_band,
+                        );
+                        device.cmd_draw(cmd, 3, 1, 0, 0);
+                    }
+                    (_, Some(scene), _) => {
+                        device.cmd_bind_descriptor_sets(
+                            cmd,
+                            vk::PipelineBindPoint::GRAPHICS,
+                            self.bindings.layout.raw,
+                            0,
+                            &[self.bindings.set],
+                            &[],
+                        );
+                        if let Some(mask) = &pipelines.mask {
+                            self.record_masks(cmd, mask, pass_plan, pass.extent);
+                        }
+                        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, scene.raw);
+                        device.cmd_bind_vertex_buffers(cmd, 0, &[self.scene.vertices.raw], &[0]);
+                        device.cmd_bind_index_buffer(
+                            cmd,
+                            self.scene.indices.raw,
+                            0,
+                            vk::IndexType::UINT32,
+                        );
+                        self.record_submission(cmd, pass_plan, pass.extent);
+                        if let Some(coverage) = &pipelines.coverage {
+                            // Full-view triangle, counted per view under the same stencil state.
+                            device.cmd_bind_pipeline(
+                                cmd,
+                                vk::PipelineBindPoint::GRAPHICS,
+                                coverage.raw,
+                            );
+                            device.cmd_draw(cmd, 3, 1, 0, 0);
+                        }
+                    }
+                    _ => unreachable!("every planned pass has its pipelines"),
                 }
                 device.cmd_end_render_pass(cmd);
             }
@@ -177,9 +212,21 @@ impl Renderer<'_> {
         device.cmd_set_stencil_reference(cmd, vk::StencilFaceFlags::FRONT_AND_BACK, 1);
     }
 
-    /// Viewport, scissor and the eye index the vertex shader reads in push-constant modes. The
-    /// viewport is `guard_band` times larger than `area` and centred on it; the scissor is `area`.
+    /// Viewport, scissor and the eye index the vertex shader reads in push-constant modes.
     unsafe fn set_view(&self, cmd: vk::CommandBuffer, area: vk::Rect2D, eye: u32, guard_band: u32) {
+        self.set_viewport(cmd, area, guard_band);
+        let device = self.gpu.device();
+        device.cmd_push_constants(
+            cmd,
+            self.bindings.layout.raw,
+            vk::ShaderStageFlags::VERTEX,
+            0,
+            &eye.to_le_bytes(),
+        );
+    }
+
+    /// A viewport `guard_band` times larger than `area`, centred on it, scissored to it.
+    unsafe fn set_viewport(&self, cmd: vk::CommandBuffer, area: vk::Rect2D, guard_band: u32) {
         let device = self.gpu.device();
         let k = guard_band as f32;
         let (w, h) = (area.extent.width as f32, area.extent.height as f32);
@@ -193,13 +240,6 @@ impl Renderer<'_> {
         };
         device.cmd_set_viewport(cmd, 0, &[viewport]);
         device.cmd_set_scissor(cmd, 0, &[area]);
-        device.cmd_push_constants(
-            cmd,
-            self.bindings.layout.raw,
-            vk::ShaderStageFlags::VERTEX,
-            0,
-            &eye.to_le_bytes(),
-        );
     }
 
     /// One indexed draw; `doubled` doubles instance count and first instance for instanced

@@ -3,6 +3,7 @@ use std::time::Instant;
 use ash::vk;
 use glam::{Mat4, Vec2, Vec4};
 
+use super::composite::Composite;
 use super::pipelines::{pass_pipeline, PipelineKind, SceneBindings};
 use super::record::memory_barrier;
 use super::scene_buffers::SceneBuffers;
@@ -13,7 +14,7 @@ use crate::gpu::{
     VkResultExt,
 };
 use crate::metrics::RgbaImage;
-use crate::plan::{FramePlan, TargetLayout, MAX_VIEWS};
+use crate::plan::{FramePlan, PassKind, TargetLayout, MAX_VIEWS};
 use crate::scene::Scene;
 use crate::view::reverse_z_projection;
 use crate::view::Eye;
@@ -64,7 +65,8 @@ impl StereoImage {
 /// The pipelines of one planned pass: mask and coverage pipelines exist only when the pass has
 /// masks or a coverage probe.
 pub(super) struct PassPipelines {
-    pub scene: Pipeline,
+    /// `None` for a composite pass (its pipeline lives in [`Composite`]).
+    pub scene: Option<Pipeline>,
     pub mask: Option<Pipeline>,
     pub coverage: Option<Pipeline>,
 }
@@ -78,6 +80,8 @@ pub struct Renderer<'g> {
     pub(super) plan: FramePlan,
     // Passes (framebuffers, views) go before the images they view.
     pub(super) passes: Vec<(CompiledPass, PassPipelines)>,
+    /// Composition of a foveated frame, when planned.
+    pub(super) composite: Option<Composite>,
     images: Vec<Image>,
     pub(super) bindings: SceneBindings,
     pub(super) scene: SceneBuffers,
@@ -143,23 +147,23 @@ impl<'g> Renderer<'g> {
             masks.as_ref(),
         )?;
         let images = create_images(gpu, plan)?;
-        let passes = plan
-            .passes
-            .iter()
-            .map(|p| {
-                let compiled = compile_pass(gpu, plan, p, &images)?;
-                let pipeline = |kind| {
-                    pass_pipeline(
-                        gpu,
-                        plan,
-                        p,
-                        kind,
-                        compiled.render_pass.raw,
-                        &bindings.layout,
-                    )
-                };
-                let pipelines = PassPipelines {
-                    scene: pipeline(PipelineKind::Scene)?,
+        let mut composite = None;
+        let mut passes = Vec::with_capacity(plan.passes.len());
+        for (i, p) in plan.passes.iter().enumerate() {
+            let compiled = compile_pass(gpu, plan, i, &images)?;
+            let pipeline = |kind| {
+                pass_pipeline(
+                    gpu,
+                    plan,
+                    p,
+                    kind,
+                    compiled.render_pass.raw,
+                    &bindings.layout,
+                )
+            };
+            let pipelines = match p.kind {
+                PassKind::Scene => PassPipelines {
+                    scene: Some(pipeline(PipelineKind::Scene)?),
                     mask: p
                         .stencil_masks
                         .then(|| pipeline(PipelineKind::Mask))
@@ -168,10 +172,27 @@ impl<'g> Renderer<'g> {
                         .coverage_probe
                         .then(|| pipeline(PipelineKind::Coverage))
                         .transpose()?,
-                };
-                Ok((compiled, pipelines))
-            })
-            .collect::<Result<Vec<_>, GpuError>>()?;
+                },
+                PassKind::Composite => {
+                    let tint = plan.foveation.is_some_and(|f| f.debug_tint);
+                    let views = &images[p.samples[0]];
+                    composite = Some(Composite::new(
+                        gpu,
+                        plan,
+                        p,
+                        compiled.render_pass.raw,
+                        views,
+                        tint,
+                    )?);
+                    PassPipelines {
+                        scene: None,
+                        mask: None,
+                        coverage: None,
+                    }
+                }
+            };
+            passes.push((compiled, pipelines));
+        }
         let queries = (plan.timestamp_queries > 0)
             .then(|| {
                 let info = vk::QueryPoolCreateInfo::default()
@@ -188,6 +209,7 @@ impl<'g> Renderer<'g> {
             gpu,
             plan: plan.clone(),
             passes,
+            composite,
             images,
             bindings,
             scene: scene_buffers,
@@ -233,6 +255,9 @@ impl<'g> Renderer<'g> {
             }
             if let Some(masks) = &mut self.masks {
                 masks.write(&mask_shapes(g, &plan.eyes, &fovea));
+            }
+            if let Some(composite) = &mut self.composite {
+                composite.update(plan, &fovea);
             }
         }
         self.views_block.write(&[ViewsBlock {

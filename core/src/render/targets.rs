@@ -6,9 +6,7 @@ use ash::vk;
 use crate::gpu::{
     Framebuffer, Gpu, GpuError, Image, ImageDesc, ImageView, RenderPass, VkResultExt,
 };
-use crate::plan::{
-    AttachmentPlan, AttachmentRole, Format, FramePlan, LoadOp, PassPlan, StoreOp, Use,
-};
+use crate::plan::{AttachmentPlan, Format, FramePlan, LoadOp, StoreOp, Use};
 
 pub(crate) fn vk_format(format: Format) -> vk::Format {
     match format {
@@ -29,6 +27,9 @@ fn usage(a: &AttachmentPlan) -> vk::ImageUsageFlags {
     }
     if a.read_after_frame {
         usage |= vk::ImageUsageFlags::TRANSFER_SRC;
+    }
+    if a.sampled {
+        usage |= vk::ImageUsageFlags::SAMPLED;
     }
     usage
 }
@@ -70,7 +71,7 @@ fn attachment_layout(a: &AttachmentPlan) -> vk::ImageLayout {
     }
 }
 
-fn description(plan: &FramePlan, u: &Use) -> vk::AttachmentDescription {
+fn description(plan: &FramePlan, pass_index: usize, u: &Use) -> vk::AttachmentDescription {
     let a = &plan.attachments[u.attachment];
     let load = match u.load {
         LoadOp::Clear => vk::AttachmentLoadOp::CLEAR,
@@ -89,8 +90,13 @@ fn description(plan: &FramePlan, u: &Use) -> vk::AttachmentDescription {
     } else {
         vk::ImageLayout::UNDEFINED
     };
+    let sampled_later = plan.passes[pass_index + 1..]
+        .iter()
+        .any(|p| p.samples.contains(&u.attachment));
     let last = if a.read_after_frame && u.store == StoreOp::Store {
         vk::ImageLayout::TRANSFER_SRC_OPTIMAL
+    } else if sampled_later {
+        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
     } else {
         working
     };
@@ -117,12 +123,16 @@ fn description(plan: &FramePlan, u: &Use) -> vk::AttachmentDescription {
 pub(crate) fn compile_pass(
     gpu: &Gpu,
     plan: &FramePlan,
-    pass: &PassPlan,
+    pass_index: usize,
     images: &[Image],
 ) -> Result<CompiledPass, GpuError> {
+    let pass = &plan.passes[pass_index];
     let uses: Vec<&Use> = pass.uses().collect();
-    let descriptions: Vec<vk::AttachmentDescription> =
-        uses.iter().map(|u| description(plan, u)).collect();
+    let descriptions: Vec<vk::AttachmentDescription> = uses
+        .iter()
+        .map(|u| description(plan, pass_index, u))
+        .collect();
+    // References follow `uses()`: colour, then depth if any, then resolve if any.
     let color_ref = [vk::AttachmentReference {
         attachment: 0,
         layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
@@ -131,18 +141,17 @@ pub(crate) fn compile_pass(
         attachment: 1,
         layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
     };
+    let resolve_index = 1 + pass.depth.is_some() as u32;
     let resolve_ref = [vk::AttachmentReference {
-        attachment: 2,
+        attachment: resolve_index,
         layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
     }];
-    debug_assert_eq!(
-        plan.attachments[pass.depth.attachment].role,
-        AttachmentRole::Depth
-    );
     let mut subpass = vk::SubpassDescription::default()
         .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
-        .color_attachments(&color_ref)
-        .depth_stencil_attachment(&depth_ref);
+        .color_attachments(&color_ref);
+    if pass.depth.is_some() {
+        subpass = subpass.depth_stencil_attachment(&depth_ref);
+    }
     if pass.resolve.is_some() {
         subpass = subpass.resolve_attachments(&resolve_ref);
     }
@@ -164,14 +173,16 @@ pub(crate) fn compile_pass(
                     | vk::AccessFlags::COLOR_ATTACHMENT_READ
                     | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
             ),
-        // The output is copied out after the pass.
+        // The output is copied out, or sampled by a later pass.
         vk::SubpassDependency::default()
             .src_subpass(0)
             .dst_subpass(vk::SUBPASS_EXTERNAL)
             .src_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT)
-            .dst_stage_mask(vk::PipelineStageFlags::TRANSFER)
+            .dst_stage_mask(
+                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::FRAGMENT_SHADER,
+            )
             .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
-            .dst_access_mask(vk::AccessFlags::TRANSFER_READ),
+            .dst_access_mask(vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::SHADER_READ),
     ];
     let subpasses = [subpass];
     let masks = [pass.view_mask];
