@@ -31,9 +31,14 @@ void main() {
     // 1 in the fovea, 0 in the periphery, smooth across the band.
     float w = band > 0.0 ? 1.0 - smoothstep(radius - band, radius, d) : float(d < radius);
 
-    vec3 periphery = texture(views, vec3(in_uv, float(eye))).rgb;
-    vec3 fovea = texture(views, vec3(fovea_uv, float(2u + eye))).rgb;
-    vec3 color = mix(periphery, fovea, w);
+    // Fetch only what contributes: most pixels are periphery only, a few fovea only.
+    vec3 color = vec3(0.0);
+    if (w < 1.0) {
+        color += (1.0 - w) * texture(views, vec3(in_uv, float(eye))).rgb;
+    }
+    if (w > 0.0) {
+        color += w * texture(views, vec3(fovea_uv, float(2u + eye))).rgb;
+    }
     if (c.params.z > 0.5) {
         vec3 tint = w >= 1.0 ? vec3(0.2, 1.0, 0.2) : (w > 0.0 ? vec3(1.0, 0.9, 0.1) : vec3(0.2, 0.4, 1.0));
         color = mix(color, tint, 0.35);

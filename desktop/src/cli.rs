@@ -132,6 +132,10 @@ impl ConfigArgs {
 pub struct RenderArgs {
     #[command(flatten)]
     pub config: ConfigArgs,
+    /// Scene: `default` (lit cubes and spheres, near and far), or `fill` (24 full-view walls drawn
+    /// back to front: a fill-bound frame).
+    #[arg(long, default_value = "default")]
+    pub scene: String,
     /// Frames to render (the first is a warm-up and not counted in the statistics).
     #[arg(long, default_value_t = 10)]
     pub frames: u32,

@@ -5,7 +5,7 @@ use anyhow::{Context, Result};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::Stats;
 use foveate::render::{FrameStats, Renderer};
-use foveate::scene::default_scene;
+use foveate::scene::{default_scene, fill_scene};
 use foveate::StereoMode;
 
 use crate::cli::RenderArgs;
@@ -15,6 +15,8 @@ struct ModeResult {
     mode: StereoMode,
     frame: Stats,
     gpu: Option<Stats>,
+    /// Median GPU time per pass, with the pass's name.
+    passes: Vec<(&'static str, f64)>,
     record: Stats,
     fragments: Vec<u64>,
     draw_calls: u64,
@@ -27,7 +29,11 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         args.frames
     );
     let gpu = Gpu::new(options)?;
-    let scene = default_scene();
+    let scene = match args.scene.as_str() {
+        "default" => default_scene(),
+        "fill" => fill_scene(),
+        other => anyhow::bail!("invalid scene = {other}: default or fill"),
+    };
     let modes = args.config.stereo_modes()?;
     println!("device: {}", gpu.info().name);
     let mut results = Vec::new();
@@ -87,6 +93,18 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
             frame: Stats::of(&series(|f| f.frame_ms)).expect("at least one frame"),
             gpu: Stats::of(&frames.iter().filter_map(|f| f.gpu_ms).collect::<Vec<_>>()),
             record: Stats::of(&series(|f| f.cpu_record_ms)).expect("at least one frame"),
+            passes: plan
+                .passes
+                .iter()
+                .enumerate()
+                .filter_map(|(i, p)| {
+                    let times: Vec<f64> = frames
+                        .iter()
+                        .filter_map(|f| f.gpu_pass_ms.get(i).copied())
+                        .collect();
+                    Stats::of(&times).map(|s| (p.name, s.median))
+                })
+                .collect(),
             fragments: frames
                 .last()
                 .map(|f| f.fragments.clone())
@@ -119,6 +137,9 @@ fn print_result(r: &ModeResult, eye_pixels: u64) {
         "{}: frame time median {:.2} ms (mean {:.2}, p95 {:.2}, {} frames); GPU {gpu}; CPU record {:.3} ms; {} draw calls",
         r.mode, r.frame.median, r.frame.mean, r.frame.p95, r.frame.count, r.record.median, r.draw_calls
     );
+    for (name, ms) in &r.passes {
+        println!("  GPU {name}: {ms:.2} ms");
+    }
     const NAMES: [&str; 4] = ["left eye", "right eye", "left fovea", "right fovea"];
     for (view, &n) in r.fragments.iter().enumerate() {
         let eye = NAMES[view.min(3)];

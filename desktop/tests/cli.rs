@@ -232,3 +232,61 @@ fn pixels_prints_arms_three_tables_measured_beside_the_formula() {
         stderr(&o)
     );
 }
+
+#[test]
+fn render_foveated_with_gaze_tint_and_the_fill_scene() {
+    let out = std::env::temp_dir().join(format!("foveate-fov-{}.png", std::process::id()));
+    let o = foveate(&[
+        "render",
+        "--scene",
+        "fill",
+        "--res",
+        "64",
+        "--frames",
+        "2",
+        "--foveate",
+        "0.5",
+        "--gaze",
+        "0.4,-0.3",
+        "--tint",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for needle in [
+        "scene (foveated multiview)",
+        "GPU composite (fovea over periphery)",
+        "view 3 (right fovea)",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+    let image = foveate::metrics::RgbaImage::load_png(&out).unwrap();
+    assert_eq!(
+        (image.width, image.height),
+        (128, 64),
+        "composed at full resolution, both eyes"
+    );
+    let _ = std::fs::remove_file(out);
+    for (args, needle) in [
+        (
+            &["render", "--res", "32", "--foveate", "0"][..],
+            "ratio = 0",
+        ),
+        (
+            &["render", "--res", "32", "--scene", "city"][..],
+            "scene = city",
+        ),
+        (
+            &["render", "--res", "32", "--foveate", "0.5", "--gaze", "0.1"][..],
+            "invalid gaze",
+        ),
+    ] {
+        let o = foveate(args);
+        assert!(
+            !o.status.success() && stderr(&o).contains(needle),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+    }
+}

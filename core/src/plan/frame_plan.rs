@@ -207,7 +207,7 @@ pub struct FramePlan {
     pub passes: Vec<PassPlan>,
     /// Effect-only buffers (e.g. the fragment counter); empty when no such effect is on.
     pub buffers: Vec<BufferPlan>,
-    /// Timestamp queries per frame; 0 when timing is off.
+    /// Timestamp queries per frame (before the frame, after each pass); 0 when timing is off.
     pub timestamp_queries: u32,
     /// Draw calls one frame records for the scene it was planned with.
     pub draw_calls: u64,
@@ -332,10 +332,14 @@ pub fn plan(
         attachments,
         passes,
         buffers: Vec::new(),
-        timestamp_queries: if config.timestamps { 2 } else { 0 },
+        timestamp_queries: 0,
         draw_calls: draw_calls(scene, config.stereo),
         foveation,
     };
+    if config.timestamps {
+        // One before the frame and one after each pass.
+        plan.timestamp_queries = plan.passes.len() as u32 + 1;
+    }
     if config.count_fragments {
         plan.buffers.push(BufferPlan {
             name: FRAGMENT_COUNTER,

@@ -37,7 +37,9 @@ impl Renderer<'_> {
                     ),
                 );
             }
-            for (pass_plan, (pass, pipelines)) in self.plan.passes.iter().zip(&self.passes) {
+            for (index, (pass_plan, (pass, pipelines))) in
+                self.plan.passes.iter().zip(&self.passes).enumerate()
+            {
                 let clears = [
                     vk::ClearValue {
                         color: vk::ClearColorValue { float32: SKY },
@@ -116,6 +118,14 @@ impl Renderer<'_> {
                     _ => unreachable!("every planned pass has its pipelines"),
                 }
                 device.cmd_end_render_pass(cmd);
+                if let Some(q) = &self.queries {
+                    device.cmd_write_timestamp(
+                        cmd,
+                        vk::PipelineStageFlags::BOTTOM_OF_PIPE,
+                        q.raw,
+                        index as u32 + 1,
+                    );
+                }
             }
             if self.counter.is_some() {
                 memory_barrier(
@@ -127,9 +137,6 @@ impl Renderer<'_> {
                     ),
                     (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
                 );
-            }
-            if let Some(q) = &self.queries {
-                device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, q.raw, 1);
             }
         }
     }

@@ -38,6 +38,8 @@ pub struct FrameStats {
     pub frame_ms: f64,
     /// GPU time between the frame's first and last timestamp (when timestamps are planned).
     pub gpu_ms: Option<f64>,
+    /// GPU time of each planned pass, in plan order (when timestamps are planned).
+    pub gpu_pass_ms: Vec<f64>,
     /// Fragments shaded per view (when fragment counting is planned; empty otherwise).
     pub fragments: Vec<u64>,
 }
@@ -288,20 +290,23 @@ impl<'g> Renderer<'g> {
         self.frames_rendered += 1;
 
         let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;
+        let (gpu_ms, gpu_pass_ms) = self.read_gpu_times()?;
         Ok(FrameStats {
             cpu_record_ms: ms(start, recorded),
             cpu_submit_ms: ms(recorded, submitted),
             frame_ms: ms(start, done),
-            gpu_ms: self.read_gpu_time()?,
+            gpu_ms,
+            gpu_pass_ms,
             fragments: self.read_fragment_counts(),
         })
     }
 
-    fn read_gpu_time(&self) -> Result<Option<f64>, GpuError> {
+    /// Frame and per-pass GPU times from the timestamps.
+    fn read_gpu_times(&self) -> Result<(Option<f64>, Vec<f64>), GpuError> {
         let Some(q) = &self.queries else {
-            return Ok(None);
+            return Ok((None, Vec::new()));
         };
-        let mut ticks = [0u64; 2];
+        let mut ticks = vec![0u64; self.plan.timestamp_queries as usize];
         unsafe {
             self.gpu.device().get_query_pool_results(
                 q.raw,
@@ -311,9 +316,9 @@ impl<'g> Renderer<'g> {
             )
         }
         .vk("vkGetQueryPoolResults")?;
-        Ok(Some(
-            ticks[1].wrapping_sub(ticks[0]) as f64 * self.gpu.timestamp_period_ns / 1e6,
-        ))
+        let ms = |a: u64, b: u64| b.wrapping_sub(a) as f64 * self.gpu.timestamp_period_ns / 1e6;
+        let passes = ticks.windows(2).map(|w| ms(w[0], w[1])).collect();
+        Ok((Some(ms(ticks[0], ticks[ticks.len() - 1])), passes))
     }
 
     fn read_fragment_counts(&mut self) -> Vec<u64> {

@@ -91,3 +91,30 @@ pub fn default_scene() -> Scene {
         light_dir: Vec3::new(-0.4, -1.0, -0.5).normalize(),
     }
 }
+
+/// A fill-bound scene: 24 walls facing the viewer, each wider than any headset's view, drawn
+/// back to front so every fragment of every wall passes the depth test (24× overdraw) — the
+/// workload foveation is meant for (seed 001 §2.2: "fragment bound").
+pub fn fill_scene() -> Scene {
+    let walls = (0..24u32)
+        .map(|i| {
+            let depth = 30.0 - i as f32;
+            let size = depth * 8.0;
+            let model = Mat4::from_scale_rotation_translation(
+                Vec3::new(size, 1.0, size),
+                Quat::from_rotation_x(std::f32::consts::FRAC_PI_2),
+                Vec3::new(0.0, 1.6, -depth),
+            );
+            Instance::new(model, palette(300 + i))
+        })
+        .collect();
+    Scene {
+        meshes: vec![super::ground_quad()],
+        batches: vec![DrawBatch {
+            mesh: 0,
+            instances: walls,
+        }],
+        head: look_at_head(Vec3::new(0.0, 1.6, 0.0), Vec3::new(0.0, 1.6, -10.0)),
+        light_dir: Vec3::new(0.0, 0.0, -1.0),
+    }
+}

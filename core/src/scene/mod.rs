@@ -4,7 +4,7 @@ mod default_scene;
 mod shapes;
 mod thesis;
 
-pub use default_scene::default_scene;
+pub use default_scene::{default_scene, fill_scene};
 pub use shapes::{cube, ground_grid, ground_quad, uv_sphere};
 pub use thesis::{
     entropy, rail_pose, ThesisObject, ThesisScene, RAIL_LOOP_FRAMES, THESIS_COUNTS, THESIS_SPACING,
