@@ -71,9 +71,10 @@ pub struct ConfigArgs {
     /// Fixed fovea diameter on screen in pixels (default: the whole fovea window).
     #[arg(long)]
     pub fovea_size: Option<u32>,
-    /// Blend band in screen pixels at the fovea's edge (smoothstep).
-    #[arg(long, default_value_t = 16.0)]
-    pub blend_band: f32,
+    /// Blend band in screen pixels at the fovea's edge (smoothstep); default: an eighth of the
+    /// fovea's diameter.
+    #[arg(long)]
+    pub blend_band: Option<f32>,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -97,7 +98,7 @@ impl ConfigArgs {
             view_resolution: self.view_res,
             stencil: !self.no_stencil,
             fovea_size: self.fovea_size,
-            blend_band_px: self.blend_band,
+            blend_band_px: self.blend_band.unwrap_or(-1.0),
             debug_tint: self.tint,
         });
         Ok(RenderConfig {

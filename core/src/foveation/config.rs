@@ -14,7 +14,7 @@ pub struct FoveationConfig {
     /// whole fovea window.
     pub fovea_size: Option<u32>,
     /// Width in screen pixels of the band where fovea and periphery are blended; the periphery
-    /// keeps it so both images exist there.
+    /// keeps it so both images exist there. Negative: an eighth of the fovea's diameter.
     pub blend_band_px: f32,
     /// Tint the composed image: fovea green, band yellow, periphery blue.
     pub debug_tint: bool,
@@ -80,10 +80,13 @@ impl FoveationConfig {
             Some(f) => f as f32,
             None => window_px,
         };
-        if !self.blend_band_px.is_finite()
-            || self.blend_band_px < 0.0
-            || 2.0 * self.blend_band_px >= fovea_screen_px
-        {
+        // A negative band asks for the default: an eighth of the fovea's diameter.
+        let band = if self.blend_band_px < 0.0 {
+            (fovea_screen_px / 8.0).floor()
+        } else {
+            self.blend_band_px
+        };
+        if !band.is_finite() || 2.0 * band >= fovea_screen_px {
             return Err(ConfigError::new(
                 "blend_band",
                 self.blend_band_px,
@@ -101,9 +104,9 @@ impl FoveationConfig {
             view,
             fovea_screen_px,
             fovea_circle_px: fovea_screen_px * fovea_scale,
-            periphery_hole_px: (fovea_screen_px - 2.0 * self.blend_band_px) * periphery_scale,
+            periphery_hole_px: (fovea_screen_px - 2.0 * band) * periphery_scale,
             stencil: self.stencil,
-            blend_band_px: self.blend_band_px,
+            blend_band_px: band,
             debug_tint: self.debug_tint,
         })
     }
@@ -171,6 +174,26 @@ mod tests {
         assert_eq!((e.field, e.value.as_str()), ("fovea_size", "900"));
         let e = FoveationConfig {
             blend_band_px: 500.0,
+            ..Default::default()
+        }
+        .geometry(screen)
+        .unwrap_err();
+        assert_eq!(e.field, "blend_band");
+    }
+
+    #[test]
+    fn blend_band_defaults_to_an_eighth_of_the_fovea_and_rejects_nan() {
+        let screen = Resolution::square(1024);
+        let auto = FoveationConfig {
+            ratio: 0.5,
+            blend_band_px: -1.0,
+            ..Default::default()
+        }
+        .geometry(screen)
+        .unwrap();
+        assert_eq!(auto.blend_band_px, 64.0, "an eighth of the 512 px fovea");
+        let e = FoveationConfig {
+            blend_band_px: f32::NAN,
             ..Default::default()
         }
         .geometry(screen)
