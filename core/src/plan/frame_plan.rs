@@ -251,7 +251,7 @@ impl FramePlan {
     }
 
     /// Estimated external memory traffic per frame on a tile GPU: bytes loaded into tile
-    /// memory plus bytes stored out of it (the readback copy of the output included).
+    /// memory, stored out of it, sampled by later passes, and read back as the output.
     pub fn external_traffic_bytes(&self) -> u64 {
         let attachment_traffic: u64 = self
             .passes
@@ -265,12 +265,18 @@ impl FramePlan {
                 loaded + stored
             })
             .sum();
-        attachment_traffic
-            + self
-                .outputs()
-                .iter()
-                .map(|&i| self.attachments[i].bytes())
-                .sum::<u64>()
+        let sampled: u64 = self
+            .passes
+            .iter()
+            .flat_map(|p| &p.samples)
+            .map(|&i| self.attachments[i].bytes())
+            .sum();
+        let read_back: u64 = self
+            .outputs()
+            .iter()
+            .map(|&i| self.attachments[i].bytes())
+            .sum();
+        attachment_traffic + sampled + read_back
     }
 }
 
@@ -414,7 +420,11 @@ fn scene_passes(
             add("right eye colour", output_role, Format::Rgba8Srgb, 1, true),
         ],
         _ => vec![add(
-            "stereo colour",
+            if config.views == 4 {
+                "views (periphery, fovea)"
+            } else {
+                "stereo colour"
+            },
             output_role,
             Format::Rgba8Srgb,
             1,

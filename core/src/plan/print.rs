@@ -1,6 +1,6 @@
 use std::fmt;
 
-use super::{FramePlan, Submission, TargetLayout};
+use super::{FramePlan, PassKind, Submission, TargetLayout};
 
 fn mib(bytes: u64) -> String {
     format!("{:.2} MiB", bytes as f64 / (1024.0 * 1024.0))
@@ -80,6 +80,9 @@ impl fmt::Display for FramePlan {
         writeln!(f, "passes:")?;
         for p in &self.passes {
             let submission = match p.submission {
+                _ if p.kind == PassKind::Composite => {
+                    "a full-view triangle per eye, sampling the views".to_string()
+                }
                 Submission::Multiview => "scene once, broadcast by multiview".to_string(),
                 Submission::SingleEye(eye) => {
                     format!("scene once for the {eye:?} eye").to_lowercase()
@@ -148,7 +151,7 @@ impl fmt::Display for FramePlan {
         )?;
         write!(
             f,
-            "estimated external traffic per frame (tile GPU): {} (attachment loads + stores + output readback)",
+            "estimated external traffic per frame (tile GPU): {} (attachment loads + stores + sampling + output readback)",
             mib(self.external_traffic_bytes())
         )
     }
