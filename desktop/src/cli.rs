@@ -36,6 +36,9 @@ enum Command {
     CullBench(crate::cull_cmd::CullBenchArgs),
     /// Arm's foveation pixel tables 2-4, every cell measured on the GPU beside the formula.
     Pixels(crate::pixels_cmd::PixelsArgs),
+    /// What accuracy costs: a full-quality stereo reference against foveation ratios x MSAA,
+    /// frame time beside PSNR per region (fovea, band, periphery) and SSIM.
+    Compare(crate::compare_cmd::CompareArgs),
 }
 
 /// Frame configuration shared by `render` and `plan`.
@@ -170,6 +173,7 @@ impl Cli {
             Command::Render(args) => crate::render_cmd::render(&self.gpu_options(), args),
             Command::CullBench(args) => crate::cull_cmd::cull_bench(args),
             Command::Pixels(args) => crate::pixels_cmd::pixels(&self.gpu_options(), args),
+            Command::Compare(args) => crate::compare_cmd::compare(&self.gpu_options(), args),
         }
     }
 }

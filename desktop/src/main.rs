@@ -2,6 +2,7 @@
 //! GPU exists).
 
 mod cli;
+mod compare_cmd;
 mod cull_cmd;
 mod pixels_cmd;
 mod render_cmd;

@@ -290,3 +290,48 @@ fn render_foveated_with_gaze_tint_and_the_fill_scene() {
         );
     }
 }
+
+#[test]
+fn compare_prints_time_and_error_per_region() {
+    let csv = std::env::temp_dir().join(format!("foveate-compare-{}.csv", std::process::id()));
+    let o = foveate(&[
+        "compare",
+        "--res",
+        "64",
+        "--frames",
+        "2",
+        "--ratios",
+        "0.5",
+        "--msaa",
+        "4",
+        "--gaze",
+        "0.2,0.1",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for needle in [
+        "reference: stereo multiview, MSAA 4",
+        "foveated 0.5, MSAA 4",
+        "PSNR fovea",
+        "SSIM",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+    let written = std::fs::read_to_string(&csv).unwrap();
+    let row = written
+        .lines()
+        .find(|l| l.starts_with("foveated 0.5"))
+        .expect("foveated row");
+    // The fovea maps 1:1 and matches the reference there.
+    let fovea_psnr: f64 = row.split(',').nth(6).unwrap().parse().unwrap();
+    assert!(fovea_psnr > 40.0, "{row}");
+    let _ = std::fs::remove_file(csv);
+    let o = foveate(&["compare", "--res", "64", "--gaze", "2"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("invalid gaze"),
+        "{}",
+        stderr(&o)
+    );
+}

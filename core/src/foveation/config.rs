@@ -36,6 +36,8 @@ impl Default for FoveationConfig {
 /// Foveation as the planner resolved it for a screen resolution.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FoveationGeometry {
+    /// The window's size relative to the periphery as used: the configured ratio, or exactly
+    /// view / screen when the view size is derived.
     pub ratio: f32,
     /// Size of each of the four views.
     pub view: Resolution,
@@ -64,7 +66,14 @@ impl FoveationConfig {
                 height: ((screen.height as f32 * self.ratio).round() as u32).max(1),
             },
         };
-        let window_px = self.ratio * screen.width as f32;
+        // With the view size derived, the window is exactly the view's width in screen pixels
+        // (ratio V / screen), so the fovea maps 1:1 onto the screen.
+        let ratio = if self.view_resolution.is_some() {
+            self.ratio
+        } else {
+            view.width as f32 / screen.width as f32
+        };
+        let window_px = ratio * screen.width as f32;
         let fovea_screen_px = match self.fovea_size {
             Some(f) if f == 0 || f as f32 > window_px + 0.5 => {
                 return Err(ConfigError::new(
@@ -100,7 +109,7 @@ impl FoveationConfig {
         let fovea_scale = view.width as f32 / window_px;
         let periphery_scale = view.width as f32 / screen.width as f32;
         Ok(FoveationGeometry {
-            ratio: self.ratio,
+            ratio,
             view,
             fovea_screen_px,
             fovea_circle_px: fovea_screen_px * fovea_scale,

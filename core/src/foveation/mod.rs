@@ -12,4 +12,4 @@ pub use budget::{arm_table, ArmRow, PixelBudget, ARM_PI};
 pub use config::{FoveationConfig, FoveationGeometry};
 pub use gaze::{parse_gaze_csv, simulated_trace, GazeError, GazeFilter, GazeSample};
 pub use inset::{fovea_tangents, inset_fov_deg};
-pub use views::{fovea_views, gaze_tangent, mask_shapes};
+pub use views::{fovea_centre_px, fovea_views, gaze_tangent, mask_shapes};

@@ -13,12 +13,54 @@ pub fn gaze_tangent(fov: FovTangents, gaze: Vec2) -> Vec2 {
     centre + gaze * half
 }
 
-/// Each eye's fovea view: the window of `ratio` around its gaze, kept inside the periphery.
-pub fn fovea_views(eyes: &EyeParams, ratio: f32, gaze: [Vec2; 2]) -> [FovTangents; 2] {
+/// Each eye's fovea view: the window of `ratio` around its gaze, kept inside the periphery, with
+/// its edges on whole pixels of a `screen`-sized image. With a window a whole number of pixels
+/// wide, fovea texels then land exactly on screen pixels and composition copies them 1:1.
+pub fn fovea_views(
+    eyes: &EyeParams,
+    ratio: f32,
+    gaze: [Vec2; 2],
+    screen: (u32, u32),
+) -> [FovTangents; 2] {
     Eye::BOTH.map(|eye| {
         let fov = eyes.fov(eye);
-        fovea_tangents(fov, ratio, gaze_tangent(fov, gaze[eye.index()]))
+        let window = fovea_tangents(fov, ratio, gaze_tangent(fov, gaze[eye.index()]));
+        snap_to_pixels(fov, window, screen)
     })
+}
+
+/// Moves a window (by under half a pixel) so its left and top edges fall on pixel edges of the
+/// periphery's `screen` image, still inside it.
+fn snap_to_pixels(p: FovTangents, f: FovTangents, screen: (u32, u32)) -> FovTangents {
+    let (w, h) = (screen.0 as f32, screen.1 as f32);
+    let (sx, sy) = (w / (p.left + p.right), h / (p.up + p.down));
+    let (width, height) = (f.left + f.right, f.up + f.down);
+    let left_px = ((p.left - f.left) * sx).round().clamp(0.0, w - width * sx);
+    let top_px = ((p.up - f.up) * sy).round().clamp(0.0, h - height * sy);
+    let x0 = -p.left + left_px / sx;
+    let top = p.up - top_px / sy;
+    FovTangents {
+        left: -x0,
+        right: x0 + width,
+        up: top,
+        down: height - top,
+    }
+}
+
+/// The fovea window's centre in screen pixels (x right, y down) for an eye whose periphery is
+/// `periphery` and whose fovea view is `fovea`, at `screen` pixels.
+pub fn fovea_centre_px(periphery: FovTangents, fovea: FovTangents, screen: (u32, u32)) -> Vec2 {
+    let ndc = ndc(
+        periphery,
+        Vec2::new(
+            (fovea.right - fovea.left) / 2.0,
+            (fovea.up - fovea.down) / 2.0,
+        ),
+    );
+    Vec2::new(
+        (ndc.x + 1.0) * 0.5 * screen.0 as f32,
+        (ndc.y + 1.0) * 0.5 * screen.1 as f32,
+    )
 }
 
 /// Where a tangent-space point lands in a view's NDC (Vulkan: y down).
@@ -74,7 +116,7 @@ mod tests {
         }
         .geometry(Resolution::square(256))
         .unwrap();
-        let fovea = fovea_views(&eyes, 0.5, [Vec2::ZERO; 2]);
+        let fovea = fovea_views(&eyes, 0.5, [Vec2::ZERO; 2], (256, 256));
         let s = mask_shapes(&g, &eyes, &fovea);
         assert!(
             s[4].truncate().truncate().length() < 1e-6,
@@ -87,6 +129,56 @@ mod tests {
             "{s:?}"
         );
         assert_eq!(s[6], Vec4::ZERO, "fovea views drop nothing");
+    }
+
+    #[test]
+    fn windows_snap_to_whole_pixels_inside_the_image() {
+        let fov = FovTangents::from_angles_deg(52.0, 45.0, 48.0, 50.0);
+        let eyes = EyeParams {
+            left_fov: fov,
+            right_fov: fov.mirrored(),
+            ipd_m: 0.064,
+            cant_rad: 0.0,
+        };
+        for gaze in [
+            Vec2::ZERO,
+            Vec2::new(0.37, -0.21),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(-1.0, -1.0),
+        ] {
+            let f = fovea_views(&eyes, 90.0 / 256.0, [gaze; 2], (256, 256))[0];
+            let left_px = (f.left * -1.0 + fov.left) * 256.0 / (fov.left + fov.right);
+            let top_px = (fov.up - f.up) * 256.0 / (fov.up + fov.down);
+            assert!(
+                (left_px - left_px.round()).abs() < 1e-3 && (top_px - top_px.round()).abs() < 1e-3,
+                "{gaze}: {left_px}, {top_px}"
+            );
+            assert!(
+                left_px >= -1e-3 && left_px + 90.0 <= 256.0 + 1e-3,
+                "{gaze}: inside"
+            );
+        }
+    }
+
+    #[test]
+    fn fovea_centre_in_screen_pixels() {
+        let fov = FovTangents::symmetric_deg(90.0, 90.0);
+        let eyes = EyeParams {
+            left_fov: fov,
+            right_fov: fov,
+            ipd_m: 0.0,
+            cant_rad: 0.0,
+        };
+        let centred = fovea_views(&eyes, 0.5, [Vec2::ZERO; 2], (128, 64));
+        assert_eq!(
+            fovea_centre_px(fov, centred[0], (128, 64)),
+            Vec2::new(64.0, 32.0)
+        );
+        let right_down = fovea_views(&eyes, 0.5, [Vec2::new(0.5, -0.5); 2], (128, 128));
+        assert_eq!(
+            fovea_centre_px(fov, right_down[0], (128, 128)),
+            Vec2::new(96.0, 96.0)
+        );
     }
 
     #[test]
@@ -107,7 +199,7 @@ mod tests {
         let up_right = mask_shapes(
             &g,
             &eyes,
-            &fovea_views(&eyes, 0.35, [Vec2::new(0.3, 0.3); 2]),
+            &fovea_views(&eyes, 0.35, [Vec2::new(0.3, 0.3); 2], (512, 512)),
         );
         assert!(
             up_right[4].x > 0.29 && up_right[4].y < -0.29,
@@ -117,7 +209,7 @@ mod tests {
         let edge = mask_shapes(
             &g,
             &eyes,
-            &fovea_views(&eyes, 0.35, [Vec2::new(1.0, -1.0); 2]),
+            &fovea_views(&eyes, 0.35, [Vec2::new(1.0, -1.0); 2], (512, 512)),
         );
         // Clamped: the hole's centre stays a fovea-half inside the view.
         assert!(

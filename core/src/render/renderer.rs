@@ -249,7 +249,8 @@ impl<'g> Renderer<'g> {
         }
         if let Some(g) = &plan.foveation {
             // Views 2 and 3: each eye's fovea window around its gaze, from the same eye centre.
-            let fovea = fovea_views(&plan.eyes, g.ratio, self.gaze);
+            let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
+            let fovea = fovea_views(&plan.eyes, g.ratio, self.gaze, screen);
             for eye in Eye::BOTH {
                 view_proj[2 + eye.index()] =
                     reverse_z_projection(fovea[eye.index()], plan.near, plan.far)

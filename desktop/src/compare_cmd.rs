@@ -1,0 +1,260 @@
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use foveate::foveation::{fovea_centre_px, fovea_views, FoveationConfig};
+use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::{RgbaImage, Stats};
+use foveate::plan::{RenderConfig, Resolution, StereoMode};
+use foveate::render::{Renderer, StereoImage};
+use foveate::scene::{default_scene, fill_scene, Scene};
+use foveate::view::Eye;
+use glam::Vec2;
+
+#[derive(Args)]
+pub struct CompareArgs {
+    /// Screen resolution per eye.
+    #[arg(long, default_value_t = 1024)]
+    res: u32,
+    /// Scene: default or fill.
+    #[arg(long, default_value = "default")]
+    scene: String,
+    /// Foveation ratios to compare.
+    #[arg(long, value_delimiter = ',', default_value = "0.7,0.5,0.35")]
+    ratios: Vec<f32>,
+    /// MSAA sample counts to compare.
+    #[arg(long, value_delimiter = ',', default_value = "1,4")]
+    msaa: Vec<u32>,
+    /// Gaze of both eyes, normalised X,Y in -1..1.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_negative_numbers = true,
+        default_value = "0,0"
+    )]
+    gaze: Vec<f32>,
+    /// Blend band in screen pixels (default: an eighth of the fovea).
+    #[arg(long)]
+    blend_band: Option<f32>,
+    /// Frames per configuration (the first is a warm-up).
+    #[arg(long, default_value_t = 5)]
+    frames: u32,
+    /// Also write the table as CSV to this file.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+}
+
+/// One configuration's measurements.
+struct Run {
+    frame_ms: f64,
+    fragments: u64,
+    image: StereoImage,
+}
+
+fn run(gpu: &Gpu, scene: &Scene, config: &RenderConfig, gaze: Vec2, frames: u32) -> Result<Run> {
+    let plan = foveate::plan(scene, config, gpu.caps())?;
+    let mut renderer = Renderer::new(gpu, &plan, scene)?;
+    renderer.set_gaze([gaze; 2]);
+    let mut times = Vec::new();
+    let mut fragments = 0;
+    for i in 0..frames {
+        let stats = renderer.render_frame(scene.head)?;
+        if i > 0 || frames == 1 {
+            times.push(stats.frame_ms);
+        }
+        fragments = stats.fragments.iter().sum();
+    }
+    Ok(Run {
+        frame_ms: Stats::of(&times).map_or(f64::NAN, |s| s.median),
+        fragments,
+        image: renderer.readback()?,
+    })
+}
+
+/// PSNR of both eyes over the pixels a region predicate selects (distance from each eye's fovea
+/// centre in screen pixels).
+fn region_psnr(
+    reference: &StereoImage,
+    image: &StereoImage,
+    centres: [Vec2; 2],
+    inside: impl Fn(f32) -> bool,
+) -> Option<f64> {
+    let both = |img: &StereoImage| RgbaImage::side_by_side(&img.left, &img.right);
+    let w = reference.left.width;
+    both(reference)
+        .psnr_where(&both(image), |x, y| {
+            let eye = if x < w { 0 } else { 1 };
+            let p = Vec2::new((x % w) as f32 + 0.5, y as f32 + 0.5);
+            inside(p.distance(centres[eye]))
+        })
+        .ok()
+        .flatten()
+}
+
+pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
+    anyhow::ensure!(args.frames >= 1, "invalid frames = 0: at least 1");
+    anyhow::ensure!(
+        args.gaze.len() == 2,
+        "invalid gaze = {:?}: two numbers X,Y in -1..1",
+        args.gaze
+    );
+    let gaze = Vec2::new(args.gaze[0], args.gaze[1]);
+    anyhow::ensure!(
+        gaze.is_finite(),
+        "invalid gaze = {gaze}: finite numbers in -1..1"
+    );
+    let gaze = gaze.clamp(Vec2::NEG_ONE, Vec2::ONE);
+    let scene = match args.scene.as_str() {
+        "default" => default_scene(),
+        "fill" => fill_scene(),
+        other => anyhow::bail!("invalid scene = {other}: default or fill"),
+    };
+    let gpu = Gpu::new(options)?;
+    let screen = Resolution::square(args.res);
+    let base = RenderConfig {
+        resolution: Some(screen),
+        stereo: StereoMode::Multiview,
+        ..RenderConfig::default()
+    };
+    let total = 1 + args.msaa.len() * (1 + args.ratios.len());
+    let mut done = 0;
+    let mut step = |what: &str| {
+        done += 1;
+        eprint!("\r[{done}/{total}] {what:<40}");
+        let _ = std::io::stderr().flush();
+    };
+    step("reference: stereo, MSAA 4");
+    let reference = run(
+        &gpu,
+        &scene,
+        &RenderConfig {
+            msaa: 4,
+            ..base.clone()
+        },
+        gaze,
+        args.frames,
+    )?;
+    println!(
+        "device: {}; scene {}, {}x{} per eye, gaze {gaze}",
+        gpu.info().name,
+        args.scene,
+        args.res,
+        args.res
+    );
+    println!(
+        "reference: stereo multiview, MSAA 4: {:.2} ms, {} fragments",
+        reference.frame_ms, reference.fragments
+    );
+    let mut csv = String::from("config,msaa,ratio,frame_ms,time_ratio,fragments,psnr_fovea,psnr_band,psnr_periphery,ssim\n");
+    let mut rows = Vec::new();
+    for &msaa in &args.msaa {
+        step(&format!("stereo, MSAA {msaa}"));
+        let stereo = run(
+            &gpu,
+            &scene,
+            &RenderConfig {
+                msaa,
+                ..base.clone()
+            },
+            gaze,
+            args.frames,
+        )?;
+        rows.push((format!("stereo, MSAA {msaa}"), msaa, None, stereo, None));
+        for &ratio in &args.ratios {
+            step(&format!("foveated {ratio}, MSAA {msaa}"));
+            let foveation = FoveationConfig {
+                ratio,
+                blend_band_px: args.blend_band.unwrap_or(-1.0),
+                ..Default::default()
+            };
+            let geometry = foveation.geometry(screen)?;
+            let config = RenderConfig {
+                msaa,
+                views: 4,
+                foveation: Some(foveation),
+                ..base.clone()
+            };
+            let foveated = run(&gpu, &scene, &config, gaze, args.frames)?;
+            rows.push((
+                format!("foveated {ratio}, MSAA {msaa}"),
+                msaa,
+                Some(ratio),
+                foveated,
+                Some(geometry),
+            ));
+        }
+    }
+    eprintln!();
+    println!(
+        "\n{:<24} {:>10} {:>7} {:>12} {:>11} {:>10} {:>11} {:>7}",
+        "configuration",
+        "frame ms",
+        "ratio",
+        "fragments",
+        "PSNR fovea",
+        "PSNR band",
+        "PSNR perif.",
+        "SSIM"
+    );
+    let eyes = foveate::plan(&scene, &base, gpu.caps())?.eyes;
+    for (name, msaa, ratio, r, geometry) in rows {
+        // Regions: the fovea circle (less the band), the band, and the rest.
+        let (centres, radius, band) = match (ratio, geometry) {
+            (Some(_), Some(g)) => {
+                let fovea = fovea_views(&eyes, g.ratio, [gaze; 2], (args.res, args.res));
+                let centres = Eye::BOTH
+                    .map(|e| fovea_centre_px(eyes.fov(e), fovea[e.index()], (args.res, args.res)));
+                (centres, g.fovea_screen_px / 2.0, g.blend_band_px)
+            }
+            _ => ([Vec2::splat(args.res as f32 / 2.0); 2], 0.0, 0.0),
+        };
+        let psnr =
+            |inside: &dyn Fn(f32) -> bool| region_psnr(&reference.image, &r.image, centres, inside);
+        let fovea = psnr(&|d| d < radius - band);
+        let band_psnr = psnr(&|d| d >= radius - band && d <= radius);
+        let periphery = psnr(&|d| d > radius);
+        let ssim = RgbaImage::side_by_side(&reference.image.left, &reference.image.right)
+            .ssim(&RgbaImage::side_by_side(&r.image.left, &r.image.right))?;
+        let show = |p: Option<f64>| {
+            p.map_or("-".to_string(), |v| {
+                if v.is_infinite() {
+                    "inf".into()
+                } else {
+                    format!("{v:.1}")
+                }
+            })
+        };
+        let ratio_to_reference = r.frame_ms / reference.frame_ms;
+        println!(
+            "{:<24} {:>10.2} {:>7.3} {:>12} {:>11} {:>10} {:>11} {:>7.4}",
+            name,
+            r.frame_ms,
+            ratio_to_reference,
+            r.fragments,
+            show(fovea),
+            show(band_psnr),
+            show(periphery),
+            ssim
+        );
+        let opt = |p: Option<f64>| p.map_or(String::new(), |v| format!("{v:.3}"));
+        let _ = writeln!(
+            csv,
+            "{name},{msaa},{},{:.3},{ratio_to_reference:.4},{},{},{},{},{ssim:.5}",
+            ratio.map_or(String::new(), |v| v.to_string()),
+            r.frame_ms,
+            r.fragments,
+            opt(fovea),
+            opt(band_psnr),
+            opt(periphery)
+        );
+    }
+    println!("(ratio: frame time to the reference, this run; PSNR in dB per region against the reference; SSIM over both eyes)");
+    gpu.check_validation()?;
+    if let Some(path) = &args.csv {
+        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
