@@ -147,7 +147,7 @@ mod tests {
             Vec2::new(-1.0, -1.0),
         ] {
             let f = fovea_views(&eyes, 90.0 / 256.0, [gaze; 2], (256, 256))[0];
-            let left_px = (f.left * -1.0 + fov.left) * 256.0 / (fov.left + fov.right);
+            let left_px = (fov.left - f.left) * 256.0 / (fov.left + fov.right);
             let top_px = (fov.up - f.up) * 256.0 / (fov.up + fov.down);
             assert!(
                 (left_px - left_px.round()).abs() < 1e-3 && (top_px - top_px.round()).abs() < 1e-3,
