@@ -140,6 +140,11 @@ pub struct RenderArgs {
     /// back to front: a fill-bound frame).
     #[arg(long, default_value = "default")]
     pub scene: String,
+    /// Drive the gaze from a trace: a CSV file (`time,left_x,left_y,right_x,right_y,valid`) or
+    /// `sim` for simulated fixations and saccades; frame i uses the sample at i / 90 s, filtered
+    /// (bad samples keep the last good gaze, then return to the centre).
+    #[arg(long)]
+    pub gaze_trace: Option<String>,
     /// Frames to render (the first is a warm-up and not counted in the statistics).
     #[arg(long, default_value_t = 10)]
     pub frames: u32,

@@ -73,24 +73,25 @@ fn run(gpu: &Gpu, scene: &Scene, config: &RenderConfig, gaze: Vec2, frames: u32)
     })
 }
 
-/// PSNR of both eyes over the pixels a region predicate selects (distance from each eye's fovea
-/// centre in screen pixels).
-fn region_psnr(
+/// PSNR and SSIM of both eyes over the pixels a region predicate selects (by distance from each
+/// eye's fovea centre in screen pixels).
+fn region_error(
     reference: &StereoImage,
     image: &StereoImage,
     centres: [Vec2; 2],
     inside: impl Fn(f32) -> bool,
-) -> Option<f64> {
+) -> (Option<f64>, Option<f64>) {
     let both = |img: &StereoImage| RgbaImage::side_by_side(&img.left, &img.right);
+    let (a, b) = (both(reference), both(image));
     let w = reference.left.width;
-    both(reference)
-        .psnr_where(&both(image), |x, y| {
-            let eye = if x < w { 0 } else { 1 };
-            let p = Vec2::new((x % w) as f32 + 0.5, y as f32 + 0.5);
-            inside(p.distance(centres[eye]))
-        })
-        .ok()
-        .flatten()
+    let region = |x: u32, y: u32| {
+        let eye = if x < w { 0 } else { 1 };
+        inside(Vec2::new((x % w) as f32 + 0.5, y as f32 + 0.5).distance(centres[eye]))
+    };
+    (
+        a.psnr_where(&b, region).ok().flatten(),
+        a.ssim_where(&b, region).ok().flatten(),
+    )
 }
 
 pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
@@ -147,7 +148,9 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         "reference: stereo multiview, MSAA 4: {:.2} ms, {} fragments",
         reference.frame_ms, reference.fragments
     );
-    let mut csv = String::from("config,msaa,ratio,frame_ms,time_ratio,fragments,psnr_fovea,psnr_band,psnr_periphery,ssim\n");
+    let mut csv = String::from(
+        "config,msaa,ratio,frame_ms,time_ratio,fragments,psnr_fovea,psnr_band,psnr_periphery,ssim_fovea,ssim_band,ssim_periphery\n",
+    );
     let mut rows = Vec::new();
     for &msaa in &args.msaa {
         step(&format!("stereo, MSAA {msaa}"));
@@ -188,36 +191,36 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     }
     eprintln!();
     println!(
-        "\n{:<24} {:>10} {:>7} {:>12} {:>11} {:>10} {:>11} {:>7}",
+        "\n{:<24} {:>10} {:>7} {:>12} {:>15} {:>15} {:>15}",
         "configuration",
         "frame ms",
         "ratio",
         "fragments",
-        "PSNR fovea",
-        "PSNR band",
-        "PSNR perif.",
-        "SSIM"
+        "fovea dB/SSIM",
+        "band dB/SSIM",
+        "perif. dB/SSIM"
     );
     let eyes = foveate::plan(&scene, &base, gpu.caps())?.eyes;
     for (name, msaa, ratio, r, geometry) in rows {
         // Regions: the fovea circle (less the band), the band, and the rest.
-        let (centres, radius, band) = match (ratio, geometry) {
-            (Some(_), Some(g)) => {
+        let (centres, radius, band) = match geometry {
+            Some(g) => {
                 let fovea = fovea_views(&eyes, g.ratio, [gaze; 2], (args.res, args.res));
                 let centres = Eye::BOTH
                     .map(|e| fovea_centre_px(eyes.fov(e), fovea[e.index()], (args.res, args.res)));
                 (centres, g.fovea_screen_px / 2.0, g.blend_band_px)
             }
-            _ => ([Vec2::splat(args.res as f32 / 2.0); 2], 0.0, 0.0),
+            None => ([Vec2::splat(args.res as f32 / 2.0); 2], 0.0, 0.0),
         };
-        let psnr =
-            |inside: &dyn Fn(f32) -> bool| region_psnr(&reference.image, &r.image, centres, inside);
-        let fovea = psnr(&|d| d < radius - band);
-        let band_psnr = psnr(&|d| d >= radius - band && d <= radius);
-        let periphery = psnr(&|d| d > radius);
-        let ssim = RgbaImage::side_by_side(&reference.image.left, &reference.image.right)
-            .ssim(&RgbaImage::side_by_side(&r.image.left, &r.image.right))?;
-        let show = |p: Option<f64>| {
+        let error = |inside: &dyn Fn(f32) -> bool| {
+            region_error(&reference.image, &r.image, centres, inside)
+        };
+        let regions = [
+            error(&|d| d < radius - band),
+            error(&|d| d >= radius - band && d <= radius),
+            error(&|d| d > radius),
+        ];
+        let psnr = |p: Option<f64>| {
             p.map_or("-".to_string(), |v| {
                 if v.is_infinite() {
                     "inf".into()
@@ -226,31 +229,34 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
                 }
             })
         };
+        let ssim = |s: Option<f64>| s.map_or("-".to_string(), |v| format!("{v:.3}"));
+        let cells: Vec<String> = regions
+            .iter()
+            .map(|(p, s)| format!("{} / {}", psnr(*p), ssim(*s)))
+            .collect();
         let ratio_to_reference = r.frame_ms / reference.frame_ms;
         println!(
-            "{:<24} {:>10.2} {:>7.3} {:>12} {:>11} {:>10} {:>11} {:>7.4}",
-            name,
-            r.frame_ms,
-            ratio_to_reference,
-            r.fragments,
-            show(fovea),
-            show(band_psnr),
-            show(periphery),
-            ssim
+            "{:<24} {:>10.2} {:>7.3} {:>12} {:>15} {:>15} {:>15}",
+            name, r.frame_ms, ratio_to_reference, r.fragments, cells[0], cells[1], cells[2]
         );
-        let opt = |p: Option<f64>| p.map_or(String::new(), |v| format!("{v:.3}"));
+        let opt = |p: Option<f64>| p.map_or(String::new(), |v| format!("{v:.4}"));
         let _ = writeln!(
             csv,
-            "{name},{msaa},{},{:.3},{ratio_to_reference:.4},{},{},{},{},{ssim:.5}",
-            ratio.map_or(String::new(), |v| v.to_string()),
+            "{name},{msaa},{},{:.3},{ratio_to_reference:.4},{},{},{},{},{},{},{}",
+            ratio.map_or(String::new(), |v: f32| v.to_string()),
             r.frame_ms,
             r.fragments,
-            opt(fovea),
-            opt(band_psnr),
-            opt(periphery)
+            opt(regions[0].0),
+            opt(regions[1].0),
+            opt(regions[2].0),
+            opt(regions[0].1),
+            opt(regions[1].1),
+            opt(regions[2].1)
         );
     }
-    println!("(ratio: frame time to the reference, this run; PSNR in dB per region against the reference; SSIM over both eyes)");
+    println!(
+        "(ratio: frame time to the reference, this run; PSNR in dB / SSIM per region against the reference, both eyes; stereo rows: the periphery column is the whole image)"
+    );
     gpu.check_validation()?;
     if let Some(path) = &args.csv {
         std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;

@@ -2,6 +2,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
+use foveate::foveation::{parse_gaze_csv, simulated_trace, GazeFilter};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::Stats;
 use foveate::render::{FrameStats, Renderer};
@@ -65,8 +66,22 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
                 " (this device has none)"
             }
         );
+        let trace = match args.gaze_trace.as_deref() {
+            None => None,
+            Some("sim") => Some(simulated_trace(args.frames as f64 / 90.0 + 1.0, 90.0, 1)),
+            Some(path) => Some(parse_gaze_csv(Path::new(path))?),
+        };
+        let mut filter = GazeFilter::new(0.5);
         let mut frames: Vec<FrameStats> = Vec::new();
         for i in 0..args.frames {
+            if let Some(trace) = &trace {
+                // The latest sample at or before this frame's time (90 Hz).
+                let t = i as f64 / 90.0;
+                let k = trace.partition_point(|s| s.t <= t);
+                if k > 0 {
+                    renderer.set_gaze(filter.update(&trace[k - 1]));
+                }
+            }
             let stats = renderer.render_frame(scene.head)?;
             if i > 0 || args.frames == 1 {
                 frames.push(stats);

@@ -314,8 +314,8 @@ fn compare_prints_time_and_error_per_region() {
     for needle in [
         "reference: stereo multiview, MSAA 4",
         "foveated 0.5, MSAA 4",
-        "PSNR fovea",
-        "SSIM",
+        "fovea dB/SSIM",
+        "perif. dB/SSIM",
     ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }
@@ -334,4 +334,44 @@ fn compare_prints_time_and_error_per_region() {
         "{}",
         stderr(&o)
     );
+}
+
+#[test]
+fn render_follows_a_gaze_trace_and_survives_bad_samples() {
+    let dir = std::env::temp_dir().join(format!("foveate-trace-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let trace = dir.join("trace.csv");
+    std::fs::write(&trace, "time,lx,ly,rx,ry,valid\n0,0.5,0.2,0.5,0.2,1\n0.011,NaN,0,0,0,1\n0.022,9,9,9,9,1\n0.033,0,0,0,0,0\n").unwrap();
+    let out = dir.join("f.png");
+    for source in [trace.to_str().unwrap(), "sim"] {
+        let o = foveate(&[
+            "render",
+            "--res",
+            "48",
+            "--frames",
+            "5",
+            "--foveate",
+            "0.5",
+            "--gaze-trace",
+            source,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{source}: {}", stderr(&o));
+    }
+    let o = foveate(&[
+        "render",
+        "--res",
+        "48",
+        "--foveate",
+        "0.5",
+        "--gaze-trace",
+        dir.join("missing.csv").to_str().unwrap(),
+    ]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("missing.csv"),
+        "{}",
+        stderr(&o)
+    );
+    let _ = std::fs::remove_dir_all(dir);
 }

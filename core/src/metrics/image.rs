@@ -155,6 +155,15 @@ impl RgbaImage {
     /// Mean structural similarity (SSIM) of the luma over 8×8 windows at stride 4: 1 for
     /// identical images, lower as structure differs.
     pub fn ssim(&self, other: &RgbaImage) -> Result<f64, ImageError> {
+        Ok(self.ssim_where(other, |_, _| true)?.unwrap_or(1.0))
+    }
+
+    /// SSIM over the windows whose centre pixel `region(x, y)` selects; `None` if none does.
+    pub fn ssim_where(
+        &self,
+        other: &RgbaImage,
+        region: impl Fn(u32, u32) -> bool,
+    ) -> Result<Option<f64>, ImageError> {
         self.check_size(other)?;
         let (a, b) = (self.luma(), other.luma());
         let (w, h) = (self.width as usize, self.height as usize);
@@ -163,10 +172,11 @@ impl RgbaImage {
         let (c1, c2) = ((0.01f64).powi(2), (0.03f64).powi(2));
         let mut total = 0.0;
         let mut windows = 0usize;
-        let mut y = 0;
-        while y + WIN <= h {
-            let mut x = 0;
-            while x + WIN <= w {
+        for y in (0..=h.saturating_sub(WIN)).step_by(STRIDE) {
+            for x in (0..=w.saturating_sub(WIN)).step_by(STRIDE) {
+                if w < WIN || h < WIN || !region((x + WIN / 2) as u32, (y + WIN / 2) as u32) {
+                    continue;
+                }
                 let (mut sa, mut sb, mut saa, mut sbb, mut sab) = (0.0, 0.0, 0.0, 0.0, 0.0);
                 for dy in 0..WIN {
                     for dx in 0..WIN {
@@ -186,15 +196,9 @@ impl RgbaImage {
                 total += ((2.0 * ma * mb + c1) * (2.0 * cov + c2))
                     / ((ma * ma + mb * mb + c1) * (va + vb + c2));
                 windows += 1;
-                x += STRIDE;
             }
-            y += STRIDE;
         }
-        Ok(if windows == 0 {
-            1.0
-        } else {
-            total / windows as f64
-        })
+        Ok((windows > 0).then(|| total / windows as f64))
     }
 
     /// Peak signal-to-noise ratio over RGB in dB (infinite for identical images).
