@@ -9,7 +9,7 @@ use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::{RgbaImage, Stats};
 use foveate::plan::{RenderConfig, Resolution, StereoMode};
 use foveate::render::{Renderer, StereoImage};
-use foveate::scene::{default_scene, fill_scene, Scene};
+use foveate::scene::{named_scene, Scene};
 use foveate::view::Eye;
 use glam::Vec2;
 
@@ -107,11 +107,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         "invalid gaze = {gaze}: finite numbers in -1..1"
     );
     let gaze = gaze.clamp(Vec2::NEG_ONE, Vec2::ONE);
-    let scene = match args.scene.as_str() {
-        "default" => default_scene(),
-        "fill" => fill_scene(),
-        other => anyhow::bail!("invalid scene = {other}: default or fill"),
-    };
+    let scene = named_scene(&args.scene)?;
     let gpu = Gpu::new(options)?;
     let screen = Resolution::square(args.res);
     let base = RenderConfig {

@@ -6,7 +6,7 @@ use foveate::foveation::{parse_gaze_csv, simulated_trace, GazeFilter};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::Stats;
 use foveate::render::{FrameStats, Renderer};
-use foveate::scene::{default_scene, fill_scene};
+use foveate::scene::named_scene;
 use foveate::StereoMode;
 
 use crate::cli::RenderArgs;
@@ -30,11 +30,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         args.frames
     );
     let gpu = Gpu::new(options)?;
-    let scene = match args.scene.as_str() {
-        "default" => default_scene(),
-        "fill" => fill_scene(),
-        other => anyhow::bail!("invalid scene = {other}: default or fill"),
-    };
+    let scene = named_scene(&args.scene)?;
     let modes = args.config.stereo_modes()?;
     println!("device: {}", gpu.info().name);
     let mut results = Vec::new();

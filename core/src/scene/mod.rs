@@ -5,6 +5,22 @@ mod shapes;
 mod thesis;
 
 pub use default_scene::{default_scene, fill_scene};
+
+/// The scenes the command line offers, by name.
+pub const SCENE_NAMES: [&str; 2] = ["default", "fill"];
+
+/// A scene by its command-line name.
+pub fn named_scene(name: &str) -> Result<Scene, crate::plan::ConfigError> {
+    match name {
+        "default" => Ok(default_scene()),
+        "fill" => Ok(fill_scene()),
+        _ => Err(crate::plan::ConfigError::new(
+            "scene",
+            name,
+            format!("one of {}", SCENE_NAMES.join(", ")),
+        )),
+    }
+}
 pub use shapes::{cube, ground_grid, ground_quad, uv_sphere};
 pub use thesis::{
     entropy, rail_pose, ThesisObject, ThesisScene, RAIL_LOOP_FRAMES, THESIS_COUNTS, THESIS_SPACING,
