@@ -96,17 +96,7 @@ fn region_error(
 
 pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     anyhow::ensure!(args.frames >= 1, "invalid frames = 0: at least 1");
-    anyhow::ensure!(
-        args.gaze.len() == 2,
-        "invalid gaze = {:?}: two numbers X,Y in -1..1",
-        args.gaze
-    );
-    let gaze = Vec2::new(args.gaze[0], args.gaze[1]);
-    anyhow::ensure!(
-        gaze.is_finite(),
-        "invalid gaze = {gaze}: finite numbers in -1..1"
-    );
-    let gaze = gaze.clamp(Vec2::NEG_ONE, Vec2::ONE);
+    let gaze = crate::cli::gaze_from(&args.gaze)?;
     let scene = named_scene(&args.scene)?;
     let gpu = Gpu::new(options)?;
     let screen = Resolution::square(args.res);

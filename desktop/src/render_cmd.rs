@@ -39,18 +39,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         println!("{plan}\n");
         let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
         if let Some(g) = &args.config.gaze {
-            anyhow::ensure!(
-                g.len() == 2,
-                "invalid gaze = {g:?}: two numbers X,Y in -1..1"
-            );
-            let gaze = glam::Vec2::new(g[0], g[1]);
-            anyhow::ensure!(
-                gaze.is_finite(),
-                "invalid gaze = {},{}: finite numbers in -1..1",
-                g[0],
-                g[1]
-            );
-            renderer.set_gaze([gaze.clamp(glam::Vec2::NEG_ONE, glam::Vec2::ONE); 2]);
+            renderer.set_gaze([crate::cli::gaze_from(g)?; 2]);
         }
         let transient = plan.attachments.iter().filter(|a| a.transient).count();
         println!(

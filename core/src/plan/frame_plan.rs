@@ -702,14 +702,6 @@ fn validate_views(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), Config
             "foveation renders its 4 views with multiview",
         ));
     }
-    if config.coverage_probe && (config.stereo != StereoMode::Multiview || !config.count_fragments)
-    {
-        return Err(ConfigError::new(
-            "coverage_probe",
-            "true",
-            "needs multiview and fragment counting",
-        ));
-    }
     Ok(())
 }
 
@@ -788,6 +780,14 @@ fn validate_features(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), Con
             "true",
             "timestamp queries on the graphics queue",
         )?;
+    }
+    if config.coverage_probe && (config.stereo != StereoMode::Multiview || !config.count_fragments)
+    {
+        return Err(ConfigError::new(
+            "coverage_probe",
+            "true",
+            "needs multiview and fragment counting",
+        ));
     }
     Ok(())
 }

@@ -33,7 +33,6 @@ pub(crate) struct Composite {
     _sampler: Sampler,
     _views: ImageView,
     uniforms: Buffer,
-    debug_tint: bool,
 }
 
 impl Composite {
@@ -44,7 +43,6 @@ impl Composite {
         pass: &PassPlan,
         render_pass: vk::RenderPass,
         views: &Image,
-        debug_tint: bool,
     ) -> Result<Self, GpuError> {
         let device = gpu.device();
         let bindings = [
@@ -171,7 +169,6 @@ impl Composite {
             _sampler: sampler,
             _views: view,
             uniforms,
-            debug_tint,
         })
     }
 
@@ -188,7 +185,7 @@ impl Composite {
             params: Vec4::new(
                 g.fovea_screen_px,
                 g.blend_band_px,
-                self.debug_tint as u32 as f32,
+                g.debug_tint as u32 as f32,
                 0.0,
             ),
             screen: Vec4::new(

@@ -176,7 +176,6 @@ impl<'g> Renderer<'g> {
                         .transpose()?,
                 },
                 PassKind::Composite => {
-                    let tint = plan.foveation.is_some_and(|f| f.debug_tint);
                     let views = &images[p.samples[0]];
                     composite = Some(Composite::new(
                         gpu,
@@ -184,7 +183,6 @@ impl<'g> Renderer<'g> {
                         p,
                         compiled.render_pass.raw,
                         views,
-                        tint,
                     )?);
                     PassPipelines {
                         scene: None,
