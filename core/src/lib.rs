@@ -8,6 +8,7 @@ pub mod cull;
 pub mod foveation;
 pub mod gpu;
 pub mod metrics;
+pub mod mffr;
 pub mod plan;
 pub mod render;
 pub mod scene;

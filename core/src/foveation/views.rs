@@ -50,7 +50,7 @@ fn snap_to_pixels(p: FovTangents, f: FovTangents, screen: (u32, u32)) -> FovTang
 /// The fovea window's centre in screen pixels (x right, y down) for an eye whose periphery is
 /// `periphery` and whose fovea view is `fovea`, at `screen` pixels.
 pub fn fovea_centre_px(periphery: FovTangents, fovea: FovTangents, screen: (u32, u32)) -> Vec2 {
-    let ndc = ndc(
+    let ndc = FovTangents::ndc(
         periphery,
         Vec2::new(
             (fovea.right - fovea.left) / 2.0,
@@ -60,14 +60,6 @@ pub fn fovea_centre_px(periphery: FovTangents, fovea: FovTangents, screen: (u32,
     Vec2::new(
         (ndc.x + 1.0) * 0.5 * screen.0 as f32,
         (ndc.y + 1.0) * 0.5 * screen.1 as f32,
-    )
-}
-
-/// Where a tangent-space point lands in a view's NDC (Vulkan: y down).
-fn ndc(fov: FovTangents, t: Vec2) -> Vec2 {
-    Vec2::new(
-        (t.x + fov.left) / (fov.left + fov.right) * 2.0 - 1.0,
-        1.0 - (t.y + fov.down) / (fov.up + fov.down) * 2.0,
     )
 }
 
@@ -82,7 +74,7 @@ pub fn mask_shapes(g: &FoveationGeometry, eyes: &EyeParams, fovea: &[FovTangents
         let i = eye.index();
         let f = fovea[i];
         let window_centre = Vec2::new((f.right - f.left) / 2.0, (f.up - f.down) / 2.0);
-        let hole = ndc(eyes.fov(eye), window_centre);
+        let hole = eyes.fov(eye).ndc(window_centre);
         shapes[i] = Vec4::new(0.0, 0.0, 2.0, 2.0);
         shapes[2 + i] = Vec4::new(0.0, 0.0, g.fovea_circle_px / w, g.fovea_circle_px / h);
         shapes[4 + i] = Vec4::new(

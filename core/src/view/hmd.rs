@@ -1,4 +1,4 @@
-use super::{EyeParams, FovTangents};
+use super::{EyeParams, FovTangents, LensRegion};
 
 /// A headset model: its per-eye panel resolution and its eyes' field of view.
 ///
@@ -110,6 +110,17 @@ impl HmdProfile {
     /// The names `by_name` accepts, for error messages and `--help`.
     pub fn names() -> Vec<&'static str> {
         HMD_PROFILES.iter().map(|p| p.name).collect()
+    }
+
+    /// The lens-visible region of an eye with field of view `fov`: an ellipse hiding the
+    /// published hidden-area fraction or, for a profile without one, the circular fallback
+    /// (the ellipse inscribed in the image, hiding 1 − π/4 ≈ 21.5 %; seed 000 §4.2's "fast
+    /// circular approximation mask").
+    pub fn lens_region(&self, fov: FovTangents) -> LensRegion {
+        match self.hidden_area_fraction {
+            Some(hidden) => LensRegion::with_hidden_fraction(fov, hidden),
+            None => LensRegion { fov, scale: 1.0 },
+        }
     }
 
     /// The profile's eye pair with the given IPD.

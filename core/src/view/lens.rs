@@ -18,21 +18,14 @@ impl LensRegion {
     /// The region hiding `hidden_fraction` of the image (0 ⇒ the whole image is visible).
     pub fn with_hidden_fraction(fov: FovTangents, hidden_fraction: f32) -> Self {
         let visible = (1.0 - hidden_fraction.clamp(0.0, 0.99)) as f64;
-        // Fraction of a square [-1,1]² inside a centred disc of radius k, increasing in k.
-        let fraction = |k: f64| {
-            let pi = std::f64::consts::PI;
-            if k <= 1.0 {
-                pi * k * k / 4.0
-            } else if k >= std::f64::consts::SQRT_2 {
-                1.0
-            } else {
-                (pi * k * k - 4.0 * (k * k * (1.0 / k).acos() - (k * k - 1.0).sqrt())) / 4.0
-            }
-        };
         let (mut lo, mut hi) = (0.0, std::f64::consts::SQRT_2);
         for _ in 0..60 {
             let mid = 0.5 * (lo + hi);
-            if fraction(mid) < visible {
+            let region = LensRegion {
+                fov,
+                scale: mid as f32,
+            };
+            if 1.0 - region.hidden_fraction() < visible {
                 lo = mid;
             } else {
                 hi = mid;
@@ -50,6 +43,37 @@ impl LensRegion {
         let centre = Vec2::new((f.right - f.left) / 2.0, (f.up - f.down) / 2.0);
         let half = Vec2::new((f.left + f.right) / 2.0, (f.up + f.down) / 2.0);
         (centre, half * self.scale)
+    }
+
+    /// The ellipse in the view's NDC: (centre x, centre y, radius x, radius y), as the stencil
+    /// mask shader draws it (the scissor clips it to the image).
+    pub fn ndc_ellipse(&self) -> glam::Vec4 {
+        let (centre, axes) = self.ellipse();
+        let f = self.fov;
+        let c = f.ndc(centre);
+        glam::Vec4::new(
+            c.x,
+            c.y,
+            2.0 * axes.x / (f.left + f.right),
+            2.0 * axes.y / (f.up + f.down),
+        )
+    }
+
+    /// The fraction of the image the region hides, by area (exact for the ellipse clipped to
+    /// the image, integrated numerically).
+    pub fn hidden_fraction(&self) -> f64 {
+        // The ellipse maps to a disc of radius `scale` over the square [-1,1]² (the image
+        // stretched to it), so the visible fraction is the disc's share of the square.
+        let k = self.scale as f64;
+        let pi = std::f64::consts::PI;
+        let visible = if k <= 1.0 {
+            pi * k * k / 4.0
+        } else if k >= std::f64::consts::SQRT_2 {
+            1.0
+        } else {
+            (pi * k * k - 4.0 * (k * k * (1.0 / k).acos() - (k * k - 1.0).sqrt())) / 4.0
+        };
+        1.0 - visible
     }
 
     /// A convex polygon that contains the region: the ellipse's circumscribed `n`-gon clipped

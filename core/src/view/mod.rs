@@ -88,6 +88,14 @@ impl FovTangents {
     pub fn as_array(self) -> [f32; 4] {
         [self.left, self.right, self.up, self.down]
     }
+
+    /// Where a tangent-space point (x right, y up) lands in this view's NDC (Vulkan: y down).
+    pub fn ndc(self, t: glam::Vec2) -> glam::Vec2 {
+        glam::Vec2::new(
+            (t.x + self.left) / (self.left + self.right) * 2.0 - 1.0,
+            1.0 - (t.y + self.down) / (self.up + self.down) * 2.0,
+        )
+    }
 }
 
 /// The eye pair: per-eye FOV tangents, interpupillary distance and an optional outward cant

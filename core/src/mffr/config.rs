@@ -1,0 +1,152 @@
+use std::fmt;
+use std::str::FromStr;
+
+use crate::plan::ConfigError;
+
+/// Where the near field ends and the far field begins.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SplitDistance {
+    /// The distance at which the two eyes' images of a point differ by this many pixels:
+    /// z = IPD · focal_px / threshold. Beyond it, a mono image is off by at most half of it
+    /// in each eye.
+    DisparityPx(f32),
+    /// An explicit distance in metres along the view axis.
+    Metres(f32),
+}
+
+impl fmt::Display for SplitDistance {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SplitDistance::DisparityPx(px) => write!(f, "{px}px"),
+            SplitDistance::Metres(m) => write!(f, "{m}m"),
+        }
+    }
+}
+
+impl FromStr for SplitDistance {
+    type Err = ConfigError;
+    /// `1px` (a disparity threshold) or `40m` (metres).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let bad = || {
+            ConfigError::new(
+                "mffr split",
+                s,
+                "a disparity like `1px` or metres like `40m`",
+            )
+        };
+        let t = s.trim();
+        if let Some(px) = t.strip_suffix("px") {
+            px.trim()
+                .parse()
+                .map(SplitDistance::DisparityPx)
+                .map_err(|_| bad())
+        } else if let Some(m) = t.strip_suffix('m') {
+            m.trim()
+                .parse()
+                .map(SplitDistance::Metres)
+                .map_err(|_| bad())
+        } else {
+            Err(bad())
+        }
+    }
+}
+
+/// Which field reaches each eye's pixels first (seed 000 §4.3.2–4.3.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MffrOrder {
+    /// The far image is composited into every eye pixel, then the near field drawn over it.
+    FarFirst,
+    /// The near field is drawn first and marks its pixels in stencil; the far image fills only
+    /// the pixels it left uncovered.
+    NearFirst,
+}
+
+/// How the far image reaches each eye.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MffrVariant {
+    /// Rendered from the head centre, reprojected by rotation only: each eye is off by half the
+    /// disparity of what it sees.
+    Centre,
+    /// Rendered from the left eye on even frames and the right eye on odd ones (seed 000
+    /// §4.3.7): one eye exact, the other off by the full disparity, alternating.
+    AlternateEye,
+    /// Rendered from the head centre and shifted per pixel by its own depth (seed 000 §4.3.6).
+    DepthShift,
+}
+
+/// Monoscopic far-field rendering, as the user asks for it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MffrConfig {
+    pub split: SplitDistance,
+    pub order: MffrOrder,
+    pub variant: MffrVariant,
+}
+
+impl Default for MffrConfig {
+    fn default() -> Self {
+        Self {
+            split: SplitDistance::DisparityPx(1.0),
+            order: MffrOrder::NearFirst,
+            variant: MffrVariant::Centre,
+        }
+    }
+}
+
+impl MffrConfig {
+    /// The variants `foveate mffr` compares, by name.
+    pub const NAMED: [(&'static str, MffrOrder, MffrVariant); 4] = [
+        ("far-first", MffrOrder::FarFirst, MffrVariant::Centre),
+        ("near-first", MffrOrder::NearFirst, MffrVariant::Centre),
+        (
+            "alternate-eye",
+            MffrOrder::NearFirst,
+            MffrVariant::AlternateEye,
+        ),
+        ("depth-shift", MffrOrder::NearFirst, MffrVariant::DepthShift),
+    ];
+
+    /// A named variant (see [`MffrConfig::NAMED`]) at `split`.
+    pub fn named(name: &str, split: SplitDistance) -> Result<Self, ConfigError> {
+        let names: Vec<&str> = Self::NAMED.iter().map(|n| n.0).collect();
+        Self::NAMED
+            .iter()
+            .find(|n| n.0 == name)
+            .map(|&(_, order, variant)| MffrConfig {
+                split,
+                order,
+                variant,
+            })
+            .ok_or_else(|| ConfigError::new("mffr", name, format!("one of {}", names.join(", "))))
+    }
+
+    pub fn name(&self) -> &'static str {
+        match (self.order, self.variant) {
+            (MffrOrder::FarFirst, MffrVariant::Centre) => "far-first",
+            (MffrOrder::NearFirst, MffrVariant::Centre) => "near-first",
+            (_, MffrVariant::AlternateEye) => "alternate-eye",
+            (_, MffrVariant::DepthShift) => "depth-shift",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn split_parses_pixels_and_metres_and_rejects_the_rest() {
+        assert_eq!("1px".parse(), Ok(SplitDistance::DisparityPx(1.0)));
+        assert_eq!("40m".parse(), Ok(SplitDistance::Metres(40.0)));
+        let e = "40".parse::<SplitDistance>().unwrap_err().to_string();
+        assert!(e.contains("mffr split") && e.contains("40"), "{e}");
+    }
+
+    #[test]
+    fn every_named_variant_round_trips() {
+        for (name, _, _) in MffrConfig::NAMED {
+            let c = MffrConfig::named(name, SplitDistance::Metres(30.0)).unwrap();
+            assert_eq!(c.name(), name);
+        }
+        assert!(MffrConfig::named("both", SplitDistance::Metres(30.0)).is_err());
+    }
+}
