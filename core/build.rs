@@ -7,6 +7,11 @@ use std::process::Command;
 
 const SHADERS: &[(&str, &str, &[&str])] = &[
     ("scene.vert", "scene.vert.spv", &[]),
+    (
+        "scene.vert",
+        "scene_indirect.vert.spv",
+        &["INDIRECT_INSTANCES"],
+    ),
     ("scene.frag", "scene.frag.spv", &[]),
     (
         "scene.frag",
@@ -19,6 +24,7 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
     ("coverage.frag", "coverage.frag.spv", &[]),
     ("composite.vert", "composite.vert.spv", &[]),
     ("composite.frag", "composite.frag.spv", &[]),
+    ("far_composite.frag", "far_composite.frag.spv", &[]),
 ];
 
 fn main() {

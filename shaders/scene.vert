@@ -12,8 +12,8 @@ layout(constant_id = 0) const uint VIEW_SOURCE = 0;
 layout(constant_id = 1) const float CLIP_XY_SCALE = 1.0;
 
 layout(std140, set = 0, binding = 0) uniform Views {
-    mat4 view_proj[4];
-    vec4 light_dir;
+    mat4 view_proj[5]; // up to 4 eye views, then the MFFR far view
+    vec4 light_dir;    // xyz: light direction; w: the far view's near plane
 } views;
 
 struct Instance {
@@ -23,6 +23,14 @@ struct Instance {
 layout(std430, set = 0, binding = 1) readonly buffer Instances {
     Instance instances[];
 };
+#ifdef INDIRECT_INSTANCES
+// Culled draws (MFFR's near and far sets): the instance index picks an entry of the per-frame
+// id list instead of the instance itself. A separate build, so that without culling the shader
+// declares no binding the pipeline lacks.
+layout(std430, set = 0, binding = 4) readonly buffer InstanceIds {
+    uint ids[];
+};
+#endif
 
 layout(push_constant) uniform Push {
     uint view;
@@ -34,6 +42,7 @@ layout(location = 1) in vec3 in_normal;
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_color;
 layout(location = 2) flat out uint out_view;
+layout(location = 3) out float out_depth;
 
 out gl_PerVertex {
     vec4 gl_Position;
@@ -53,6 +62,9 @@ void main() {
         instance = uint(gl_InstanceIndex);
     }
 
+#ifdef INDIRECT_INSTANCES
+    instance = ids[instance];
+#endif
     Instance inst = instances[instance];
     vec4 world = inst.model * vec4(in_position, 1.0);
     vec4 clip = views.view_proj[view] * world;
@@ -71,4 +83,5 @@ void main() {
     out_normal = mat3(inst.model) * in_normal;
     out_color = inst.color.rgb;
     out_view = view;
+    out_depth = clip.w; // view-space depth: every projection here has w = −z_view
 }

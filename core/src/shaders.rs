@@ -16,6 +16,8 @@ macro_rules! spirv {
 }
 
 pub const SCENE_VERT: ShaderBinary = spirv!("scene.vert.spv");
+/// The scene vertex shader reading culled instance ids (MFFR's near and far sets).
+pub const SCENE_VERT_INDIRECT: ShaderBinary = spirv!("scene_indirect.vert.spv");
 pub const SCENE_FRAG: ShaderBinary = spirv!("scene.frag.spv");
 /// The scene fragment shader with the per-view fragment counter compiled in.
 pub const SCENE_FRAG_COUNTING: ShaderBinary = spirv!("scene_counting.frag.spv");
@@ -30,6 +32,8 @@ pub const COVERAGE_FRAG: ShaderBinary = spirv!("coverage.frag.spv");
 /// Composition of a foveated frame: periphery upscaled, fovea blended over it.
 pub const COMPOSITE_VERT: ShaderBinary = spirv!("composite.vert.spv");
 pub const COMPOSITE_FRAG: ShaderBinary = spirv!("composite.frag.spv");
+/// MFFR: the far image reprojected into each view (vertex shader: [`COMPOSITE_VERT`]).
+pub const FAR_COMPOSITE_FRAG: ShaderBinary = spirv!("far_composite.frag.spv");
 
 /// Vertices of one mask fan (128 triangles; see `shaders/mask.vert`).
 pub const MASK_VERTICES: u32 = 128 * 3;
@@ -37,6 +41,7 @@ pub const MASK_VERTICES: u32 = 128 * 3;
 /// Every shader the renderer can use (the spirv-val test walks this list).
 pub const ALL: &[ShaderBinary] = &[
     SCENE_VERT,
+    SCENE_VERT_INDIRECT,
     SCENE_FRAG,
     SCENE_FRAG_COUNTING,
     MASK_VERT,
@@ -45,6 +50,7 @@ pub const ALL: &[ShaderBinary] = &[
     COVERAGE_FRAG,
     COMPOSITE_VERT,
     COMPOSITE_FRAG,
+    FAR_COMPOSITE_FRAG,
 ];
 
 impl ShaderBinary {

@@ -3,6 +3,7 @@ use std::str::FromStr;
 
 use super::ConfigError;
 use crate::foveation::FoveationConfig;
+use crate::mffr::MffrConfig;
 use crate::view::{FovTangents, HmdProfile, HMD_PROFILES};
 
 /// foveate's own limit on views in one pass: two eyes, or two eyes × (periphery, fovea).
@@ -130,6 +131,11 @@ pub struct RenderConfig {
     pub timestamps: bool,
     /// Foveated rendering: four views (periphery and fovea per eye) in one multiview pass.
     pub foveation: Option<FoveationConfig>,
+    /// The HMD stencil mask: pixels the lens hides are masked out in stencil at the start of
+    /// the scene pass, so no scene fragment is shaded there.
+    pub hmd_mask: bool,
+    /// Monoscopic far-field rendering: the far field once, composited into each eye.
+    pub mffr: Option<MffrConfig>,
     /// Count every pixel each view renders (a full-view draw under the pass's stencil masks,
     /// counted by the fragment counter) — `foveate pixels` measures with it.
     pub coverage_probe: bool,
@@ -151,6 +157,8 @@ impl Default for RenderConfig {
             count_fragments: true,
             timestamps: true,
             foveation: None,
+            hmd_mask: false,
+            mffr: None,
             coverage_probe: false,
         }
     }

@@ -1,8 +1,9 @@
 use super::derive::{is_transient, Access, LoadOp, StoreOp};
 use super::{ConfigError, DeviceCaps, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
 use crate::foveation::FoveationGeometry;
+use crate::mffr::{MffrGeometry, MffrOrder};
 use crate::scene::Scene;
-use crate::view::{Eye, EyeParams, HmdProfile};
+use crate::view::{Eye, EyeParams, HmdProfile, LensRegion};
 
 /// Pixel formats the planner uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -114,6 +115,19 @@ pub enum Submission {
     PerObject,
     /// Every draw with its instance count doubled.
     Instanced,
+    /// Once, from the MFFR far view.
+    FarView,
+}
+
+/// Which instances a scene pass draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DrawSet {
+    /// Every instance, straight from the scene's draws.
+    All,
+    /// Instances reaching in front of the MFFR split (culled per frame).
+    NearField,
+    /// Instances reaching beyond the MFFR far pass's near plane (culled per frame).
+    FarField,
 }
 
 /// What a pass does.
@@ -123,6 +137,8 @@ pub enum PassKind {
     Scene,
     /// Composes each eye at full resolution from the periphery and fovea views it samples.
     Composite,
+    /// MFFR: the far field, once, into an image the eye passes sample.
+    FarField,
 }
 
 /// One render pass of the frame.
@@ -144,6 +160,10 @@ pub struct PassPlan {
     pub stencil_masks: bool,
     /// A full-view draw under the masks, counted per view, after the scene.
     pub coverage_probe: bool,
+    /// MFFR: the far image (the one attachment in `samples`) is composited into every view,
+    /// before the scene (far-first) or under it, into pixels it left uncovered (near-first).
+    pub far_field: Option<MffrOrder>,
+    pub draw_set: DrawSet,
     /// Emulated guard band: clip-space x and y are divided by this factor and the viewport
     /// grown by it, so primitives reaching less than this many view widths past the edge need
     /// no clipping. 1 = off; set only to work around [`DriverQuirks`](super::DriverQuirks).
@@ -213,6 +233,11 @@ pub struct FramePlan {
     pub draw_calls: u64,
     /// Foveation as resolved for this frame; `None` renders plain stereo.
     pub foveation: Option<FoveationGeometry>,
+    /// Each eye's lens-visible region, when the HMD stencil mask is on.
+    pub hmd_mask: Option<[LensRegion; 2]>,
+    /// MFFR as resolved for this frame: `None` when off, or when the scene has nothing beyond
+    /// the split.
+    pub mffr: Option<MffrGeometry>,
 }
 
 impl FramePlan {
@@ -223,6 +248,16 @@ impl FramePlan {
 
     pub fn count_fragments(&self) -> bool {
         self.fragment_counter().is_some()
+    }
+
+    /// The per-frame list of culled instance ids, when some pass draws a culled set.
+    pub fn instance_ids(&self) -> Option<&BufferPlan> {
+        self.buffers.iter().find(|b| b.name == INSTANCE_IDS)
+    }
+
+    /// The MFFR far pass, when planned.
+    pub fn far_pass(&self) -> Option<&PassPlan> {
+        self.passes.iter().find(|p| p.kind == PassKind::FarField)
     }
 
     /// The attachments read after the frame, in eye order: the stereo image.
@@ -281,6 +316,7 @@ impl FramePlan {
 }
 
 pub(crate) const FRAGMENT_COUNTER: &str = "fragment counter";
+pub(crate) const INSTANCE_IDS: &str = "instance ids";
 
 /// Plans a frame. Rejects a configuration the device or foveate cannot render with an error
 /// naming the field, the value and the limit.
@@ -300,6 +336,28 @@ pub fn plan(
     validate_msaa(config, caps)?;
     validate_depth_range(config)?;
     validate_features(config, caps)?;
+    let hmd_mask = config
+        .hmd_mask
+        .then(|| Eye::BOTH.map(|e| hmd.lens_region(eyes.fov(e))));
+    let mffr = match config.mffr {
+        Some(m) => MffrGeometry::resolve(m, &eyes, eye_resolution, config.near, config.far)?
+            // A scene whose every point is nearer than the split has no far field to render.
+            .filter(|g| scene.content_reach() > g.split_m),
+        None => None,
+    };
+    if let Some(g) = &mffr {
+        let max = caps.max_image_dimension_2d;
+        if g.resolution.width > max || g.resolution.height > max {
+            return Err(ConfigError::new(
+                "mffr split",
+                g.config.split,
+                format!(
+                    "a far image within {max}x{max} on this device; it needs {}",
+                    g.resolution
+                ),
+            ));
+        }
+    }
 
     let layout = match config.stereo {
         StereoMode::Multiview => TargetLayout::Layered,
@@ -308,9 +366,30 @@ pub fn plan(
     };
     let mut attachments = Vec::new();
     let render_resolution = foveation.map_or(eye_resolution, |f| f.view);
-    let mut passes = scene_passes(config, render_resolution, layout, &mut attachments);
+    let far = mffr.map(|g| far_pass(config, g.resolution, &mut attachments));
+    let far_colour = far
+        .as_ref()
+        .map(|p| p.resolve.unwrap_or(p.color).attachment);
+    let mut passes: Vec<PassPlan> = far.into_iter().collect();
+    passes.extend(scene_passes(
+        config,
+        render_resolution,
+        layout,
+        mffr.map(|g| {
+            (
+                g.config.order,
+                far_colour.expect("planned with the far pass"),
+            )
+        }),
+        &mut attachments,
+    ));
     if foveation.is_some() {
-        let composite = composite_pass(&passes[0], eye_resolution, &mut attachments);
+        let scene = passes.iter().find(|p| p.kind == PassKind::Scene);
+        let composite = composite_pass(
+            scene.expect("a foveated frame has its scene pass"),
+            eye_resolution,
+            &mut attachments,
+        );
         passes.push(composite);
     }
     if caps.quirks.multiview_clipping_drops_views {
@@ -339,17 +418,28 @@ pub fn plan(
         passes,
         buffers: Vec::new(),
         timestamp_queries: 0,
-        draw_calls: draw_calls(scene, config.stereo),
+        draw_calls: 0,
         foveation,
+        hmd_mask,
+        mffr,
     };
+    plan.draw_calls = draw_calls(scene, &plan);
     if config.timestamps {
         // One before the frame and one after each pass.
         plan.timestamp_queries = plan.passes.len() as u32 + 1;
     }
     if config.count_fragments {
+        // One counter per view, and one for the MFFR far view.
         plan.buffers.push(BufferPlan {
             name: FRAGMENT_COUNTER,
-            bytes: 4 * MAX_VIEWS as u64,
+            bytes: 4 * (MAX_VIEWS as u64 + 1),
+        });
+    }
+    if plan.passes.iter().any(|p| p.draw_set != DrawSet::All) {
+        // Near and far sets of one frame, each at most every instance.
+        plan.buffers.push(BufferPlan {
+            name: INSTANCE_IDS,
+            bytes: 2 * 4 * (scene.instance_count().max(1) as u64),
         });
     }
     derive_ops(&mut plan);
@@ -361,6 +451,7 @@ fn scene_passes(
     config: &RenderConfig,
     eye: Resolution,
     layout: TargetLayout,
+    far_field: Option<(MffrOrder, AttachmentId)>,
     attachments: &mut Vec<AttachmentPlan>,
 ) -> Vec<PassPlan> {
     let msaa = config.msaa > 1;
@@ -396,8 +487,9 @@ fn scene_passes(
             false,
         )
     });
-    let stencil_masks = config.foveation.is_some_and(|f| f.stencil);
-    let depth_format = if stencil_masks {
+    let stencil_masks = config.foveation.is_some_and(|f| f.stencil) || config.hmd_mask;
+    let near_first = far_field.is_some_and(|(order, _)| order == MffrOrder::NearFirst);
+    let depth_format = if stencil_masks || near_first {
         Format::D32S8
     } else {
         Format::D32
@@ -442,9 +534,15 @@ fn scene_passes(
             resolve: color.map(|_| whole(output, Access::Overwrite)),
             submission,
             kind: PassKind::Scene,
-            samples: Vec::new(),
+            samples: far_field.map(|(_, far)| far).into_iter().collect(),
             stencil_masks,
             coverage_probe: config.coverage_probe,
+            far_field: far_field.map(|(order, _)| order),
+            draw_set: if far_field.is_some() {
+                DrawSet::NearField
+            } else {
+                DrawSet::All
+            },
             guard_band: 1,
         }
     };
@@ -521,6 +619,64 @@ fn composite_pass(
         submission: Submission::Multiview,
         stencil_masks: false,
         coverage_probe: false,
+        far_field: None,
+        draw_set: DrawSet::All,
+        guard_band: 1,
+    }
+}
+
+/// The MFFR far pass: the far field once, from one view, resolved into an image every eye
+/// pass samples (and which is therefore stored).
+fn far_pass(
+    config: &RenderConfig,
+    size: Resolution,
+    attachments: &mut Vec<AttachmentPlan>,
+) -> PassPlan {
+    let mut add = |name, role, format, samples| {
+        attachments.push(AttachmentPlan {
+            name,
+            role,
+            format,
+            samples,
+            width: size.width,
+            height: size.height,
+            layers: 1,
+            read_after_frame: false,
+            sampled: false,
+            transient: false,
+        });
+        attachments.len() - 1
+    };
+    let msaa = config.msaa > 1;
+    let color = msaa.then(|| {
+        add(
+            "far colour (MSAA)",
+            AttachmentRole::Color,
+            Format::Rgba8Srgb,
+            config.msaa,
+        )
+    });
+    let depth = add("far depth", AttachmentRole::Depth, Format::D32, config.msaa);
+    let output_role = if msaa {
+        AttachmentRole::Resolve
+    } else {
+        AttachmentRole::Color
+    };
+    let output = add("far field colour", output_role, Format::Rgba8Srgb, 1);
+    let whole = |id, access| Use::new(id, 0, 1, access);
+    PassPlan {
+        name: "far field (mono)",
+        kind: PassKind::FarField,
+        view_mask: 0,
+        color: whole(color.unwrap_or(output), Access::Clear),
+        depth: Some(whole(depth, Access::Clear)),
+        resolve: color.map(|_| whole(output, Access::Overwrite)),
+        samples: Vec::new(),
+        submission: Submission::FarView,
+        stencil_masks: false,
+        coverage_probe: false,
+        far_field: None,
+        draw_set: DrawSet::FarField,
         guard_band: 1,
     }
 }
@@ -589,15 +745,21 @@ fn derive_ops(plan: &mut FramePlan) {
     }
 }
 
-/// Draw calls one frame records: the scene's draws (one per mesh) or, per object, two per
-/// instance.
-fn draw_calls(scene: &Scene, stereo: StereoMode) -> u64 {
+/// Draw calls one frame records, at most: each scene pass's draws of the scene (one per mesh;
+/// per object, two per instance), plus the full-view draws of composition.
+fn draw_calls(scene: &Scene, plan: &FramePlan) -> u64 {
     let meshes = scene.draws().count() as u64;
-    match stereo {
-        StereoMode::Multiview | StereoMode::Instanced => meshes,
-        StereoMode::TwoPass => 2 * meshes,
-        StereoMode::PerObject => 2 * scene.instance_count() as u64,
-    }
+    plan.passes
+        .iter()
+        .map(|p| {
+            let scene_draws = match p.submission {
+                _ if p.kind == PassKind::Composite => 1,
+                Submission::PerObject => 2 * scene.instance_count() as u64,
+                _ => meshes,
+            };
+            scene_draws + p.far_field.is_some() as u64
+        })
+        .sum()
 }
 
 fn validate_eyes(config: &RenderConfig, hmd: &HmdProfile) -> Result<EyeParams, ConfigError> {
@@ -780,6 +942,15 @@ fn validate_features(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), Con
             "true",
             "timestamp queries on the graphics queue",
         )?;
+    }
+    if config.mffr.is_some()
+        && !matches!(config.stereo, StereoMode::Multiview | StereoMode::TwoPass)
+    {
+        return Err(ConfigError::new(
+            "stereo",
+            config.stereo,
+            "MFFR composites the far field into multiview or two-pass eye passes",
+        ));
     }
     if config.coverage_probe && (config.stereo != StereoMode::Multiview || !config.count_fragments)
     {

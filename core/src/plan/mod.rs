@@ -16,8 +16,8 @@ pub use config::{RenderConfig, Resolution, StereoMode, MAX_VIEWS};
 pub use derive::{Access, LoadOp, StoreOp};
 pub use error::ConfigError;
 pub use frame_plan::{
-    plan, AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, Format, FramePlan, PassKind,
-    PassPlan, Submission, TargetLayout, Use,
+    plan, AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, DrawSet, Format, FramePlan,
+    PassKind, PassPlan, Submission, TargetLayout, Use,
 };
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 use std::fmt;
 
-use super::{FramePlan, PassKind, Submission, TargetLayout};
+use super::{DrawSet, FramePlan, PassKind, Submission, TargetLayout};
+use crate::mffr::MffrOrder;
 
 fn mib(bytes: u64) -> String {
     format!("{:.2} MiB", bytes as f64 / (1024.0 * 1024.0))
@@ -55,6 +56,38 @@ impl fmt::Display for FramePlan {
             )?;
         }
 
+        if let Some(regions) = &self.hmd_mask {
+            let hidden: Vec<String> = regions
+                .iter()
+                .map(|r| format!("{:.1} %", 100.0 * r.hidden_fraction()))
+                .collect();
+            let source = if self.hmd.hidden_area_fraction.is_some() {
+                "ellipse matching the headset's hidden-area mesh area"
+            } else {
+                "circular fallback: no published hidden-area mesh"
+            };
+            writeln!(
+                f,
+                "  HMD stencil mask: hides {} of each eye (analytic; {source}; `foveate pixels` measures it)",
+                hidden.join(" / ")
+            )?;
+        }
+        if let Some(m) = &self.mffr {
+            writeln!(
+                f,
+                "  MFFR {}: split {:.2} m ({} → {:.2} px disparity there), far view {} covering both eyes (tangents l/r/u/d {:.3}/{:.3}/{:.3}/{:.3}), far pass near {:.2} m",
+                m.config.name(),
+                m.split_m,
+                m.config.split,
+                m.disparity_at_split_px,
+                m.resolution,
+                m.far_fov.left,
+                m.far_fov.right,
+                m.far_fov.up,
+                m.far_fov.down,
+                m.far_near
+            )?;
+        }
         writeln!(f, "attachments:")?;
         writeln!(
             f,
@@ -91,6 +124,7 @@ impl fmt::Display for FramePlan {
                 Submission::Instanced => {
                     "instance count doubled, clip-space half viewports".to_string()
                 }
+                Submission::FarView => "the far field once, from the far view".to_string(),
             };
             writeln!(
                 f,
@@ -105,7 +139,32 @@ impl fmt::Display for FramePlan {
                 )?;
             }
             if p.stencil_masks {
-                writeln!(f, "    stencil masks first: inset circle in the fovea views, outset (hole) in the periphery views")?;
+                let mut masks = Vec::new();
+                if self.hmd_mask.is_some() {
+                    masks.push("the lens-visible ellipse in the eye (periphery) views");
+                }
+                if self.foveation.is_some_and(|g| g.stencil) {
+                    masks.push(
+                        "inset circle in the fovea views, outset (hole) in the periphery views",
+                    );
+                }
+                writeln!(f, "    stencil masks first: {}", masks.join("; "))?;
+            }
+            match p.draw_set {
+                DrawSet::All => {}
+                DrawSet::NearField => writeln!(
+                    f,
+                    "    draws the near field (instances in front of the split, culled per frame)"
+                )?,
+                DrawSet::FarField => writeln!(
+                    f,
+                    "    draws the far field (instances beyond the split, culled per frame)"
+                )?,
+            }
+            match p.far_field {
+                Some(MffrOrder::FarFirst) => writeln!(f, "    far image composited first into every pixel, near field drawn over it")?,
+                Some(MffrOrder::NearFirst) => writeln!(f, "    near field first, marking stencil; far image composited into the unmarked pixels")?,
+                None => {}
             }
             if p.coverage_probe {
                 writeln!(

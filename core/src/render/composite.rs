@@ -7,10 +7,8 @@ use ash::vk;
 use glam::Vec4;
 
 use super::pipelines::{pass_pipeline, PipelineKind};
-use crate::gpu::{
-    Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, Image, ImageView, MemoryLocation,
-    Pipeline, PipelineLayout, Sampler, VkResultExt,
-};
+use super::sampled_set::SampledSet;
+use crate::gpu::{Gpu, GpuError, Image, Pipeline};
 use crate::plan::{FramePlan, PassPlan};
 use crate::view::{Eye, FovTangents};
 
@@ -26,13 +24,7 @@ struct CompositeBlock {
 
 pub(crate) struct Composite {
     pub pipeline: Pipeline,
-    pub layout: PipelineLayout,
-    _set_layout: DescriptorSetLayout,
-    _pool: DescriptorPool,
-    pub set: vk::DescriptorSet,
-    _sampler: Sampler,
-    _views: ImageView,
-    uniforms: Buffer,
+    pub set: SampledSet,
 }
 
 impl Composite {
@@ -44,132 +36,16 @@ impl Composite {
         render_pass: vk::RenderPass,
         views: &Image,
     ) -> Result<Self, GpuError> {
-        let device = gpu.device();
-        let bindings = [
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(0)
-                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::FRAGMENT),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(1)
-                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::FRAGMENT),
-        ];
-        // SAFETY: plain object creation; every handle is owned by the returned value.
-        let set_layout = DescriptorSetLayout::from_raw(
-            &gpu.dev,
-            unsafe {
-                device.create_descriptor_set_layout(
-                    &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
-                    None,
-                )
-            }
-            .vk("vkCreateDescriptorSetLayout")?,
-        );
-        let sizes = [
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                descriptor_count: 1,
-            },
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::UNIFORM_BUFFER,
-                descriptor_count: 1,
-            },
-        ];
-        let pool = DescriptorPool::from_raw(
-            &gpu.dev,
-            unsafe {
-                device.create_descriptor_pool(
-                    &vk::DescriptorPoolCreateInfo::default()
-                        .max_sets(1)
-                        .pool_sizes(&sizes),
-                    None,
-                )
-            }
-            .vk("vkCreateDescriptorPool")?,
-        );
-        let layouts = [set_layout.raw];
-        let set = unsafe {
-            device.allocate_descriptor_sets(
-                &vk::DescriptorSetAllocateInfo::default()
-                    .descriptor_pool(pool.raw)
-                    .set_layouts(&layouts),
-            )
-        }
-        .vk("vkAllocateDescriptorSets")?[0];
-        let sampler_info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::LINEAR)
-            .min_filter(vk::Filter::LINEAR)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .max_lod(0.0);
-        let sampler = Sampler::from_raw(
-            &gpu.dev,
-            unsafe { device.create_sampler(&sampler_info, None) }.vk("vkCreateSampler")?,
-        );
-        let view = views.view(0, views.layers, true)?;
-        let uniforms = Buffer::new(
-            gpu,
-            "composite",
-            std::mem::size_of::<CompositeBlock>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
-        let image_info = [vk::DescriptorImageInfo {
-            sampler: sampler.raw,
-            image_view: view.raw,
-            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        }];
-        let buffer_info = [vk::DescriptorBufferInfo {
-            buffer: uniforms.raw,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }];
-        let writes = [
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(0)
-                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                .image_info(&image_info),
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(1)
-                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                .buffer_info(&buffer_info),
-        ];
-        unsafe { device.update_descriptor_sets(&writes, &[]) };
-        let layout = PipelineLayout::from_raw(
-            &gpu.dev,
-            unsafe {
-                device.create_pipeline_layout(
-                    &vk::PipelineLayoutCreateInfo::default().set_layouts(&layouts),
-                    None,
-                )
-            }
-            .vk("vkCreatePipelineLayout")?,
-        );
+        let set = SampledSet::new(gpu, views, std::mem::size_of::<CompositeBlock>() as u64, 0)?;
         let pipeline = pass_pipeline(
             gpu,
             plan,
             pass,
             PipelineKind::Composite,
             render_pass,
-            &layout,
+            &set.layout,
         )?;
-        Ok(Composite {
-            pipeline,
-            layout,
-            _set_layout: set_layout,
-            _pool: pool,
-            set,
-            _sampler: sampler,
-            _views: view,
-            uniforms,
-        })
+        Ok(Composite { pipeline, set })
     }
 
     /// Writes this frame's windows: each eye's periphery and (gaze-dependent) fovea tangents.
@@ -195,6 +71,6 @@ impl Composite {
                 0.0,
             ),
         };
-        self.uniforms.write(&[block]);
+        self.set.uniforms.write(&[block]);
     }
 }

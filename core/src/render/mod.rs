@@ -2,9 +2,11 @@
 //! records, submits and measures frames.
 
 mod composite;
+mod far_field;
 mod pipelines;
 mod record;
 mod renderer;
+mod sampled_set;
 mod scene_buffers;
 mod targets;
 

@@ -6,17 +6,18 @@ use crate::gpu::{
     Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, Pipeline, PipelineLayout,
     ShaderModule, VkResultExt,
 };
-use crate::plan::{FramePlan, PassPlan, Submission};
+use crate::mffr::{MffrOrder, MffrVariant};
+use crate::plan::{DrawSet, FramePlan, PassKind, PassPlan, Submission};
 use crate::scene::Vertex;
 use crate::shaders::{
-    ShaderBinary, COMPOSITE_FRAG, COMPOSITE_VERT, COVERAGE_FRAG, COVERAGE_VERT, MASK_FRAG,
-    MASK_VERT, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_VERT,
+    ShaderBinary, COMPOSITE_FRAG, COMPOSITE_VERT, COVERAGE_FRAG, COVERAGE_VERT, FAR_COMPOSITE_FRAG,
+    MASK_FRAG, MASK_VERT, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_VERT, SCENE_VERT_INDIRECT,
 };
 
 const ENTRY: &CStr = c"main";
 
-/// The scene shaders' resources: views (binding 0), instances (1) and, only when fragment
-/// counting is on, the counter (2).
+/// The scene shaders' resources: views (binding 0), instances (1) and, only when their effect
+/// is on, the fragment counter (2), the stencil mask shapes (3) and culled instance ids (4).
 pub(crate) struct SceneBindings {
     pub layout: PipelineLayout,
     _set_layout: DescriptorSetLayout,
@@ -31,6 +32,7 @@ impl SceneBindings {
         instances: &Buffer,
         counter: Option<&Buffer>,
         masks: Option<&Buffer>,
+        instance_ids: Option<&Buffer>,
     ) -> Result<Self, GpuError> {
         let device = gpu.device();
         // (binding, type, stages, buffer): only what this plan uses exists.
@@ -46,6 +48,7 @@ impl SceneBindings {
             Some((1, storage, vk::ShaderStageFlags::VERTEX, instances)),
             counter.map(|b| (2, storage, vk::ShaderStageFlags::FRAGMENT, b)),
             masks.map(|b| (3, uniform, vk::ShaderStageFlags::VERTEX, b)),
+            instance_ids.map(|b| (4, storage, vk::ShaderStageFlags::VERTEX, b)),
         ]
         .into_iter()
         .flatten()
@@ -74,7 +77,7 @@ impl SceneBindings {
             },
             vk::DescriptorPoolSize {
                 ty: storage,
-                descriptor_count: 2,
+                descriptor_count: 3,
             },
         ];
         let pool_info = vk::DescriptorPoolCreateInfo::default()
@@ -137,6 +140,65 @@ impl SceneBindings {
     }
 }
 
+/// Stencil bits of a scene pass: bit 0 is set where the masks keep a pixel (the lens-visible
+/// area, a fovea's inset circle, a periphery outside its hole), bit 1 where the MFFR near field
+/// drew (near-first). `None`: no stencil test.
+const MASK_BIT: u32 = 1;
+const NEAR_BIT: u32 = 2;
+
+fn stencil_state(pass: &PassPlan, kind: PipelineKind) -> Option<vk::StencilOpState> {
+    let masks = pass.stencil_masks;
+    let near_first = pass.far_field == Some(MffrOrder::NearFirst);
+    let op = |compare_op, compare_mask, reference, pass_op, write_mask| vk::StencilOpState {
+        fail_op: vk::StencilOp::KEEP,
+        pass_op,
+        depth_fail_op: vk::StencilOp::KEEP,
+        compare_op,
+        compare_mask,
+        write_mask,
+        reference,
+    };
+    let keep = vk::StencilOp::KEEP;
+    match kind {
+        // Keep shapes write 1, drop shapes 0 (the reference is set per draw).
+        PipelineKind::Mask => Some(op(
+            vk::CompareOp::ALWAYS,
+            0,
+            0,
+            vk::StencilOp::REPLACE,
+            MASK_BIT,
+        )),
+        // Tested against the masks; near-first marks what the near field covers.
+        PipelineKind::Scene if masks || near_first => Some(op(
+            if masks {
+                vk::CompareOp::EQUAL
+            } else {
+                vk::CompareOp::ALWAYS
+            },
+            MASK_BIT,
+            MASK_BIT | NEAR_BIT,
+            if near_first {
+                vk::StencilOp::REPLACE
+            } else {
+                keep
+            },
+            if near_first { NEAR_BIT } else { 0 },
+        )),
+        PipelineKind::Coverage if masks => {
+            Some(op(vk::CompareOp::EQUAL, MASK_BIT, MASK_BIT, keep, 0))
+        }
+        // Only kept pixels the near field left uncovered (near-first), or every kept pixel.
+        PipelineKind::FarComposite if masks || near_first => Some(op(
+            vk::CompareOp::EQUAL,
+            if masks { MASK_BIT } else { 0 } | if near_first { NEAR_BIT } else { 0 },
+            if masks { MASK_BIT } else { 0 },
+            keep,
+            0,
+        )),
+        _ => None,
+    }
+}
+
 fn shader_module(gpu: &Gpu, shader: &ShaderBinary) -> Result<ShaderModule, GpuError> {
     let words = shader.words();
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
@@ -149,7 +211,7 @@ fn shader_module(gpu: &Gpu, shader: &ShaderBinary) -> Result<ShaderModule, GpuEr
 fn view_source(submission: Submission) -> u32 {
     match submission {
         Submission::Multiview => 0,
-        Submission::SingleEye(_) | Submission::PerObject => 1,
+        Submission::SingleEye(_) | Submission::PerObject | Submission::FarView => 1,
         Submission::Instanced => 2,
     }
 }
@@ -166,6 +228,8 @@ pub(crate) enum PipelineKind {
     /// Composition of a foveated frame: a full-view triangle sampling the views (single-sampled,
     /// no depth).
     Composite,
+    /// MFFR: a full-view triangle sampling the far image, under the pass's stencil.
+    FarComposite,
 }
 
 /// A pipeline for one pass of the plan.
@@ -179,7 +243,11 @@ pub(crate) fn pass_pipeline(
 ) -> Result<Pipeline, GpuError> {
     let (vert, frag) = match kind {
         PipelineKind::Scene => (
-            &SCENE_VERT,
+            if pass.draw_set == DrawSet::All {
+                &SCENE_VERT
+            } else {
+                &SCENE_VERT_INDIRECT
+            },
             if plan.count_fragments() {
                 &SCENE_FRAG_COUNTING
             } else {
@@ -189,42 +257,63 @@ pub(crate) fn pass_pipeline(
         PipelineKind::Mask => (&MASK_VERT, &MASK_FRAG),
         PipelineKind::Coverage => (&COVERAGE_VERT, &COVERAGE_FRAG),
         PipelineKind::Composite => (&COMPOSITE_VERT, &COMPOSITE_FRAG),
+        PipelineKind::FarComposite => (&COMPOSITE_VERT, &FAR_COMPOSITE_FRAG),
     };
     let vert = shader_module(gpu, vert)?;
     let frag = shader_module(gpu, frag)?;
-    let mut spec_data = view_source(pass.submission).to_le_bytes().to_vec();
-    spec_data.extend_from_slice(&(1.0 / pass.guard_band as f32).to_le_bytes());
-    let spec_entries = [
-        vk::SpecializationMapEntry {
-            constant_id: 0,
-            offset: 0,
-            size: 4,
-        },
-        vk::SpecializationMapEntry {
-            constant_id: 1,
-            offset: 4,
-            size: 4,
-        },
+    // Specialisation constants, by id: 0 where the view index comes from, 1 the guard band's
+    // clip scale, 2 depth shift (the far composite), 3 depth into alpha (the far pass). Every
+    // stage gets the ones it declares.
+    let far_pass = pass.kind == PassKind::FarField;
+    let depth_shift = plan
+        .mffr
+        .is_some_and(|m| m.config.variant == MffrVariant::DepthShift);
+    let constants: [(u32, [u8; 4]); 4] = [
+        (0, view_source(pass.submission).to_le_bytes()),
+        (1, (1.0 / pass.guard_band as f32).to_le_bytes()),
+        (2, (depth_shift as u32).to_le_bytes()),
+        (3, (far_pass as u32).to_le_bytes()),
     ];
-    // The mask and coverage shaders only declare constant 1.
-    let spec_entries = if kind == PipelineKind::Scene {
-        &spec_entries[..]
-    } else {
-        &spec_entries[1..]
+    let spec_data: Vec<u8> = constants.iter().flat_map(|c| c.1).collect();
+    let entries: Vec<vk::SpecializationMapEntry> = constants
+        .iter()
+        .enumerate()
+        .map(|(i, c)| vk::SpecializationMapEntry {
+            constant_id: c.0,
+            offset: 4 * i as u32,
+            size: 4,
+        })
+        .collect();
+    let pick = |ids: &[u32]| -> Vec<vk::SpecializationMapEntry> {
+        entries
+            .iter()
+            .copied()
+            .filter(|e| ids.contains(&e.constant_id))
+            .collect()
     };
-    let spec = vk::SpecializationInfo::default()
-        .map_entries(spec_entries)
+    let (vert_ids, frag_ids): (&[u32], &[u32]) = match kind {
+        PipelineKind::Scene => (&[0, 1], &[3]),
+        PipelineKind::FarComposite => (&[1], &[0, 2]),
+        _ => (&[1], &[]),
+    };
+    let (vert_entries, frag_entries) = (pick(vert_ids), pick(frag_ids));
+    let vert_spec = vk::SpecializationInfo::default()
+        .map_entries(&vert_entries)
+        .data(&spec_data);
+    let frag_spec = vk::SpecializationInfo::default()
+        .map_entries(&frag_entries)
         .data(&spec_data);
     let stages = [
         vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::VERTEX)
             .module(vert.raw)
             .name(ENTRY)
-            .specialization_info(&spec),
+            .specialization_info(&vert_spec),
         vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::FRAGMENT)
             .module(frag.raw)
-            .name(ENTRY),
+            .name(ENTRY)
+            .specialization_info(&frag_spec),
     ];
     let bindings = [vk::VertexInputBindingDescription {
         binding: 0,
@@ -275,29 +364,19 @@ pub(crate) fn pass_pipeline(
     };
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
         .rasterization_samples(vk::SampleCountFlags::from_raw(samples));
-    let stencil_op = |compare, pass_op, write_mask| vk::StencilOpState {
-        fail_op: vk::StencilOp::KEEP,
-        pass_op,
-        depth_fail_op: vk::StencilOp::KEEP,
-        compare_op: compare,
-        compare_mask: 0xff,
-        write_mask,
-        reference: 0,
-    };
-    let stencil = match kind {
-        PipelineKind::Mask => stencil_op(vk::CompareOp::ALWAYS, vk::StencilOp::REPLACE, 0xff),
-        // Scene draws and the probe test the masks and never write them.
-        _ => stencil_op(vk::CompareOp::EQUAL, vk::StencilOp::KEEP, 0),
-    };
+    let stencil = stencil_state(pass, kind);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(kind == PipelineKind::Scene)
         .depth_write_enable(kind == PipelineKind::Scene)
         // Reverse-Z: nearer is greater.
         .depth_compare_op(vk::CompareOp::GREATER)
-        .stencil_test_enable(pass.stencil_masks)
-        .front(stencil)
-        .back(stencil);
-    let writes_colour = matches!(kind, PipelineKind::Scene | PipelineKind::Composite);
+        .stencil_test_enable(stencil.is_some())
+        .front(stencil.unwrap_or_default())
+        .back(stencil.unwrap_or_default());
+    let writes_colour = matches!(
+        kind,
+        PipelineKind::Scene | PipelineKind::Composite | PipelineKind::FarComposite
+    );
     let write = if writes_colour {
         vk::ColorComponentFlags::RGBA
     } else {
@@ -307,7 +386,7 @@ pub(crate) fn pass_pipeline(
         [vk::PipelineColorBlendAttachmentState::default().color_write_mask(write)];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let mut dynamic_states = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
-    if pass.stencil_masks {
+    if kind == PipelineKind::Mask {
         dynamic_states.push(vk::DynamicState::STENCIL_REFERENCE);
     }
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);

@@ -4,6 +4,9 @@
 use ash::vk;
 
 use super::renderer::Renderer;
+use super::sampled_set::SampledSet;
+use crate::gpu::Pipeline;
+use crate::mffr::{MffrOrder, FAR_VIEW_INDEX};
 use crate::plan::{PassKind, PassPlan, Submission};
 use crate::scene::Draw;
 use crate::view::Eye;
@@ -40,9 +43,14 @@ impl Renderer<'_> {
             for (index, (pass_plan, (pass, pipelines))) in
                 self.plan.passes.iter().zip(&self.passes).enumerate()
             {
+                // The far pass clears alpha to 0: the sky is infinitely far (see scene.frag).
+                let mut sky = SKY;
+                if pass_plan.kind == PassKind::FarField {
+                    sky[3] = 0.0;
+                }
                 let clears = [
                     vk::ClearValue {
-                        color: vk::ClearColorValue { float32: SKY },
+                        color: vk::ClearColorValue { float32: sky },
                     },
                     // Reverse-Z: clear to the far plane, 0.
                     vk::ClearValue {
@@ -64,37 +72,25 @@ impl Renderer<'_> {
                 device.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
                 match (pass_plan.kind, &pipelines.scene, &self.composite) {
                     (PassKind::Composite, _, Some(composite)) => {
-                        device.cmd_bind_pipeline(
+                        self.record_full_view(
                             cmd,
-                            vk::PipelineBindPoint::GRAPHICS,
-                            composite.pipeline.raw,
+                            &composite.pipeline,
+                            &composite.set,
+                            pass_plan,
+                            pass.extent,
                         );
-                        device.cmd_bind_descriptor_sets(
-                            cmd,
-                            vk::PipelineBindPoint::GRAPHICS,
-                            composite.layout.raw,
-                            0,
-                            &[composite.set],
-                            &[],
-                        );
-                        self.set_viewport(
-                            cmd,
-                            rect(0, pass.extent.width, pass.extent.height),
-                            pass_plan.guard_band,
-                        );
-                        device.cmd_draw(cmd, 3, 1, 0, 0);
                     }
                     (_, Some(scene), _) => {
-                        device.cmd_bind_descriptor_sets(
-                            cmd,
-                            vk::PipelineBindPoint::GRAPHICS,
-                            self.bindings.layout.raw,
-                            0,
-                            &[self.bindings.set],
-                            &[],
-                        );
+                        self.bind_scene_set(cmd);
                         if let Some(mask) = &pipelines.mask {
                             self.record_masks(cmd, mask, pass_plan, pass.extent);
+                        }
+                        let far = pipelines.far.as_ref().zip(self.far_composite.as_ref());
+                        if let (Some((pipeline, far)), Some(MffrOrder::FarFirst)) =
+                            (far, pass_plan.far_field)
+                        {
+                            self.record_full_view(cmd, pipeline, &far.set, pass_plan, pass.extent);
+                            self.bind_scene_set(cmd);
                         }
                         device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, scene.raw);
                         device.cmd_bind_vertex_buffers(cmd, 0, &[self.scene.vertices.raw], &[0]);
@@ -105,6 +101,12 @@ impl Renderer<'_> {
                             vk::IndexType::UINT32,
                         );
                         self.record_submission(cmd, pass_plan, pass.extent);
+                        if let (Some((pipeline, far)), Some(MffrOrder::NearFirst)) =
+                            (far, pass_plan.far_field)
+                        {
+                            self.record_full_view(cmd, pipeline, &far.set, pass_plan, pass.extent);
+                            self.bind_scene_set(cmd);
+                        }
                         if let Some(coverage) = &pipelines.coverage {
                             // Full-view triangle, counted per view under the same stencil state.
                             device.cmd_bind_pipeline(
@@ -150,22 +152,27 @@ impl Renderer<'_> {
         let eye_width = self.plan.eye_resolution.width;
         let full = rect(0, extent.width, extent.height);
         let submission = pass.submission;
+        let draws = self.pass_draws(pass);
         match submission {
             Submission::Multiview | Submission::Instanced => {
                 self.set_view(cmd, full, 0, pass.guard_band);
                 let doubled = submission == Submission::Instanced;
-                for draw in &self.scene.draws {
+                for draw in draws {
                     self.draw(cmd, draw, doubled);
                 }
             }
-            Submission::SingleEye(eye) => {
-                self.set_view(cmd, full, eye.index() as u32, pass.guard_band);
-                for draw in &self.scene.draws {
+            Submission::SingleEye(_) | Submission::FarView => {
+                let view = match submission {
+                    Submission::SingleEye(eye) => eye.index() as u32,
+                    _ => FAR_VIEW_INDEX,
+                };
+                self.set_view(cmd, full, view, pass.guard_band);
+                for draw in draws {
                     self.draw(cmd, draw, false);
                 }
             }
             Submission::PerObject => {
-                for draw in &self.scene.draws {
+                for draw in draws {
                     for i in 0..draw.instance_count {
                         let one = Draw {
                             first_instance: draw.first_instance + i,
@@ -193,7 +200,7 @@ impl Renderer<'_> {
     unsafe fn record_masks(
         &self,
         cmd: vk::CommandBuffer,
-        mask: &crate::gpu::Pipeline,
+        mask: &Pipeline,
         pass: &PassPlan,
         extent: vk::Extent2D,
     ) {
@@ -216,7 +223,51 @@ impl Renderer<'_> {
             );
             device.cmd_draw(cmd, crate::shaders::MASK_VERTICES, 1, 0, 0);
         }
-        device.cmd_set_stencil_reference(cmd, vk::StencilFaceFlags::FRONT_AND_BACK, 1);
+    }
+
+    /// The scene shaders' descriptor set (masks and the coverage probe use it too).
+    unsafe fn bind_scene_set(&self, cmd: vk::CommandBuffer) {
+        self.gpu.device().cmd_bind_descriptor_sets(
+            cmd,
+            vk::PipelineBindPoint::GRAPHICS,
+            self.bindings.layout.raw,
+            0,
+            &[self.bindings.set],
+            &[],
+        );
+    }
+
+    /// A full-view triangle sampling an earlier pass's image: foveated composition, or the MFFR
+    /// far composite (which in a single-eye pass learns its view from a push constant).
+    unsafe fn record_full_view(
+        &self,
+        cmd: vk::CommandBuffer,
+        pipeline: &Pipeline,
+        set: &SampledSet,
+        pass: &PassPlan,
+        extent: vk::Extent2D,
+    ) {
+        let device = self.gpu.device();
+        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+        device.cmd_bind_descriptor_sets(
+            cmd,
+            vk::PipelineBindPoint::GRAPHICS,
+            set.layout.raw,
+            0,
+            &[set.set],
+            &[],
+        );
+        if let Submission::SingleEye(eye) = pass.submission {
+            device.cmd_push_constants(
+                cmd,
+                set.layout.raw,
+                vk::ShaderStageFlags::FRAGMENT,
+                0,
+                &(eye.index() as u32).to_le_bytes(),
+            );
+        }
+        self.set_viewport(cmd, rect(0, extent.width, extent.height), pass.guard_band);
+        device.cmd_draw(cmd, 3, 1, 0, 0);
     }
 
     /// Viewport, scissor and the eye index the vertex shader reads in push-constant modes.

@@ -4,26 +4,30 @@ use ash::vk;
 use glam::{Mat4, Vec2, Vec4};
 
 use super::composite::Composite;
+use super::far_field::{split_fields, FarComposite};
 use super::pipelines::{pass_pipeline, PipelineKind, SceneBindings};
 use super::record::memory_barrier;
 use super::scene_buffers::SceneBuffers;
 use super::targets::{compile_pass, create_images, CompiledPass};
+use crate::cull::{Frustum, Sphere};
 use crate::foveation::{fovea_views, mask_shapes};
 use crate::gpu::{
     Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, Pipeline, QueryPool,
     VkResultExt,
 };
 use crate::metrics::RgbaImage;
-use crate::plan::{FramePlan, PassKind, TargetLayout, MAX_VIEWS};
-use crate::scene::Scene;
-use crate::view::reverse_z_projection;
-use crate::view::Eye;
+use crate::mffr::FAR_VIEW_INDEX;
+use crate::plan::{DrawSet, FramePlan, PassKind, PassPlan, TargetLayout, MAX_VIEWS};
+use crate::scene::{Draw, Scene};
+use crate::view::{reverse_z_projection, Eye, FovTangents};
 
 /// The per-frame uniform block (`Views` in the shaders, std140).
 #[repr(C)]
 #[derive(Clone, Copy)]
 struct ViewsBlock {
-    view_proj: [Mat4; MAX_VIEWS as usize],
+    /// The eye views, then the MFFR far view at [`FAR_VIEW_INDEX`].
+    view_proj: [Mat4; MAX_VIEWS as usize + 1],
+    /// xyz: light direction; w: the far pass's near plane (its depth-in-alpha numerator).
     light_dir: Vec4,
 }
 
@@ -42,6 +46,12 @@ pub struct FrameStats {
     pub gpu_pass_ms: Vec<f64>,
     /// Fragments shaded per view (when fragment counting is planned; empty otherwise).
     pub fragments: Vec<u64>,
+    /// Fragments the MFFR far pass shaded (when both are planned).
+    pub far_fragments: Option<u64>,
+    /// CPU time splitting the instances into the MFFR near and far sets (0 without MFFR).
+    pub cpu_cull_ms: f64,
+    /// Instances drawn by each scene pass, in plan order (every instance without culling).
+    pub instances_drawn: Vec<u64>,
 }
 
 /// The two eyes' images of the last frame.
@@ -64,13 +74,14 @@ impl StereoImage {
     }
 }
 
-/// The pipelines of one planned pass: mask and coverage pipelines exist only when the pass has
-/// masks or a coverage probe.
+/// The pipelines of one planned pass: mask, coverage and far composite pipelines exist only when
+/// the pass has masks, a coverage probe or a far field to composite.
 pub(super) struct PassPipelines {
     /// `None` for a composite pass (its pipeline lives in [`Composite`]).
     pub scene: Option<Pipeline>,
     pub mask: Option<Pipeline>,
     pub coverage: Option<Pipeline>,
+    pub far: Option<Pipeline>,
 }
 
 /// A [`FramePlan`] compiled into Vulkan objects for one scene.
@@ -84,6 +95,14 @@ pub struct Renderer<'g> {
     pub(super) passes: Vec<(CompiledPass, PassPipelines)>,
     /// Composition of a foveated frame, when planned.
     pub(super) composite: Option<Composite>,
+    /// The MFFR far composite, when planned.
+    pub(super) far_composite: Option<FarComposite>,
+    /// Culled draws: bounding spheres, the per-frame id list and this frame's near and far
+    /// draw lists (only when a pass draws a culled set).
+    spheres: Vec<Sphere>,
+    ids: Vec<u32>,
+    pub(super) instance_ids: Option<Buffer>,
+    pub(super) field_draws: [Vec<Draw>; 2],
     images: Vec<Image>,
     pub(super) bindings: SceneBindings,
     pub(super) scene: SceneBuffers,
@@ -141,15 +160,32 @@ impl<'g> Renderer<'g> {
                 )
             })
             .transpose()?;
+        let instance_ids = plan
+            .instance_ids()
+            .map(|b| {
+                Buffer::new(
+                    gpu,
+                    b.name,
+                    b.bytes,
+                    vk::BufferUsageFlags::STORAGE_BUFFER,
+                    MemoryLocation::CpuToGpu,
+                )
+            })
+            .transpose()?;
         let bindings = SceneBindings::new(
             gpu,
             &views_block,
             &scene_buffers.instances,
             counter.as_ref(),
             masks.as_ref(),
+            instance_ids.as_ref(),
         )?;
         let images = create_images(gpu, plan)?;
         let mut composite = None;
+        let far_composite = plan
+            .far_pass()
+            .map(|p| FarComposite::new(gpu, &images[p.resolve.unwrap_or(p.color).attachment]))
+            .transpose()?;
         let mut passes = Vec::with_capacity(plan.passes.len());
         for (i, p) in plan.passes.iter().enumerate() {
             let compiled = compile_pass(gpu, plan, i, &images)?;
@@ -164,8 +200,19 @@ impl<'g> Renderer<'g> {
                 )
             };
             let pipelines = match p.kind {
-                PassKind::Scene => PassPipelines {
+                PassKind::Scene | PassKind::FarField => PassPipelines {
                     scene: Some(pipeline(PipelineKind::Scene)?),
+                    far: match (&far_composite, p.far_field) {
+                        (Some(f), Some(_)) => Some(pass_pipeline(
+                            gpu,
+                            plan,
+                            p,
+                            PipelineKind::FarComposite,
+                            compiled.render_pass.raw,
+                            &f.set.layout,
+                        )?),
+                        _ => None,
+                    },
                     mask: p
                         .stencil_masks
                         .then(|| pipeline(PipelineKind::Mask))
@@ -188,6 +235,7 @@ impl<'g> Renderer<'g> {
                         scene: None,
                         mask: None,
                         coverage: None,
+                        far: None,
                     }
                 }
             };
@@ -210,6 +258,15 @@ impl<'g> Renderer<'g> {
             plan: plan.clone(),
             passes,
             composite,
+            far_composite,
+            spheres: if instance_ids.is_some() {
+                scene.instance_spheres()
+            } else {
+                Vec::new()
+            },
+            ids: Vec::new(),
+            instance_ids,
+            field_draws: [Vec::new(), Vec::new()],
             images,
             bindings,
             scene: scene_buffers,
@@ -240,30 +297,64 @@ impl<'g> Renderer<'g> {
     /// Renders one frame with the head at `world_from_head` and waits for it.
     pub fn render_frame(&mut self, world_from_head: Mat4) -> Result<FrameStats, GpuError> {
         let plan = &self.plan;
-        let mut view_proj = [Mat4::IDENTITY; MAX_VIEWS as usize];
-        for eye in Eye::BOTH {
-            view_proj[eye.index()] = plan.eyes.projection(eye, plan.near, plan.far)
-                * plan.eyes.view(eye, world_from_head);
-        }
-        if let Some(g) = &plan.foveation {
-            // Views 2 and 3: each eye's fovea window around its gaze, from the same eye centre.
+        // Every view (pose, field of view): the eyes, then the fovea windows around the gaze.
+        let world_from_eye = Eye::BOTH.map(|e| world_from_head * plan.eyes.head_from_eye(e));
+        let mut views: Vec<(Mat4, FovTangents)> = Eye::BOTH
+            .iter()
+            .map(|&e| (world_from_eye[e.index()], plan.eyes.fov(e)))
+            .collect();
+        let fovea = plan.foveation.map(|g| {
             let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
-            let fovea = fovea_views(&plan.eyes, g.ratio, self.gaze, screen);
-            for eye in Eye::BOTH {
-                view_proj[2 + eye.index()] =
-                    reverse_z_projection(fovea[eye.index()], plan.near, plan.far)
-                        * plan.eyes.view(eye, world_from_head);
+            fovea_views(&plan.eyes, g.ratio, self.gaze, screen)
+        });
+        if let Some(fovea) = &fovea {
+            views.extend(Eye::BOTH.map(|e| (world_from_eye[e.index()], fovea[e.index()])));
+        }
+        // With MFFR the eye views end at the split.
+        let eye_far = plan.mffr.map_or(plan.far, |m| m.split_m);
+        let mut view_proj = [Mat4::IDENTITY; MAX_VIEWS as usize + 1];
+        for (i, &(world_from_view, fov)) in views.iter().enumerate() {
+            view_proj[i] =
+                reverse_z_projection(fov, plan.near, eye_far) * world_from_view.inverse();
+        }
+        if let Some(masks) = &mut self.masks {
+            masks.write(&stencil_shapes(plan, fovea.as_ref()));
+        }
+        if let (Some(composite), Some(fovea)) = (&mut self.composite, &fovea) {
+            composite.update(plan, fovea);
+        }
+        let mut light_dir = self.light_dir;
+        let mut cpu_cull_ms = 0.0;
+        if let Some(m) = &plan.mffr {
+            let world_from_far =
+                world_from_head * m.head_from_far(&plan.eyes, self.frames_rendered);
+            let far_view_proj =
+                reverse_z_projection(m.far_fov, m.far_near, m.far) * world_from_far.inverse();
+            view_proj[FAR_VIEW_INDEX as usize] = far_view_proj;
+            light_dir.w = m.far_near;
+            if let Some(far) = &mut self.far_composite {
+                far.update(&views, far_view_proj, m.far_near);
             }
-            if let Some(masks) = &mut self.masks {
-                masks.write(&mask_shapes(g, &plan.eyes, &fovea));
-            }
-            if let Some(composite) = &mut self.composite {
-                composite.update(plan, &fovea);
+            if let Some(ids) = &mut self.instance_ids {
+                let start = Instant::now();
+                let near = Eye::BOTH.map(|e| {
+                    Frustum::from_eye(
+                        world_from_eye[e.index()],
+                        plan.eyes.fov(e),
+                        plan.near,
+                        m.split_m,
+                    )
+                });
+                let far = Frustum::from_eye(world_from_far, m.far_fov, m.far_near, m.far);
+                self.field_draws =
+                    split_fields(&self.spheres, &self.scene.draws, &near, &far, &mut self.ids);
+                ids.write(&self.ids);
+                cpu_cull_ms = start.elapsed().as_secs_f64() * 1e3;
             }
         }
         self.views_block.write(&[ViewsBlock {
             view_proj,
-            light_dir: self.light_dir,
+            light_dir,
         }]);
 
         let device = self.gpu.device();
@@ -290,13 +381,29 @@ impl<'g> Renderer<'g> {
 
         let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;
         let (gpu_ms, gpu_pass_ms) = self.read_gpu_times()?;
+        let (fragments, far_fragments) = self.read_fragment_counts();
+        let instances_drawn = self
+            .plan
+            .passes
+            .iter()
+            .filter(|p| p.kind != PassKind::Composite)
+            .map(|p| {
+                self.pass_draws(p)
+                    .iter()
+                    .map(|d| d.instance_count as u64)
+                    .sum()
+            })
+            .collect();
         Ok(FrameStats {
             cpu_record_ms: ms(start, recorded),
             cpu_submit_ms: ms(recorded, submitted),
-            frame_ms: ms(start, done),
+            frame_ms: ms(start, done) + cpu_cull_ms,
             gpu_ms,
             gpu_pass_ms,
-            fragments: self.read_fragment_counts(),
+            fragments,
+            far_fragments,
+            cpu_cull_ms,
+            instances_drawn,
         })
     }
 
@@ -320,12 +427,31 @@ impl<'g> Renderer<'g> {
         Ok((Some(ms(ticks[0], ticks[ticks.len() - 1])), passes))
     }
 
-    fn read_fragment_counts(&mut self) -> Vec<u64> {
+    /// Per-view counts, and the far view's when MFFR is planned.
+    fn read_fragment_counts(&mut self) -> (Vec<u64>, Option<u64>) {
         let views = self.plan.views as usize;
-        self.counter
-            .as_mut()
-            .map(|c| c.read_u32s(views).into_iter().map(u64::from).collect())
-            .unwrap_or_default()
+        let far = self.plan.mffr.is_some();
+        let Some(c) = self.counter.as_mut() else {
+            return (Vec::new(), None);
+        };
+        let counts: Vec<u64> = c
+            .read_u32s(FAR_VIEW_INDEX as usize + 1)
+            .into_iter()
+            .map(u64::from)
+            .collect();
+        (
+            counts[..views].to_vec(),
+            far.then(|| counts[FAR_VIEW_INDEX as usize]),
+        )
+    }
+
+    /// The draws a pass records this frame.
+    pub(super) fn pass_draws(&self, pass: &PassPlan) -> &[Draw] {
+        match pass.draw_set {
+            DrawSet::All => &self.scene.draws,
+            DrawSet::NearField => &self.field_draws[0],
+            DrawSet::FarField => &self.field_draws[1],
+        }
     }
 
     /// Copies the last frame's stereo image back to the CPU.
@@ -422,4 +548,26 @@ impl<'g> Renderer<'g> {
     pub fn lazy_attachments(&self) -> usize {
         self.images.iter().filter(|i| i.lazy).count()
     }
+}
+
+/// The stencil shapes of a frame (see `shaders/mask.vert`): per view, what it keeps ([0..4)) and
+/// then drops ([4..8)). The eye (periphery) views keep the lens-visible ellipse with the HMD
+/// mask, everything without; foveation's inset and outset masks go on top.
+fn stencil_shapes(plan: &FramePlan, fovea: Option<&[FovTangents; 2]>) -> [Vec4; 8] {
+    let full = Vec4::new(0.0, 0.0, 2.0, 2.0);
+    let mut shapes = [Vec4::ZERO; 8];
+    if let (Some(g), Some(fovea)) = (&plan.foveation, fovea) {
+        if g.stencil {
+            shapes = mask_shapes(g, &plan.eyes, fovea);
+        } else {
+            shapes[2..4].fill(full);
+        }
+    }
+    for eye in Eye::BOTH {
+        shapes[eye.index()] = match &plan.hmd_mask {
+            Some(lens) => lens[eye.index()].ndc_ellipse(),
+            None => full,
+        };
+    }
+    shapes
 }

@@ -28,6 +28,8 @@ pub use thesis::{
 
 use glam::{Mat4, Vec3, Vec4};
 
+use crate::cull::{Aabb, Sphere};
+
 /// A vertex as the scene shaders read it (location 0: position, 1: normal).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,6 +49,19 @@ pub struct Mesh {
 impl Mesh {
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
+    }
+
+    /// A sphere around every vertex: centred on their bounding box.
+    pub fn bounding_sphere(&self) -> Sphere {
+        let points = self.vertices.iter().map(|v| Vec3::from(v.position));
+        let Some(first) = points.clone().next() else {
+            return Sphere::new(Vec3::ZERO, 0.0);
+        };
+        let b = points
+            .clone()
+            .fold(Aabb::new(first, first), |b, p| b.union(&Aabb::new(p, p)));
+        let c = b.center();
+        Sphere::new(c, points.map(|p| p.distance(c)).fold(0.0, f32::max))
     }
 }
 
@@ -122,6 +137,42 @@ impl Scene {
                 first += draw.instance_count;
                 draw
             })
+    }
+
+    /// Each instance's bounding sphere, in [`Scene::flat_instances`] order.
+    pub fn instance_spheres(&self) -> Vec<Sphere> {
+        let mesh_spheres: Vec<Sphere> = self.meshes.iter().map(Mesh::bounding_sphere).collect();
+        self.batches
+            .iter()
+            .flat_map(|b| {
+                let s = mesh_spheres[b.mesh];
+                b.instances.iter().map(move |i| {
+                    let m = i.model;
+                    let scale = m
+                        .x_axis
+                        .truncate()
+                        .length()
+                        .max(m.y_axis.truncate().length())
+                        .max(m.z_axis.truncate().length());
+                    Sphere::new(m.transform_point3(s.center), s.radius * scale)
+                })
+            })
+            .collect()
+    }
+
+    /// How far a viewer anywhere inside the scene's bounding box (its head position included)
+    /// can see scene content: the box's diagonal. `0` for an empty scene.
+    pub fn content_reach(&self) -> f32 {
+        let head = self.head.transform_point3(Vec3::ZERO);
+        let bounds = self
+            .instance_spheres()
+            .iter()
+            .fold(Aabb::new(head, head), |b, s| b.union(&Aabb::of_sphere(s)));
+        if self.instance_count() == 0 {
+            0.0
+        } else {
+            bounds.extents().length() * 2.0
+        }
     }
 
     /// Every instance, batch after batch, in the order [`Scene::draws`] indexes them.

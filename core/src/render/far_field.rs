@@ -1,0 +1,88 @@
+//! MFFR in the renderer (seed 000 §4.3): the per-frame near/far split of the scene's instances,
+//! and the far composite's resources. The far pass itself is a scene pass drawn from the far
+//! view; the composite is a full-view draw inside each eye pass.
+
+use glam::{Mat4, Vec4};
+
+use super::sampled_set::SampledSet;
+use crate::cull::{Frustum, Sphere};
+use crate::gpu::{Gpu, GpuError, Image};
+use crate::mffr::FarReprojection;
+use crate::plan::MAX_VIEWS;
+use crate::scene::Draw;
+use crate::view::FovTangents;
+
+/// The far composite's uniform block (`FarComposite` in `shaders/far_composite.frag`, std140).
+#[repr(C)]
+#[derive(Clone, Copy)]
+struct FarCompositeBlock {
+    direction: [Mat4; MAX_VIEWS as usize],
+    origin: [Vec4; MAX_VIEWS as usize],
+    params: Vec4,
+}
+
+pub(crate) struct FarComposite {
+    pub set: SampledSet,
+}
+
+impl FarComposite {
+    /// Sets up sampling of `far_image`, the far pass's resolved colour.
+    pub fn new(gpu: &Gpu, far_image: &Image) -> Result<Self, GpuError> {
+        let bytes = std::mem::size_of::<FarCompositeBlock>() as u64;
+        Ok(FarComposite {
+            set: SampledSet::new(gpu, far_image, bytes, 4)?,
+        })
+    }
+
+    /// This frame's reprojection of each view (its pose and field of view) into the far view.
+    pub fn update(&mut self, views: &[(Mat4, FovTangents)], far_view_proj: Mat4, far_near: f32) {
+        let mut block = FarCompositeBlock {
+            direction: [Mat4::ZERO; MAX_VIEWS as usize],
+            origin: [Vec4::ZERO; MAX_VIEWS as usize],
+            params: Vec4::new(far_near, 0.0, 0.0, 0.0),
+        };
+        for (i, &(world_from_view, fov)) in views.iter().enumerate() {
+            let r = FarReprojection::new(world_from_view, fov, far_view_proj);
+            block.direction[i] = r.direction;
+            block.origin[i] = r.origin;
+        }
+        self.set.uniforms.write(&[block]);
+    }
+}
+
+/// The scene's instances split for one frame: `ids` holds the near set's instance ids, then
+/// the far set's; each returned draw list indexes its part of `ids`. An instance straddling
+/// the split is in both (each pass clips it at its own plane).
+pub(crate) fn split_fields(
+    spheres: &[Sphere],
+    draws: &[Draw],
+    near: &[Frustum],
+    far: &Frustum,
+    ids: &mut Vec<u32>,
+) -> [Vec<Draw>; 2] {
+    ids.clear();
+    let mut lists = [Vec::new(), Vec::new()];
+    for (list, field) in lists.iter_mut().enumerate() {
+        for d in draws {
+            let first = ids.len() as u32;
+            let range = d.first_instance..d.first_instance + d.instance_count;
+            ids.extend(range.filter(|&i| {
+                let s = &spheres[i as usize];
+                if list == 0 {
+                    near.iter().any(|f| f.intersects_sphere(s))
+                } else {
+                    far.intersects_sphere(s)
+                }
+            }));
+            let count = ids.len() as u32 - first;
+            if count > 0 {
+                field.push(Draw {
+                    mesh: d.mesh,
+                    first_instance: first,
+                    instance_count: count,
+                });
+            }
+        }
+    }
+    lists
+}
