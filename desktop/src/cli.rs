@@ -4,8 +4,9 @@ use anyhow::Result;
 use clap::{Args, Parser, Subcommand};
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::mffr::MffrConfig;
 use foveate::plan::{RenderConfig, Resolution, StereoMode};
-use foveate::scene::default_scene;
+use foveate::scene::named_scene;
 
 #[derive(Parser)]
 #[command(
@@ -87,6 +88,20 @@ pub struct ConfigArgs {
     /// Tint the composed image: fovea green, band yellow, periphery blue.
     #[arg(long)]
     pub tint: bool,
+    /// The HMD stencil mask: no fragment is shaded where the lens hides the image.
+    #[arg(long)]
+    pub hmd_mask: bool,
+    /// Monoscopic far-field rendering: far-first, near-first, alternate-eye or depth-shift.
+    #[arg(long)]
+    pub mffr: Option<String>,
+    /// Where MFFR splits near from far: a disparity (`1px`: z = IPD x focal / 1 px) or metres
+    /// (`40m`).
+    #[arg(long, default_value = "1px")]
+    pub split: String,
+    /// Scene: `default` (lit cubes and spheres, near and far), `fill` (24 full-view walls drawn
+    /// back to front: a fill-bound frame) or `city` (blocks from 28 m to 400 m: far-heavy).
+    #[arg(long, default_value = "default")]
+    pub scene: String,
 }
 
 impl ConfigArgs {
@@ -104,8 +119,15 @@ impl ConfigArgs {
             blend_band_px: self.blend_band.unwrap_or(-1.0),
             debug_tint: self.tint,
         });
+        let mffr = self
+            .mffr
+            .as_deref()
+            .map(|name| MffrConfig::named(name, self.split.parse()?))
+            .transpose()?;
         Ok(RenderConfig {
             hmd: self.hmd.clone(),
+            hmd_mask: self.hmd_mask,
+            mffr,
             resolution,
             stereo,
             // Foveation renders four views unless the user asked for something else.
@@ -136,10 +158,6 @@ impl ConfigArgs {
 pub struct RenderArgs {
     #[command(flatten)]
     pub config: ConfigArgs,
-    /// Scene: `default` (lit cubes and spheres, near and far), or `fill` (24 full-view walls drawn
-    /// back to front: a fill-bound frame).
-    #[arg(long, default_value = "default")]
-    pub scene: String,
     /// Drive the gaze from a trace: a CSV file (`time,left_x,left_y,right_x,right_y,valid`) or
     /// `sim` for simulated fixations and saccades; frame i uses the sample at i / 90 s, filtered
     /// (bad samples keep the last good gaze, then return to the centre).
@@ -168,7 +186,7 @@ impl Cli {
             Command::Devices => devices(),
             Command::Plan(args) => {
                 let gpu = Gpu::new(&self.gpu_options())?;
-                let scene = default_scene();
+                let scene = named_scene(&args.scene)?;
                 for mode in args.stereo_modes()? {
                     let plan = foveate::plan(&scene, &args.config(mode)?, gpu.caps())?;
                     println!("{plan}\n");

@@ -30,7 +30,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         args.frames
     );
     let gpu = Gpu::new(options)?;
-    let scene = named_scene(&args.scene)?;
+    let scene = named_scene(&args.config.scene)?;
     let modes = args.config.stereo_modes()?;
     println!("device: {}", gpu.info().name);
     let mut results = Vec::new();

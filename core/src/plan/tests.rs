@@ -509,3 +509,133 @@ fn foveation_needs_four_views_and_multiview() {
         "coverage_probe"
     );
 }
+
+fn with_mffr(order: crate::mffr::MffrOrder) -> RenderConfig {
+    RenderConfig {
+        mffr: Some(crate::mffr::MffrConfig {
+            order,
+            ..Default::default()
+        }),
+        ..config(StereoMode::Multiview, 4)
+    }
+}
+
+#[test]
+fn hmd_mask_adds_stencil_and_nothing_else() {
+    let off = planned(&config(StereoMode::Multiview, 4));
+    let on = planned(&RenderConfig {
+        hmd_mask: true,
+        ..config(StereoMode::Multiview, 4)
+    });
+    let depth = |p: &FramePlan| attachment(p, &p.passes[0].depth.unwrap()).format;
+    assert_eq!((depth(&off), depth(&on)), (Format::D32, Format::D32S8));
+    assert!(on.passes[0].stencil_masks && !off.passes[0].stencil_masks);
+    assert_eq!(
+        on.passes.len(),
+        off.passes.len(),
+        "masks are written in the scene pass"
+    );
+    let lens = on.hmd_mask.expect("lens regions planned");
+    // Index has no published hidden-area mesh: the circular fallback hides 1 − π/4.
+    assert!((lens[0].hidden_fraction() - (1.0 - std::f64::consts::FRAC_PI_4)).abs() < 1e-9);
+    assert!(on.to_string().contains("HMD stencil mask: hides 21.5 %"));
+}
+
+#[test]
+fn mffr_plans_a_mono_far_pass_the_eye_pass_samples() {
+    let scene = crate::scene::city_scene();
+    for order in [
+        crate::mffr::MffrOrder::NearFirst,
+        crate::mffr::MffrOrder::FarFirst,
+    ] {
+        let plan = plan(&scene, &with_mffr(order), &caps()).unwrap();
+        let far = plan.far_pass().expect("far pass planned");
+        assert_eq!((far.view_mask, far.draw_set), (0, DrawSet::FarField));
+        let far_colour = far.resolve.unwrap();
+        assert_eq!(far_colour.store, StoreOp::Store, "sampled later, so stored");
+        assert!(
+            attachment(&plan, &far.color).transient
+                && attachment(&plan, &far.depth.unwrap()).transient
+        );
+        let eye = &plan.passes[1];
+        assert_eq!(eye.samples, vec![far_colour.attachment]);
+        assert_eq!(
+            (eye.far_field, eye.draw_set),
+            (Some(order), DrawSet::NearField)
+        );
+        // Only near-first writes stencil.
+        let stencil = attachment(&plan, &eye.depth.unwrap()).format == Format::D32S8;
+        assert_eq!(stencil, order == crate::mffr::MffrOrder::NearFirst);
+        assert!(plan.instance_ids().is_some());
+        let m = plan.mffr.unwrap();
+        assert_eq!(
+            m.resolution,
+            Resolution {
+                width: attachment(&plan, &far_colour).width,
+                height: attachment(&plan, &far_colour).height
+            }
+        );
+    }
+}
+
+#[test]
+fn a_scene_without_far_content_pays_nothing_for_mffr() {
+    // The default scene reaches a few hundred metres; a split past it (or past the far plane)
+    // leaves nothing to render far: the plan is exactly the plan without MFFR.
+    let scene = default_scene();
+    let base = config(StereoMode::Multiview, 4);
+    let without = plan(&scene, &base, &caps()).unwrap();
+    for split in ["2000m", "0.001px"] {
+        let c = RenderConfig {
+            mffr: Some(crate::mffr::MffrConfig {
+                split: split.parse().unwrap(),
+                ..Default::default()
+            }),
+            far: 3000.0,
+            ..base.clone()
+        };
+        let with = plan(&scene, &c, &caps()).unwrap();
+        let plain = RenderConfig {
+            far: 3000.0,
+            ..base.clone()
+        };
+        assert_eq!(with, plan(&scene, &plain, &caps()).unwrap(), "{split}");
+    }
+    let near_only = crate::scene::Scene {
+        batches: vec![crate::scene::DrawBatch {
+            mesh: 1,
+            instances: vec![crate::scene::Instance::new(
+                glam::Mat4::IDENTITY,
+                glam::Vec3::ONE,
+            )],
+        }],
+        ..default_scene()
+    };
+    let c = RenderConfig {
+        mffr: Some(Default::default()),
+        ..base.clone()
+    };
+    assert_eq!(
+        plan(&near_only, &c, &caps()).unwrap(),
+        plan(&near_only, &base, &caps()).unwrap()
+    );
+    assert!(without.far_pass().is_none() && without.instance_ids().is_none());
+}
+
+#[test]
+fn mffr_needs_an_eye_pass_to_composite_into() {
+    let scene = crate::scene::city_scene();
+    for stereo in [StereoMode::PerObject, StereoMode::Instanced] {
+        let c = RenderConfig {
+            stereo,
+            ..with_mffr(crate::mffr::MffrOrder::NearFirst)
+        };
+        assert_eq!(plan(&scene, &c, &caps()).unwrap_err().field, "stereo");
+    }
+    let two_pass = RenderConfig {
+        stereo: StereoMode::TwoPass,
+        ..with_mffr(crate::mffr::MffrOrder::NearFirst)
+    };
+    let p = plan(&scene, &two_pass, &caps()).unwrap();
+    assert_eq!(p.passes.iter().filter(|p| p.far_field.is_some()).count(), 2);
+}

@@ -4,7 +4,7 @@ use super::{cube, ground_grid, uv_sphere, DrawBatch, Instance, Scene};
 use crate::view::look_at_head;
 
 /// A cheap deterministic hash to vary colours and sizes without a random generator.
-fn hash01(i: u32, salt: u32) -> f32 {
+pub(super) fn hash01(i: u32, salt: u32) -> f32 {
     let mut x = i.wrapping_mul(0x9E37_79B9) ^ salt.wrapping_mul(0x85EB_CA6B);
     x ^= x >> 15;
     x = x.wrapping_mul(0x2C1B_3C6D);
@@ -12,7 +12,7 @@ fn hash01(i: u32, salt: u32) -> f32 {
     (x & 0xFFFF) as f32 / 65535.0
 }
 
-fn palette(i: u32) -> Vec3 {
+pub(super) fn palette(i: u32) -> Vec3 {
     Vec3::new(
         0.35 + 0.6 * hash01(i, 1),
         0.35 + 0.6 * hash01(i, 2),

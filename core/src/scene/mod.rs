@@ -1,19 +1,22 @@
 //! Scenes: meshes, instances drawn with instanced draws, and the head pose to view them from.
 
+mod city;
 mod default_scene;
 mod shapes;
 mod thesis;
 
+pub use city::city_scene;
 pub use default_scene::{default_scene, fill_scene};
 
 /// The scenes the command line offers, by name.
-pub const SCENE_NAMES: [&str; 2] = ["default", "fill"];
+pub const SCENE_NAMES: [&str; 3] = ["default", "fill", "city"];
 
 /// A scene by its command-line name.
 pub fn named_scene(name: &str) -> Result<Scene, crate::plan::ConfigError> {
     match name {
         "default" => Ok(default_scene()),
         "fill" => Ok(fill_scene()),
+        "city" => Ok(city_scene()),
         _ => Err(crate::plan::ConfigError::new(
             "scene",
             name,
