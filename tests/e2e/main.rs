@@ -5,6 +5,7 @@ mod config_errors;
 mod foveation;
 mod fragment_counter;
 mod golden;
+mod mffr;
 mod quirks;
 mod shaders;
 mod stereo;

@@ -221,7 +221,8 @@ impl Gpu {
         };
         let features = vk::PhysicalDeviceFeatures::default()
             .fragment_stores_and_atomics(supported.fragment_stores_and_atomics == vk::TRUE)
-            .shader_clip_distance(supported.shader_clip_distance == vk::TRUE);
+            .shader_clip_distance(supported.shader_clip_distance == vk::TRUE)
+            .depth_clamp(supported.depth_clamp == vk::TRUE);
         let mut multiview = vk::PhysicalDeviceMultiviewFeatures::default().multiview(true);
         let priorities = [1.0];
         let queues = [vk::DeviceQueueCreateInfo::default()
@@ -275,6 +276,7 @@ impl Gpu {
             lazily_allocated_memory: chosen.info.lazily_allocated_memory,
             fragment_stores_and_atomics: supported.fragment_stores_and_atomics == vk::TRUE,
             shader_clip_distance: supported.shader_clip_distance == vk::TRUE,
+            depth_clamp: supported.depth_clamp == vk::TRUE,
             timestamps,
             quirks: DriverQuirks::for_driver_id(driver_props.driver_id.as_raw()),
         };

@@ -250,6 +250,32 @@ impl RgbaImage {
         }))
     }
 
+    /// The fraction of this image's pixels that some pixel of `reference` within `radius`
+    /// pixels along the same row matches (every colour channel within `tolerance`): how much of
+    /// an image is the reference shifted horizontally by at most `radius` — a stereo image
+    /// whose disparity is off by at most that much scores 1.
+    pub fn matched_within(
+        &self,
+        reference: &RgbaImage,
+        radius: u32,
+        tolerance: u8,
+    ) -> Result<f64, ImageError> {
+        self.check_size(reference)?;
+        let mut matched = 0u64;
+        for y in 0..self.height {
+            for x in 0..self.width {
+                let p = self.pixel(x, y);
+                let lo = x.saturating_sub(radius);
+                let hi = (x + radius).min(self.width - 1);
+                matched += (lo..=hi).any(|rx| {
+                    let q = reference.pixel(rx, y);
+                    (0..3).all(|c| p[c].abs_diff(q[c]) <= tolerance)
+                }) as u64;
+            }
+        }
+        Ok(matched as f64 / (self.width as u64 * self.height as u64).max(1) as f64)
+    }
+
     /// A picture of where two images differ: black where equal, brighter red the larger the
     /// largest channel difference (amplified 4×).
     pub fn diff_image(&self, other: &RgbaImage) -> Result<RgbaImage, ImageError> {
@@ -272,6 +298,24 @@ impl RgbaImage {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_shifted_image_matches_within_its_shift_only() {
+        let mut a = RgbaImage::new(16, 4);
+        for y in 0..4 {
+            for x in 0..16 {
+                a.set_pixel(x, y, [(x * 15) as u8, 0, 0, 255]);
+            }
+        }
+        let mut b = RgbaImage::new(16, 4);
+        for y in 0..4 {
+            for x in 0..16 {
+                b.set_pixel(x, y, a.pixel(x.saturating_sub(2), y));
+            }
+        }
+        assert_eq!(b.matched_within(&a, 2, 0).unwrap(), 1.0);
+        assert!(b.matched_within(&a, 1, 0).unwrap() < 0.9);
+    }
 
     fn gradient(w: u32, h: u32, shift: u8) -> RgbaImage {
         let mut img = RgbaImage::new(w, h);

@@ -16,6 +16,8 @@ pub struct DeviceCaps {
     pub lazily_allocated_memory: bool,
     pub fragment_stores_and_atomics: bool,
     pub shader_clip_distance: bool,
+    /// `depthClamp`: primitives are not clipped against the near and far planes.
+    pub depth_clamp: bool,
     pub timestamps: bool,
     pub quirks: DriverQuirks,
 }

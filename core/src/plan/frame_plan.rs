@@ -164,6 +164,9 @@ pub struct PassPlan {
     /// before the scene (far-first) or under it, into pixels it left uncovered (near-first).
     pub far_field: Option<MffrOrder>,
     pub draw_set: DrawSet,
+    /// Depth clamp instead of clipping at the near and far planes (the MFFR split), to work
+    /// around [`DriverQuirks`](super::DriverQuirks) dropping clipped primitives' views.
+    pub depth_clamp: bool,
     /// Emulated guard band: clip-space x and y are divided by this factor and the viewport
     /// grown by it, so primitives reaching less than this many view widths past the edge need
     /// no clipping. 1 = off; set only to work around [`DriverQuirks`](super::DriverQuirks).
@@ -402,6 +405,10 @@ pub fn plan(
                 },
                 caps,
             );
+            // Clipping at the MFFR split would drop views too: clamp depth instead, so what lies
+            // beyond the split lands on the far plane's depth, 0, and fails the depth test
+            // against the clear value (reverse-Z, GREATER) without any primitive being clipped.
+            p.depth_clamp = p.far_field.is_some() && caps.depth_clamp;
         }
     }
     let mut plan = FramePlan {
@@ -543,6 +550,7 @@ fn scene_passes(
             } else {
                 DrawSet::All
             },
+            depth_clamp: false,
             guard_band: 1,
         }
     };
@@ -621,6 +629,7 @@ fn composite_pass(
         coverage_probe: false,
         far_field: None,
         draw_set: DrawSet::All,
+        depth_clamp: false,
         guard_band: 1,
     }
 }
@@ -677,6 +686,7 @@ fn far_pass(
         coverage_probe: false,
         far_field: None,
         draw_set: DrawSet::FarField,
+        depth_clamp: false,
         guard_band: 1,
     }
 }

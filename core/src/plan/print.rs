@@ -172,6 +172,12 @@ impl fmt::Display for FramePlan {
                     "    coverage probe last: a full-view draw per view, counted"
                 )?;
             }
+            if p.depth_clamp {
+                writeln!(
+                    f,
+                    "    depth clamp, not clipping, ends the near field at the split (same driver quirk)"
+                )?;
+            }
             if p.guard_band > 1 {
                 writeln!(
                     f,

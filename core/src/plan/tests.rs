@@ -14,6 +14,7 @@ fn caps() -> DeviceCaps {
         lazily_allocated_memory: true,
         fragment_stores_and_atomics: true,
         shader_clip_distance: true,
+        depth_clamp: true,
         timestamps: true,
         quirks: DriverQuirks::default(),
     }

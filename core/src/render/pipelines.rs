@@ -348,6 +348,7 @@ pub(crate) fn pass_pipeline(
         .scissor_count(1);
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(vk::PolygonMode::FILL)
+        .depth_clamp_enable(pass.depth_clamp && kind == PipelineKind::Scene)
         // The projections keep the image upright (Vulkan NDC y down), so on-screen winding is
         // the geometry's own: counter-clockwise faces the viewer. Masks and the probe are 2D.
         .cull_mode(if kind == PipelineKind::Scene {

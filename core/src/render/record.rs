@@ -257,13 +257,17 @@ impl Renderer<'_> {
             &[set.set],
             &[],
         );
-        if let Submission::SingleEye(eye) = pass.submission {
+        if set.push_bytes > 0 {
+            let view = match pass.submission {
+                Submission::SingleEye(eye) => eye.index() as u32,
+                _ => 0, // multiview: the shader reads gl_ViewIndex
+            };
             device.cmd_push_constants(
                 cmd,
                 set.layout.raw,
                 vk::ShaderStageFlags::FRAGMENT,
                 0,
-                &(eye.index() as u32).to_le_bytes(),
+                &view.to_le_bytes(),
             );
         }
         self.set_viewport(cmd, rect(0, extent.width, extent.height), pass.guard_band);

@@ -17,6 +17,8 @@ pub(crate) struct SampledSet {
     _sampler: Sampler,
     _view: ImageView,
     pub uniforms: Buffer,
+    /// Bytes of fragment push constants the layout declares.
+    pub push_bytes: u32,
 }
 
 impl SampledSet {
@@ -149,6 +151,7 @@ impl SampledSet {
             _sampler: sampler,
             _view: view,
             uniforms,
+            push_bytes,
         })
     }
 }
