@@ -40,6 +40,12 @@ enum Command {
     /// What accuracy costs: a full-quality stereo reference against foveation ratios x MSAA,
     /// frame time beside PSNR per region (fovea, band, periphery) and SSIM.
     Compare(crate::compare_cmd::CompareArgs),
+    /// Monoscopic far-field rendering: every variant at a list of splits against a stereo
+    /// reference, frame time beside image error, disparity bound and seam check.
+    Mffr(crate::mffr_cmd::MffrArgs),
+    /// The HMD stencil mask per headset: fraction hidden (published, analytic, measured) beside
+    /// the frame time it saves.
+    Mask(crate::mask_cmd::MaskArgs),
 }
 
 /// Frame configuration shared by `render` and `plan`.
@@ -197,6 +203,8 @@ impl Cli {
             Command::CullBench(args) => crate::cull_cmd::cull_bench(args),
             Command::Pixels(args) => crate::pixels_cmd::pixels(&self.gpu_options(), args),
             Command::Compare(args) => crate::compare_cmd::compare(&self.gpu_options(), args),
+            Command::Mffr(args) => crate::mffr_cmd::mffr(&self.gpu_options(), args),
+            Command::Mask(args) => crate::mask_cmd::mask(&self.gpu_options(), args),
         }
     }
 }

@@ -4,8 +4,11 @@
 mod cli;
 mod compare_cmd;
 mod cull_cmd;
+mod mask_cmd;
+mod mffr_cmd;
 mod pixels_cmd;
 mod render_cmd;
+mod side_by_side;
 
 use clap::Parser;
 

@@ -274,8 +274,8 @@ fn render_foveated_with_gaze_tint_and_the_fill_scene() {
             "ratio = 0",
         ),
         (
-            &["render", "--res", "32", "--scene", "city"][..],
-            "scene = city",
+            &["render", "--res", "32", "--scene", "mars"][..],
+            "scene = mars",
         ),
         (
             &["render", "--res", "32", "--foveate", "0.5", "--gaze", "0.1"][..],

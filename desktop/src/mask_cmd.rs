@@ -1,0 +1,149 @@
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use foveate::gpu::{Gpu, GpuOptions};
+use foveate::plan::{RenderConfig, Resolution};
+use foveate::render::Renderer;
+use foveate::scene::{named_scene, Scene};
+use foveate::view::HMD_PROFILES;
+use glam::{Mat4, Vec2, Vec3};
+
+use crate::side_by_side::measure_group;
+
+#[derive(Args)]
+pub struct MaskArgs {
+    /// Screen resolution per eye.
+    #[arg(long, default_value_t = 1024)]
+    res: u32,
+    /// Scene: fill (fill-bound), default or city.
+    #[arg(long, default_value = "fill")]
+    scene: String,
+    /// Frames per configuration, rendered in interleaved rounds (the first is a warm-up).
+    #[arg(long, default_value_t = 6)]
+    frames: u32,
+    /// Also write the table as CSV to this file.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+}
+
+/// The fraction of each eye the mask hides, measured by the coverage probe.
+fn measured_hidden(gpu: &Gpu, config: &RenderConfig) -> Result<f64> {
+    let empty = Scene {
+        meshes: vec![],
+        batches: vec![],
+        head: Mat4::IDENTITY,
+        light_dir: Vec3::NEG_Y,
+    };
+    let config = RenderConfig {
+        msaa: 1,
+        coverage_probe: true,
+        count_fragments: true,
+        timestamps: false,
+        ..config.clone()
+    };
+    let plan = foveate::plan(&empty, &config, gpu.caps())?;
+    let mut renderer = Renderer::new(gpu, &plan, &empty)?;
+    let stats = renderer.render_frame(empty.head)?;
+    let pixels = plan.eye_resolution.pixels() as f64 * 2.0;
+    Ok(1.0 - stats.fragments.iter().sum::<u64>() as f64 / pixels)
+}
+
+pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
+    let scene = named_scene(&args.scene)?;
+    let gpu = Gpu::new(options)?;
+    println!(
+        "device: {}; scene {}, {}x{} per eye, MSAA 4x; each profile's pair measured side by side, {} interleaved rounds",
+        gpu.info().name,
+        args.scene,
+        args.res,
+        args.res,
+        args.frames
+    );
+    println!(
+        "\n{:<10} {:>10} {:>9} {:>9} {:>10} {:>10} {:>8} {:>13} {:>12}",
+        "profile",
+        "published",
+        "analytic",
+        "measured",
+        "off ms",
+        "on ms",
+        "saved",
+        "saved/masked",
+        "visible PSNR"
+    );
+    let mut csv = String::from("profile,published_hidden,analytic_hidden,measured_hidden,off_ms,on_ms,saved,saved_over_masked,visible_psnr\n");
+    for profile in HMD_PROFILES {
+        let off = RenderConfig {
+            hmd: profile.name.into(),
+            resolution: Some(Resolution::square(args.res)),
+            ..RenderConfig::default()
+        };
+        let on = RenderConfig {
+            hmd_mask: true,
+            ..off.clone()
+        };
+        let plan = foveate::plan(&scene, &on, gpu.caps())?;
+        let lens = plan.hmd_mask.expect("planned with the mask");
+        let analytic = lens[0].hidden_fraction();
+        let hidden = measured_hidden(&gpu, &on)?;
+        let m = measure_group(&gpu, &scene, &[off, on], args.frames, profile.name)?;
+        let saved = 1.0 - m[1].frame_ms / m[0].frame_ms;
+        // The mask may cost no accuracy where the lens shows the image.
+        let (w, h) = (args.res, args.res);
+        let fov = plan.eyes.left_fov;
+        // Pixels wholly inside the lens region: all four corners.
+        let visible = |x: u32, y: u32| {
+            [(0, 0), (1, 0), (0, 1), (1, 1)].iter().all(|&(dx, dy)| {
+                let t = Vec2::new(
+                    -fov.left + (x + dx) as f32 / w as f32 * (fov.left + fov.right),
+                    fov.up - (y + dy) as f32 / h as f32 * (fov.up + fov.down),
+                );
+                lens[0].contains(t)
+            })
+        };
+        let psnr = m[1]
+            .image
+            .left
+            .psnr_where(&m[0].image.left, visible)?
+            .unwrap_or(f64::NAN);
+        let published = profile
+            .hidden_area_fraction
+            .map_or("-".to_string(), |f| format!("{:.1} %", 100.0 * f));
+        println!(
+            "{:<10} {:>10} {:>7.1} % {:>7.1} % {:>10.2} {:>10.2} {:>6.1} % {:>13.2} {:>12}",
+            profile.name,
+            published,
+            100.0 * analytic,
+            100.0 * hidden,
+            m[0].frame_ms,
+            m[1].frame_ms,
+            100.0 * saved,
+            saved / hidden,
+            if psnr.is_infinite() {
+                "inf".to_string()
+            } else {
+                format!("{psnr:.1}")
+            }
+        );
+        let _ = writeln!(
+            csv,
+            "{},{},{analytic:.5},{hidden:.5},{:.3},{:.3},{saved:.5},{:.4},{psnr}",
+            profile.name,
+            profile
+                .hidden_area_fraction
+                .map_or(String::new(), |f| f.to_string()),
+            m[0].frame_ms,
+            m[1].frame_ms,
+            saved / hidden
+        );
+    }
+    println!("(published: the hidden-area mesh's area where the headset's is on record, else the circular fallback; measured: the coverage probe; saved: frame time saved by the mask, visible PSNR: the left eye's pixels wholly inside the lens region against the unmasked frame — inf: the mask costs no accuracy)");
+    gpu.check_validation()?;
+    if let Some(path) = &args.csv {
+        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}

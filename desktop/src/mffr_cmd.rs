@@ -1,0 +1,196 @@
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::RgbaImage;
+use foveate::mffr::{MffrConfig, MffrVariant, SplitDistance};
+use foveate::plan::{RenderConfig, Resolution};
+use foveate::render::StereoImage;
+use foveate::scene::named_scene;
+
+use crate::side_by_side::measure_group;
+
+#[derive(Args)]
+pub struct MffrArgs {
+    /// Screen resolution per eye.
+    #[arg(long, default_value_t = 1024)]
+    res: u32,
+    /// Scene: city (far-heavy), default or fill.
+    #[arg(long, default_value = "city")]
+    scene: String,
+    /// Split distances: disparities (`1px`) or metres (`40m`).
+    #[arg(long, value_delimiter = ',', default_value = "0.5px,1px,2px,4px")]
+    splits: Vec<String>,
+    /// Variants: far-first, near-first, alternate-eye, depth-shift.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "far-first,near-first,alternate-eye,depth-shift"
+    )]
+    variants: Vec<String>,
+    /// MSAA samples.
+    #[arg(long, default_value_t = 4)]
+    msaa: u32,
+    /// Frames per configuration, rendered in interleaved rounds (the first is a warm-up).
+    #[arg(long, default_value_t = 6)]
+    frames: u32,
+    /// Also write the table as CSV to this file.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+}
+
+/// The sky's clear colour as the sRGB image stores it.
+fn sky_srgb() -> [u8; 3] {
+    let encode = |c: f32| {
+        let s = if c <= 0.003_130_8 {
+            12.92 * c
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        };
+        (s * 255.0).round() as u8
+    };
+    [encode(0.22), encode(0.38), encode(0.62)]
+}
+
+/// Pixels showing sky where the reference shows something else: cracks at the split.
+fn sky_through(image: &RgbaImage, reference: &RgbaImage) -> u64 {
+    let sky = sky_srgb();
+    let is_sky = |p: [u8; 4]| (0..3).all(|i| p[i].abs_diff(sky[i]) <= 8);
+    let mut n = 0;
+    for y in 0..image.height {
+        for x in 0..image.width {
+            n += (is_sky(image.pixel(x, y)) && !is_sky(reference.pixel(x, y))) as u64;
+        }
+    }
+    n
+}
+
+fn both(image: &StereoImage) -> RgbaImage {
+    image.side_by_side()
+}
+
+pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
+    let scene = named_scene(&args.scene)?;
+    let gpu = Gpu::new(options)?;
+    let base = RenderConfig {
+        resolution: Some(Resolution::square(args.res)),
+        msaa: args.msaa,
+        ..RenderConfig::default()
+    };
+    println!(
+        "device: {}; scene {} ({} instances), {}x{} per eye, MSAA {}x; each split's rows measured side by side, {} interleaved rounds",
+        gpu.info().name,
+        args.scene,
+        scene.instance_count(),
+        args.res,
+        args.res,
+        args.msaa,
+        args.frames
+    );
+    println!(
+        "\n{:<14} {:>9} {:>7} {:>9} {:>6} {:>8} {:>8} {:>10} {:>10} {:>6} {:>6} {:>7} {:>8} {:>7}",
+        "variant",
+        "split",
+        "disp px",
+        "frame ms",
+        "ratio",
+        "far ms",
+        "eyes ms",
+        "far frags",
+        "eye frags",
+        "PSNR",
+        "SSIM",
+        "bound",
+        "matched",
+        "cracks"
+    );
+    let mut csv = String::from("variant,split,split_m,disparity_px,frame_ms,ratio,gpu_far_ms,gpu_eyes_ms,far_fragments,eye_fragments,psnr,ssim,bound_px,matched_within_bound,sky_through_px\n");
+    for split_text in &args.splits {
+        let split: SplitDistance = split_text.parse()?;
+        let mut configs = vec![base.clone()];
+        for name in &args.variants {
+            configs.push(RenderConfig {
+                mffr: Some(MffrConfig::named(name, split)?),
+                ..base.clone()
+            });
+        }
+        let plans: Vec<_> = configs
+            .iter()
+            .map(|c| foveate::plan(&scene, c, gpu.caps()))
+            .collect::<Result<_, _>>()?;
+        let measured = measure_group(
+            &gpu,
+            &scene,
+            &configs,
+            args.frames,
+            &format!("split {split}"),
+        )?;
+        let reference = &measured[0];
+        let reference_both = both(&reference.image);
+        for (i, (plan, m)) in plans.iter().zip(&measured).enumerate() {
+            let image = both(&m.image);
+            let (name, split_m, disparity, bound) = match &plan.mffr {
+                Some(g) => {
+                    let bound = match g.config.variant {
+                        MffrVariant::AlternateEye => g.disparity_at_split_px,
+                        _ => g.disparity_at_split_px / 2.0,
+                    };
+                    (g.config.name(), g.split_m, g.disparity_at_split_px, bound)
+                }
+                None if i == 0 => ("stereo", f32::NAN, f32::NAN, 0.0),
+                None => ("(no far field)", f32::NAN, f32::NAN, 0.0),
+            };
+            let psnr = image.psnr(&reference_both)?;
+            let ssim = image.ssim(&reference_both)?;
+            let radius = bound.ceil() as u32;
+            let matched = m
+                .image
+                .left
+                .matched_within(&reference.image.left, radius, 24)?
+                * 0.5
+                + m.image
+                    .right
+                    .matched_within(&reference.image.right, radius, 24)?
+                    * 0.5;
+            let cracks = sky_through(&image, &reference_both);
+            let (far_ms, eyes_ms) = if plan.far_pass().is_some() {
+                (m.gpu_pass_ms[0], m.gpu_pass_ms[1..].iter().sum::<f64>())
+            } else {
+                (0.0, m.gpu_pass_ms.iter().sum())
+            };
+            let ratio = m.frame_ms / reference.frame_ms;
+            println!(
+                "{:<14} {:>9} {:>7.2} {:>9.2} {:>6.3} {:>8.2} {:>8.2} {:>10} {:>10} {:>6} {:>6.4} {:>7.2} {:>7.2}% {:>7}",
+                name,
+                if i == 0 { "-".to_string() } else { format!("{split_m:.1}m") },
+                disparity,
+                m.frame_ms,
+                ratio,
+                far_ms,
+                eyes_ms,
+                m.far_fragments,
+                m.eye_fragments,
+                if psnr.is_infinite() { "inf".to_string() } else { format!("{psnr:.1}") },
+                ssim,
+                bound,
+                100.0 * matched,
+                cracks
+            );
+            let _ = writeln!(
+                csv,
+                "{name},{split_text},{split_m},{disparity},{:.3},{ratio:.4},{far_ms:.3},{eyes_ms:.3},{},{},{psnr:.3},{ssim:.5},{bound},{matched:.5},{cracks}",
+                m.frame_ms, m.far_fragments, m.eye_fragments
+            );
+        }
+        println!();
+    }
+    println!("(ratio: frame time to the stereo row of the same split, measured in the same rounds; PSNR/SSIM: both eyes against that stereo reference; bound: the disparity error the variant allows at the split, in eye pixels; matched: pixels equal to a reference pixel at most `bound` away along the row; sky px: pixels showing sky where the reference does not — a crack at the split would show here, as do silhouettes moved by up to `bound`)");
+    gpu.check_validation()?;
+    if let Some(path) = &args.csv {
+        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
