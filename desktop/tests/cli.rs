@@ -375,3 +375,39 @@ fn render_follows_a_gaze_trace_and_survives_bad_samples() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn mffr_prices_every_variant_against_stereo() {
+    let o = foveate(&[
+        "mffr", "--res", "48", "--frames", "2", "--splits", "2px,40m",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for needle in [
+        "stereo",
+        "far-first",
+        "near-first",
+        "alternate-eye",
+        "depth-shift",
+        "matched",
+        "40.0m",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+    let o = foveate(&["mffr", "--res", "48", "--frames", "2", "--splits", "0px"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("mffr split"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn mask_reports_each_profile_measured() {
+    let o = foveate(&["mask", "--res", "32", "--frames", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for needle in ["index", "vive", "rift-cv1", "quest2", "saved/masked"] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+}

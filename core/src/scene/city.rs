@@ -7,13 +7,14 @@ use super::default_scene::{hash01, palette};
 use super::{cube, ground_grid, uv_sphere, DrawBatch, Instance, Scene};
 use crate::view::look_at_head;
 
-/// Streets every 16 m; blocks 6–12 m wide and 12–70 m tall, none closer than 28 m.
+/// Streets every 12 m; blocks 5–10 m wide and 20–120 m tall, none closer than 28 m: seen from
+/// the street, several blocks stand behind every far pixel.
 pub fn city_scene() -> Scene {
     let meshes = vec![ground_grid(420.0, 0.25), cube(), uv_sphere(48, 24)];
     let (ground, cube_mesh, sphere) = (0, 1, 2);
     let mut blocks = Vec::new();
-    let street = 16.0;
-    let half = 25;
+    let street = 12.0;
+    let half = 33;
     for ix in -half..=half {
         for iz in -half..=half {
             let i = ((ix + half) * (2 * half + 1) + iz + half) as u32;
@@ -21,8 +22,8 @@ pub fn city_scene() -> Scene {
             if centre.length() < 28.0 {
                 continue;
             }
-            let width = 6.0 + 6.0 * hash01(i, 31);
-            let height = 12.0 + 58.0 * hash01(i, 32);
+            let width = 5.0 + 5.0 * hash01(i, 31);
+            let height = 20.0 + 100.0 * hash01(i, 32);
             let pos = centre + Vec3::new(0.0, height * 0.5, 0.0);
             blocks.push(Instance::new(
                 Mat4::from_scale_rotation_translation(
