@@ -104,7 +104,7 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         "SSIM",
         "bound",
         "matched",
-        "cracks"
+        "sky px"
     );
     let mut csv = String::from("variant,split,split_m,disparity_px,frame_ms,ratio,gpu_far_ms,gpu_eyes_ms,far_fragments,eye_fragments,psnr,ssim,bound_px,matched_within_bound,sky_through_px\n");
     for split_text in &args.splits {
