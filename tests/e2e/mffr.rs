@@ -191,3 +191,36 @@ fn hmd_mask_coverage_per_profile() {
         }
     }
 }
+
+/// MFFR under foveation: the far composite runs in all four views and the composed eyes match
+/// the foveated frame without MFFR within the disparity bound.
+#[test]
+fn mffr_composes_with_foveation() {
+    let gpu = gpu();
+    let scene = city_scene();
+    let foveated = RenderConfig {
+        views: 4,
+        foveation: Some(foveate::foveation::FoveationConfig {
+            ratio: 0.5,
+            ..Default::default()
+        }),
+        ..config(None, StereoMode::Multiview)
+    };
+    let (reference, _) = render(&gpu, &scene, &foveated);
+    let (image, stats) = render(
+        &gpu,
+        &scene,
+        &RenderConfig {
+            mffr: mffr("near-first", "2px"),
+            ..foveated.clone()
+        },
+    );
+    assert!(stats.far_fragments.unwrap() > 0);
+    for (got, want) in [
+        (&image.left, &reference.left),
+        (&image.right, &reference.right),
+    ] {
+        let within = got.matched_within(want, 2, 24).unwrap();
+        assert!(within > 0.99, "{within:.4}");
+    }
+}
