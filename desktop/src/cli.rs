@@ -1,6 +1,6 @@
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::{Gpu, GpuOptions};
@@ -249,4 +249,13 @@ pub fn gaze_from(values: &[f32]) -> Result<glam::Vec2> {
         values[1]
     );
     Ok(gaze.clamp(glam::Vec2::NEG_ONE, glam::Vec2::ONE))
+}
+
+/// Writes a command's CSV table where `--csv` asked for it, and says so.
+pub fn write_csv(path: Option<&std::path::Path>, csv: &str) -> Result<()> {
+    if let Some(path) = path {
+        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
 }

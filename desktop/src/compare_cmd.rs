@@ -2,7 +2,7 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{fovea_centre_px, fovea_views, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
@@ -244,9 +244,5 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         "(ratio: frame time to the reference, this run; PSNR in dB / SSIM per region against the reference, both eyes; stereo rows: the periphery column is the whole image)"
     );
     gpu.check_validation()?;
-    if let Some(path) = &args.csv {
-        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
-        println!("wrote {}", path.display());
-    }
-    Ok(())
+    crate::cli::write_csv(args.csv.as_deref(), &csv)
 }

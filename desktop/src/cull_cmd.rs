@@ -3,7 +3,7 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use foveate::cull::measure::{hale_tables, rails_bench, RailsParams};
 use foveate::cull::{batch_kernel, CullHierarchy, HierarchyParams, Strategy};
@@ -213,9 +213,5 @@ pub fn cull_bench(args: &CullBenchArgs) -> Result<()> {
             args.reference_every
         );
     }
-    if let Some(path) = &args.csv {
-        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
-        println!("wrote {}", path.display());
-    }
-    Ok(())
+    crate::cli::write_csv(args.csv.as_deref(), &csv)
 }

@@ -1,14 +1,13 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::plan::{RenderConfig, Resolution};
-use foveate::render::Renderer;
-use foveate::scene::{named_scene, Scene};
+use foveate::scene::named_scene;
 use foveate::view::HMD_PROFILES;
-use glam::{Mat4, Vec2, Vec3};
+use glam::Vec2;
 
 use crate::side_by_side::measure_group;
 
@@ -28,26 +27,11 @@ pub struct MaskArgs {
     csv: Option<PathBuf>,
 }
 
-/// The fraction of each eye the mask hides, measured by the coverage probe.
+/// The fraction of both eyes the mask hides, measured by the coverage probe.
 fn measured_hidden(gpu: &Gpu, config: &RenderConfig) -> Result<f64> {
-    let empty = Scene {
-        meshes: vec![],
-        batches: vec![],
-        head: Mat4::IDENTITY,
-        light_dir: Vec3::NEG_Y,
-    };
-    let config = RenderConfig {
-        msaa: 1,
-        coverage_probe: true,
-        count_fragments: true,
-        timestamps: false,
-        ..config.clone()
-    };
-    let plan = foveate::plan(&empty, &config, gpu.caps())?;
-    let mut renderer = Renderer::new(gpu, &plan, &empty)?;
-    let stats = renderer.render_frame(empty.head)?;
-    let pixels = plan.eye_resolution.pixels() as f64 * 2.0;
-    Ok(1.0 - stats.fragments.iter().sum::<u64>() as f64 / pixels)
+    let shaded: u64 = crate::pixels_cmd::coverage(gpu, config)?.iter().sum();
+    let pixels = 2 * config.resolution.map_or(0, |r| r.pixels());
+    Ok(1.0 - shaded as f64 / pixels as f64)
 }
 
 pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
@@ -141,9 +125,5 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
     }
     println!("(published: the hidden-area mesh's area where the headset's is on record, else the circular fallback; measured: the coverage probe; saved: frame time saved by the mask, visible PSNR: the left eye's pixels wholly inside the lens region against the unmasked frame — inf: the mask costs no accuracy)");
     gpu.check_validation()?;
-    if let Some(path) = &args.csv {
-        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
-        println!("wrote {}", path.display());
-    }
-    Ok(())
+    crate::cli::write_csv(args.csv.as_deref(), &csv)
 }

@@ -1,13 +1,13 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::RgbaImage;
 use foveate::mffr::{MffrConfig, MffrVariant, SplitDistance};
 use foveate::plan::{RenderConfig, Resolution};
-use foveate::render::StereoImage;
+use foveate::render::SKY;
 use foveate::scene::named_scene;
 
 use crate::side_by_side::measure_group;
@@ -51,7 +51,7 @@ fn sky_srgb() -> [u8; 3] {
         };
         (s * 255.0).round() as u8
     };
-    [encode(0.22), encode(0.38), encode(0.62)]
+    [encode(SKY[0]), encode(SKY[1]), encode(SKY[2])]
 }
 
 /// Pixels showing sky where the reference shows something else: cracks at the split.
@@ -65,10 +65,6 @@ fn sky_through(image: &RgbaImage, reference: &RgbaImage) -> u64 {
         }
     }
     n
-}
-
-fn both(image: &StereoImage) -> RgbaImage {
-    image.side_by_side()
 }
 
 pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
@@ -128,9 +124,9 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
             &format!("split {split}"),
         )?;
         let reference = &measured[0];
-        let reference_both = both(&reference.image);
+        let reference_both = reference.image.side_by_side();
         for (i, (plan, m)) in plans.iter().zip(&measured).enumerate() {
-            let image = both(&m.image);
+            let image = m.image.side_by_side();
             let (name, split_m, disparity, bound) = match &plan.mffr {
                 Some(g) => {
                     let bound = match g.config.variant {
@@ -188,9 +184,5 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
     }
     println!("(ratio: frame time to the stereo row of the same split, measured in the same rounds; PSNR/SSIM: both eyes against that stereo reference; bound: the disparity error the variant allows at the split, in eye pixels; matched: pixels equal to a reference pixel at most `bound` away along the row; sky px: pixels showing sky where the reference does not — a crack at the split would show here, as do silhouettes moved by up to `bound`)");
     gpu.check_validation()?;
-    if let Some(path) = &args.csv {
-        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
-        println!("wrote {}", path.display());
-    }
-    Ok(())
+    crate::cli::write_csv(args.csv.as_deref(), &csv)
 }

@@ -1,14 +1,13 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{arm_table, FoveationConfig, PixelBudget};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::plan::{RenderConfig, Resolution, StereoMode};
 use foveate::render::Renderer;
 use foveate::scene::Scene;
-use glam::{Mat4, Vec3};
 
 #[derive(Args)]
 pub struct PixelsArgs {
@@ -43,13 +42,8 @@ fn parse_row(s: &str) -> Result<(u32, f32)> {
 }
 
 /// Pixels each view renders, measured by the coverage probe in one frame of an empty scene.
-fn measure(gpu: &Gpu, config: &RenderConfig) -> Result<(Vec<u64>, RenderConfig)> {
-    let scene = Scene {
-        meshes: vec![],
-        batches: vec![],
-        head: Mat4::IDENTITY,
-        light_dir: Vec3::NEG_Y,
-    };
+pub(crate) fn coverage(gpu: &Gpu, config: &RenderConfig) -> Result<Vec<u64>> {
+    let scene = Scene::empty();
     let config = RenderConfig {
         msaa: 1,
         coverage_probe: true,
@@ -60,7 +54,7 @@ fn measure(gpu: &Gpu, config: &RenderConfig) -> Result<(Vec<u64>, RenderConfig)>
     let plan = foveate::plan(&scene, &config, gpu.caps())?;
     let mut renderer = Renderer::new(gpu, &plan, &scene)?;
     let stats = renderer.render_frame(scene.head)?;
-    Ok((stats.fragments, config))
+    Ok(stats.fragments)
 }
 
 pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
@@ -76,7 +70,7 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
         stereo: StereoMode::Multiview,
         ..RenderConfig::default()
     };
-    let (stereo, _) = measure(&gpu, &base)?;
+    let stereo = coverage(&gpu, &base)?;
     let stereo_total: u64 = stereo.iter().sum();
     println!(
         "device: {}; pixels per frame, both eyes, measured by a coverage probe on the GPU",
@@ -123,7 +117,7 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
                 foveation: Some(foveation),
                 ..base.clone()
             };
-            let (counts, _) = measure(&gpu, &config)?;
+            let counts = coverage(&gpu, &config)?;
             let geometry = foveation.geometry(screen)?;
             let analytic = PixelBudget::of(&geometry);
             let (periphery, fovea) = (
@@ -167,9 +161,5 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
     }
     println!("\n(analytic: the formulas with the true pi; Arm's tables used pi = 3.14 and truncate their percentages)");
     gpu.check_validation()?;
-    if let Some(path) = &args.csv {
-        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
-        println!("wrote {}", path.display());
-    }
-    Ok(())
+    crate::cli::write_csv(args.csv.as_deref(), &csv)
 }

@@ -5,16 +5,7 @@ use foveate::foveation::{FoveationConfig, PixelBudget};
 use foveate::plan::{RenderConfig, Resolution, StereoMode};
 use foveate::scene::{default_scene, Scene};
 use foveate_tests::{gpu, render_plan};
-use glam::{Mat4, Vec2, Vec3};
-
-fn empty_scene() -> Scene {
-    Scene {
-        meshes: vec![],
-        batches: vec![],
-        head: Mat4::IDENTITY,
-        light_dir: Vec3::NEG_Y,
-    }
-}
+use glam::Vec2;
 
 fn foveated(screen: u32, foveation: FoveationConfig, msaa: u32) -> RenderConfig {
     RenderConfig {
@@ -33,7 +24,7 @@ fn foveated(screen: u32, foveation: FoveationConfig, msaa: u32) -> RenderConfig 
 #[test]
 fn measured_pixels_match_the_analytic_budget() {
     let gpu = gpu();
-    let scene = empty_scene();
+    let scene = Scene::empty();
     let cases = [
         FoveationConfig {
             ratio: 0.5,
@@ -85,7 +76,7 @@ fn measured_pixels_match_the_analytic_budget() {
 #[test]
 fn stencil_masks_cut_pixels_in_every_view() {
     let gpu = gpu();
-    let scene = empty_scene();
+    let scene = Scene::empty();
     let count = |stencil| {
         let f = FoveationConfig {
             ratio: 0.5,

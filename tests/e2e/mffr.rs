@@ -159,12 +159,7 @@ fn depth_shift_beats_rotation_only() {
 #[test]
 fn hmd_mask_coverage_per_profile() {
     let gpu = gpu();
-    let empty = Scene {
-        meshes: vec![],
-        batches: vec![],
-        head: Mat4::IDENTITY,
-        light_dir: Vec3::NEG_Y,
-    };
+    let empty = Scene::empty();
     for profile in HMD_PROFILES {
         let c = RenderConfig {
             hmd: profile.name.into(),

@@ -79,10 +79,10 @@ impl MffrGeometry {
         };
         let (far_fov, far_near) = covering_view(eyes, split_m, far, &origins)
             .map_err(|why| ConfigError::new("mffr split", config.split, why))?;
-        let density_x = eye.width as f32 / (fov.left + fov.right);
+        // The far image at the eyes' pixel density (pixels per unit tangent).
         let density_y = eye.height as f32 / (fov.up + fov.down);
         let resolution = Resolution {
-            width: ((far_fov.left + far_fov.right) * density_x).ceil() as u32,
+            width: ((far_fov.left + far_fov.right) * focal_px).ceil() as u32,
             height: ((far_fov.up + far_fov.down) * density_y).ceil() as u32,
         };
         Ok(Some(MffrGeometry {

@@ -10,4 +10,5 @@ mod sampled_set;
 mod scene_buffers;
 mod targets;
 
+pub use record::SKY;
 pub use renderer::{FrameStats, Renderer, StereoImage};

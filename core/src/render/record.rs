@@ -12,7 +12,7 @@ use crate::scene::Draw;
 use crate::view::Eye;
 
 /// Linear-light clear colour of the sky.
-const SKY: [f32; 4] = [0.22, 0.38, 0.62, 1.0];
+pub const SKY: [f32; 4] = [0.22, 0.38, 0.62, 1.0];
 
 impl Renderer<'_> {
     /// Records the whole frame into `cmd` (already begun).

@@ -112,6 +112,17 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Nothing to draw, the head at the origin: for measuring what a frame costs by itself
+    /// (masks, the coverage probe).
+    pub fn empty() -> Scene {
+        Scene {
+            meshes: vec![],
+            batches: vec![],
+            head: Mat4::IDENTITY,
+            light_dir: Vec3::NEG_Y,
+        }
+    }
+
     pub fn instance_count(&self) -> usize {
         self.batches.iter().map(|b| b.instances.len()).sum()
     }
@@ -166,16 +177,15 @@ impl Scene {
     /// How far a viewer anywhere inside the scene's bounding box (its head position included)
     /// can see scene content: the box's diagonal. `0` for an empty scene.
     pub fn content_reach(&self) -> f32 {
+        if self.instance_count() == 0 {
+            return 0.0;
+        }
         let head = self.head.transform_point3(Vec3::ZERO);
         let bounds = self
             .instance_spheres()
             .iter()
             .fold(Aabb::new(head, head), |b, s| b.union(&Aabb::of_sphere(s)));
-        if self.instance_count() == 0 {
-            0.0
-        } else {
-            bounds.extents().length() * 2.0
-        }
+        bounds.extents().length() * 2.0
     }
 
     /// Every instance, batch after batch, in the order [`Scene::draws`] indexes them.
