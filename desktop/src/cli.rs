@@ -1,3 +1,4 @@
+use std::io::Write as _;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
@@ -46,6 +47,10 @@ enum Command {
     /// The HMD stencil mask per headset: fraction hidden (published, analytic, measured) beside
     /// the frame time it saves.
     Mask(crate::mask_cmd::MaskArgs),
+    /// The thesis' benchmark on its scene along the rails: 16 permutations of superfrustum,
+    /// multiview, stencil mask and MFFR (and the multiview ones foveated), its tables with
+    /// ratios to the baseline, memory and traffic, accuracy against time, and plots.
+    Bench(crate::bench::BenchArgs),
 }
 
 /// Frame configuration shared by `render` and `plan`.
@@ -205,6 +210,7 @@ impl Cli {
             Command::Compare(args) => crate::compare_cmd::compare(&self.gpu_options(), args),
             Command::Mffr(args) => crate::mffr_cmd::mffr(&self.gpu_options(), args),
             Command::Mask(args) => crate::mask_cmd::mask(&self.gpu_options(), args),
+            Command::Bench(args) => crate::bench::bench(&self.gpu_options(), args),
         }
     }
 }
@@ -258,4 +264,23 @@ pub fn write_csv(path: Option<&std::path::Path>, csv: &str) -> Result<()> {
         println!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// A progress bar on stderr, redrawn only when its percentage changes.
+pub fn progress(label: &str, done: u64, total: u64) {
+    let percent = |d: u64| d * 100 / total.max(1);
+    if done != total && done > 1 && percent(done) == percent(done - 1) {
+        return;
+    }
+    let width = 30;
+    let filled = (done * width / total.max(1)) as usize;
+    eprint!(
+        "\r{label} [{}{}] {done}/{total}",
+        "#".repeat(filled),
+        " ".repeat(width as usize - filled)
+    );
+    if done == total {
+        eprintln!();
+    }
+    let _ = std::io::stderr().flush();
 }

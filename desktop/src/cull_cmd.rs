@@ -1,5 +1,4 @@
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -52,32 +51,10 @@ pub struct CullBenchArgs {
 }
 
 fn strategy(name: &str) -> Result<Strategy> {
-    Strategy::ALL
-        .into_iter()
-        .find(|s| s.name() == name)
-        .ok_or_else(|| {
-            let names: Vec<_> = Strategy::ALL.iter().map(|s| s.name()).collect();
-            anyhow::anyhow!("invalid strategies = {name}: one of {}", names.join(", "))
-        })
-}
-
-/// A progress bar on stderr, redrawn only when its percentage changes.
-fn progress(label: &str, done: u64, total: u64) {
-    let percent = |d: u64| d * 100 / total.max(1);
-    if done != total && done > 1 && percent(done) == percent(done - 1) {
-        return;
-    }
-    let width = 30;
-    let filled = (done * width / total.max(1)) as usize;
-    eprint!(
-        "\r{label} [{}{}] {done}/{total}",
-        "#".repeat(filled),
-        " ".repeat(width as usize - filled)
-    );
-    if done == total {
-        eprintln!();
-    }
-    let _ = std::io::stderr().flush();
+    Strategy::by_name(name).ok_or_else(|| {
+        let names: Vec<_> = Strategy::ALL.iter().map(|s| s.name()).collect();
+        anyhow::anyhow!("invalid strategies = {name}: one of {}", names.join(", "))
+    })
 }
 
 pub fn cull_bench(args: &CullBenchArgs) -> Result<()> {
@@ -162,7 +139,7 @@ pub fn cull_bench(args: &CullBenchArgs) -> Result<()> {
             extent: scene.extent(),
         };
         let reports = rails_bench(&hierarchy, &strategies, &params, &mut |d, t| {
-            progress("culling", d, t)
+            crate::cli::progress("culling", d, t)
         });
         let base = reports[0].time_ms.median;
         println!(

@@ -1,6 +1,7 @@
 //! `foveate`: render, plan and inspect stereo VR frames on Vulkan (lavapipe by default where no
 //! GPU exists).
 
+mod bench;
 mod cli;
 mod compare_cmd;
 mod cull_cmd;

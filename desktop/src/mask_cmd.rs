@@ -7,7 +7,6 @@ use foveate::gpu::{Gpu, GpuOptions};
 use foveate::plan::{RenderConfig, Resolution};
 use foveate::scene::named_scene;
 use foveate::view::HMD_PROFILES;
-use glam::Vec2;
 
 use crate::side_by_side::measure_group;
 
@@ -75,18 +74,7 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
         let m = measure_group(&gpu, &scene, &[off, on], args.frames, profile.name)?;
         let saved = 1.0 - m[1].frame_ms / m[0].frame_ms;
         // The mask may cost no accuracy where the lens shows the image.
-        let (w, h) = (args.res, args.res);
-        let fov = plan.eyes.left_fov;
-        // Pixels wholly inside the lens region: all four corners.
-        let visible = |x: u32, y: u32| {
-            [(0, 0), (1, 0), (0, 1), (1, 1)].iter().all(|&(dx, dy)| {
-                let t = Vec2::new(
-                    -fov.left + (x + dx) as f32 / w as f32 * (fov.left + fov.right),
-                    fov.up - (y + dy) as f32 / h as f32 * (fov.up + fov.down),
-                );
-                lens[0].contains(t)
-            })
-        };
+        let visible = |x: u32, y: u32| lens[0].contains_pixel(x, y, args.res, args.res);
         let psnr = m[1]
             .image
             .left

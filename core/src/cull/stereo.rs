@@ -23,6 +23,26 @@ pub trait StereoCull: Sync {
     }
 }
 
+/// One frustum alone: one eye's own pass (per-eye culling in two-pass stereo), or the MFFR far
+/// view.
+impl StereoCull for Frustum {
+    fn name(&self) -> &'static str {
+        "frustum"
+    }
+
+    fn sphere(&self, s: &Sphere) -> bool {
+        self.intersects_sphere(s)
+    }
+
+    fn aabb(&self, b: &Aabb) -> Relation {
+        Frustum::aabb(self, b)
+    }
+
+    fn spheres(&self, soa: &SphereSoa, range: std::ops::Range<usize>, out: &mut Vec<u32>) {
+        soa.frustum_union(std::slice::from_ref(self), range, out);
+    }
+}
+
 /// Both eyes' frusta for a head pose, near plane and draw distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StereoFrusta {
@@ -390,6 +410,11 @@ impl Strategy {
         Strategy::DualEllipticalCone,
         Strategy::RoundRobin,
     ];
+
+    /// The strategy named `name` (as [`Strategy::name`] spells it).
+    pub fn by_name(name: &str) -> Option<Strategy> {
+        Strategy::ALL.into_iter().find(|s| s.name() == name)
+    }
 
     pub fn name(self) -> &'static str {
         match self {

@@ -347,6 +347,15 @@ impl Gpu {
         }
     }
 
+    /// Bytes of device memory the allocator has handed out right now (lazily allocated
+    /// transient images, which commit no memory up front, are not among them).
+    pub fn allocated_bytes(&self) -> u64 {
+        self.dev
+            .allocator
+            .lock()
+            .map_or(0, |a| a.generate_report().total_allocated_bytes)
+    }
+
     /// Waits until the device is idle.
     pub fn wait_idle(&self) -> Result<(), GpuError> {
         unsafe { self.dev.device.device_wait_idle() }.vk("vkDeviceWaitIdle")

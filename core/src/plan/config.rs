@@ -2,6 +2,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use super::ConfigError;
+use crate::cull::Strategy;
 use crate::foveation::FoveationConfig;
 use crate::mffr::MffrConfig;
 use crate::view::{FovTangents, HmdProfile, HMD_PROFILES};
@@ -105,6 +106,25 @@ impl FromStr for Resolution {
     }
 }
 
+/// Per-frame culling of the scene's instances on the CPU (seed 000 §3): distance culling at the
+/// draw distance and a stereo strategy's volume, over the scene's chunk-and-octree hierarchy.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CullConfig {
+    /// [`Strategy::PerEye`] culls each eye's own pass with its own frustum in two-pass stereo
+    /// (two culls, the thesis' baseline) and with both frusta into one set otherwise.
+    pub strategy: Strategy,
+    /// Instances farther than this from the head are not drawn (the thesis: 320 units).
+    pub draw_distance: f32,
+}
+
+impl CullConfig {
+    /// The thesis' setting: per-eye frusta, draw distance 320.
+    pub const THESIS: CullConfig = CullConfig {
+        strategy: Strategy::PerEye,
+        draw_distance: 320.0,
+    };
+}
+
 /// Everything a user chooses about a frame. Validated by [`super::plan`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderConfig {
@@ -139,6 +159,8 @@ pub struct RenderConfig {
     /// Count every pixel each view renders (a full-view draw under the pass's stencil masks,
     /// counted by the fragment counter) — `foveate pixels` measures with it.
     pub coverage_probe: bool,
+    /// Cull the scene per frame on the CPU; `None` draws every instance.
+    pub culling: Option<CullConfig>,
 }
 
 impl Default for RenderConfig {
@@ -160,6 +182,7 @@ impl Default for RenderConfig {
             hmd_mask: false,
             mffr: None,
             coverage_probe: false,
+            culling: None,
         }
     }
 }

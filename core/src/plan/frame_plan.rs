@@ -1,5 +1,6 @@
 use super::derive::{is_transient, Access, LoadOp, StoreOp};
-use super::{ConfigError, DeviceCaps, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
+use super::{ConfigError, CullConfig, DeviceCaps, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
+use crate::cull::Strategy;
 use crate::foveation::FoveationGeometry;
 use crate::mffr::{MffrGeometry, MffrOrder};
 use crate::scene::Scene;
@@ -124,6 +125,10 @@ pub enum Submission {
 pub enum DrawSet {
     /// Every instance, straight from the scene's draws.
     All,
+    /// Instances the culling strategy keeps for the pass's views (culled per frame).
+    Visible,
+    /// Instances one eye's own frustum keeps: per-eye culling of a two-pass frame.
+    VisibleToEye(Eye),
     /// Instances reaching in front of the MFFR split (culled per frame).
     NearField,
     /// Instances reaching beyond the MFFR far pass's near plane (culled per frame).
@@ -241,6 +246,8 @@ pub struct FramePlan {
     /// MFFR as resolved for this frame: `None` when off, or when the scene has nothing beyond
     /// the split.
     pub mffr: Option<MffrGeometry>,
+    /// Per-frame culling, when on.
+    pub culling: Option<CullConfig>,
 }
 
 impl FramePlan {
@@ -339,6 +346,7 @@ pub fn plan(
     validate_msaa(config, caps)?;
     validate_depth_range(config)?;
     validate_features(config, caps)?;
+    validate_culling(config)?;
     let hmd_mask = config
         .hmd_mask
         .then(|| Eye::BOTH.map(|e| hmd.lens_region(eyes.fov(e))));
@@ -429,6 +437,7 @@ pub fn plan(
         foveation,
         hmd_mask,
         mffr,
+        culling: config.culling,
     };
     plan.draw_calls = draw_calls(scene, &plan);
     if config.timestamps {
@@ -545,10 +554,13 @@ fn scene_passes(
             stencil_masks,
             coverage_probe: config.coverage_probe,
             far_field: far_field.map(|(order, _)| order),
-            draw_set: if far_field.is_some() {
-                DrawSet::NearField
-            } else {
-                DrawSet::All
+            draw_set: match (far_field, config.culling, submission) {
+                (Some(_), _, _) => DrawSet::NearField,
+                (None, None, _) => DrawSet::All,
+                (None, Some(c), Submission::SingleEye(eye)) if c.strategy == Strategy::PerEye => {
+                    DrawSet::VisibleToEye(eye)
+                }
+                (None, Some(_), _) => DrawSet::Visible,
             },
             depth_clamp: false,
             guard_band: 1,
@@ -908,6 +920,19 @@ fn validate_depth_range(config: &RenderConfig) -> Result<(), ConfigError> {
         ));
     }
     Ok(())
+}
+
+fn validate_culling(config: &RenderConfig) -> Result<(), ConfigError> {
+    match config.culling {
+        Some(c) if !(c.draw_distance.is_finite() && c.draw_distance > config.near) => {
+            Err(ConfigError::new(
+                "draw distance",
+                c.draw_distance,
+                format!("a finite distance beyond near ({})", config.near),
+            ))
+        }
+        _ => Ok(()),
+    }
 }
 
 fn validate_features(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), ConfigError> {

@@ -12,7 +12,7 @@ mod frame_plan;
 mod print;
 
 pub use caps::{DeviceCaps, DriverQuirks};
-pub use config::{RenderConfig, Resolution, StereoMode, MAX_VIEWS};
+pub use config::{CullConfig, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
 pub use derive::{Access, LoadOp, StoreOp};
 pub use error::ConfigError;
 pub use frame_plan::{

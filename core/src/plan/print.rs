@@ -88,6 +88,14 @@ impl fmt::Display for FramePlan {
                 m.far_near
             )?;
         }
+        if let Some(c) = &self.culling {
+            writeln!(
+                f,
+                "  culling: {} on the CPU each frame, draw distance {} (chunk grid + octree)",
+                c.strategy.name(),
+                c.draw_distance
+            )?;
+        }
         writeln!(f, "attachments:")?;
         writeln!(
             f,
@@ -152,6 +160,16 @@ impl fmt::Display for FramePlan {
             }
             match p.draw_set {
                 DrawSet::All => {}
+                DrawSet::Visible => writeln!(
+                    f,
+                    "    draws the instances its views may see (culled per frame: {})",
+                    self.culling.map_or("", |c| c.strategy.name())
+                )?,
+                DrawSet::VisibleToEye(eye) => writeln!(
+                    f,
+                    "    draws the instances the {} eye's frustum keeps (culled per frame for this eye alone)",
+                    eye.name()
+                )?,
                 DrawSet::NearField => writeln!(
                     f,
                     "    draws the near field (instances in front of the split, culled per frame)"

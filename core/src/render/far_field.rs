@@ -5,11 +5,9 @@
 use glam::{Mat4, Vec4};
 
 use super::sampled_set::SampledSet;
-use crate::cull::{Frustum, Sphere};
 use crate::gpu::{Gpu, GpuError, Image};
 use crate::mffr::FarReprojection;
 use crate::plan::MAX_VIEWS;
-use crate::scene::Draw;
 use crate::view::FovTangents;
 
 /// The far composite's uniform block (`FarComposite` in `shaders/far_composite.frag`, std140).
@@ -48,41 +46,4 @@ impl FarComposite {
         }
         self.set.uniforms.write(&[block]);
     }
-}
-
-/// The scene's instances split for one frame: `ids` holds the near set's instance ids, then
-/// the far set's; each returned draw list indexes its part of `ids`. An instance straddling
-/// the split is in both (each pass clips it at its own plane).
-pub(crate) fn split_fields(
-    spheres: &[Sphere],
-    draws: &[Draw],
-    near: &[Frustum],
-    far: &Frustum,
-    ids: &mut Vec<u32>,
-) -> [Vec<Draw>; 2] {
-    ids.clear();
-    let mut lists = [Vec::new(), Vec::new()];
-    for (list, field) in lists.iter_mut().enumerate() {
-        for d in draws {
-            let first = ids.len() as u32;
-            let range = d.first_instance..d.first_instance + d.instance_count;
-            ids.extend(range.filter(|&i| {
-                let s = &spheres[i as usize];
-                if list == 0 {
-                    near.iter().any(|f| f.intersects_sphere(s))
-                } else {
-                    far.intersects_sphere(s)
-                }
-            }));
-            let count = ids.len() as u32 - first;
-            if count > 0 {
-                field.push(Draw {
-                    mesh: d.mesh,
-                    first_instance: first,
-                    instance_count: count,
-                });
-            }
-        }
-    }
-    lists
 }

@@ -2,6 +2,7 @@
 //! records, submits and measures frames.
 
 mod composite;
+mod culling;
 mod far_field;
 mod pipelines;
 mod record;

@@ -3,7 +3,7 @@
 
 use ash::vk;
 
-use super::renderer::Renderer;
+use super::renderer::{DrawTally, Renderer};
 use super::sampled_set::SampledSet;
 use crate::gpu::Pipeline;
 use crate::mffr::{MffrOrder, FAR_VIEW_INDEX};
@@ -114,7 +114,7 @@ impl Renderer<'_> {
                                 vk::PipelineBindPoint::GRAPHICS,
                                 coverage.raw,
                             );
-                            device.cmd_draw(cmd, 3, 1, 0, 0);
+                            self.full_view_draw(cmd);
                         }
                     }
                     _ => unreachable!("every planned pass has its pipelines"),
@@ -222,6 +222,7 @@ impl Renderer<'_> {
                 &shape_set.to_le_bytes(),
             );
             device.cmd_draw(cmd, crate::shaders::MASK_VERTICES, 1, 0, 0);
+            self.count_draw(crate::shaders::MASK_VERTICES as u64 / 3);
         }
     }
 
@@ -271,7 +272,21 @@ impl Renderer<'_> {
             );
         }
         self.set_viewport(cmd, rect(0, extent.width, extent.height), pass.guard_band);
-        device.cmd_draw(cmd, 3, 1, 0, 0);
+        self.full_view_draw(cmd);
+    }
+
+    /// One triangle covering the viewport (the pipeline bound makes it a composite or a probe).
+    unsafe fn full_view_draw(&self, cmd: vk::CommandBuffer) {
+        self.gpu.device().cmd_draw(cmd, 3, 1, 0, 0);
+        self.count_draw(1);
+    }
+
+    fn count_draw(&self, triangles: u64) {
+        let t = self.tally.get();
+        self.tally.set(DrawTally {
+            calls: t.calls + 1,
+            triangles: t.triangles + triangles,
+        });
     }
 
     /// Viewport, scissor and the eye index the vertex shader reads in push-constant modes.
@@ -309,6 +324,7 @@ impl Renderer<'_> {
     unsafe fn draw(&self, cmd: vk::CommandBuffer, draw: &Draw, doubled: bool) {
         let mesh = self.scene.meshes[draw.mesh];
         let k = if doubled { 2 } else { 1 };
+        self.count_draw(mesh.index_count as u64 / 3 * (draw.instance_count * k) as u64);
         self.gpu.device().cmd_draw_indexed(
             cmd,
             mesh.index_count,

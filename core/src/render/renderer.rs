@@ -4,12 +4,13 @@ use ash::vk;
 use glam::{Mat4, Vec2, Vec4};
 
 use super::composite::Composite;
-use super::far_field::{split_fields, FarComposite};
+use super::culling::FrameCulling;
+use super::far_field::FarComposite;
 use super::pipelines::{pass_pipeline, PipelineKind, SceneBindings};
 use super::record::memory_barrier;
 use super::scene_buffers::SceneBuffers;
 use super::targets::{compile_pass, create_images, CompiledPass};
-use crate::cull::{Frustum, Sphere};
+use crate::cull::Frustum;
 use crate::foveation::{fovea_views, mask_shapes};
 use crate::gpu::{
     Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, Pipeline, QueryPool,
@@ -52,6 +53,17 @@ pub struct FrameStats {
     pub cpu_cull_ms: f64,
     /// Instances drawn by each scene pass, in plan order (every instance without culling).
     pub instances_drawn: Vec<u64>,
+    /// Draw commands the frame recorded (scene draws, masks, composites).
+    pub draw_calls: u64,
+    /// Triangles those draw commands submitted (per draw: triangles × instances).
+    pub triangles: u64,
+}
+
+/// Draw commands and triangles recorded into the current frame.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct DrawTally {
+    pub calls: u64,
+    pub triangles: u64,
 }
 
 /// The two eyes' images of the last frame.
@@ -97,12 +109,11 @@ pub struct Renderer<'g> {
     pub(super) composite: Option<Composite>,
     /// The MFFR far composite, when planned.
     pub(super) far_composite: Option<FarComposite>,
-    /// Culled draws: bounding spheres, the per-frame id list and this frame's near and far
-    /// draw lists (only when a pass draws a culled set).
-    spheres: Vec<Sphere>,
-    ids: Vec<u32>,
+    /// Per-frame culling and its id buffer (only when a pass draws a culled set).
+    pub(super) culling: Option<FrameCulling>,
     pub(super) instance_ids: Option<Buffer>,
-    pub(super) field_draws: [Vec<Draw>; 2],
+    /// What the frame being recorded has drawn so far.
+    pub(super) tally: std::cell::Cell<DrawTally>,
     images: Vec<Image>,
     pub(super) bindings: SceneBindings,
     pub(super) scene: SceneBuffers,
@@ -259,14 +270,11 @@ impl<'g> Renderer<'g> {
             passes,
             composite,
             far_composite,
-            spheres: if instance_ids.is_some() {
-                scene.instance_spheres()
-            } else {
-                Vec::new()
-            },
-            ids: Vec::new(),
+            culling: instance_ids
+                .is_some()
+                .then(|| FrameCulling::new(scene, &scene_buffers.draws, plan)),
             instance_ids,
-            field_draws: [Vec::new(), Vec::new()],
+            tally: Default::default(),
             images,
             bindings,
             scene: scene_buffers,
@@ -324,7 +332,7 @@ impl<'g> Renderer<'g> {
             composite.update(plan, fovea);
         }
         let mut light_dir = self.light_dir;
-        let mut cpu_cull_ms = 0.0;
+        let mut far_frustum = None;
         if let Some(m) = &plan.mffr {
             let world_from_far =
                 world_from_head * m.head_from_far(&plan.eyes, self.frames_rendered);
@@ -335,22 +343,25 @@ impl<'g> Renderer<'g> {
             if let Some(far) = &mut self.far_composite {
                 far.update(&views, far_view_proj, m.far_near);
             }
-            if let Some(ids) = &mut self.instance_ids {
-                let start = Instant::now();
-                let near = Eye::BOTH.map(|e| {
-                    Frustum::from_eye(
-                        world_from_eye[e.index()],
-                        plan.eyes.fov(e),
-                        plan.near,
-                        m.split_m,
-                    )
-                });
-                let far = Frustum::from_eye(world_from_far, m.far_fov, m.far_near, m.far);
-                self.field_draws =
-                    split_fields(&self.spheres, &self.scene.draws, &near, &far, &mut self.ids);
-                ids.write(&self.ids);
-                cpu_cull_ms = start.elapsed().as_secs_f64() * 1e3;
-            }
+            far_frustum = Some(Frustum::from_eye(
+                world_from_far,
+                m.far_fov,
+                m.far_near,
+                m.far,
+            ));
+        }
+        let mut cpu_cull_ms = 0.0;
+        if let (Some(culling), Some(ids)) = (&mut self.culling, &mut self.instance_ids) {
+            let start = Instant::now();
+            culling.cull(
+                plan,
+                world_from_head,
+                self.frames_rendered,
+                far_frustum.as_ref(),
+                &self.scene.draws,
+            );
+            ids.write(&culling.ids);
+            cpu_cull_ms = start.elapsed().as_secs_f64() * 1e3;
         }
         self.views_block.write(&[ViewsBlock {
             view_proj,
@@ -370,6 +381,7 @@ impl<'g> Renderer<'g> {
                 .begin_command_buffer(self.cmd, &begin)
                 .vk("vkBeginCommandBuffer")?;
         }
+        self.tally.set(DrawTally::default());
         self.record(self.cmd);
         unsafe { device.end_command_buffer(self.cmd) }.vk("vkEndCommandBuffer")?;
         let recorded = Instant::now();
@@ -404,6 +416,8 @@ impl<'g> Renderer<'g> {
             far_fragments,
             cpu_cull_ms,
             instances_drawn,
+            draw_calls: self.tally.get().calls,
+            triangles: self.tally.get().triangles,
         })
     }
 
@@ -447,10 +461,15 @@ impl<'g> Renderer<'g> {
 
     /// The draws a pass records this frame.
     pub(super) fn pass_draws(&self, pass: &PassPlan) -> &[Draw] {
+        let Some(culling) = &self.culling else {
+            return &self.scene.draws;
+        };
         match pass.draw_set {
             DrawSet::All => &self.scene.draws,
-            DrawSet::NearField => &self.field_draws[0],
-            DrawSet::FarField => &self.field_draws[1],
+            DrawSet::Visible | DrawSet::NearField | DrawSet::VisibleToEye(Eye::Left) => {
+                &culling.sets[0]
+            }
+            DrawSet::VisibleToEye(Eye::Right) | DrawSet::FarField => &culling.sets[1],
         }
     }
 

@@ -9,7 +9,11 @@ pub use city::city_scene;
 pub use default_scene::{default_scene, fill_scene};
 
 /// The scenes the command line offers, by name.
-pub const SCENE_NAMES: [&str; 3] = ["default", "fill", "city"];
+pub const SCENE_NAMES: [&str; 4] = ["default", "fill", "city", "thesis"];
+
+/// The size at which `--scene thesis` renders the thesis scene (14 × 22 × 14 instances);
+/// `foveate bench --scale` picks others.
+pub const THESIS_PREVIEW_SCALE: f32 = 0.02;
 
 /// A scene by its command-line name.
 pub fn named_scene(name: &str) -> Result<Scene, crate::plan::ConfigError> {
@@ -17,6 +21,7 @@ pub fn named_scene(name: &str) -> Result<Scene, crate::plan::ConfigError> {
         "default" => Ok(default_scene()),
         "fill" => Ok(fill_scene()),
         "city" => Ok(city_scene()),
+        "thesis" => Ok(ThesisScene::new(THESIS_PREVIEW_SCALE)?.to_scene()),
         _ => Err(crate::plan::ConfigError::new(
             "scene",
             name,

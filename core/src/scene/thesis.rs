@@ -8,6 +8,8 @@
 use glam::{Mat4, Quat, Vec3};
 use rayon::prelude::*;
 
+use super::default_scene::palette;
+use super::{cube, uv_sphere, DrawBatch, Instance, Scene};
 use crate::cull::Sphere;
 use crate::plan::ConfigError;
 
@@ -108,6 +110,40 @@ impl ThesisScene {
             .zip(&self.objects)
             .map(|(&p, o)| Sphere::new(p, o.radius()))
             .collect()
+    }
+
+    /// The scene to render: unit cubes, and for the high-poly objects spheres of their radius
+    /// at three tessellations (the thesis' robot, material sphere and helmet are not ours to
+    /// ship), the head at the rails' first pose.
+    pub fn to_scene(&self) -> Scene {
+        let meshes = vec![
+            cube(),
+            uv_sphere(64, 32),
+            uv_sphere(48, 24),
+            uv_sphere(40, 20),
+        ];
+        let mut batches: Vec<DrawBatch> = (0..meshes.len())
+            .map(|mesh| DrawBatch {
+                mesh,
+                instances: Vec::new(),
+            })
+            .collect();
+        for (i, (&p, &o)) in self.positions.iter().zip(&self.objects).enumerate() {
+            let (mesh, scale, colour) = match o {
+                ThesisObject::Cube => (0, 1.0, palette(i as u32 % 97) * 0.8),
+                ThesisObject::HighPoly(t) => (1 + t as usize, o.radius(), palette(200 + t as u32)),
+            };
+            batches[mesh].instances.push(Instance::new(
+                Mat4::from_scale_rotation_translation(Vec3::splat(scale), Quat::IDENTITY, p),
+                colour,
+            ));
+        }
+        Scene {
+            meshes,
+            batches,
+            head: rail_pose(0, self.extent()),
+            light_dir: Vec3::new(0.3, -1.0, 0.2).normalize(),
+        }
     }
 
     /// The scene's extent (grid counts × spacing).

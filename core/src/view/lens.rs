@@ -112,6 +112,18 @@ impl LensRegion {
         poly
     }
 
+    /// Whether pixel (x, y) of a `width` × `height` image of the region's view lies wholly
+    /// inside the region (all four corners), y down.
+    pub fn contains_pixel(&self, x: u32, y: u32, width: u32, height: u32) -> bool {
+        let f = self.fov;
+        [(0, 0), (1, 0), (0, 1), (1, 1)].iter().all(|&(dx, dy)| {
+            self.contains(Vec2::new(
+                -f.left + (x + dx) as f32 / width as f32 * (f.left + f.right),
+                f.up - (y + dy) as f32 / height as f32 * (f.up + f.down),
+            ))
+        })
+    }
+
     /// Whether a tangent-space point is inside the region.
     pub fn contains(&self, p: Vec2) -> bool {
         let f = self.fov;

@@ -25,6 +25,13 @@ pub enum Eye {
 impl Eye {
     pub const BOTH: [Eye; 2] = [Eye::Left, Eye::Right];
 
+    pub fn name(self) -> &'static str {
+        match self {
+            Eye::Left => "left",
+            Eye::Right => "right",
+        }
+    }
+
     pub fn index(self) -> usize {
         match self {
             Eye::Left => 0,

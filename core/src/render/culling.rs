@@ -1,0 +1,124 @@
+//! Per-frame culling in the renderer (seed 000 §3): the scene's instances in the chunk-and-octree
+//! hierarchy, culled into at most two sets a frame — both eyes' set, each eye's own set
+//! (per-eye culling of a two-pass frame), or MFFR's near and far fields — and written as the
+//! instance ids the indirect scene shader reads.
+
+use glam::{Mat4, Vec3};
+
+use crate::cull::{
+    CullHierarchy, CullResult, CullView, Frustum, HierarchyParams, StereoFrusta, Strategy,
+};
+use crate::plan::{DrawSet, FramePlan};
+use crate::scene::{Draw, Scene};
+use crate::view::{Eye, EyeParams, LensRegion};
+
+pub(crate) struct FrameCulling {
+    hierarchy: CullHierarchy,
+    /// Which of the scene's draws (meshes) each instance belongs to.
+    draw_of: Vec<u32>,
+    lens_regions: [LensRegion; 2],
+    buckets: Vec<Vec<u32>>,
+    /// This frame's ids: set 0's, then set 1's.
+    pub ids: Vec<u32>,
+    /// This frame's draws of each set, each indexing its part of `ids`.
+    pub sets: [Vec<Draw>; 2],
+}
+
+impl FrameCulling {
+    pub fn new(scene: &Scene, draws: &[Draw], plan: &FramePlan) -> Self {
+        let mut draw_of = vec![0; scene.instance_count()];
+        for (k, d) in draws.iter().enumerate() {
+            let range = d.first_instance as usize..(d.first_instance + d.instance_count) as usize;
+            draw_of[range].fill(k as u32);
+        }
+        FrameCulling {
+            hierarchy: CullHierarchy::build(&scene.instance_spheres(), HierarchyParams::default()),
+            draw_of,
+            lens_regions: Eye::BOTH.map(|e| plan.hmd.lens_region(plan.eyes.fov(e))),
+            buckets: vec![Vec::new(); draws.len()],
+            ids: Vec::new(),
+            sets: [Vec::new(), Vec::new()],
+        }
+    }
+
+    /// Culls one frame into [`FrameCulling::sets`]. `far` is the MFFR far view's frustum, when
+    /// MFFR is planned.
+    pub fn cull(
+        &mut self,
+        plan: &FramePlan,
+        world_from_head: Mat4,
+        frame: u64,
+        far: Option<&Frustum>,
+        draws: &[Draw],
+    ) {
+        let h = &self.hierarchy;
+        let centre = world_from_head.transform_point3(Vec3::ZERO);
+        let strategy = plan.culling.map_or(Strategy::PerEye, |c| c.strategy);
+        // Without a draw distance nothing in the eyes' frusta may be dropped: reach their far
+        // corners.
+        let draw_distance = plan.culling.map_or_else(
+            || reach(&plan.eyes, plan.near, plan.far),
+            |c| c.draw_distance,
+        );
+        let view = |distance| CullView {
+            eyes: &plan.eyes,
+            world_from_head,
+            near: plan.near,
+            draw_distance: distance,
+            frame,
+            lens_regions: &self.lens_regions,
+        };
+        let per_eye = plan
+            .passes
+            .iter()
+            .any(|p| matches!(p.draw_set, DrawSet::VisibleToEye(_)));
+        let results: [Option<CullResult>; 2] = match (far, plan.mffr) {
+            (Some(far), Some(m)) => {
+                // The near field: everything in front of the split, whose far corners lie
+                // farther from the head than the split itself.
+                let near_reach = reach(&plan.eyes, plan.near, m.split_m).min(draw_distance);
+                [
+                    Some(strategy.cull(h, &view(near_reach))),
+                    Some(h.cull(far, centre, draw_distance)),
+                ]
+            }
+            _ if per_eye => {
+                let frusta =
+                    StereoFrusta::new(&plan.eyes, world_from_head, plan.near, draw_distance);
+                frusta.eyes.map(|f| Some(h.cull(&f, centre, draw_distance)))
+            }
+            _ => [Some(strategy.cull(h, &view(draw_distance))), None],
+        };
+        self.ids.clear();
+        for (set, result) in self.sets.iter_mut().zip(&results) {
+            set.clear();
+            let Some(result) = result else { continue };
+            self.buckets.iter_mut().for_each(Vec::clear);
+            for i in result.visible.indices() {
+                let id = h.ids[i as usize];
+                self.buckets[self.draw_of[id as usize] as usize].push(id);
+            }
+            for (bucket, draw) in self.buckets.iter().zip(draws) {
+                if bucket.is_empty() {
+                    continue;
+                }
+                set.push(Draw {
+                    mesh: draw.mesh,
+                    first_instance: self.ids.len() as u32,
+                    instance_count: bucket.len() as u32,
+                });
+                self.ids.extend_from_slice(bucket);
+            }
+        }
+    }
+}
+
+/// The farthest any point of the eyes' frusta up to depth `depth` lies from the head.
+fn reach(eyes: &EyeParams, near: f32, depth: f32) -> f32 {
+    StereoFrusta::new(eyes, Mat4::IDENTITY, near, depth)
+        .eyes
+        .iter()
+        .flat_map(Frustum::world_corners)
+        .map(Vec3::length)
+        .fold(depth, f32::max)
+}

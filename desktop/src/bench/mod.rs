@@ -1,0 +1,246 @@
+//! `foveate bench`: the thesis' benchmark (seed 000 §5–6) on its scene along its rails — every
+//! permutation of superfrustum, multiview, stencil mask and MFFR, each multiview one also
+//! foveated — per-frame times and counts, the thesis' tables with ratios to the baseline,
+//! memory and traffic per configuration, the accuracy-vs-time curve, and plots.
+
+mod accuracy;
+mod matrix;
+mod plots;
+mod report;
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use foveate::foveation::FoveationConfig;
+use foveate::gpu::{Gpu, GpuOptions};
+use foveate::mffr::{MffrConfig, SplitDistance};
+use foveate::plan::{FramePlan, RenderConfig, Resolution};
+use foveate::render::Renderer;
+use foveate::scene::{rail_pose, Instance, ThesisScene, RAIL_LOOP_FRAMES};
+
+pub use matrix::{Settings, Toggles};
+use report::{FrameSample, Report, Row};
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Size of the thesis scene: tiny (1 k instances), small (29 k), medium (444 k), full
+    /// (11.1 M, as in the thesis) or a factor 0 < s ≤ 1 of its horizontal counts.
+    #[arg(long, default_value = "small")]
+    pub scale: String,
+    /// Frames measured per configuration, spread evenly over two loops of the rails.
+    #[arg(long, default_value_t = 24)]
+    pub frames: u64,
+    /// Warm-up frames rendered first by every configuration and dropped.
+    #[arg(long, default_value_t = 2)]
+    pub warmup: u64,
+    /// Headset profile (its FOV, IPD and lens mask).
+    #[arg(long, default_value = "index")]
+    pub hmd: String,
+    /// Per-eye resolution: N (square) or WxH.
+    #[arg(long, default_value = "512")]
+    pub res: String,
+    /// MSAA samples: 1 or 4 (the thesis: 4).
+    #[arg(long, default_value_t = 4)]
+    pub msaa: u32,
+    /// Distance culling radius (the thesis: 320 units).
+    #[arg(long, default_value_t = 320.0)]
+    pub draw_distance: f32,
+    /// Foveation ratio of the foveated rows.
+    #[arg(long, default_value_t = 0.35)]
+    pub ratio: f32,
+    /// MFFR variant of the MFFR rows: far-first, near-first, alternate-eye, depth-shift.
+    #[arg(long, default_value = "near-first")]
+    pub mffr: String,
+    /// MFFR split of the MFFR rows: a disparity (`1px`) or metres (`20m`).
+    #[arg(long, default_value = "1px")]
+    pub split: String,
+    /// Count pixels shaded on every Nth measured frame, with a separate counting renderer so the
+    /// counter's atomics never touch a timed frame (0: never).
+    #[arg(long, default_value_t = 4)]
+    pub pixels_every: u64,
+    /// Only the rows whose name contains one of these (e.g. `MVIEW,SMASK`); the baseline is
+    /// always measured.
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<String>,
+    /// Rounds per point of the accuracy-vs-time sweep (the first is a warm-up; 0: skip it).
+    #[arg(long, default_value_t = 3)]
+    pub accuracy_rounds: u32,
+    /// Directory for tables.md, the CSVs, bench.json and the plots (PNG and SVG).
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Also write the per-frame samples as CSV to this file (`-`: standard output).
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Also write the whole report as JSON to this file (`-`: standard output).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+}
+
+/// Scene scale by name or factor.
+pub fn parse_scale(s: &str) -> Result<f32> {
+    let scale = match s {
+        "tiny" => 0.01,
+        "small" => 0.05,
+        "medium" => 0.2,
+        "full" => 1.0,
+        _ => s.parse::<f32>().map_err(|_| {
+            anyhow::anyhow!("invalid scale = {s}: tiny, small, medium, full or a factor 0 < s ≤ 1")
+        })?,
+    };
+    ThesisScene::counts(scale)?;
+    Ok(scale)
+}
+
+/// Instance buffers of all configurations alive together above this: measure one
+/// configuration after another instead of interleaving them frame by frame.
+const INTERLEAVE_LIMIT_BYTES: u64 = 2 << 30;
+
+pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
+    let scale = parse_scale(&args.scale)?;
+    anyhow::ensure!(
+        args.frames >= 1,
+        "invalid frames = {}: at least 1",
+        args.frames
+    );
+    let resolution: Resolution = args.res.parse()?;
+    let split: SplitDistance = args.split.parse()?;
+    let settings = Settings {
+        hmd: args.hmd.clone(),
+        resolution,
+        msaa: args.msaa,
+        draw_distance: args.draw_distance,
+        foveation: FoveationConfig {
+            ratio: args.ratio,
+            blend_band_px: -1.0,
+            ..FoveationConfig::default()
+        },
+        mffr: MffrConfig::named(&args.mffr, split)?,
+    };
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+
+    eprintln!(
+        "thesis scene at scale {scale}: {} instances",
+        ThesisScene::instance_count(scale)?
+    );
+    let thesis = ThesisScene::new(scale)?;
+    let extent = thesis.extent();
+    let scene = thesis.to_scene();
+    drop(thesis);
+    let gpu = Gpu::new(options)?;
+
+    let rows = rows(&settings, &args.only);
+    // Every row is planned before anything renders, so a bad setting fails at once.
+    let plans = rows
+        .iter()
+        .map(|r| foveate::plan(&scene, &r.config, gpu.caps()).with_context(|| r.name.clone()))
+        .collect::<Result<Vec<FramePlan>>>()?;
+    let step = (2 * RAIL_LOOP_FRAMES / args.frames).max(1);
+    let rail_frames: Vec<u64> = (0..args.frames).map(|i| i * step).collect();
+    let pose = |frame: u64| rail_pose(frame, extent);
+
+    let instance_bytes = (scene.instance_count() * std::mem::size_of::<Instance>()) as u64;
+    let interleave = instance_bytes * rows.len() as u64 <= INTERLEAVE_LIMIT_BYTES;
+    let groups: Vec<Vec<usize>> = if interleave {
+        vec![(0..rows.len()).collect()]
+    } else {
+        (0..rows.len()).map(|i| vec![i]).collect()
+    };
+    let counted: Vec<u64> = rail_frames
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| args.pixels_every > 0 && *i as u64 % args.pixels_every == 0)
+        .map(|(_, &f)| f)
+        .collect();
+    let total = rows.len() as u64 * (args.warmup + args.frames + counted.len() as u64);
+    let mut done = 0;
+    let mut tick = |label: &str| {
+        done += 1;
+        crate::cli::progress(label, done, total);
+    };
+    let mut samples: Vec<FrameSample> = Vec::new();
+    let mut allocated = vec![0u64; rows.len()];
+    for group in &groups {
+        let mut renderers = Vec::new();
+        for &i in group {
+            let before = gpu.allocated_bytes();
+            let renderer = Renderer::new(&gpu, &plans[i], &scene)?;
+            allocated[i] = gpu.allocated_bytes().saturating_sub(before);
+            renderers.push((i, renderer));
+        }
+        for _ in 0..args.warmup {
+            for (_, r) in &mut renderers {
+                r.render_frame(pose(0))?;
+                tick("bench (warm-up)");
+            }
+        }
+        for &frame in &rail_frames {
+            for (i, r) in &mut renderers {
+                let stats = r.render_frame(pose(frame))?;
+                samples.push(FrameSample::new(*i, frame, &stats));
+                tick("bench");
+            }
+        }
+    }
+    // Pixels shaded, by a counting twin of each row on the sampled frames.
+    for (i, row) in rows.iter().enumerate() {
+        if counted.is_empty() {
+            break;
+        }
+        let config = RenderConfig {
+            count_fragments: true,
+            timestamps: false,
+            ..row.config.clone()
+        };
+        let mut twin = Renderer::new(&gpu, &foveate::plan(&scene, &config, gpu.caps())?, &scene)?;
+        for &frame in &counted {
+            let stats = twin.render_frame(pose(frame))?;
+            let pixels = stats.fragments.iter().sum::<u64>() + stats.far_fragments.unwrap_or(0);
+            if let Some(s) = samples
+                .iter_mut()
+                .find(|s| s.config == i && s.rail_frame == frame)
+            {
+                s.pixels = Some(pixels);
+            }
+            tick("bench (pixel counts)");
+        }
+    }
+    gpu.check_validation()?;
+
+    let accuracy = if args.accuracy_rounds > 0 {
+        accuracy::sweep(&gpu, &scene, &settings, pose(RAIL_LOOP_FRAMES / 4), args)?
+    } else {
+        Vec::new()
+    };
+    gpu.check_validation()?;
+
+    let report = Report::new(
+        &gpu, &settings, scale, &scene, args, interleave, rows, plans, allocated, samples, accuracy,
+    );
+    report.write(&args.out, args.csv.as_deref(), args.json.as_deref())
+}
+
+/// The rows measured: the matrix (or the rows `only` names, with the baseline), then two
+/// zero-cost checks — the baseline again (the noise between identical runs) and MFFR switched
+/// off by a split past the far plane (planned exactly as the baseline).
+fn rows(settings: &Settings, only: &[String]) -> Vec<Row> {
+    let mut rows: Vec<Row> = Toggles::matrix()
+        .into_iter()
+        .filter(|t| t.is_baseline() || only.is_empty() || only.iter().any(|o| t.name().contains(o)))
+        .map(|t| Row::new(t.name(), Some(t), settings.config(t)))
+        .collect();
+    let baseline = settings.config(Toggles::default());
+    rows.push(Row::new(
+        "baseline again (noise)".into(),
+        None,
+        baseline.clone(),
+    ));
+    let mut mffr_off = baseline;
+    mffr_off.mffr = Some(MffrConfig {
+        split: SplitDistance::Metres(mffr_off.far * 2.0),
+        ..settings.mffr
+    });
+    rows.push(Row::new("MFFR off (split past far)".into(), None, mffr_off));
+    rows
+}
