@@ -411,3 +411,89 @@ fn mask_reports_each_profile_measured() {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }
 }
+
+#[test]
+fn bench_runs_the_whole_matrix_on_a_tiny_scene_and_writes_every_output() {
+    let dir = std::env::temp_dir().join(format!("foveate-cli-bench-{}", std::process::id()));
+    let json = dir.join("copy.json");
+    let o = foveate(&[
+        "bench",
+        "--scale",
+        "tiny",
+        "--res",
+        "48",
+        "--frames",
+        "2",
+        "--warmup",
+        "1",
+        "--pixels-every",
+        "1",
+        "--accuracy-rounds",
+        "2",
+        "--out",
+        dir.to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for needle in [
+        "Table 6.1 form",
+        "Table 6.2 form",
+        "Table 6.3 in form",
+        "| SMASK & SFRUST & MVIEW & MFFR |",
+        "| SMASK & SFRUST & MVIEW & MFFR & FOV |",
+        "| MFFR off (split past far) |",
+        "nothing: planned exactly as the baseline",
+        "What accuracy costs in time",
+        "Best configuration:",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+    for file in [
+        "tables.md",
+        "frames.csv",
+        "summary.csv",
+        "accuracy.csv",
+        "bench.json",
+        "rails.png",
+        "rails.svg",
+        "rails-compare.png",
+        "ratios.svg",
+        "accuracy.png",
+        "accuracy.svg",
+    ] {
+        let path = dir.join(file);
+        assert!(
+            std::fs::metadata(&path).is_ok_and(|m| m.len() > 0),
+            "{file}"
+        );
+    }
+    // 24 matrix rows and 2 zero-cost rows, 2 frames each, every frame's pixels counted.
+    let frames = std::fs::read_to_string(dir.join("frames.csv")).unwrap();
+    assert_eq!(frames.lines().count(), 1 + 26 * 2);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let rows = report["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 26);
+    assert_eq!(rows[0]["ratio_median"].as_f64(), Some(1.0));
+    for r in rows {
+        assert!(r["frame_ms"]["median"].as_f64().unwrap() > 0.0);
+        assert!(r["pixels"]["median"].as_f64().unwrap() > 0.0);
+        assert!(r["draw_calls"]["median"].as_f64().unwrap() > 0.0);
+    }
+    let last = &rows[25];
+    assert_eq!(last["memory"]["plan_is_baseline"], true);
+    assert_eq!(
+        last["memory"]["allocated_bytes"],
+        rows[0]["memory"]["allocated_bytes"]
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn bench_rejects_a_bad_scale_naming_the_field() {
+    let o = foveate(&["bench", "--scale", "2"]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("scale"), "{}", stderr(&o));
+}

@@ -2,6 +2,7 @@
 //! message fails the test that caused it.
 
 mod config_errors;
+mod culling;
 mod foveation;
 mod fragment_counter;
 mod golden;
@@ -9,3 +10,4 @@ mod mffr;
 mod quirks;
 mod shaders;
 mod stereo;
+mod zero_cost;

@@ -640,3 +640,58 @@ fn mffr_needs_an_eye_pass_to_composite_into() {
     let p = plan(&scene, &two_pass, &caps()).unwrap();
     assert_eq!(p.passes.iter().filter(|p| p.far_field.is_some()).count(), 2);
 }
+
+#[test]
+fn culling_picks_each_pass_its_draw_set_and_adds_only_the_id_buffer() {
+    use crate::cull::Strategy;
+    use crate::view::Eye;
+    let with = |stereo, strategy| RenderConfig {
+        culling: Some(CullConfig {
+            strategy,
+            draw_distance: 320.0,
+        }),
+        ..config(stereo, 4)
+    };
+    let sets = |c: &RenderConfig| -> Vec<DrawSet> {
+        planned(c).passes.iter().map(|p| p.draw_set).collect()
+    };
+    // The thesis' baseline: each eye's pass culled with its own frustum.
+    assert_eq!(
+        sets(&with(StereoMode::TwoPass, Strategy::PerEye)),
+        [
+            DrawSet::VisibleToEye(Eye::Left),
+            DrawSet::VisibleToEye(Eye::Right)
+        ]
+    );
+    assert_eq!(
+        sets(&with(StereoMode::TwoPass, Strategy::Superfrustum)),
+        [DrawSet::Visible, DrawSet::Visible]
+    );
+    assert_eq!(
+        sets(&with(StereoMode::Multiview, Strategy::PerEye)),
+        [DrawSet::Visible]
+    );
+    // Culling changes what is drawn, not the frame's passes or attachments.
+    let culled = planned(&with(StereoMode::Multiview, Strategy::Superfrustum));
+    let plain = planned(&config(StereoMode::Multiview, 4));
+    assert_eq!(culled.attachments, plain.attachments);
+    assert_eq!(culled.passes.len(), plain.passes.len());
+    let extra: Vec<&str> = culled
+        .buffers
+        .iter()
+        .filter(|b| !plain.buffers.contains(b))
+        .map(|b| b.name)
+        .collect();
+    assert_eq!(extra, ["instance ids"]);
+    for bad in [0.0, -1.0, f32::INFINITY, f32::NAN] {
+        let c = RenderConfig {
+            culling: Some(CullConfig {
+                strategy: Strategy::PerEye,
+                draw_distance: bad,
+            }),
+            ..config(StereoMode::Multiview, 4)
+        };
+        let e = plan(&default_scene(), &c, &caps()).unwrap_err();
+        assert_eq!(e.field, "draw distance");
+    }
+}

@@ -159,15 +159,23 @@ pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         done += 1;
         crate::cli::progress(label, done, total);
     };
+    // What each renderer allocates, measured with no other renderer alive (alignment padding
+    // depends on what else the allocator holds).
+    let allocated = plans
+        .iter()
+        .map(|plan| {
+            let before = gpu.allocated_bytes();
+            let renderer = Renderer::new(&gpu, plan, &scene)?;
+            let bytes = gpu.allocated_bytes().saturating_sub(before);
+            drop(renderer);
+            Ok(bytes)
+        })
+        .collect::<Result<Vec<u64>>>()?;
     let mut samples: Vec<FrameSample> = Vec::new();
-    let mut allocated = vec![0u64; rows.len()];
     for group in &groups {
         let mut renderers = Vec::new();
         for &i in group {
-            let before = gpu.allocated_bytes();
-            let renderer = Renderer::new(&gpu, &plans[i], &scene)?;
-            allocated[i] = gpu.allocated_bytes().saturating_sub(before);
-            renderers.push((i, renderer));
+            renderers.push((i, Renderer::new(&gpu, &plans[i], &scene)?));
         }
         for _ in 0..args.warmup {
             for (_, r) in &mut renderers {
