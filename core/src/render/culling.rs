@@ -17,6 +17,14 @@ pub(crate) struct FrameCulling {
     /// Which of the scene's draws (meshes) each instance belongs to.
     draw_of: Vec<u32>,
     lens_regions: [LensRegion; 2],
+    /// Distance culling radius: the configured draw distance, or without one the eyes'
+    /// frusta's far corners, so nothing in them is dropped.
+    draw_distance: f32,
+    /// With MFFR, how far from the head the near field reaches: everything in front of the
+    /// split, whose far corners lie farther from the head than the split itself.
+    near_reach: Option<f32>,
+    /// Two-pass per-eye culling: each eye's pass draws its own set.
+    per_eye: bool,
     buckets: Vec<Vec<u32>>,
     /// This frame's ids: set 0's, then set 1's.
     pub ids: Vec<u32>,
@@ -31,10 +39,22 @@ impl FrameCulling {
             let range = d.first_instance as usize..(d.first_instance + d.instance_count) as usize;
             draw_of[range].fill(k as u32);
         }
+        let draw_distance = plan.culling.map_or_else(
+            || reach(&plan.eyes, plan.near, plan.far),
+            |c| c.draw_distance,
+        );
         FrameCulling {
             hierarchy: CullHierarchy::build(&scene.instance_spheres(), HierarchyParams::default()),
             draw_of,
             lens_regions: Eye::BOTH.map(|e| plan.hmd.lens_region(plan.eyes.fov(e))),
+            draw_distance,
+            near_reach: plan
+                .mffr
+                .map(|m| reach(&plan.eyes, plan.near, m.split_m).min(draw_distance)),
+            per_eye: plan
+                .passes
+                .iter()
+                .any(|p| matches!(p.draw_set, DrawSet::VisibleToEye(_))),
             buckets: vec![Vec::new(); draws.len()],
             ids: Vec::new(),
             sets: [Vec::new(), Vec::new()],
@@ -54,12 +74,7 @@ impl FrameCulling {
         let h = &self.hierarchy;
         let centre = world_from_head.transform_point3(Vec3::ZERO);
         let strategy = plan.culling.map_or(Strategy::PerEye, |c| c.strategy);
-        // Without a draw distance nothing in the eyes' frusta may be dropped: reach their far
-        // corners.
-        let draw_distance = plan.culling.map_or_else(
-            || reach(&plan.eyes, plan.near, plan.far),
-            |c| c.draw_distance,
-        );
+        let draw_distance = self.draw_distance;
         let view = |distance| CullView {
             eyes: &plan.eyes,
             world_from_head,
@@ -68,21 +83,12 @@ impl FrameCulling {
             frame,
             lens_regions: &self.lens_regions,
         };
-        let per_eye = plan
-            .passes
-            .iter()
-            .any(|p| matches!(p.draw_set, DrawSet::VisibleToEye(_)));
-        let results: [Option<CullResult>; 2] = match (far, plan.mffr) {
-            (Some(far), Some(m)) => {
-                // The near field: everything in front of the split, whose far corners lie
-                // farther from the head than the split itself.
-                let near_reach = reach(&plan.eyes, plan.near, m.split_m).min(draw_distance);
-                [
-                    Some(strategy.cull(h, &view(near_reach))),
-                    Some(h.cull(far, centre, draw_distance)),
-                ]
-            }
-            _ if per_eye => {
+        let results: [Option<CullResult>; 2] = match (far, self.near_reach) {
+            (Some(far), Some(near_reach)) => [
+                Some(strategy.cull(h, &view(near_reach))),
+                Some(h.cull(far, centre, draw_distance)),
+            ],
+            _ if self.per_eye => {
                 let frusta =
                     StereoFrusta::new(&plan.eyes, world_from_head, plan.near, draw_distance);
                 frusta.eyes.map(|f| Some(h.cull(&f, centre, draw_distance)))

@@ -36,7 +36,7 @@ impl Toggles {
                 foveate: false,
             })
             .collect();
-        plain.sort_by_key(|t| (t.count(), !t.smask, !t.sfrust, !t.mview, !t.mffr));
+        plain.sort_by_key(|t| (t.thesis_switches(), !t.smask, !t.sfrust, !t.mview, !t.mffr));
         let foveated: Vec<Toggles> = plain
             .iter()
             .filter(|t| t.mview)
@@ -45,11 +45,12 @@ impl Toggles {
         plain.into_iter().chain(foveated).collect()
     }
 
-    fn count(self) -> u32 {
-        [self.smask, self.sfrust, self.mview, self.mffr, self.foveate]
+    /// How many of the thesis' four optimisations are on (foveation not counted).
+    pub fn thesis_switches(self) -> usize {
+        [self.smask, self.sfrust, self.mview, self.mffr]
             .iter()
             .filter(|&&b| b)
-            .count() as u32
+            .count()
     }
 
     /// The thesis' label: `baseline`, `SMASK & MVIEW`, …; foveated rows add `+ FOV`.

@@ -136,14 +136,9 @@ fn rails_compare<DB: DrawingBackend>(report: &Report, root: DrawingArea<DB, Shif
     root.fill(&WHITE).map_err(plot_error)?;
     let mut picked: Vec<usize> = (0..report.rows.len())
         .filter(|&i| {
-            report.rows[i].toggles.is_some_and(|t| {
-                !t.foveate
-                    && [t.smask, t.sfrust, t.mview, t.mffr]
-                        .iter()
-                        .filter(|&&b| b)
-                        .count()
-                        <= 1
-            })
+            report.rows[i]
+                .toggles
+                .is_some_and(|t| !t.foveate && t.thesis_switches() <= 1)
         })
         .collect();
     for foveated in [false, true] {

@@ -305,10 +305,12 @@ impl Report {
         type Keep<'a> = &'a dyn Fn(&RowSummary) -> bool;
         let groups: [(&str, Keep); 4] = [
             ("Individual optimisations (thesis Table 6.1 form)", &|r| {
-                r.toggles.is_some_and(|t| !t.foveate && count(t) <= 1)
+                r.toggles
+                    .is_some_and(|t| !t.foveate && t.thesis_switches() <= 1)
             }),
             ("Combined optimisations (thesis Table 6.2 form)", &|r| {
-                r.toggles.is_some_and(|t| !t.foveate && count(t) > 1)
+                r.toggles
+                    .is_some_and(|t| !t.foveate && t.thesis_switches() > 1)
             }),
             ("With foveation", &|r| r.toggles.is_some_and(|t| t.foveate)),
             (
@@ -477,13 +479,6 @@ impl Report {
         }
         csv
     }
-}
-
-fn count(t: Toggles) -> usize {
-    [t.smask, t.sfrust, t.mview, t.mffr]
-        .iter()
-        .filter(|&&b| b)
-        .count()
 }
 
 fn mib(bytes: u64) -> f64 {
