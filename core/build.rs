@@ -20,11 +20,22 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
     ),
     ("mask.vert", "mask.vert.spv", &[]),
     ("mask.frag", "mask.frag.spv", &[]),
+    ("mask.frag", "mask_counting.frag.spv", &["COUNT_FRAGMENTS"]),
     ("coverage.vert", "coverage.vert.spv", &[]),
     ("coverage.frag", "coverage.frag.spv", &[]),
     ("composite.vert", "composite.vert.spv", &[]),
     ("composite.frag", "composite.frag.spv", &[]),
+    (
+        "composite.frag",
+        "composite_counting.frag.spv",
+        &["COUNT_FRAGMENTS"],
+    ),
     ("far_composite.frag", "far_composite.frag.spv", &[]),
+    (
+        "far_composite.frag",
+        "far_composite_counting.frag.spv",
+        &["COUNT_FRAGMENTS"],
+    ),
 ];
 
 fn main() {

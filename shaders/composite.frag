@@ -6,6 +6,11 @@
 // across the band at the circle's edge (seed 001 §3.3, §3.6.1).
 layout(set = 0, binding = 0) uniform sampler2DArray views; // 0, 1 periphery; 2, 3 fovea
 
+#ifdef COUNT_FRAGMENTS
+layout(early_fragment_tests) in;
+#include "counter.glsl"
+#endif
+
 layout(std140, set = 0, binding = 1) uniform Composite {
     vec4 periphery[2]; // tangents left, right, up, down per eye
     vec4 fovea[2];
@@ -44,4 +49,7 @@ void main() {
         color = mix(color, tint, 0.35);
     }
     out_color = vec4(color, 1.0);
+#ifdef COUNT_FRAGMENTS
+    count_fragment(eye);
+#endif
 }

@@ -3,10 +3,8 @@
 
 layout(early_fragment_tests) in;
 
-layout(std430, set = 0, binding = 2) buffer FragmentCounts {
-    uint fragments[4];
-};
+#include "counter.glsl"
 
 void main() {
-    atomicAdd(fragments[gl_ViewIndex], 1u);
+    count_fragment(gl_ViewIndex);
 }

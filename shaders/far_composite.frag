@@ -10,6 +10,12 @@ layout(constant_id = 2) const bool DEPTH_SHIFT = false;
 
 layout(set = 0, binding = 0) uniform sampler2D far_image; // rgb, alpha = far near / depth
 
+#ifdef COUNT_FRAGMENTS
+// Early tests: only the pixels the stencil lets through are shaded (and counted).
+layout(early_fragment_tests) in;
+#include "counter.glsl"
+#endif
+
 layout(std140, set = 0, binding = 1) uniform FarComposite {
     mat4 direction[4]; // far clip of the ray through view NDC (x, y) at depth 1: M·(x, y, 1, 0)
     vec4 origin[4];    // far clip of the view's eye point
@@ -42,4 +48,7 @@ void main() {
         }
     }
     out_color = vec4(texture(far_image, uv).rgb, 1.0);
+#ifdef COUNT_FRAGMENTS
+    count_fragment(view);
+#endif
 }

@@ -21,12 +21,7 @@ layout(location = 3) in float in_depth;
 layout(location = 0) out vec4 out_color;
 
 #ifdef COUNT_FRAGMENTS
-// Per-view shaded-fragment counter. Neither pipeline statistics (lavapipe counts raster
-// blocks) nor occlusion queries (one sum for all views of a multiview pass) give exact
-// per-view counts; an atomic per view does, and helper invocations never write it.
-layout(std430, set = 0, binding = 2) buffer FragmentCounts {
-    uint fragments[5]; // per view, then the MFFR far view
-};
+#include "counter.glsl"
 #endif
 
 void main() {
@@ -36,6 +31,6 @@ void main() {
     vec3 lit = in_color * (0.25 * sky + 0.85 * diffuse);
     out_color = vec4(lit, DEPTH_IN_ALPHA ? clamp(views.light_dir.w / in_depth, 0.0, 1.0) : 1.0);
 #ifdef COUNT_FRAGMENTS
-    atomicAdd(fragments[in_view], 1u);
+    count_fragment(in_view);
 #endif
 }

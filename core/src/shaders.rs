@@ -25,6 +25,7 @@ pub const SCENE_FRAG_COUNTING: ShaderBinary = spirv!("scene_counting.frag.spv");
 /// Stencil mask fans, one shape per view.
 pub const MASK_VERT: ShaderBinary = spirv!("mask.vert.spv");
 pub const MASK_FRAG: ShaderBinary = spirv!("mask.frag.spv");
+pub const MASK_FRAG_COUNTING: ShaderBinary = spirv!("mask_counting.frag.spv");
 /// The coverage probe: a full-view triangle counted per view.
 pub const COVERAGE_VERT: ShaderBinary = spirv!("coverage.vert.spv");
 pub const COVERAGE_FRAG: ShaderBinary = spirv!("coverage.frag.spv");
@@ -32,8 +33,10 @@ pub const COVERAGE_FRAG: ShaderBinary = spirv!("coverage.frag.spv");
 /// Composition of a foveated frame: periphery upscaled, fovea blended over it.
 pub const COMPOSITE_VERT: ShaderBinary = spirv!("composite.vert.spv");
 pub const COMPOSITE_FRAG: ShaderBinary = spirv!("composite.frag.spv");
+pub const COMPOSITE_FRAG_COUNTING: ShaderBinary = spirv!("composite_counting.frag.spv");
 /// MFFR: the far image reprojected into each view (vertex shader: [`COMPOSITE_VERT`]).
 pub const FAR_COMPOSITE_FRAG: ShaderBinary = spirv!("far_composite.frag.spv");
+pub const FAR_COMPOSITE_FRAG_COUNTING: ShaderBinary = spirv!("far_composite_counting.frag.spv");
 
 /// Vertices of one mask fan (128 triangles; see `shaders/mask.vert`).
 pub const MASK_VERTICES: u32 = 128 * 3;
@@ -46,11 +49,14 @@ pub const ALL: &[ShaderBinary] = &[
     SCENE_FRAG_COUNTING,
     MASK_VERT,
     MASK_FRAG,
+    MASK_FRAG_COUNTING,
     COVERAGE_VERT,
     COVERAGE_FRAG,
     COMPOSITE_VERT,
     COMPOSITE_FRAG,
+    COMPOSITE_FRAG_COUNTING,
     FAR_COMPOSITE_FRAG,
+    FAR_COMPOSITE_FRAG_COUNTING,
 ];
 
 impl ShaderBinary {

@@ -1,7 +1,6 @@
-use std::io::Write as _;
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Args, Parser, Subcommand};
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::{Gpu, GpuOptions};
@@ -255,32 +254,4 @@ pub fn gaze_from(values: &[f32]) -> Result<glam::Vec2> {
         values[1]
     );
     Ok(gaze.clamp(glam::Vec2::NEG_ONE, glam::Vec2::ONE))
-}
-
-/// Writes a command's CSV table where `--csv` asked for it, and says so.
-pub fn write_csv(path: Option<&std::path::Path>, csv: &str) -> Result<()> {
-    if let Some(path) = path {
-        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
-        println!("wrote {}", path.display());
-    }
-    Ok(())
-}
-
-/// A progress bar on stderr, redrawn only when its percentage changes.
-pub fn progress(label: &str, done: u64, total: u64) {
-    let percent = |d: u64| d * 100 / total.max(1);
-    if done != total && done > 1 && percent(done) == percent(done - 1) {
-        return;
-    }
-    let width = 30;
-    let filled = (done * width / total.max(1)) as usize;
-    eprint!(
-        "\r{label} [{}{}] {done}/{total}",
-        "#".repeat(filled),
-        " ".repeat(width as usize - filled)
-    );
-    if done == total {
-        eprintln!();
-    }
-    let _ = std::io::stderr().flush();
 }

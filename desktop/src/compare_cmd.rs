@@ -1,4 +1,3 @@
-use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::PathBuf;
 
@@ -8,10 +7,12 @@ use foveate::foveation::{fovea_centre_px, fovea_views, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::{RgbaImage, Stats};
 use foveate::plan::{RenderConfig, Resolution, StereoMode};
-use foveate::render::{Renderer, StereoImage};
+use foveate::render::{counting_frame, Renderer, StereoImage};
 use foveate::scene::{named_scene, Scene};
 use foveate::view::Eye;
 use glam::Vec2;
+
+use crate::csv_out::{opt, CsvTable};
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -49,7 +50,9 @@ pub struct CompareArgs {
 /// One configuration's measurements.
 struct Run {
     frame_ms: f64,
-    fragments: u64,
+    /// Fragments the scene draws shaded, and every pass together (a separate counting frame).
+    scene_fragments: u64,
+    total_fragments: u64,
     image: StereoImage,
 }
 
@@ -58,17 +61,17 @@ fn run(gpu: &Gpu, scene: &Scene, config: &RenderConfig, gaze: Vec2, frames: u32)
     let mut renderer = Renderer::new(gpu, &plan, scene)?;
     renderer.set_gaze([gaze; 2]);
     let mut times = Vec::new();
-    let mut fragments = 0;
     for i in 0..frames {
         let stats = renderer.render_frame(scene.head)?;
         if i > 0 || frames == 1 {
             times.push(stats.frame_ms);
         }
-        fragments = stats.fragments.iter().sum();
     }
+    let counts = counting_frame(gpu, scene, config, [gaze; 2], scene.head)?;
     Ok(Run {
         frame_ms: Stats::of(&times).map_or(f64::NAN, |s| s.median),
-        fragments,
+        scene_fragments: counts.scene_fragments(),
+        total_fragments: counts.total_fragments(),
         image: renderer.readback()?,
     })
 }
@@ -131,12 +134,24 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         args.res
     );
     println!(
-        "reference: stereo multiview, MSAA 4: {:.2} ms, {} fragments",
-        reference.frame_ms, reference.fragments
+        "reference: stereo multiview, MSAA 4: {:.2} ms, {} scene fragments, {} in all passes",
+        reference.frame_ms, reference.scene_fragments, reference.total_fragments
     );
-    let mut csv = String::from(
-        "config,msaa,ratio,frame_ms,time_ratio,fragments,psnr_fovea,psnr_band,psnr_periphery,ssim_fovea,ssim_band,ssim_periphery\n",
-    );
+    let mut csv = CsvTable::new(&[
+        "config",
+        "msaa",
+        "ratio",
+        "frame_ms",
+        "time_ratio",
+        "scene_fragments",
+        "total_fragments",
+        "psnr_fovea",
+        "psnr_band",
+        "psnr_periphery",
+        "ssim_fovea",
+        "ssim_band",
+        "ssim_periphery",
+    ])?;
     let mut rows = Vec::new();
     for &msaa in &args.msaa {
         step(&format!("stereo, MSAA {msaa}"));
@@ -177,11 +192,12 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     }
     eprintln!();
     println!(
-        "\n{:<24} {:>10} {:>7} {:>12} {:>15} {:>15} {:>15}",
+        "\n{:<24} {:>10} {:>7} {:>12} {:>12} {:>15} {:>15} {:>15}",
         "configuration",
         "frame ms",
         "ratio",
-        "fragments",
+        "scene frags",
+        "total frags",
         "fovea dB/SSIM",
         "band dB/SSIM",
         "perif. dB/SSIM"
@@ -222,27 +238,35 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             .collect();
         let ratio_to_reference = r.frame_ms / reference.frame_ms;
         println!(
-            "{:<24} {:>10.2} {:>7.3} {:>12} {:>15} {:>15} {:>15}",
-            name, r.frame_ms, ratio_to_reference, r.fragments, cells[0], cells[1], cells[2]
-        );
-        let opt = |p: Option<f64>| p.map_or(String::new(), |v| format!("{v:.4}"));
-        let _ = writeln!(
-            csv,
-            "{name},{msaa},{},{:.3},{ratio_to_reference:.4},{},{},{},{},{},{},{}",
-            ratio.map_or(String::new(), |v: f32| v.to_string()),
+            "{:<24} {:>10.2} {:>7.3} {:>12} {:>12} {:>15} {:>15} {:>15}",
+            name,
             r.frame_ms,
-            r.fragments,
-            opt(regions[0].0),
-            opt(regions[1].0),
-            opt(regions[2].0),
-            opt(regions[0].1),
-            opt(regions[1].1),
-            opt(regions[2].1)
+            ratio_to_reference,
+            r.scene_fragments,
+            r.total_fragments,
+            cells[0],
+            cells[1],
+            cells[2]
         );
+        csv.row(&[
+            &name,
+            &msaa,
+            &ratio.map_or(String::new(), |v: f32| v.to_string()),
+            &format!("{:.3}", r.frame_ms),
+            &format!("{ratio_to_reference:.4}"),
+            &r.scene_fragments,
+            &r.total_fragments,
+            &opt(regions[0].0, 4),
+            &opt(regions[1].0, 4),
+            &opt(regions[2].0, 4),
+            &opt(regions[0].1, 4),
+            &opt(regions[1].1, 4),
+            &opt(regions[2].1, 4),
+        ])?;
     }
     println!(
-        "(ratio: frame time to the reference, this run; PSNR in dB / SSIM per region against the reference, both eyes; stereo rows: the periphery column is the whole image)"
+        "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (composition included); PSNR in dB / SSIM per region against the reference, both eyes; stereo rows: the periphery column is the whole image)"
     );
     gpu.check_validation()?;
-    crate::cli::write_csv(args.csv.as_deref(), &csv)
+    csv.save(args.csv.as_deref())
 }

@@ -1,4 +1,3 @@
-use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -8,6 +7,8 @@ use foveate::cull::measure::{hale_tables, rails_bench, RailsParams};
 use foveate::cull::{batch_kernel, CullHierarchy, HierarchyParams, Strategy};
 use foveate::scene::ThesisScene;
 use foveate::view::{Eye, HmdProfile, LensRegion, DEFAULT_IPD_M};
+
+use crate::csv_out::{opt, CsvTable};
 
 #[derive(Args)]
 pub struct CullBenchArgs {
@@ -69,7 +70,15 @@ pub fn cull_bench(args: &CullBenchArgs) -> Result<()> {
         "invalid draw_distance = {}: a finite distance > 0",
         args.draw_distance
     );
-    let mut csv = String::from("table,name,ns_per_test_or_ms_median,ratio_or_p95,visible_or_hits,false_positive_rate,miss_rate\n");
+    let mut csv = CsvTable::new(&[
+        "table",
+        "name",
+        "ns_per_test_or_ms_median",
+        "ratio_or_p95",
+        "visible_or_hits",
+        "false_positive_rate",
+        "miss_rate",
+    ])?;
     println!(
         "cull-bench on {} threads (rayon), batch kernel: {}",
         rayon::current_num_threads(),
@@ -92,11 +101,15 @@ pub fn cull_bench(args: &CullBenchArgs) -> Result<()> {
                 "{:<6} {:<52} {:>10.2} {:>9.2} {:>10} {:>8.2}",
                 r.table, r.name, r.total_ms, r.ns_per_test, r.hits, r.ratio
             );
-            let _ = writeln!(
-                csv,
-                "{},{},{:.4},{:.4},{},,",
-                r.table, r.name, r.ns_per_test, r.ratio, r.hits
-            );
+            csv.row(&[
+                &r.table,
+                &r.name,
+                &format!("{:.4}", r.ns_per_test),
+                &format!("{:.4}", r.ratio),
+                &r.hits,
+                &"",
+                &"",
+            ])?;
         }
         println!("(ratio: time per test relative to sphere-frustum, this run)");
     }
@@ -138,9 +151,12 @@ pub fn cull_bench(args: &CullBenchArgs) -> Result<()> {
             reference_every: args.reference_every,
             extent: scene.extent(),
         };
+        let bar = crate::progress::bar("culling", 0);
         let reports = rails_bench(&hierarchy, &strategies, &params, &mut |d, t| {
-            crate::cli::progress("culling", d, t)
+            bar.set_length(t);
+            bar.set_position(d);
         });
+        bar.finish_and_clear();
         let base = reports[0].time_ms.median;
         println!(
             "Stereo culling along the rails: {} frames, draw distance {}, {} ({})",
@@ -172,17 +188,15 @@ pub fn cull_bench(args: &CullBenchArgs) -> Result<()> {
                 pct(r.false_positive_rate),
                 pct(r.miss_rate)
             );
-            let _ = writeln!(
-                csv,
-                "rails,{},{:.4},{:.4},{:.0},{},{}",
-                r.strategy.name(),
-                r.time_ms.median,
-                r.time_ms.p95,
-                r.visible.median,
-                r.false_positive_rate
-                    .map_or(String::new(), |v| format!("{v:.6}")),
-                r.miss_rate.map_or(String::new(), |v| format!("{v:.6}"))
-            );
+            csv.row(&[
+                &"rails",
+                &r.strategy.name(),
+                &format!("{:.4}", r.time_ms.median),
+                &format!("{:.4}", r.time_ms.p95),
+                &format!("{:.0}", r.visible.median),
+                &opt(r.false_positive_rate, 6),
+                &opt(r.miss_rate, 6),
+            ])?;
         }
         println!(
             "(medians per frame; ratio to {}; false + and misses against the exact f64 per-eye reference on every {}th frame; dual-cone misses are objects only in the lens-hidden corners)",
@@ -190,5 +204,5 @@ pub fn cull_bench(args: &CullBenchArgs) -> Result<()> {
             args.reference_every
         );
     }
-    crate::cli::write_csv(args.csv.as_deref(), &csv)
+    csv.save(args.csv.as_deref())
 }

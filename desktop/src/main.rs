@@ -4,10 +4,13 @@
 mod bench;
 mod cli;
 mod compare_cmd;
+mod counts;
+mod csv_out;
 mod cull_cmd;
 mod mask_cmd;
 mod mffr_cmd;
 mod pixels_cmd;
+mod progress;
 mod render_cmd;
 mod side_by_side;
 

@@ -1,4 +1,3 @@
-use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use anyhow::Result;
@@ -8,6 +7,7 @@ use foveate::plan::{RenderConfig, Resolution};
 use foveate::scene::named_scene;
 use foveate::view::HMD_PROFILES;
 
+use crate::csv_out::CsvTable;
 use crate::side_by_side::measure_group;
 
 #[derive(Args)]
@@ -56,7 +56,17 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
         "saved/masked",
         "visible PSNR"
     );
-    let mut csv = String::from("profile,published_hidden,analytic_hidden,measured_hidden,off_ms,on_ms,saved,saved_over_masked,visible_psnr\n");
+    let mut csv = CsvTable::new(&[
+        "profile",
+        "published_hidden",
+        "analytic_hidden",
+        "measured_hidden",
+        "off_ms",
+        "on_ms",
+        "saved",
+        "saved_over_masked",
+        "visible_psnr",
+    ])?;
     for profile in HMD_PROFILES {
         let off = RenderConfig {
             hmd: profile.name.into(),
@@ -99,19 +109,21 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
                 format!("{psnr:.1}")
             }
         );
-        let _ = writeln!(
-            csv,
-            "{},{},{analytic:.5},{hidden:.5},{:.3},{:.3},{saved:.5},{:.4},{psnr}",
-            profile.name,
-            profile
+        csv.row(&[
+            &profile.name,
+            &profile
                 .hidden_area_fraction
                 .map_or(String::new(), |f| f.to_string()),
-            m[0].frame_ms,
-            m[1].frame_ms,
-            saved / hidden
-        );
+            &format!("{analytic:.5}"),
+            &format!("{hidden:.5}"),
+            &format!("{:.3}", m[0].frame_ms),
+            &format!("{:.3}", m[1].frame_ms),
+            &format!("{saved:.5}"),
+            &format!("{:.4}", saved / hidden),
+            &psnr,
+        ])?;
     }
     println!("(published: the hidden-area mesh's area where the headset's is on record, else the circular fallback; measured: the coverage probe; saved: frame time saved by the mask, visible PSNR: the left eye's pixels wholly inside the lens region against the unmasked frame — inf: the mask costs no accuracy)");
     gpu.check_validation()?;
-    crate::cli::write_csv(args.csv.as_deref(), &csv)
+    csv.save(args.csv.as_deref())
 }

@@ -1,4 +1,3 @@
-use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use anyhow::Result;
@@ -10,6 +9,7 @@ use foveate::plan::{RenderConfig, Resolution};
 use foveate::render::SKY;
 use foveate::scene::named_scene;
 
+use crate::csv_out::CsvTable;
 use crate::side_by_side::measure_group;
 
 #[derive(Args)]
@@ -86,7 +86,7 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         args.frames
     );
     println!(
-        "\n{:<14} {:>9} {:>7} {:>9} {:>6} {:>8} {:>8} {:>10} {:>10} {:>6} {:>6} {:>7} {:>8} {:>7}",
+        "\n{:<14} {:>9} {:>7} {:>9} {:>6} {:>8} {:>8} {:>10} {:>10} {:>10} {:>6} {:>6} {:>7} {:>8} {:>7}",
         "variant",
         "split",
         "disp px",
@@ -96,13 +96,31 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         "eyes ms",
         "far frags",
         "eye frags",
+        "all frags",
         "PSNR",
         "SSIM",
         "bound",
         "matched",
         "sky px"
     );
-    let mut csv = String::from("variant,split,split_m,disparity_px,frame_ms,ratio,gpu_far_ms,gpu_eyes_ms,far_fragments,eye_fragments,psnr,ssim,bound_px,matched_within_bound,sky_through_px\n");
+    let mut csv = CsvTable::new(&[
+        "variant",
+        "split",
+        "split_m",
+        "disparity_px",
+        "frame_ms",
+        "ratio",
+        "gpu_far_ms",
+        "gpu_eyes_ms",
+        "far_fragments",
+        "eye_fragments",
+        "total_fragments",
+        "psnr",
+        "ssim",
+        "bound_px",
+        "matched_within_bound",
+        "sky_through_px",
+    ])?;
     for split_text in &args.splits {
         let split: SplitDistance = split_text.parse()?;
         let mut configs = vec![base.clone()];
@@ -158,7 +176,7 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
             };
             let ratio = m.frame_ms / reference.frame_ms;
             println!(
-                "{:<14} {:>9} {:>7.2} {:>9.2} {:>6.3} {:>8.2} {:>8.2} {:>10} {:>10} {:>6} {:>6.4} {:>7.2} {:>7.2}% {:>7}",
+                "{:<14} {:>9} {:>7.2} {:>9.2} {:>6.3} {:>8.2} {:>8.2} {:>10} {:>10} {:>10} {:>6} {:>6.4} {:>7.2} {:>7.2}% {:>7}",
                 name,
                 if i == 0 { "-".to_string() } else { format!("{split_m:.1}m") },
                 disparity,
@@ -168,21 +186,35 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
                 eyes_ms,
                 m.far_fragments,
                 m.eye_fragments,
+                m.total_fragments,
                 if psnr.is_infinite() { "inf".to_string() } else { format!("{psnr:.1}") },
                 ssim,
                 bound,
                 100.0 * matched,
                 cracks
             );
-            let _ = writeln!(
-                csv,
-                "{name},{split_text},{split_m},{disparity},{:.3},{ratio:.4},{far_ms:.3},{eyes_ms:.3},{},{},{psnr:.3},{ssim:.5},{bound},{matched:.5},{cracks}",
-                m.frame_ms, m.far_fragments, m.eye_fragments
-            );
+            csv.row(&[
+                &name,
+                split_text,
+                &split_m,
+                &disparity,
+                &format!("{:.3}", m.frame_ms),
+                &format!("{ratio:.4}"),
+                &format!("{far_ms:.3}"),
+                &format!("{eyes_ms:.3}"),
+                &m.far_fragments,
+                &m.eye_fragments,
+                &m.total_fragments,
+                &format!("{psnr:.3}"),
+                &format!("{ssim:.5}"),
+                &bound,
+                &format!("{matched:.5}"),
+                &cracks,
+            ])?;
         }
         println!();
     }
     println!("(ratio: frame time to the stereo row of the same split, measured in the same rounds; PSNR/SSIM: both eyes against that stereo reference; bound: the disparity error the variant allows at the split, in eye pixels; matched: pixels equal to a reference pixel at most `bound` away along the row; sky px: pixels showing sky where the reference does not — a crack at the split would show here, as do silhouettes moved by up to `bound`)");
     gpu.check_validation()?;
-    crate::cli::write_csv(args.csv.as_deref(), &csv)
+    csv.save(args.csv.as_deref())
 }

@@ -1,12 +1,14 @@
-use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use foveate::foveation::{arm_table, FoveationConfig, PixelBudget};
+use foveate::foveation::{arm_table, ArmRow, FoveationConfig, PixelBudget, ARM_TABLE4_FOVEA};
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::plan::{RenderConfig, Resolution, StereoMode};
-use foveate::render::Renderer;
+use foveate::plan::{CountedStep, RenderConfig, Resolution, StereoMode};
+use foveate::render::counting_frame;
+use glam::Vec2;
+
+use crate::csv_out::CsvTable;
 use foveate::scene::Scene;
 
 #[derive(Args)]
@@ -41,20 +43,17 @@ fn parse_row(s: &str) -> Result<(u32, f32)> {
     ))
 }
 
-/// Pixels each view renders, measured by the coverage probe in one frame of an empty scene.
+/// Pixels each view renders, measured by the coverage probe in one counting frame of an empty
+/// scene.
 pub(crate) fn coverage(gpu: &Gpu, config: &RenderConfig) -> Result<Vec<u64>> {
     let scene = Scene::empty();
     let config = RenderConfig {
         msaa: 1,
         coverage_probe: true,
-        count_fragments: true,
-        timestamps: false,
         ..config.clone()
     };
-    let plan = foveate::plan(&scene, &config, gpu.caps())?;
-    let mut renderer = Renderer::new(gpu, &plan, &scene)?;
-    let stats = renderer.render_frame(scene.head)?;
-    Ok(stats.fragments)
+    let stats = counting_frame(gpu, &scene, &config, [Vec2::ZERO; 2], scene.head)?;
+    Ok(stats.per_view(CountedStep::Probe)[..config.views as usize].to_vec())
 }
 
 pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
@@ -82,7 +81,22 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
         args.res,
         2 * screen.pixels()
     );
-    let mut csv = String::from("table,view,ratio,fovea_measured,fovea_analytic,fovea_arm,periphery_measured,periphery_analytic,periphery_arm,total_measured,reduction_measured,reduction_arm\n");
+    let mut csv = CsvTable::new(&[
+        "table",
+        "view",
+        "ratio",
+        "fovea_measured",
+        "fovea_analytic",
+        "fovea_arm",
+        "periphery_measured",
+        "periphery_analytic",
+        "periphery_arm",
+        "total_measured",
+        "total_arm",
+        "reduction_measured",
+        "reduction_arm",
+    ])?;
+    let mut notes = Vec::new();
     let tables = [
         (2, "Table 2: without stencil mask", false, None),
         (3, "Table 3: with stencil mask", true, None),
@@ -100,7 +114,7 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
         };
         println!("\n{title} (measured | analytic | Arm's printed)");
         println!(
-            "{:>9} {:>5} {:>32} {:>32} {:>11} {:>15}",
+            "{:>9} {:>5} {:>32} {:>32} {:>21} {:>15}",
             "view", "views", "fovea pixels", "periphery pixels", "total", "reduction %"
         );
         for &(view, ratio) in &rows {
@@ -126,7 +140,8 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
             );
             let total = fovea + periphery;
             let reduction = 100.0 * (1.0 - total / stereo_total as f64);
-            let arm = (args.res == 1024)
+            // Arm's cells exist for their screen (and, in Table 4, their fixed fovea) only.
+            let arm = (args.res == 1024 && fovea_size.is_none_or(|f| f == ARM_TABLE4_FOVEA))
                 .then(|| {
                     arm_table(number)
                         .iter()
@@ -135,7 +150,7 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
                 .flatten();
             let printed = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.0}"));
             println!(
-                "{:>9} {:>5} {:>10.0} | {:>9.0} | {:>9} {:>10.0} | {:>9.0} | {:>9} {:>11.0} {:>6.1} | {:>6}",
+                "{:>9} {:>5} {:>10.0} | {:>9.0} | {:>9} {:>10.0} | {:>9.0} | {:>9} {:>9.0} | {:>9} {:>6.1} | {:>6}",
                 format!("{view}x{view}"),
                 4,
                 fovea,
@@ -145,21 +160,41 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
                 analytic.periphery,
                 printed(arm.map(|r| r.periphery)),
                 total,
+                printed(arm.map(|r| r.total)),
                 reduction,
                 arm.map_or("-".to_string(), |r| format!("{:.1}", r.reduction_percent)),
             );
-            let _ = writeln!(
-                csv,
-                "{number},{view},{ratio},{fovea},{:.1},{},{periphery},{:.1},{},{total},{reduction:.2},{}",
-                analytic.fovea,
-                arm.map_or(String::new(), |r| r.fovea.to_string()),
-                analytic.periphery,
-                arm.map_or(String::new(), |r| r.periphery.to_string()),
-                arm.map_or(String::new(), |r| r.reduction_percent.to_string()),
-            );
+            let arm_cell = |f: fn(&ArmRow) -> f64| arm.map_or(String::new(), |r| f(r).to_string());
+            csv.row(&[
+                &number,
+                &view,
+                &ratio,
+                &fovea,
+                &format!("{:.1}", analytic.fovea),
+                &arm_cell(|r| r.fovea),
+                &periphery,
+                &format!("{:.1}", analytic.periphery),
+                &arm_cell(|r| r.periphery),
+                &total,
+                &arm_cell(|r| r.total),
+                &format!("{reduction:.2}"),
+                &arm_cell(|r| r.reduction_percent),
+            ])?;
+            if let Some(r) = arm {
+                let found = r.discrepancies(number);
+                if !found.is_empty() {
+                    notes.push(format!(
+                        "Table {number}, {view}x{view}: Arm's own cells are inconsistent: {}",
+                        found.join("; ")
+                    ));
+                }
+            }
         }
     }
-    println!("\n(analytic: the formulas with the true pi; Arm's tables used pi = 3.14 and truncate their percentages)");
+    println!("\n(analytic: the formulas with the true pi; Arm's tables used pi = 3.14 and truncate their percentages; every cell Arm printed is shown as printed)");
+    for note in &notes {
+        println!("note: {note}");
+    }
     gpu.check_validation()?;
-    crate::cli::write_csv(args.csv.as_deref(), &csv)
+    csv.save(args.csv.as_deref())
 }

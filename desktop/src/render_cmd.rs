@@ -5,7 +5,7 @@ use anyhow::{Context, Result};
 use foveate::foveation::{parse_gaze_csv, simulated_trace, GazeFilter};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::Stats;
-use foveate::render::{FrameStats, Renderer};
+use foveate::render::{counting_frame, FrameStats, Renderer};
 use foveate::scene::named_scene;
 use foveate::StereoMode;
 
@@ -19,8 +19,11 @@ struct ModeResult {
     /// Median GPU time per pass, with the pass's name.
     passes: Vec<(&'static str, f64)>,
     record: Stats,
-    fragments: Vec<u64>,
+    /// Draw commands and triangles the last timed frame recorded.
     draw_calls: u64,
+    triangles: u64,
+    /// A separate, untimed counting frame of the same configuration and gaze.
+    counts: FrameStats,
 }
 
 pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
@@ -87,7 +90,11 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
             image.height
         );
         gpu.check_validation()?;
+        let config = args.config.config(mode)?;
+        let counts = counting_frame(&gpu, &scene, &config, renderer.gaze(), scene.head)?;
+        gpu.check_validation()?;
         let series = |f: fn(&FrameStats) -> f64| frames.iter().map(f).collect::<Vec<_>>();
+        let last = frames.last().expect("at least one frame");
         results.push(ModeResult {
             mode,
             frame: Stats::of(&series(|f| f.frame_ms)).expect("at least one frame"),
@@ -105,13 +112,12 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
                     Stats::of(&times).map(|s| (p.name, s.median))
                 })
                 .collect(),
-            fragments: frames
-                .last()
-                .map(|f| f.fragments.clone())
-                .unwrap_or_default(),
-            draw_calls: plan.draw_calls,
+            draw_calls: last.draw_calls,
+            triangles: last.triangles,
+            counts,
         });
-        let pixels = plan.eye_resolution.pixels();
+        // Per pixel of the views the scene pass renders (the foveated views are smaller).
+        let pixels = plan.foveation.map_or(plan.eye_resolution, |g| g.view).pixels();
         print_result(results.last().expect("just pushed"), pixels);
     }
     if results.len() > 1 {
@@ -134,40 +140,46 @@ fn print_result(r: &ModeResult, eye_pixels: u64) {
         .gpu
         .map_or("n/a".to_string(), |g| format!("{:.2} ms", g.median));
     println!(
-        "{}: frame time median {:.2} ms (mean {:.2}, p95 {:.2}, {} frames); GPU {gpu}; CPU record {:.3} ms; {} draw calls",
-        r.mode, r.frame.median, r.frame.mean, r.frame.p95, r.frame.count, r.record.median, r.draw_calls
+        "{}: frame time median {:.2} ms (mean {:.2}, p95 {:.2}, {} frames, no counters); GPU {gpu}; CPU record {:.3} ms; {} draw calls, {} triangles recorded",
+        r.mode, r.frame.median, r.frame.mean, r.frame.p95, r.frame.count, r.record.median, r.draw_calls, r.triangles
     );
     for (name, ms) in &r.passes {
         println!("  GPU {name}: {ms:.2} ms");
     }
-    const NAMES: [&str; 4] = ["left eye", "right eye", "left fovea", "right fovea"];
-    for (view, &n) in r.fragments.iter().enumerate() {
-        let eye = NAMES[view.min(3)];
-        println!(
-            "  view {view} ({eye}): {n} fragments shaded = {:.3} per pixel of {eye_pixels}",
-            n as f64 / eye_pixels as f64
-        );
-    }
+    crate::counts::print_fragments(&r.counts, eye_pixels);
 }
 
 fn print_comparison(results: &[ModeResult]) {
     let base = &results[0];
     println!(
-        "\n{:<11} {:>12} {:>8} {:>12} {:>8} {:>14} {:>8}",
-        "stereo", "frame ms", "ratio", "GPU ms", "ratio", "CPU record ms", "ratio"
+        "\n{:<11} {:>12} {:>8} {:>12} {:>8} {:>14} {:>8} {:>12} {:>12}",
+        "stereo",
+        "frame ms",
+        "ratio",
+        "GPU ms",
+        "ratio",
+        "CPU record ms",
+        "ratio",
+        "scene frags",
+        "total frags"
     );
     for r in results {
         let gpu = |s: &Option<Stats>| s.map_or(f64::NAN, |g| g.median);
         println!(
-            "{:<11} {:>12.2} {:>8.2} {:>12.2} {:>8.2} {:>14.3} {:>8.2}",
+            "{:<11} {:>12.2} {:>8.2} {:>12.2} {:>8.2} {:>14.3} {:>8.2} {:>12} {:>12}",
             r.mode.name(),
             r.frame.median,
             r.frame.median / base.frame.median,
             gpu(&r.gpu),
             gpu(&r.gpu) / gpu(&base.gpu),
             r.record.median,
-            r.record.median / base.record.median
+            r.record.median / base.record.median,
+            r.counts.scene_fragments(),
+            r.counts.total_fragments()
         );
     }
-    println!("(ratios to {}, medians from this run)", base.mode);
+    println!(
+        "(ratios to {}, medians from this run; fragments from a separate counting frame)",
+        base.mode
+    );
 }

@@ -7,7 +7,7 @@ use anyhow::Result;
 use foveate::gpu::Gpu;
 use foveate::metrics::Stats;
 use foveate::plan::RenderConfig;
-use foveate::render::{Renderer, StereoImage};
+use foveate::render::{counting_frame, Renderer, StereoImage};
 use foveate::scene::Scene;
 
 /// One configuration's measurements over the counted rounds.
@@ -15,9 +15,11 @@ pub struct Measured {
     pub frame_ms: f64,
     /// Median GPU time of each planned pass.
     pub gpu_pass_ms: Vec<f64>,
-    /// Fragments shaded by the eye views and by the MFFR far view (last frame).
+    /// Fragments the scene draws shaded in the eye views and in the MFFR far view, and every
+    /// pass together (a separate counting frame).
     pub eye_fragments: u64,
     pub far_fragments: u64,
+    pub total_fragments: u64,
     pub image: StereoImage,
 }
 
@@ -59,17 +61,19 @@ pub fn measure_group(
     renderers
         .iter_mut()
         .zip(samples)
-        .map(|(r, s)| {
+        .zip(configs)
+        .map(|((r, s), config)| {
             let median = |f: &dyn Fn(&foveate::render::FrameStats) -> f64| {
                 Stats::of(&s.iter().map(f).collect::<Vec<_>>()).map_or(f64::NAN, |x| x.median)
             };
             let passes = s[0].gpu_pass_ms.len();
-            let last = s.last().expect("at least one counted round");
+            let counts = counting_frame(gpu, scene, config, r.gaze(), scene.head)?;
             Ok(Measured {
                 frame_ms: median(&|x| x.frame_ms),
                 gpu_pass_ms: (0..passes).map(|i| median(&|x| x.gpu_pass_ms[i])).collect(),
-                eye_fragments: last.fragments.iter().sum(),
-                far_fragments: last.far_fragments.unwrap_or(0),
+                eye_fragments: counts.fragments.iter().sum(),
+                far_fragments: counts.far_fragments.unwrap_or(0),
+                total_fragments: counts.total_fragments(),
                 image: r.readback()?,
             })
         })

@@ -18,6 +18,43 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// Reads a CSV the CLI wrote with a CSV parser: every record has the header's `columns` fields
+/// (a field with an unquoted comma would add one), and every field but the first parses as a
+/// number where it is not empty.
+fn read_csv(
+    path: &std::path::Path,
+    columns: usize,
+) -> Vec<std::collections::HashMap<String, String>> {
+    let mut reader = csv::Reader::from_path(path).unwrap();
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    assert_eq!(header.len(), columns, "{header:?}");
+    reader
+        .records()
+        .map(|r| {
+            let r = r.unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            assert_eq!(r.len(), columns, "{r:?}");
+            header
+                .iter()
+                .cloned()
+                .zip(r.iter().map(String::from))
+                .collect()
+        })
+        .collect()
+}
+
+/// Every field of a record that is not text names a number (or is empty, or `inf`).
+fn assert_numeric(row: &std::collections::HashMap<String, String>, text: &[&str]) {
+    for (k, v) in row {
+        if text.contains(&k.as_str()) || v.is_empty() {
+            continue;
+        }
+        assert!(
+            v.parse::<f64>().is_ok(),
+            "{k} = {v:?} is not a number in {row:?}"
+        );
+    }
+}
+
 #[test]
 fn render_writes_a_stereo_png_and_prints_plan_times_and_counts() {
     let out = std::env::temp_dir().join(format!("foveate-cli-{}.png", std::process::id()));
@@ -35,9 +72,13 @@ fn render_writes_a_stereo_png_and_prints_plan_times_and_counts() {
     for needle in [
         "frame plan:",
         "frame time median",
+        "no counters",
         "CPU record",
-        "view 0 (left eye)",
-        "view 1 (right eye)",
+        "draw calls",
+        "triangles recorded",
+        "fragments (a separate counting frame): scene",
+        "scene (multiview) / scene: left eye",
+        "right eye",
         "wrote",
     ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
@@ -163,11 +204,14 @@ fn cull_bench_prints_both_tables_and_writes_csv() {
     ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }
-    let written = std::fs::read_to_string(&csv).unwrap();
-    assert!(
-        written.lines().count() > 15 && written.contains("rails,per-eye"),
-        "{written}"
-    );
+    let rows = read_csv(&csv, 7);
+    assert!(rows.len() > 15);
+    assert!(rows
+        .iter()
+        .any(|r| r["table"] == "rails" && r["name"] == "per-eye"));
+    for r in &rows {
+        assert_numeric(r, &["table", "name"]);
+    }
     let _ = std::fs::remove_file(csv);
 }
 
@@ -199,6 +243,7 @@ fn cull_bench_rejects_bad_input() {
 
 #[test]
 fn pixels_prints_arms_three_tables_measured_beside_the_formula() {
+    let csv = std::env::temp_dir().join(format!("foveate-pixels-{}.csv", std::process::id()));
     let o = foveate(&[
         "pixels",
         "--res",
@@ -207,8 +252,16 @@ fn pixels_prints_arms_three_tables_measured_beside_the_formula() {
         "90:0.7,64:0.5",
         "--fovea-size",
         "32",
+        "--csv",
+        csv.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+    let rows = read_csv(&csv, 13);
+    assert_eq!(rows.len(), 3 * 2);
+    for r in &rows {
+        assert_numeric(r, &[]);
+    }
+    let _ = std::fs::remove_file(csv);
     let text = stdout(&o);
     for needle in [
         "Table 2",
@@ -257,7 +310,9 @@ fn render_foveated_with_gaze_tint_and_the_fill_scene() {
     for needle in [
         "scene (foveated multiview)",
         "GPU composite (fovea over periphery)",
-        "view 3 (right fovea)",
+        "right fovea",
+        "scene (foveated multiview) / mask",
+        "composite (fovea over periphery) / composite: left eye 4096, right eye 4096",
     ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }
@@ -319,14 +374,23 @@ fn compare_prints_time_and_error_per_region() {
     ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }
-    let written = std::fs::read_to_string(&csv).unwrap();
-    let row = written
-        .lines()
-        .find(|l| l.starts_with("foveated 0.5"))
+    let rows = read_csv(&csv, 13);
+    let row = rows
+        .iter()
+        .find(|r| r["config"] == "foveated 0.5, MSAA 4")
         .expect("foveated row");
     // The fovea maps 1:1 and matches the reference there.
-    let fovea_psnr: f64 = row.split(',').nth(6).unwrap().parse().unwrap();
-    assert!(fovea_psnr > 40.0, "{row}");
+    let fovea_psnr: f64 = row["psnr_fovea"].parse().unwrap();
+    assert!(fovea_psnr > 40.0, "{row:?}");
+    for r in &rows {
+        assert_numeric(r, &["config"]);
+    }
+    // Composition is counted: all passes shade more than the scene draws alone.
+    let count = |k: &str| row[k].parse::<u64>().unwrap();
+    assert!(
+        count("total_fragments") >= count("scene_fragments") + 2 * 64 * 64,
+        "{row:?}"
+    );
     let _ = std::fs::remove_file(csv);
     let o = foveate(&["compare", "--res", "64", "--gaze", "2"]);
     assert!(
@@ -378,10 +442,25 @@ fn render_follows_a_gaze_trace_and_survives_bad_samples() {
 
 #[test]
 fn mffr_prices_every_variant_against_stereo() {
+    let csv = std::env::temp_dir().join(format!("foveate-mffr-{}.csv", std::process::id()));
     let o = foveate(&[
-        "mffr", "--res", "48", "--frames", "2", "--splits", "2px,40m",
+        "mffr",
+        "--res",
+        "48",
+        "--frames",
+        "2",
+        "--splits",
+        "2px,40m",
+        "--csv",
+        csv.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+    let rows = read_csv(&csv, 16);
+    assert_eq!(rows.len(), 2 * 5, "stereo and four variants per split");
+    for r in &rows {
+        assert_numeric(r, &["variant", "split"]);
+    }
+    let _ = std::fs::remove_file(csv);
     let text = stdout(&o);
     for needle in [
         "stereo",
@@ -404,8 +483,23 @@ fn mffr_prices_every_variant_against_stereo() {
 
 #[test]
 fn mask_reports_each_profile_measured() {
-    let o = foveate(&["mask", "--res", "32", "--frames", "2"]);
+    let csv = std::env::temp_dir().join(format!("foveate-mask-{}.csv", std::process::id()));
+    let o = foveate(&[
+        "mask",
+        "--res",
+        "32",
+        "--frames",
+        "2",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
+    let rows = read_csv(&csv, 9);
+    assert_eq!(rows.len(), 4, "one row per profile");
+    for r in &rows {
+        assert_numeric(r, &["profile"]);
+    }
+    let _ = std::fs::remove_file(csv);
     let text = stdout(&o);
     for needle in ["index", "vive", "rift-cv1", "quest2", "saved/masked"] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
@@ -470,18 +564,48 @@ fn bench_runs_the_whole_matrix_on_a_tiny_scene_and_writes_every_output() {
         );
     }
     // 24 matrix rows and 2 zero-cost rows, 2 frames each, every frame's pixels counted.
-    let frames = std::fs::read_to_string(dir.join("frames.csv")).unwrap();
-    assert_eq!(frames.lines().count(), 1 + 26 * 2);
+    let frames = read_csv(&dir.join("frames.csv"), 10);
+    assert_eq!(frames.len(), 26 * 2);
+    for (file, columns) in [("frames.csv", 10), ("summary.csv", 19), ("accuracy.csv", 6)] {
+        for r in read_csv(&dir.join(file), columns) {
+            assert_numeric(&r, &["config", "family", "approximation"]);
+        }
+    }
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let rows = report["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 26);
     assert_eq!(rows[0]["ratio_median"].as_f64(), Some(1.0));
+    let row = |name: &str| {
+        rows.iter()
+            .find(|r| r["name"] == name)
+            .unwrap_or_else(|| panic!("no row {name}"))
+    };
+    let median = |r: &serde_json::Value, key: &str| r[key]["median"].as_f64().unwrap();
     for r in rows {
-        assert!(r["frame_ms"]["median"].as_f64().unwrap() > 0.0);
-        assert!(r["pixels"]["median"].as_f64().unwrap() > 0.0);
-        assert!(r["draw_calls"]["median"].as_f64().unwrap() > 0.0);
+        assert!(median(r, "frame_ms") > 0.0);
+        assert!(median(r, "pixels") > 0.0);
+        assert!(median(r, "total_pixels") >= median(r, "pixels"));
+        assert!(median(r, "draw_calls") > 0.0);
+        let name = r["name"].as_str().unwrap();
+        // Foveation shades fewer scene fragments than its stereo twin, and pays for its
+        // composition: every one of its output pixels is a counted fragment.
+        if let Some(twin) = name.strip_suffix(" & FOV") {
+            let twin = row(twin);
+            assert!(median(r, "pixels") < median(twin, "pixels"), "{name}");
+            assert!(
+                median(r, "total_pixels") >= median(r, "pixels") + 2.0 * 48.0 * 48.0,
+                "{name}: the composite is counted"
+            );
+        }
     }
+    // The baseline again: the same work exactly, and a time within noise of the baseline.
+    let (base, again) = (row("baseline"), row("baseline again (noise)"));
+    for key in ["draw_calls", "triangles", "pixels", "total_pixels"] {
+        assert_eq!(median(base, key), median(again, key), "{key}");
+    }
+    let noise = median(again, "frame_ms") / median(base, "frame_ms");
+    assert!((0.5..2.0).contains(&noise), "baseline again at {noise:.2}x");
     let last = &rows[25];
     assert_eq!(last["memory"]["plan_is_baseline"], true);
     assert_eq!(

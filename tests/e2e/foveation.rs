@@ -2,7 +2,7 @@
 //! pixel counts measured by the coverage probe against the analytic budget.
 
 use foveate::foveation::{FoveationConfig, PixelBudget};
-use foveate::plan::{RenderConfig, Resolution, StereoMode};
+use foveate::plan::{CountedStep, RenderConfig, Resolution, StereoMode};
 use foveate::scene::{default_scene, Scene};
 use foveate_tests::{gpu, render_plan};
 use glam::Vec2;
@@ -15,6 +15,7 @@ fn foveated(screen: u32, foveation: FoveationConfig, msaa: u32) -> RenderConfig 
         resolution: Some(Resolution::square(screen)),
         foveation: Some(foveation),
         coverage_probe: true,
+        count_fragments: true,
         ..RenderConfig::default()
     }
 }
@@ -56,8 +57,9 @@ fn measured_pixels_match_the_analytic_budget() {
             foveate::plan(&scene, &foveated(256, f, 1), gpu.caps()).expect("valid foveation");
         let g = plan.foveation.expect("foveation planned");
         let (_, stats) = render_plan(&gpu, &scene, &plan, 1);
-        let measured_periphery = (stats.fragments[0] + stats.fragments[1]) as f64;
-        let measured_fovea = (stats.fragments[2] + stats.fragments[3]) as f64;
+        let probe = stats.per_view(CountedStep::Probe);
+        let measured_periphery = (probe[0] + probe[1]) as f64;
+        let measured_fovea = (probe[2] + probe[3]) as f64;
         let analytic = PixelBudget::of(&g);
         for (what, m, a) in [
             ("fovea", measured_fovea, analytic.fovea),
@@ -84,7 +86,10 @@ fn stencil_masks_cut_pixels_in_every_view() {
             ..Default::default()
         };
         let plan = foveate::plan(&scene, &foveated(192, f, 1), gpu.caps()).unwrap();
-        render_plan(&gpu, &scene, &plan, 1).1.fragments
+        render_plan(&gpu, &scene, &plan, 1)
+            .1
+            .per_view(CountedStep::Probe)[..4]
+            .to_vec()
     };
     let (without, with) = (count(false), count(true));
     let view = 96u64 * 96;

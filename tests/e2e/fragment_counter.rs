@@ -52,6 +52,7 @@ fn config(stereo: StereoMode, msaa: u32) -> RenderConfig {
             up: 1.0,
             down: 1.0,
         }),
+        count_fragments: true,
         ..RenderConfig::default()
     }
 }

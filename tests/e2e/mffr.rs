@@ -2,7 +2,7 @@
 //! disparity bound, leaves no seam at the split, and the HMD mask hides what the lens hides.
 
 use foveate::mffr::{MffrConfig, MffrOrder, MffrVariant, SplitDistance};
-use foveate::plan::{RenderConfig, Resolution, StereoMode};
+use foveate::plan::{CountedStep, RenderConfig, Resolution, StereoMode};
 use foveate::scene::{city_scene, ground_grid, DrawBatch, Instance, Scene};
 use foveate::view::HMD_PROFILES;
 use foveate_tests::{gpu, render};
@@ -14,6 +14,7 @@ fn config(mffr: Option<MffrConfig>, stereo: StereoMode) -> RenderConfig {
         msaa: 4,
         resolution: Some(Resolution::square(192)),
         mffr,
+        count_fragments: true,
         ..RenderConfig::default()
     }
 }
@@ -165,14 +166,16 @@ fn hmd_mask_coverage_per_profile() {
             hmd: profile.name.into(),
             hmd_mask: true,
             coverage_probe: true,
+            count_fragments: true,
             msaa: 1,
             resolution: Some(Resolution::square(256)),
             ..RenderConfig::default()
         };
         let plan = foveate::plan(&empty, &c, gpu.caps()).unwrap();
         let (_, stats) = foveate_tests::render_plan(&gpu, &empty, &plan, 1);
+        let probe = stats.per_view(CountedStep::Probe);
         for (eye, lens) in plan.hmd_mask.unwrap().iter().enumerate() {
-            let measured = 1.0 - stats.fragments[eye] as f64 / (256.0 * 256.0);
+            let measured = 1.0 - probe[eye] as f64 / (256.0 * 256.0);
             let expected = match profile.hidden_area_fraction {
                 Some(f) => f as f64,
                 None => 1.0 - std::f64::consts::FRAC_PI_4,

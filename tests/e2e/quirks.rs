@@ -34,6 +34,7 @@ fn lavapipe_multiview_clipping_quirk_is_real() {
         stereo,
         msaa: 1,
         resolution: Some(Resolution::square(64)),
+        count_fragments: true,
         ..RenderConfig::default()
     };
     let two_pass = foveate::plan(&scene, &config(StereoMode::TwoPass), gpu.caps()).unwrap();

@@ -9,6 +9,7 @@ fn config(stereo: StereoMode, msaa: u32) -> RenderConfig {
         stereo,
         msaa,
         resolution: Some(Resolution::square(128)),
+        count_fragments: true,
         ..RenderConfig::default()
     }
 }
@@ -40,6 +41,8 @@ fn the_four_stereo_modes_agree() {
                 );
             }
             let fewer_clips = msaa > 1 && plan.passes.iter().any(|p| p.guard_band > 1);
+            assert_eq!(stats.fragments.len(), 2);
+            assert_eq!(reference_stats.fragments.len(), 2);
             for (view, (&a, &b)) in reference_stats
                 .fragments
                 .iter()
@@ -131,23 +134,31 @@ fn readback_before_any_frame_is_an_error() {
     ));
 }
 
-/// A switched-off effect records and allocates nothing: no counter, no timestamps.
+/// A switched-off effect records and allocates nothing: no counter, no timestamps. A timed
+/// frame (the default) has timestamps and no counts; its counting twin has counts and no
+/// timestamps. Mutation: counting on by default fails it.
 #[test]
 fn switched_off_effects_measure_nothing() {
     let gpu = gpu();
     let scene = default_scene();
     let off = RenderConfig {
-        count_fragments: false,
         timestamps: false,
-        ..config(StereoMode::Multiview, 1)
+        ..RenderConfig::default()
     };
     let (_, stats) = render(&gpu, &scene, &off);
-    assert!(stats.fragments.is_empty() && stats.gpu_ms.is_none());
-    let (_, stats) = render(&gpu, &scene, &config(StereoMode::Multiview, 1));
-    assert_eq!(stats.fragments.len(), 2);
+    assert!(stats.fragments.is_empty() && stats.steps.is_empty() && stats.gpu_ms.is_none());
+    let timed = RenderConfig {
+        resolution: Some(Resolution::square(128)),
+        ..RenderConfig::default()
+    };
+    let (_, stats) = render(&gpu, &scene, &timed);
+    assert!(stats.fragments.is_empty() && stats.steps.is_empty());
     assert!(
         stats.gpu_ms.is_some_and(|t| t > 0.0) && stats.frame_ms > 0.0 && stats.cpu_record_ms > 0.0
     );
+    let (_, stats) = render(&gpu, &scene, &timed.counting());
+    assert_eq!(stats.fragments.len(), 2);
+    assert!(stats.gpu_ms.is_none() && stats.total_fragments() > 0);
 }
 
 /// Canted and asymmetric eyes render through every mode alike, too.

@@ -8,7 +8,7 @@ mod gaze;
 mod inset;
 mod views;
 
-pub use budget::{arm_table, ArmRow, PixelBudget, ARM_PI};
+pub use budget::{arm_table, ArmRow, PixelBudget, ARM_PI, ARM_TABLE4_FOVEA};
 pub use config::{FoveationConfig, FoveationGeometry};
 pub use gaze::{parse_gaze_csv, simulated_trace, GazeError, GazeFilter, GazeSample};
 pub use inset::{fovea_tangents, inset_fov_deg};

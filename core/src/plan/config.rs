@@ -145,7 +145,9 @@ pub struct RenderConfig {
     pub fov: Option<FovTangents>,
     pub near: f32,
     pub far: f32,
-    /// Count shaded fragments per view (an atomic counter in the fragment shader).
+    /// A counting frame: every step that shades fragments counts them per view (atomic
+    /// counters in the fragment shaders). Off by default: timed frames carry no counters, so
+    /// counts come from separate frames ([`RenderConfig::counting`]).
     pub count_fragments: bool,
     /// Record GPU timestamps around the frame.
     pub timestamps: bool,
@@ -176,7 +178,7 @@ impl Default for RenderConfig {
             fov: None,
             near: 0.05,
             far: 500.0,
-            count_fragments: true,
+            count_fragments: false,
             timestamps: true,
             foveation: None,
             hmd_mask: false,
@@ -188,6 +190,16 @@ impl Default for RenderConfig {
 }
 
 impl RenderConfig {
+    /// The same frame as a counting frame: fragment counters on, timestamps off (its time is
+    /// not a measurement). Timed frames use `self` with counting off.
+    pub fn counting(&self) -> RenderConfig {
+        RenderConfig {
+            count_fragments: true,
+            timestamps: false,
+            ..self.clone()
+        }
+    }
+
     pub fn hmd_profile(&self) -> Result<&'static HmdProfile, ConfigError> {
         HmdProfile::by_name(&self.hmd).ok_or_else(|| {
             let names: Vec<_> = HMD_PROFILES.iter().map(|p| p.name).collect();

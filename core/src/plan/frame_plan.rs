@@ -212,6 +212,44 @@ pub enum TargetLayout {
     SideBySide,
 }
 
+/// A step of a pass that shades fragments, counted on its own in counting frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CountedStep {
+    /// Stencil mask fans (the HMD mask, foveation's inset/outset), at the start of the pass.
+    Mask,
+    /// The MFFR far image composited into the eye views.
+    FarComposite,
+    /// The scene's meshes.
+    Scene,
+    /// The coverage probe's full-view draw.
+    Probe,
+    /// Foveated composition: each eye at full resolution.
+    Composite,
+}
+
+impl CountedStep {
+    pub fn name(self) -> &'static str {
+        match self {
+            CountedStep::Mask => "mask",
+            CountedStep::FarComposite => "far composite",
+            CountedStep::Scene => "scene",
+            CountedStep::Probe => "probe",
+            CountedStep::Composite => "composite",
+        }
+    }
+}
+
+/// One counted step: its pass (index into [`FramePlan::passes`]) and what it draws. Its five
+/// counter slots (views 0–3, then the MFFR far view) start at [`FramePlan::counter_base`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CountedSlot {
+    pub pass: usize,
+    pub step: CountedStep,
+}
+
+/// Counter slots per counted step: four views and the MFFR far view.
+pub const COUNTER_SLOTS_PER_STEP: u32 = MAX_VIEWS + 1;
+
 /// A buffer that exists only because an effect asked for it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BufferPlan {
@@ -237,8 +275,12 @@ pub struct FramePlan {
     pub buffers: Vec<BufferPlan>,
     /// Timestamp queries per frame (before the frame, after each pass); 0 when timing is off.
     pub timestamp_queries: u32,
-    /// Draw calls one frame records for the scene it was planned with.
-    pub draw_calls: u64,
+    /// Steps whose fragments a counting frame counts, in recording order; empty unless
+    /// fragment counting is on.
+    pub counted: Vec<CountedSlot>,
+    /// Draw calls one frame records for the scene it was planned with, estimated before culling
+    /// (the renderer's [`FrameStats`](crate::render::FrameStats) has the recorded tally).
+    pub draw_calls_estimate: u64,
     /// Foveation as resolved for this frame; `None` renders plain stereo.
     pub foveation: Option<FoveationGeometry>,
     /// Each eye's lens-visible region, when the HMD stencil mask is on.
@@ -258,6 +300,20 @@ impl FramePlan {
 
     pub fn count_fragments(&self) -> bool {
         self.fragment_counter().is_some()
+    }
+
+    /// Where the counter slots of `step` in pass `pass` start, when that step is counted. A
+    /// single-eye pass's mask fans count into their eye's slot (the shader sees view 0).
+    pub fn counter_base(&self, pass: usize, step: CountedStep) -> Option<u32> {
+        let slot = self
+            .counted
+            .iter()
+            .position(|c| c.pass == pass && c.step == step)?;
+        let eye_offset = match (step, self.passes[pass].submission) {
+            (CountedStep::Mask, Submission::SingleEye(eye)) => eye.index() as u32,
+            _ => 0,
+        };
+        Some(slot as u32 * COUNTER_SLOTS_PER_STEP + eye_offset)
     }
 
     /// The per-frame list of culled instance ids, when some pass draws a culled set.
@@ -433,22 +489,23 @@ pub fn plan(
         passes,
         buffers: Vec::new(),
         timestamp_queries: 0,
-        draw_calls: 0,
+        counted: Vec::new(),
+        draw_calls_estimate: 0,
         foveation,
         hmd_mask,
         mffr,
         culling: config.culling,
     };
-    plan.draw_calls = draw_calls(scene, &plan);
+    plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
     if config.timestamps {
         // One before the frame and one after each pass.
         plan.timestamp_queries = plan.passes.len() as u32 + 1;
     }
     if config.count_fragments {
-        // One counter per view, and one for the MFFR far view.
+        plan.counted = counted_steps(&plan.passes);
         plan.buffers.push(BufferPlan {
             name: FRAGMENT_COUNTER,
-            bytes: 4 * (MAX_VIEWS as u64 + 1),
+            bytes: 4 * (COUNTER_SLOTS_PER_STEP * plan.counted.len() as u32) as u64,
         });
     }
     if plan.passes.iter().any(|p| p.draw_set != DrawSet::All) {
@@ -460,6 +517,34 @@ pub fn plan(
     }
     derive_ops(&mut plan);
     Ok(plan)
+}
+
+/// Every step that shades fragments, pass by pass in recording order: a pass's mask fans, its
+/// far composite (far-first before the scene, near-first after it), its scene, its probe; the
+/// composition pass's full-view draw.
+fn counted_steps(passes: &[PassPlan]) -> Vec<CountedSlot> {
+    let mut counted = Vec::new();
+    for (pass, p) in passes.iter().enumerate() {
+        let mut add = |step| counted.push(CountedSlot { pass, step });
+        if p.kind == PassKind::Composite {
+            add(CountedStep::Composite);
+            continue;
+        }
+        if p.stencil_masks {
+            add(CountedStep::Mask);
+        }
+        if p.far_field == Some(MffrOrder::FarFirst) {
+            add(CountedStep::FarComposite);
+        }
+        add(CountedStep::Scene);
+        if p.far_field == Some(MffrOrder::NearFirst) {
+            add(CountedStep::FarComposite);
+        }
+        if p.coverage_probe {
+            add(CountedStep::Probe);
+        }
+    }
+    counted
 }
 
 /// The scene pass(es) of a stereo frame and the attachments they use.
@@ -767,9 +852,11 @@ fn derive_ops(plan: &mut FramePlan) {
     }
 }
 
-/// Draw calls one frame records, at most: each scene pass's draws of the scene (one per mesh;
-/// per object, two per instance), plus the full-view draws of composition.
-fn draw_calls(scene: &Scene, plan: &FramePlan) -> u64 {
+/// Draw calls one frame records without culling, estimated: each scene pass's draws of the
+/// scene (one per mesh; per object, two per instance), plus the full-view draws of composition
+/// and the far composite. Mask fans and probes are left out; the renderer tallies what it
+/// records.
+fn draw_calls_estimate(scene: &Scene, plan: &FramePlan) -> u64 {
     let meshes = scene.draws().count() as u64;
     plan.passes
         .iter()

@@ -16,8 +16,9 @@ pub use config::{CullConfig, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
 pub use derive::{Access, LoadOp, StoreOp};
 pub use error::ConfigError;
 pub use frame_plan::{
-    plan, AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, DrawSet, Format, FramePlan,
-    PassKind, PassPlan, Submission, TargetLayout, Use,
+    plan, AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, CountedSlot, CountedStep,
+    DrawSet, Format, FramePlan, PassKind, PassPlan, Submission, TargetLayout, Use,
+    COUNTER_SLOTS_PER_STEP,
 };
 
 #[cfg(test)]

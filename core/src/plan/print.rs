@@ -39,8 +39,8 @@ impl fmt::Display for FramePlan {
         };
         writeln!(
             f,
-            "  layout: {layout}; {} draw calls per frame",
-            self.draw_calls
+            "  layout: {layout}; about {} draw calls per frame (estimate before culling, without mask fans and probes)",
+            self.draw_calls_estimate
         )?;
         if let Some(g) = &self.foveation {
             writeln!(
@@ -219,6 +219,18 @@ impl fmt::Display for FramePlan {
                     u.store
                 )?;
             }
+        }
+        if !self.counted.is_empty() {
+            let steps: Vec<String> = self
+                .counted
+                .iter()
+                .map(|c| format!("{} ({})", c.step.name(), self.passes[c.pass].name))
+                .collect();
+            writeln!(
+                f,
+                "fragment counting (a counting frame, never timed): {}",
+                steps.join(", ")
+            )?;
         }
         if !self.buffers.is_empty() {
             writeln!(f, "effect buffers:")?;

@@ -148,7 +148,7 @@ fn stereo_modes_lay_out_their_targets() {
 fn draw_calls_follow_the_submission_strategy() {
     let scene = default_scene();
     let meshes = scene.draws().count() as u64;
-    let calls = |s| planned(&config(s, 1)).draw_calls;
+    let calls = |s| planned(&config(s, 1)).draw_calls_estimate;
     assert_eq!(calls(StereoMode::Multiview), meshes);
     assert_eq!(calls(StereoMode::Instanced), meshes);
     assert_eq!(calls(StereoMode::TwoPass), 2 * meshes);
@@ -158,20 +158,90 @@ fn draw_calls_follow_the_submission_strategy() {
     );
 }
 
+/// Timed frames carry no counters: the default plan has its timestamps and no counting
+/// resource; the counting twin has the counter and no timestamps. Mutation: counting on by
+/// default, or `counting()` keeping timestamps, fails it.
 #[test]
-fn effects_that_are_off_leave_nothing_behind() {
+fn timed_plans_carry_no_counters_and_counting_plans_no_timestamps() {
     let off = RenderConfig {
-        count_fragments: false,
         timestamps: false,
         ..config(StereoMode::Multiview, 1)
     };
     let plan = planned(&off);
-    assert!(plan.buffers.is_empty());
+    assert!(plan.buffers.is_empty() && plan.counted.is_empty());
     assert_eq!(plan.timestamp_queries, 0);
-    assert!(!plan.count_fragments());
-    let on = planned(&config(StereoMode::Multiview, 1));
-    assert_eq!(on.buffers.len(), 1);
-    assert_eq!(on.timestamp_queries, 2);
+    let timed = planned(&config(StereoMode::Multiview, 1));
+    assert!(!timed.count_fragments() && timed.counted.is_empty() && timed.buffers.is_empty());
+    assert_eq!(timed.timestamp_queries, 2);
+    let counting = planned(&config(StereoMode::Multiview, 1).counting());
+    assert_eq!(counting.buffers.len(), 1);
+    assert_eq!(counting.timestamp_queries, 0);
+    assert_eq!(
+        counting.counted,
+        vec![CountedSlot {
+            pass: 0,
+            step: CountedStep::Scene
+        }]
+    );
+}
+
+/// Every step that shades fragments has its own counter slots, in recording order: the mask
+/// fans, the far composite (before the scene far-first, after it near-first), the scene, the
+/// composition. Mutation: a step left out of `counted_steps` (as the composite and masks once
+/// were) fails it.
+#[test]
+fn counting_covers_every_step_that_shades() {
+    use crate::mffr::MffrOrder;
+    let steps = |config: RenderConfig| {
+        let plan = planned(&config.counting());
+        let counted: Vec<(&str, CountedStep)> = plan
+            .counted
+            .iter()
+            .map(|c| (plan.passes[c.pass].name, c.step))
+            .collect();
+        let bases: Vec<u32> = plan
+            .counted
+            .iter()
+            .map(|c| plan.counter_base(c.pass, c.step).unwrap())
+            .collect();
+        let slots = COUNTER_SLOTS_PER_STEP;
+        assert_eq!(
+            bases,
+            (0..counted.len() as u32)
+                .map(|i| i * slots)
+                .collect::<Vec<_>>()
+        );
+        assert_eq!(
+            plan.fragment_counter().unwrap().bytes,
+            4 * (slots as u64) * counted.len() as u64
+        );
+        counted
+    };
+    assert_eq!(
+        steps(foveated(true)),
+        vec![
+            ("scene (foveated multiview)", CountedStep::Mask),
+            ("scene (foveated multiview)", CountedStep::Scene),
+            ("composite (fovea over periphery)", CountedStep::Composite),
+        ]
+    );
+    for (order, expected) in [
+        (
+            MffrOrder::FarFirst,
+            [CountedStep::FarComposite, CountedStep::Scene],
+        ),
+        (
+            MffrOrder::NearFirst,
+            [CountedStep::Scene, CountedStep::FarComposite],
+        ),
+    ] {
+        let counted = steps(with_mffr(order));
+        assert_eq!(counted[0], ("far field (mono)", CountedStep::Scene));
+        assert_eq!(
+            counted[1..].iter().map(|c| c.1).collect::<Vec<_>>(),
+            expected
+        );
+    }
 }
 
 #[test]

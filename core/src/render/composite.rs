@@ -8,8 +8,8 @@ use glam::Vec4;
 
 use super::pipelines::{pass_pipeline, PipelineKind};
 use super::sampled_set::SampledSet;
-use crate::gpu::{Gpu, GpuError, Image, Pipeline};
-use crate::plan::{FramePlan, PassPlan};
+use crate::gpu::{Buffer, Gpu, GpuError, Image, Pipeline};
+use crate::plan::FramePlan;
 use crate::view::{Eye, FovTangents};
 
 /// The composition's uniform block (`Composite` in `shaders/composite.frag`, std140).
@@ -28,15 +28,18 @@ pub(crate) struct Composite {
 }
 
 impl Composite {
-    /// Sets up composition for `pass`, sampling `views` (the scene pass's four layers).
+    /// Sets up composition for pass `pass`, sampling `views` (the scene pass's four layers) and
+    /// counting into `counter` in counting frames.
     pub fn new(
         gpu: &Gpu,
         plan: &FramePlan,
-        pass: &PassPlan,
+        pass: usize,
         render_pass: vk::RenderPass,
         views: &Image,
+        counter: Option<&Buffer>,
     ) -> Result<Self, GpuError> {
-        let set = SampledSet::new(gpu, views, std::mem::size_of::<CompositeBlock>() as u64, 0)?;
+        let bytes = std::mem::size_of::<CompositeBlock>() as u64;
+        let set = SampledSet::new(gpu, views, bytes, 0, counter)?;
         let pipeline = pass_pipeline(
             gpu,
             plan,

@@ -5,7 +5,7 @@
 use glam::{Mat4, Vec4};
 
 use super::sampled_set::SampledSet;
-use crate::gpu::{Gpu, GpuError, Image};
+use crate::gpu::{Buffer, Gpu, GpuError, Image};
 use crate::mffr::FarReprojection;
 use crate::plan::MAX_VIEWS;
 use crate::view::FovTangents;
@@ -24,11 +24,12 @@ pub(crate) struct FarComposite {
 }
 
 impl FarComposite {
-    /// Sets up sampling of `far_image`, the far pass's resolved colour.
-    pub fn new(gpu: &Gpu, far_image: &Image) -> Result<Self, GpuError> {
+    /// Sets up sampling of `far_image`, the far pass's resolved colour, counting into
+    /// `counter` in counting frames.
+    pub fn new(gpu: &Gpu, far_image: &Image, counter: Option<&Buffer>) -> Result<Self, GpuError> {
         let bytes = std::mem::size_of::<FarCompositeBlock>() as u64;
         Ok(FarComposite {
-            set: SampledSet::new(gpu, far_image, bytes, 4)?,
+            set: SampledSet::new(gpu, far_image, bytes, 4, counter)?,
         })
     }
 

@@ -12,4 +12,4 @@ mod scene_buffers;
 mod targets;
 
 pub use record::SKY;
-pub use renderer::{FrameStats, Renderer, StereoImage};
+pub use renderer::{counting_frame, FrameStats, Renderer, StepFragments, StereoImage};

@@ -7,11 +7,12 @@ use crate::gpu::{
     ShaderModule, VkResultExt,
 };
 use crate::mffr::{MffrOrder, MffrVariant};
-use crate::plan::{DrawSet, FramePlan, PassKind, PassPlan, Submission};
+use crate::plan::{CountedStep, DrawSet, FramePlan, PassKind, PassPlan, Submission};
 use crate::scene::Vertex;
 use crate::shaders::{
-    ShaderBinary, COMPOSITE_FRAG, COMPOSITE_VERT, COVERAGE_FRAG, COVERAGE_VERT, FAR_COMPOSITE_FRAG,
-    MASK_FRAG, MASK_VERT, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_VERT, SCENE_VERT_INDIRECT,
+    ShaderBinary, COMPOSITE_FRAG, COMPOSITE_FRAG_COUNTING, COMPOSITE_VERT, COVERAGE_FRAG,
+    COVERAGE_VERT, FAR_COMPOSITE_FRAG, FAR_COMPOSITE_FRAG_COUNTING, MASK_FRAG, MASK_FRAG_COUNTING,
+    MASK_VERT, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_VERT, SCENE_VERT_INDIRECT,
 };
 
 const ENTRY: &CStr = c"main";
@@ -232,15 +233,39 @@ pub(crate) enum PipelineKind {
     FarComposite,
 }
 
-/// A pipeline for one pass of the plan.
+impl PipelineKind {
+    /// The counted step this pipeline draws.
+    fn counted_step(self) -> CountedStep {
+        match self {
+            PipelineKind::Scene => CountedStep::Scene,
+            PipelineKind::Mask => CountedStep::Mask,
+            PipelineKind::Coverage => CountedStep::Probe,
+            PipelineKind::Composite => CountedStep::Composite,
+            PipelineKind::FarComposite => CountedStep::FarComposite,
+        }
+    }
+}
+
+/// A pipeline for pass `pass_index` of the plan.
 pub(crate) fn pass_pipeline(
     gpu: &Gpu,
     plan: &FramePlan,
-    pass: &PassPlan,
+    pass_index: usize,
     kind: PipelineKind,
     render_pass: vk::RenderPass,
     layout: &PipelineLayout,
 ) -> Result<Pipeline, GpuError> {
+    let pass = &plan.passes[pass_index];
+    // Counting frames use the counting variant of every fragment shader (the probe always
+    // counts); timed frames never carry the counter.
+    let counter_base = plan.counter_base(pass_index, kind.counted_step());
+    let pick_frag = |plain, counting| {
+        if counter_base.is_some() {
+            counting
+        } else {
+            plain
+        }
+    };
     let (vert, frag) = match kind {
         PipelineKind::Scene => (
             if pass.draw_set == DrawSet::All {
@@ -248,31 +273,34 @@ pub(crate) fn pass_pipeline(
             } else {
                 &SCENE_VERT_INDIRECT
             },
-            if plan.count_fragments() {
-                &SCENE_FRAG_COUNTING
-            } else {
-                &SCENE_FRAG
-            },
+            pick_frag(&SCENE_FRAG, &SCENE_FRAG_COUNTING),
         ),
-        PipelineKind::Mask => (&MASK_VERT, &MASK_FRAG),
+        PipelineKind::Mask => (&MASK_VERT, pick_frag(&MASK_FRAG, &MASK_FRAG_COUNTING)),
         PipelineKind::Coverage => (&COVERAGE_VERT, &COVERAGE_FRAG),
-        PipelineKind::Composite => (&COMPOSITE_VERT, &COMPOSITE_FRAG),
-        PipelineKind::FarComposite => (&COMPOSITE_VERT, &FAR_COMPOSITE_FRAG),
+        PipelineKind::Composite => (
+            &COMPOSITE_VERT,
+            pick_frag(&COMPOSITE_FRAG, &COMPOSITE_FRAG_COUNTING),
+        ),
+        PipelineKind::FarComposite => (
+            &COMPOSITE_VERT,
+            pick_frag(&FAR_COMPOSITE_FRAG, &FAR_COMPOSITE_FRAG_COUNTING),
+        ),
     };
     let vert = shader_module(gpu, vert)?;
     let frag = shader_module(gpu, frag)?;
     // Specialisation constants, by id: 0 where the view index comes from, 1 the guard band's
-    // clip scale, 2 depth shift (the far composite), 3 depth into alpha (the far pass). Every
-    // stage gets the ones it declares.
+    // clip scale, 2 depth shift (the far composite), 3 depth into alpha (the far pass), 4 the
+    // step's first counter slot (counting frames). Every stage gets the ones it declares.
     let far_pass = pass.kind == PassKind::FarField;
     let depth_shift = plan
         .mffr
         .is_some_and(|m| m.config.variant == MffrVariant::DepthShift);
-    let constants: [(u32, [u8; 4]); 4] = [
+    let constants: [(u32, [u8; 4]); 5] = [
         (0, view_source(pass.submission).to_le_bytes()),
         (1, (1.0 / pass.guard_band as f32).to_le_bytes()),
         (2, (depth_shift as u32).to_le_bytes()),
         (3, (far_pass as u32).to_le_bytes()),
+        (4, counter_base.unwrap_or(0).to_le_bytes()),
     ];
     let spec_data: Vec<u8> = constants.iter().flat_map(|c| c.1).collect();
     let entries: Vec<vk::SpecializationMapEntry> = constants
@@ -292,9 +320,9 @@ pub(crate) fn pass_pipeline(
             .collect()
     };
     let (vert_ids, frag_ids): (&[u32], &[u32]) = match kind {
-        PipelineKind::Scene => (&[0, 1], &[3]),
-        PipelineKind::FarComposite => (&[1], &[0, 2]),
-        _ => (&[1], &[]),
+        PipelineKind::Scene => (&[0, 1], &[3, 4]),
+        PipelineKind::FarComposite => (&[1], &[0, 2, 4]),
+        _ => (&[1], &[4]),
     };
     let (vert_entries, frag_entries) = (pick(vert_ids), pick(frag_ids));
     let vert_spec = vk::SpecializationInfo::default()

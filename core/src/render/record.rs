@@ -120,6 +120,14 @@ impl Renderer<'_> {
                     _ => unreachable!("every planned pass has its pipelines"),
                 }
                 device.cmd_end_render_pass(cmd);
+                if self.counter.is_some() {
+                    // The next pass's counting atomics follow this one's.
+                    let atomics = (
+                        vk::PipelineStageFlags::FRAGMENT_SHADER,
+                        vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                    );
+                    memory_barrier(device, cmd, atomics, atomics);
+                }
                 if let Some(q) = &self.queries {
                     device.cmd_write_timestamp(
                         cmd,

@@ -18,7 +18,10 @@ use crate::gpu::{
 };
 use crate::metrics::RgbaImage;
 use crate::mffr::FAR_VIEW_INDEX;
-use crate::plan::{DrawSet, FramePlan, PassKind, PassPlan, TargetLayout, MAX_VIEWS};
+use crate::plan::{
+    CountedStep, DrawSet, FramePlan, PassKind, PassPlan, RenderConfig, TargetLayout,
+    COUNTER_SLOTS_PER_STEP, MAX_VIEWS,
+};
 use crate::scene::{Draw, Scene};
 use crate::view::{reverse_z_projection, Eye, FovTangents};
 
@@ -45,10 +48,14 @@ pub struct FrameStats {
     pub gpu_ms: Option<f64>,
     /// GPU time of each planned pass, in plan order (when timestamps are planned).
     pub gpu_pass_ms: Vec<f64>,
-    /// Fragments shaded per view (when fragment counting is planned; empty otherwise).
+    /// Fragments the scene draws shaded per eye view, over every eye pass (when fragment
+    /// counting is planned; empty otherwise). Masks, composites and probes are in
+    /// [`FrameStats::steps`].
     pub fragments: Vec<u64>,
-    /// Fragments the MFFR far pass shaded (when both are planned).
+    /// Fragments the MFFR far pass's scene draws shaded (when both are planned).
     pub far_fragments: Option<u64>,
+    /// Every counted step's fragments, per view, in recording order (counting frames only).
+    pub steps: Vec<StepFragments>,
     /// CPU time splitting the instances into the MFFR near and far sets (0 without MFFR).
     pub cpu_cull_ms: f64,
     /// Instances drawn by each scene pass, in plan order (every instance without culling).
@@ -57,6 +64,50 @@ pub struct FrameStats {
     pub draw_calls: u64,
     /// Triangles those draw commands submitted (per draw: triangles × instances).
     pub triangles: u64,
+}
+
+/// Fragments one step of a pass shaded, measured by the counting frame's atomics.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepFragments {
+    /// The pass's name, as the plan prints it.
+    pub pass: &'static str,
+    pub step: CountedStep,
+    /// Per view: views 0–3, then the MFFR far view.
+    pub views: [u64; COUNTER_SLOTS_PER_STEP as usize],
+}
+
+impl StepFragments {
+    pub fn total(&self) -> u64 {
+        self.views.iter().sum()
+    }
+}
+
+impl FrameStats {
+    /// Fragments every counted step shaded: the frame's whole fragment work.
+    pub fn total_fragments(&self) -> u64 {
+        self.steps.iter().map(StepFragments::total).sum()
+    }
+
+    /// Fragments the scene draws shaded, eye views and MFFR far view together.
+    pub fn scene_fragments(&self) -> u64 {
+        self.fragments_of(CountedStep::Scene)
+    }
+
+    /// Fragments the steps of one kind shaded, over passes and views.
+    pub fn fragments_of(&self, step: CountedStep) -> u64 {
+        self.per_view(step).iter().sum()
+    }
+
+    /// Fragments the steps of one kind shaded per view (0–3, then the far view), over passes.
+    pub fn per_view(&self, step: CountedStep) -> [u64; COUNTER_SLOTS_PER_STEP as usize] {
+        let mut views = [0; COUNTER_SLOTS_PER_STEP as usize];
+        for s in self.steps.iter().filter(|s| s.step == step) {
+            for (sum, n) in views.iter_mut().zip(s.views) {
+                *sum += n;
+            }
+        }
+        views
+    }
 }
 
 /// Draw commands and triangles recorded into the current frame.
@@ -195,7 +246,10 @@ impl<'g> Renderer<'g> {
         let mut composite = None;
         let far_composite = plan
             .far_pass()
-            .map(|p| FarComposite::new(gpu, &images[p.resolve.unwrap_or(p.color).attachment]))
+            .map(|p| {
+                let far_image = &images[p.resolve.unwrap_or(p.color).attachment];
+                FarComposite::new(gpu, far_image, counter.as_ref())
+            })
             .transpose()?;
         let mut passes = Vec::with_capacity(plan.passes.len());
         for (i, p) in plan.passes.iter().enumerate() {
@@ -204,7 +258,7 @@ impl<'g> Renderer<'g> {
                 pass_pipeline(
                     gpu,
                     plan,
-                    p,
+                    i,
                     kind,
                     compiled.render_pass.raw,
                     &bindings.layout,
@@ -217,7 +271,7 @@ impl<'g> Renderer<'g> {
                         (Some(f), Some(_)) => Some(pass_pipeline(
                             gpu,
                             plan,
-                            p,
+                            i,
                             PipelineKind::FarComposite,
                             compiled.render_pass.raw,
                             &f.set.layout,
@@ -238,9 +292,10 @@ impl<'g> Renderer<'g> {
                     composite = Some(Composite::new(
                         gpu,
                         plan,
-                        p,
+                        i,
                         compiled.render_pass.raw,
                         views,
+                        counter.as_ref(),
                     )?);
                     PassPipelines {
                         scene: None,
@@ -300,6 +355,11 @@ impl<'g> Renderer<'g> {
     /// raw tracker samples first ([`crate::foveation::GazeFilter`]).
     pub fn set_gaze(&mut self, gaze: [Vec2; 2]) {
         self.gaze = gaze;
+    }
+
+    /// Each eye's gaze for the next frame.
+    pub fn gaze(&self) -> [Vec2; 2] {
+        self.gaze
     }
 
     /// Renders one frame with the head at `world_from_head` and waits for it.
@@ -393,7 +453,7 @@ impl<'g> Renderer<'g> {
 
         let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;
         let (gpu_ms, gpu_pass_ms) = self.read_gpu_times()?;
-        let (fragments, far_fragments) = self.read_fragment_counts();
+        let steps = self.read_fragment_counts();
         let instances_drawn = self
             .plan
             .passes
@@ -406,19 +466,30 @@ impl<'g> Renderer<'g> {
                     .sum()
             })
             .collect();
-        Ok(FrameStats {
+        let mut stats = FrameStats {
             cpu_record_ms: ms(start, recorded),
             cpu_submit_ms: ms(recorded, submitted),
             frame_ms: ms(start, done) + cpu_cull_ms,
             gpu_ms,
             gpu_pass_ms,
-            fragments,
-            far_fragments,
+            fragments: Vec::new(),
+            far_fragments: None,
+            steps,
             cpu_cull_ms,
             instances_drawn,
             draw_calls: self.tally.get().calls,
             triangles: self.tally.get().triangles,
-        })
+        };
+        if self.counter.is_some() {
+            let scene = stats.per_view(CountedStep::Scene);
+            stats.fragments = scene[..self.plan.views as usize].to_vec();
+            stats.far_fragments = self
+                .plan
+                .mffr
+                .is_some()
+                .then_some(scene[FAR_VIEW_INDEX as usize]);
+        }
+        Ok(stats)
     }
 
     /// Frame and per-pass GPU times from the timestamps.
@@ -441,22 +512,23 @@ impl<'g> Renderer<'g> {
         Ok((Some(ms(ticks[0], ticks[ticks.len() - 1])), passes))
     }
 
-    /// Per-view counts, and the far view's when MFFR is planned.
-    fn read_fragment_counts(&mut self) -> (Vec<u64>, Option<u64>) {
-        let views = self.plan.views as usize;
-        let far = self.plan.mffr.is_some();
+    /// Every counted step's per-view counts (empty without fragment counting).
+    fn read_fragment_counts(&mut self) -> Vec<StepFragments> {
         let Some(c) = self.counter.as_mut() else {
-            return (Vec::new(), None);
+            return Vec::new();
         };
-        let counts: Vec<u64> = c
-            .read_u32s(FAR_VIEW_INDEX as usize + 1)
-            .into_iter()
-            .map(u64::from)
-            .collect();
-        (
-            counts[..views].to_vec(),
-            far.then(|| counts[FAR_VIEW_INDEX as usize]),
-        )
+        let per_step = COUNTER_SLOTS_PER_STEP as usize;
+        let counts = c.read_u32s(per_step * self.plan.counted.len());
+        self.plan
+            .counted
+            .iter()
+            .zip(counts.chunks_exact(per_step))
+            .map(|(slot, views)| StepFragments {
+                pass: self.plan.passes[slot.pass].name,
+                step: slot.step,
+                views: std::array::from_fn(|v| u64::from(views[v])),
+            })
+            .collect()
     }
 
     /// The draws a pass records this frame.
@@ -567,6 +639,22 @@ impl<'g> Renderer<'g> {
     pub fn lazy_attachments(&self) -> usize {
         self.images.iter().filter(|i| i.lazy).count()
     }
+}
+
+/// Renders one counting frame of `config` (fragment counters on, no timestamps: its time is no
+/// measurement) with each eye's `gaze` and the head at `world_from_head`. Timed frames run
+/// without counters; their fragment counts come from here.
+pub fn counting_frame(
+    gpu: &Gpu,
+    scene: &Scene,
+    config: &RenderConfig,
+    gaze: [Vec2; 2],
+    world_from_head: Mat4,
+) -> Result<FrameStats, GpuError> {
+    let plan = crate::plan(scene, &config.counting(), gpu.caps())?;
+    let mut renderer = Renderer::new(gpu, &plan, scene)?;
+    renderer.set_gaze(gaze);
+    renderer.render_frame(world_from_head)
 }
 
 /// The stencil shapes of a frame (see `shaders/mask.vert`): per view, what it keeps ([0..4)) and

@@ -23,15 +23,22 @@ pub(crate) struct SampledSet {
 
 impl SampledSet {
     /// Binding 0: `image` (every layer: an array view when it has more than one); binding 1: a
-    /// uniform block of `uniform_bytes`; `push_bytes` of fragment push constants (0 for none).
+    /// uniform block of `uniform_bytes`; binding 2, in counting frames only, the fragment
+    /// counter; `push_bytes` of fragment push constants (0 for none).
     pub fn new(
         gpu: &Gpu,
         image: &Image,
         uniform_bytes: u64,
         push_bytes: u32,
+        counter: Option<&Buffer>,
     ) -> Result<Self, GpuError> {
         let device = gpu.device();
-        let bindings = [
+        let counter_binding = vk::DescriptorSetLayoutBinding::default()
+            .binding(2)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::FRAGMENT);
+        let mut bindings = vec![
             vk::DescriptorSetLayoutBinding::default()
                 .binding(0)
                 .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
@@ -43,6 +50,7 @@ impl SampledSet {
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::FRAGMENT),
         ];
+        bindings.extend(counter.map(|_| counter_binding));
         // SAFETY: plain object creation; every handle is owned by the returned value.
         let set_layout = DescriptorSetLayout::from_raw(
             &gpu.dev,
@@ -54,16 +62,13 @@ impl SampledSet {
             }
             .vk("vkCreateDescriptorSetLayout")?,
         );
-        let sizes = [
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+        let sizes: Vec<vk::DescriptorPoolSize> = bindings
+            .iter()
+            .map(|b| vk::DescriptorPoolSize {
+                ty: b.descriptor_type,
                 descriptor_count: 1,
-            },
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::UNIFORM_BUFFER,
-                descriptor_count: 1,
-            },
-        ];
+            })
+            .collect();
         let pool = DescriptorPool::from_raw(
             &gpu.dev,
             unsafe {
@@ -115,7 +120,14 @@ impl SampledSet {
             offset: 0,
             range: vk::WHOLE_SIZE,
         }];
-        let writes = [
+        let counter_info = counter.map(|c| {
+            [vk::DescriptorBufferInfo {
+                buffer: c.raw,
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }]
+        });
+        let mut writes = vec![
             vk::WriteDescriptorSet::default()
                 .dst_set(set)
                 .dst_binding(0)
@@ -127,6 +139,15 @@ impl SampledSet {
                 .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
                 .buffer_info(&buffer_info),
         ];
+        if let Some(info) = &counter_info {
+            writes.push(
+                vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(2)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(info),
+            );
+        }
         unsafe { device.update_descriptor_sets(&writes, &[]) };
         let push = [vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::FRAGMENT,

@@ -18,6 +18,7 @@ use glam::Mat4;
 use serde::Serialize;
 
 use super::{BenchArgs, Settings, Toggles};
+use crate::csv_out::CsvTable;
 use crate::side_by_side::measure_group;
 
 /// One approximation: its time and its error against the reference.
@@ -201,19 +202,24 @@ pub fn table(points: &[AccuracyPoint]) -> String {
     t
 }
 
-pub fn csv(points: &[AccuracyPoint]) -> String {
-    let mut csv = String::from("family,approximation,frame_ms,ratio,psnr_db,ssim\n");
+pub fn csv(points: &[AccuracyPoint]) -> Result<String> {
+    let mut csv = CsvTable::new(&[
+        "family",
+        "approximation",
+        "frame_ms",
+        "ratio",
+        "psnr_db",
+        "ssim",
+    ])?;
     for p in points {
-        let _ = writeln!(
-            csv,
-            "{},{},{:.4},{:.4},{},{:.5}",
-            p.family,
-            p.name,
-            p.frame_ms,
-            p.ratio,
-            p.psnr_db.map_or("inf".into(), |d| format!("{d:.3}")),
-            p.ssim
-        );
+        csv.row(&[
+            &p.family,
+            &p.name,
+            &format!("{:.4}", p.frame_ms),
+            &format!("{:.4}", p.ratio),
+            &p.psnr_db.map_or("inf".into(), |d| format!("{d:.3}")),
+            &format!("{:.5}", p.ssim),
+        ])?;
     }
-    csv
+    csv.into_string()
 }

@@ -15,7 +15,7 @@ use clap::Args;
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::mffr::{MffrConfig, SplitDistance};
-use foveate::plan::{FramePlan, RenderConfig, Resolution};
+use foveate::plan::{FramePlan, Resolution};
 use foveate::render::Renderer;
 use foveate::scene::{rail_pose, Instance, ThesisScene, RAIL_LOOP_FRAMES};
 
@@ -154,10 +154,10 @@ pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         .map(|(_, &f)| f)
         .collect();
     let total = rows.len() as u64 * (args.warmup + args.frames + counted.len() as u64);
-    let mut done = 0;
-    let mut tick = |label: &str| {
-        done += 1;
-        crate::cli::progress(label, done, total);
+    let bar = crate::progress::bar("bench", total);
+    let tick = |label: &str| {
+        bar.set_message(label.to_string());
+        bar.inc(1);
     };
     // What each renderer allocates, measured with no other renderer alive (alignment padding
     // depends on what else the allocator holds).
@@ -196,20 +196,16 @@ pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         if counted.is_empty() {
             break;
         }
-        let config = RenderConfig {
-            count_fragments: true,
-            timestamps: false,
-            ..row.config.clone()
-        };
+        let config = row.config.counting();
         let mut twin = Renderer::new(&gpu, &foveate::plan(&scene, &config, gpu.caps())?, &scene)?;
         for &frame in &counted {
             let stats = twin.render_frame(pose(frame))?;
-            let pixels = stats.fragments.iter().sum::<u64>() + stats.far_fragments.unwrap_or(0);
             if let Some(s) = samples
                 .iter_mut()
                 .find(|s| s.config == i && s.rail_frame == frame)
             {
-                s.pixels = Some(pixels);
+                s.pixels = Some(stats.scene_fragments());
+                s.total_pixels = Some(stats.total_fragments());
             }
             tick("bench (pixel counts)");
         }

@@ -14,6 +14,7 @@ use serde::Serialize;
 
 use super::accuracy::AccuracyPoint;
 use super::{BenchArgs, Settings, Toggles};
+use crate::csv_out::{opt, CsvTable};
 
 /// One measured configuration.
 pub struct Row {
@@ -49,8 +50,10 @@ pub struct FrameSample {
     pub gpu_ms: f64,
     pub draw_calls: u64,
     pub triangles: u64,
-    /// Fragments shaded, all views (on the counted frames).
+    /// Fragments the scene draws shaded, all views (on the counted frames).
     pub pixels: Option<u64>,
+    /// Fragments every pass shaded: masks, composites and probes too (on the counted frames).
+    pub total_pixels: Option<u64>,
 }
 
 impl FrameSample {
@@ -65,6 +68,7 @@ impl FrameSample {
             draw_calls: s.draw_calls,
             triangles: s.triangles,
             pixels: None,
+            total_pixels: None,
         }
     }
 }
@@ -122,7 +126,9 @@ pub struct RowSummary {
     pub gpu_ms: Summary,
     pub draw_calls: Summary,
     pub triangles: Summary,
+    /// Fragments the scene draws shaded, and every pass (composition included).
     pub pixels: Option<Summary>,
+    pub total_pixels: Option<Summary>,
     /// Median and mean frame time over the baseline's, measured in the same run.
     pub ratio_median: f64,
     pub ratio_mean: f64,
@@ -193,11 +199,14 @@ impl Report {
             .map(|(i, row)| {
                 let plan = &plans[i];
                 let frame = of(i, &|s| s.frame_ms);
-                let counted: Vec<f64> = samples
-                    .iter()
-                    .filter(|s| s.config == i)
-                    .filter_map(|s| s.pixels.map(|p| p as f64))
-                    .collect();
+                let counted = |f: fn(&FrameSample) -> Option<u64>| {
+                    let values: Vec<f64> = samples
+                        .iter()
+                        .filter(|s| s.config == i)
+                        .filter_map(|s| f(s).map(|p| p as f64))
+                        .collect();
+                    (!values.is_empty()).then(|| Summary::of(values.into_iter()))
+                };
                 RowSummary {
                     name: row.name.clone(),
                     toggles: row.toggles,
@@ -207,7 +216,8 @@ impl Report {
                     gpu_ms: of(i, &|s| s.gpu_ms),
                     draw_calls: of(i, &|s| s.draw_calls as f64),
                     triangles: of(i, &|s| s.triangles as f64),
-                    pixels: (!counted.is_empty()).then(|| Summary::of(counted.into_iter())),
+                    pixels: counted(|s| s.pixels),
+                    total_pixels: counted(|s| s.total_pixels),
                     ratio_median: frame.median / base_frame.median,
                     ratio_mean: frame.mean / base_frame.mean,
                     memory: Memory {
@@ -256,10 +266,10 @@ impl Report {
             std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
         };
         write("tables.md", &tables)?;
-        let frames_csv = self.frames_csv();
+        let frames_csv = self.frames_csv()?;
         write("frames.csv", &frames_csv)?;
-        write("summary.csv", &self.summary_csv())?;
-        write("accuracy.csv", &super::accuracy::csv(&self.accuracy))?;
+        write("summary.csv", &self.summary_csv()?)?;
+        write("accuracy.csv", &super::accuracy::csv(&self.accuracy)?)?;
         let json_text = serde_json::to_string_pretty(self)?;
         write("bench.json", &json_text)?;
         for (path, text) in [(csv, &frames_csv), (json, &json_text)] {
@@ -347,25 +357,28 @@ impl Report {
             t,
             "## Per frame: CPU time, draw calls, triangles, pixels shaded (medians)\n"
         );
-        let _ = writeln!(t, "CPU: culling, recording and submission. Triangles: as submitted by the draw calls (a multiview draw counts once). Pixels: fragments shaded in all views, counted on every sampled frame by a separate counting renderer.\n");
+        let _ = writeln!(t, "CPU: culling, recording and submission. Draw calls and triangles: as recorded by the timed frames (a multiview draw counts once). Pixels: fragments shaded, counted on every sampled frame by a separate counting renderer (timed frames carry no counters) — by the scene draws in all views, and by every pass (mask fans, MFFR far composite, foveated composition included).\n");
         let _ = writeln!(
             t,
-            "| config | cpu ms | draw calls | triangles | pixels shaded | pixels vs baseline |"
+            "| config | cpu ms | draw calls | triangles | scene pixels | vs baseline | all passes' pixels | vs baseline |"
         );
-        let _ = writeln!(t, "|---|---|---|---|---|---|");
+        let _ = writeln!(t, "|---|---|---|---|---|---|---|---|");
         let base_pixels = self.rows[0].pixels.map(|p| p.median);
+        let base_total = self.rows[0].total_pixels.map(|p| p.median);
+        let cells = |px: Option<f64>, base: Option<f64>| {
+            (
+                px.map_or("–".into(), |p| format!("{p:.0}")),
+                px.zip(base)
+                    .map_or("–".into(), |(p, b)| format!("{:.3}", p / b)),
+            )
+        };
         for r in &self.rows {
-            let px = r.pixels.map(|p| p.median);
+            let (scene, scene_ratio) = cells(r.pixels.map(|p| p.median), base_pixels);
+            let (total, total_ratio) = cells(r.total_pixels.map(|p| p.median), base_total);
             let _ = writeln!(
                 t,
-                "| {} | {:.2} | {:.0} | {:.0} | {} | {} |",
-                r.name,
-                r.cpu_ms.median,
-                r.draw_calls.median,
-                r.triangles.median,
-                px.map_or("–".into(), |p| format!("{p:.0}")),
-                px.zip(base_pixels)
-                    .map_or("–".into(), |(p, b)| format!("{:.3}", p / b))
+                "| {} | {:.2} | {:.0} | {:.0} | {scene} | {scene_ratio} | {total} | {total_ratio} |",
+                r.name, r.cpu_ms.median, r.draw_calls.median, r.triangles.median,
             );
         }
         let _ = writeln!(t, "\n## Memory and traffic (thesis Table 6.3 in form)\n");
@@ -428,56 +441,86 @@ impl Report {
         t
     }
 
-    fn frames_csv(&self) -> String {
-        let mut csv = String::from(
-            "config,rail_frame,frame_ms,cpu_ms,cull_ms,gpu_ms,draw_calls,triangles,pixels\n",
-        );
+    fn frames_csv(&self) -> Result<String> {
+        let mut csv = CsvTable::new(&[
+            "config",
+            "rail_frame",
+            "frame_ms",
+            "cpu_ms",
+            "cull_ms",
+            "gpu_ms",
+            "draw_calls",
+            "triangles",
+            "pixels",
+            "total_pixels",
+        ])?;
+        let count = |c: Option<u64>| c.map_or(String::new(), |p| p.to_string());
         for s in &self.samples {
-            let _ = writeln!(
-                csv,
-                "{},{},{:.4},{:.4},{:.4},{:.4},{},{},{}",
-                self.rows[s.config].name,
-                s.rail_frame,
-                s.frame_ms,
-                s.cpu_ms,
-                s.cull_ms,
-                s.gpu_ms,
-                s.draw_calls,
-                s.triangles,
-                s.pixels.map_or(String::new(), |p| p.to_string())
-            );
+            csv.row(&[
+                &self.rows[s.config].name,
+                &s.rail_frame,
+                &format!("{:.4}", s.frame_ms),
+                &format!("{:.4}", s.cpu_ms),
+                &format!("{:.4}", s.cull_ms),
+                &format!("{:.4}", s.gpu_ms),
+                &s.draw_calls,
+                &s.triangles,
+                &count(s.pixels),
+                &count(s.total_pixels),
+            ])?;
         }
-        csv
+        csv.into_string()
     }
 
-    fn summary_csv(&self) -> String {
-        let mut csv = String::from("config,frame_median_ms,frame_mean_ms,gpu_median_ms,gpu_mean_ms,cull_median_ms,cull_mean_ms,cpu_median_ms,draw_calls,triangles,pixels,ratio_median,ratio_mean,resident_bytes,transient_bytes,effect_buffer_bytes,allocated_bytes,traffic_bytes\n");
+    fn summary_csv(&self) -> Result<String> {
+        let mut csv = CsvTable::new(&[
+            "config",
+            "frame_median_ms",
+            "frame_mean_ms",
+            "gpu_median_ms",
+            "gpu_mean_ms",
+            "cull_median_ms",
+            "cull_mean_ms",
+            "cpu_median_ms",
+            "draw_calls",
+            "triangles",
+            "pixels",
+            "total_pixels",
+            "ratio_median",
+            "ratio_mean",
+            "resident_bytes",
+            "transient_bytes",
+            "effect_buffer_bytes",
+            "allocated_bytes",
+            "traffic_bytes",
+        ])?;
+        let f4 = |v: f64| format!("{v:.4}");
+        let median = |s: Option<Summary>| opt(s.map(|p| p.median), 0);
         for r in &self.rows {
             let m = &r.memory;
-            let _ = writeln!(
-                csv,
-                "{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.0},{:.0},{},{:.4},{:.4},{},{},{},{},{}",
-                r.name,
-                r.frame_ms.median,
-                r.frame_ms.mean,
-                r.gpu_ms.median,
-                r.gpu_ms.mean,
-                r.cull_ms.median,
-                r.cull_ms.mean,
-                r.cpu_ms.median,
-                r.draw_calls.median,
-                r.triangles.median,
-                r.pixels.map_or(String::new(), |p| format!("{:.0}", p.median)),
-                r.ratio_median,
-                r.ratio_mean,
-                m.resident_bytes,
-                m.transient_bytes,
-                m.effect_buffer_bytes,
-                m.allocated_bytes,
-                m.traffic_bytes
-            );
+            csv.row(&[
+                &r.name,
+                &f4(r.frame_ms.median),
+                &f4(r.frame_ms.mean),
+                &f4(r.gpu_ms.median),
+                &f4(r.gpu_ms.mean),
+                &f4(r.cull_ms.median),
+                &f4(r.cull_ms.mean),
+                &f4(r.cpu_ms.median),
+                &format!("{:.0}", r.draw_calls.median),
+                &format!("{:.0}", r.triangles.median),
+                &median(r.pixels),
+                &median(r.total_pixels),
+                &f4(r.ratio_median),
+                &f4(r.ratio_mean),
+                &m.resident_bytes,
+                &m.transient_bytes,
+                &m.effect_buffer_bytes,
+                &m.allocated_bytes,
+                &m.traffic_bytes,
+            ])?;
         }
-        csv
+        csv.into_string()
     }
 }
 

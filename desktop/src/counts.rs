@@ -1,0 +1,52 @@
+//! Printing what a counting frame measured: fragments per step and view, scene and total.
+
+use foveate::plan::CountedStep;
+use foveate::render::FrameStats;
+
+const VIEW_NAMES: [&str; 5] = [
+    "left eye",
+    "right eye",
+    "left fovea",
+    "right fovea",
+    "far view",
+];
+
+/// The counting frame's fragments: the scene's and the whole frame's, then every counted step
+/// per view (`view_pixels`, the pixels of one view of the scene pass, scales the scene draws to
+/// fragments per pixel).
+pub fn print_fragments(counts: &FrameStats, view_pixels: u64) {
+    println!(
+        "  fragments (a separate counting frame): scene {}, total {} (every pass: masks, composites, probes included)",
+        counts.scene_fragments(),
+        counts.total_fragments()
+    );
+    for step in &counts.steps {
+        let views: Vec<String> = step
+            .views
+            .iter()
+            .enumerate()
+            .filter(|&(_, &n)| n > 0)
+            .map(|(v, &n)| {
+                if step.step == CountedStep::Scene {
+                    format!(
+                        "{} {n} ({:.3}/px)",
+                        VIEW_NAMES[v],
+                        n as f64 / view_pixels as f64
+                    )
+                } else {
+                    format!("{} {n}", VIEW_NAMES[v])
+                }
+            })
+            .collect();
+        println!(
+            "    {} / {}: {}",
+            step.pass,
+            step.step.name(),
+            if views.is_empty() {
+                "0".to_string()
+            } else {
+                views.join(", ")
+            }
+        );
+    }
+}
