@@ -41,21 +41,24 @@ fn batch(c: &mut Criterion) {
     group.bench_function("sphere-superfrustum", |b| {
         b.iter(|| {
             out.clear();
-            soa.frustum_union(std::slice::from_ref(&superfrustum.frustum), 0..n, &mut out);
+            soa.frustum_union(std::slice::from_ref(&superfrustum.frustum), 0..n, &mut out)
+                .expect("valid batch input");
             out.len()
         })
     });
     group.bench_function("sphere-per-eye frusta", |b| {
         b.iter(|| {
             out.clear();
-            soa.frustum_union(&frusta.eyes, 0..n, &mut out);
+            soa.frustum_union(&frusta.eyes, 0..n, &mut out)
+                .expect("valid batch input");
             out.len()
         })
     });
     group.bench_function("sphere-dual-cone", |b| {
         b.iter(|| {
             out.clear();
-            soa.cone_union(&cones, 0..n, &mut out);
+            soa.cone_union(&cones, 0..n, &mut out)
+                .expect("valid batch input");
             out.len()
         })
     });

@@ -93,7 +93,7 @@ pub struct ConfigArgs {
     #[arg(long)]
     pub no_stencil: bool,
     /// Gaze of both eyes, normalised: X,Y in -1..1 (x right, y up).
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub gaze: Option<Vec<f32>>,
     /// Tint the composed image: fovea green, band yellow, periphery blue.
     #[arg(long)]

@@ -32,7 +32,7 @@ pub struct CompareArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         default_value = "0,0"
     )]
     gaze: Vec<f32>,

@@ -117,7 +117,10 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
             counts,
         });
         // Per pixel of the views the scene pass renders (the foveated views are smaller).
-        let pixels = plan.foveation.map_or(plan.eye_resolution, |g| g.view).pixels();
+        let pixels = plan
+            .foveation
+            .map_or(plan.eye_resolution, |g| g.view)
+            .pixels();
         print_result(results.last().expect("just pushed"), pixels);
     }
     if results.len() > 1 {

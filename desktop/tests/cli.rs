@@ -300,7 +300,7 @@ fn render_foveated_with_gaze_tint_and_the_fill_scene() {
         "--foveate",
         "0.5",
         "--gaze",
-        "0.4,-0.3",
+        "-0.4,-0.3", // a leading minus is a number, not a flag
         "--tint",
         "--out",
         out.to_str().unwrap(),
@@ -360,7 +360,7 @@ fn compare_prints_time_and_error_per_region() {
         "--msaa",
         "4",
         "--gaze",
-        "0.2,0.1",
+        "-0.2,0.1",
         "--csv",
         csv.to_str().unwrap(),
     ]);

@@ -32,14 +32,30 @@ fn culled_frames_equal_unculled_frames_and_draw_fewer_instances() {
     let scene = thesis();
     let total = scene.instance_count() as u64;
     for stereo in [StereoMode::Multiview, StereoMode::TwoPass] {
-        let (reference, all) = render(&gpu, &scene, &config(stereo, None));
-        assert!(all.instances_drawn.iter().all(|&n| n == total));
-        for strategy in [Strategy::PerEye, Strategy::Superfrustum, Strategy::DualCone] {
+        for strategy in [
+            Strategy::PerEye,
+            Strategy::Superfrustum,
+            Strategy::DualCone,
+            Strategy::DualEllipticalCone,
+        ] {
+            // Lens-region culling is compared under the HMD mask it requires; with the mask the
+            // culled frame is still the unculled (masked) frame, pixel for pixel.
+            let hmd_mask = strategy.culls_to_lens();
+            let unculled = RenderConfig {
+                hmd_mask,
+                ..config(stereo, None)
+            };
+            let (reference, all) = render(&gpu, &scene, &unculled);
+            assert!(all.instances_drawn.iter().all(|&n| n == total));
             let culling = CullConfig {
                 strategy,
                 draw_distance: 900.0,
             };
-            let (image, stats) = render(&gpu, &scene, &config(stereo, Some(culling)));
+            let culled = RenderConfig {
+                hmd_mask,
+                ..config(stereo, Some(culling))
+            };
+            let (image, stats) = render(&gpu, &scene, &culled);
             assert_eq!(image, reference, "{stereo} {}", strategy.name());
             assert!(
                 stats.instances_drawn.iter().all(|&n| n > 0 && n < total),
@@ -49,6 +65,24 @@ fn culled_frames_equal_unculled_frames_and_draw_fewer_instances() {
             );
             assert!(stats.triangles < all.triangles && stats.draw_calls > 0);
         }
+    }
+}
+
+/// Lens-region culling without the HMD mask would drop objects the frame still shows: it is
+/// refused with an error naming the field. Mutation: removing the check lets the plan through.
+#[test]
+fn lens_region_culling_needs_the_hmd_mask() {
+    let scene = thesis();
+    let caps = gpu().caps().clone();
+    for strategy in [Strategy::DualCone, Strategy::DualEllipticalCone] {
+        let culling = Some(CullConfig {
+            strategy,
+            draw_distance: 900.0,
+        });
+        let error =
+            foveate::plan(&scene, &config(StereoMode::Multiview, culling), &caps).unwrap_err();
+        assert_eq!(error.field, "culling");
+        assert!(error.to_string().contains("HMD mask"), "{error}");
     }
 }
 

@@ -121,6 +121,31 @@ fn eyes_see_the_expected_disparity() {
     );
 }
 
+/// A renderer given a plan made for another scene refuses it with an error naming both
+/// instance counts (it used to panic writing the culled ids into a buffer sized for the
+/// planned scene). Mutation: removing the check in `Renderer::new` panics here.
+#[test]
+fn a_plan_for_another_scene_is_an_error() {
+    let gpu = gpu();
+    let small = foveate::scene::Scene::empty();
+    let scene = default_scene();
+    let config = RenderConfig {
+        culling: Some(foveate::plan::CullConfig::THESIS),
+        stereo: StereoMode::TwoPass,
+        ..config(StereoMode::TwoPass, 1)
+    };
+    let plan = foveate::plan(&small, &config, gpu.caps()).unwrap();
+    let err = foveate::render::Renderer::new(&gpu, &plan, &scene)
+        .err()
+        .expect("refused");
+    let text = err.to_string();
+    assert!(
+        text.contains(&format!("{} instances", scene.instance_count()))
+            && text.contains("(0 instances)"),
+        "{text}"
+    );
+}
+
 /// Reading back before rendering is an error, not a panic.
 #[test]
 fn readback_before_any_frame_is_an_error() {

@@ -9,6 +9,21 @@ use glam::Vec3;
 
 use super::{Cone, Frustum, Sphere};
 
+/// Input a public batch test cannot run on.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum BatchError {
+    #[error("invalid volumes = {0}: a batch union tests 1 or 2 volumes")]
+    VolumeCount(usize),
+    #[error("invalid sphere arrays: x, y, z, r have lengths {0:?}; all four must be equal")]
+    Lengths([usize; 4]),
+    #[error("invalid range = {start}..{end}: within 0..{len}, start ≤ end")]
+    Range {
+        start: usize,
+        end: usize,
+        len: usize,
+    },
+}
+
 /// Sphere bounds as four parallel arrays.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SphereSoa {
@@ -48,7 +63,57 @@ impl SphereSoa {
     }
 
     /// Appends the indices in `range` whose sphere may touch any of `frusta` (1 or 2).
-    pub fn frustum_union(&self, frusta: &[Frustum], range: Range<usize>, out: &mut Vec<u32>) {
+    pub fn frustum_union(
+        &self,
+        frusta: &[Frustum],
+        range: Range<usize>,
+        out: &mut Vec<u32>,
+    ) -> Result<(), BatchError> {
+        self.check(frusta.len(), &range)?;
+        self.frustum_union_unchecked(frusta, range, out);
+        Ok(())
+    }
+
+    /// Appends the indices in `range` whose sphere may touch any of `cones` (1 or 2).
+    pub fn cone_union(
+        &self,
+        cones: &[Cone],
+        range: Range<usize>,
+        out: &mut Vec<u32>,
+    ) -> Result<(), BatchError> {
+        self.check(cones.len(), &range)?;
+        self.cone_union_unchecked(cones, range, out);
+        Ok(())
+    }
+
+    /// What the public unions accept: 1 or 2 volumes, four arrays of one length, a range
+    /// within them.
+    fn check(&self, volumes: usize, range: &Range<usize>) -> Result<(), BatchError> {
+        if !(1..=2).contains(&volumes) {
+            return Err(BatchError::VolumeCount(volumes));
+        }
+        let lengths = [self.x.len(), self.y.len(), self.z.len(), self.r.len()];
+        if lengths.iter().any(|&l| l != lengths[0]) {
+            return Err(BatchError::Lengths(lengths));
+        }
+        if range.start > range.end || range.end > lengths[0] {
+            return Err(BatchError::Range {
+                start: range.start,
+                end: range.end,
+                len: lengths[0],
+            });
+        }
+        Ok(())
+    }
+
+    /// [`Self::frustum_union`] for the strategies' own calls, whose volumes and ranges come
+    /// from the hierarchy and are valid by construction.
+    pub(crate) fn frustum_union_unchecked(
+        &self,
+        frusta: &[Frustum],
+        range: Range<usize>,
+        out: &mut Vec<u32>,
+    ) {
         match frusta {
             [a] => self.run(range, out, |s, m| {
                 frustum_mask(&[FrustumParams::new(a)], s, m)
@@ -56,18 +121,23 @@ impl SphereSoa {
             [a, b] => self.run(range, out, |s, m| {
                 frustum_mask(&[FrustumParams::new(a), FrustumParams::new(b)], s, m)
             }),
-            _ => panic!("frustum_union takes one or two frusta"),
+            _ => unreachable!("callers pass one or two frusta"),
         }
     }
 
-    /// Appends the indices in `range` whose sphere may touch any of `cones` (1 or 2).
-    pub fn cone_union(&self, cones: &[Cone], range: Range<usize>, out: &mut Vec<u32>) {
+    /// [`Self::cone_union`] for the strategies' own calls (see `frustum_union_unchecked`).
+    pub(crate) fn cone_union_unchecked(
+        &self,
+        cones: &[Cone],
+        range: Range<usize>,
+        out: &mut Vec<u32>,
+    ) {
         match cones {
             [a] => self.run(range, out, |s, m| cone_mask(&[ConeParams::new(a)], s, m)),
             [a, b] => self.run(range, out, |s, m| {
                 cone_mask(&[ConeParams::new(a), ConeParams::new(b)], s, m)
             }),
-            _ => panic!("cone_union takes one or two cones"),
+            _ => unreachable!("callers pass one or two cones"),
         }
     }
 
@@ -262,16 +332,59 @@ mod tests {
             ));
         }
         let mut batch = Vec::new();
-        soa.frustum_union(&[frustum], 0..soa.len(), &mut batch);
+        soa.frustum_union(&[frustum], 0..soa.len(), &mut batch)
+            .unwrap();
         let scalar: Vec<u32> = (0..soa.len() as u32)
             .filter(|&i| frustum.intersects_sphere(&soa.get(i as usize)))
             .collect();
         assert_eq!(batch, scalar);
         let mut batch = Vec::new();
-        soa.cone_union(&[cone], 10..soa.len(), &mut batch);
+        soa.cone_union(&[cone], 10..soa.len(), &mut batch).unwrap();
         let scalar: Vec<u32> = (10..soa.len() as u32)
             .filter(|&i| cone.intersects_sphere(&soa.get(i as usize)))
             .collect();
         assert_eq!(batch, scalar);
+    }
+
+    /// Mismatched input is an error naming it, not a panic. Mutation: dropping `check` panics
+    /// (slice out of range) or silently tests nothing.
+    #[test]
+    fn bad_input_is_an_error() {
+        let mut soa = SphereSoa::default();
+        for i in 0..4 {
+            soa.push(Sphere::new(Vec3::splat(i as f32), 1.0));
+        }
+        let frustum = Frustum::from_eye(
+            glam::Mat4::IDENTITY,
+            crate::view::FovTangents::symmetric_deg(90.0, 90.0),
+            0.1,
+            100.0,
+        );
+        let mut out = Vec::new();
+        assert_eq!(
+            soa.frustum_union(&[frustum; 3], 0..4, &mut out),
+            Err(BatchError::VolumeCount(3))
+        );
+        assert_eq!(
+            soa.frustum_union(&[], 0..4, &mut out),
+            Err(BatchError::VolumeCount(0))
+        );
+        assert_eq!(
+            soa.frustum_union(&[frustum], 2..9, &mut out),
+            Err(BatchError::Range {
+                start: 2,
+                end: 9,
+                len: 4
+            })
+        );
+        soa.r.pop();
+        assert_eq!(
+            soa.cone_union(&[], 0..3, &mut out),
+            Err(BatchError::VolumeCount(0))
+        );
+        let err = soa.frustum_union(&[frustum], 0..3, &mut out).unwrap_err();
+        assert_eq!(err, BatchError::Lengths([4, 4, 4, 3]));
+        assert!(err.to_string().contains("[4, 4, 4, 3]"));
+        assert!(out.is_empty());
     }
 }

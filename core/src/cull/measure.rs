@@ -153,12 +153,12 @@ pub fn hale_tables(side: usize, passes: usize) -> Vec<MicroRow> {
     let mut out = Vec::with_capacity(n);
     row("batch", "sphere-frustum, SoA batch", n, &mut || {
         out.clear();
-        soa.frustum_union(std::slice::from_ref(&frustum), 0..n, &mut out);
+        soa.frustum_union_unchecked(std::slice::from_ref(&frustum), 0..n, &mut out);
         out.len() as u64
     });
     row("batch", "sphere-cone, SoA batch", n, &mut || {
         out.clear();
-        soa.cone_union(std::slice::from_ref(&cone), 0..n, &mut out);
+        soa.cone_union_unchecked(std::slice::from_ref(&cone), 0..n, &mut out);
         out.len() as u64
     });
     row(
@@ -167,13 +167,13 @@ pub fn hale_tables(side: usize, passes: usize) -> Vec<MicroRow> {
         n,
         &mut || {
             out.clear();
-            soa.frustum_union(&[frustum, second_frustum], 0..n, &mut out);
+            soa.frustum_union_unchecked(&[frustum, second_frustum], 0..n, &mut out);
             out.len() as u64
         },
     );
     row("batch", "sphere-dual-cone, SoA batch", n, &mut || {
         out.clear();
-        soa.cone_union(&[cone, second_cone], 0..n, &mut out);
+        soa.cone_union_unchecked(&[cone, second_cone], 0..n, &mut out);
         out.len() as u64
     });
     row("4.2", "point-frustum", n, &mut || {

@@ -15,7 +15,7 @@ pub mod oracle;
 mod stereo;
 mod triangle;
 
-pub use batch::{batch_kernel, SphereSoa};
+pub use batch::{batch_kernel, BatchError, SphereSoa};
 pub use bounds::{Aabb, Relation, Sphere};
 pub use cone::{Cone, ConeView, EllipticalCone};
 pub use frustum::Frustum;

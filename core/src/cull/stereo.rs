@@ -39,7 +39,7 @@ impl StereoCull for Frustum {
     }
 
     fn spheres(&self, soa: &SphereSoa, range: std::ops::Range<usize>, out: &mut Vec<u32>) {
-        soa.frustum_union(std::slice::from_ref(self), range, out);
+        soa.frustum_union_unchecked(std::slice::from_ref(self), range, out);
     }
 }
 
@@ -89,7 +89,7 @@ impl StereoCull for PerEye {
     }
 
     fn spheres(&self, soa: &SphereSoa, range: std::ops::Range<usize>, out: &mut Vec<u32>) {
-        soa.frustum_union(&self.frusta.eyes, range, out);
+        soa.frustum_union_unchecked(&self.frusta.eyes, range, out);
     }
 }
 
@@ -223,7 +223,7 @@ macro_rules! single_frustum_culler {
             }
 
             fn spheres(&self, soa: &SphereSoa, range: std::ops::Range<usize>, out: &mut Vec<u32>) {
-                soa.frustum_union(std::slice::from_ref(&self.frustum), range, out);
+                soa.frustum_union_unchecked(std::slice::from_ref(&self.frustum), range, out);
             }
         }
     };
@@ -363,7 +363,7 @@ impl StereoCull for DualCone {
                     .map(|i| i as u32),
             );
         } else {
-            soa.cone_union(&self.cones, range, out);
+            soa.cone_union_unchecked(&self.cones, range, out);
         }
     }
 }
@@ -410,6 +410,12 @@ impl Strategy {
         Strategy::DualEllipticalCone,
         Strategy::RoundRobin,
     ];
+
+    /// Whether the strategy culls to the lens-visible region (the cones), dropping objects
+    /// the lens hides but the frustum shows: correct only where the HMD mask hides them too.
+    pub fn culls_to_lens(self) -> bool {
+        matches!(self, Strategy::DualCone | Strategy::DualEllipticalCone)
+    }
 
     /// The strategy named `name` (as [`Strategy::name`] spells it).
     pub fn by_name(name: &str) -> Option<Strategy> {

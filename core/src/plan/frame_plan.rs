@@ -290,6 +290,9 @@ pub struct FramePlan {
     pub mffr: Option<MffrGeometry>,
     /// Per-frame culling, when on.
     pub culling: Option<CullConfig>,
+    /// Instances of the scene the plan was made for: buffers are sized for them, and a
+    /// renderer refuses another scene.
+    pub scene_instances: usize,
 }
 
 impl FramePlan {
@@ -495,6 +498,7 @@ pub fn plan(
         hmd_mask,
         mffr,
         culling: config.culling,
+        scene_instances: scene.instance_count(),
     };
     plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
     if config.timestamps {
@@ -1018,6 +1022,13 @@ fn validate_culling(config: &RenderConfig) -> Result<(), ConfigError> {
                 format!("a finite distance beyond near ({})", config.near),
             ))
         }
+        // The cones drop what the lens hides; without the mask those pixels would show the
+        // scene minus the culled objects, an error no lens-region score would see.
+        Some(c) if c.strategy.culls_to_lens() && !config.hmd_mask => Err(ConfigError::new(
+            "culling",
+            c.strategy.name(),
+            "lens-region culling needs the HMD mask on (hmd_mask, --hmd-mask): it drops what only the mask hides",
+        )),
         _ => Ok(()),
     }
 }

@@ -187,6 +187,17 @@ impl<'g> Renderer<'g> {
     /// Builds everything `plan` calls for, and nothing else: no counter buffer without fragment
     /// counting, no query pool without timestamps, no MSAA images at 1×.
     pub fn new(gpu: &'g Gpu, plan: &FramePlan, scene: &Scene) -> Result<Self, GpuError> {
+        if scene.instance_count() != plan.scene_instances {
+            return Err(crate::ConfigError::new(
+                "scene",
+                format!("{} instances", scene.instance_count()),
+                format!(
+                    "the scene the plan was made for ({} instances): plan the frame for this scene",
+                    plan.scene_instances
+                ),
+            )
+            .into());
+        }
         let scene_buffers = SceneBuffers::upload(gpu, scene)?;
         let views_block = Buffer::new(
             gpu,

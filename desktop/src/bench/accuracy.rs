@@ -78,10 +78,17 @@ fn points(
         }
     }
     for strategy in Strategy::ALL.into_iter().filter(|&s| s != Strategy::PerEye) {
+        // Lens-region culling runs only under the HMD mask, which hides what it drops.
+        let mask = strategy.culls_to_lens();
         out.push((
             "culling",
-            format!("culling {}", strategy.name()),
+            format!(
+                "culling {}{}",
+                strategy.name(),
+                if mask { " (with HMD mask)" } else { "" }
+            ),
             with(&|c| {
+                c.hmd_mask |= mask;
                 c.culling = Some(CullConfig {
                     strategy,
                     draw_distance: settings.draw_distance,
