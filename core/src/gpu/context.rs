@@ -110,10 +110,28 @@ impl InstanceOwner {
             .application_name(&app_name)
             .engine_name(&app_name)
             .api_version(vk::API_VERSION_1_1);
+        // Synchronization validation (hazards between commands, passes and submissions) and
+        // best-practices checks on top of the core checks: any message they raise fails the
+        // caller. VK_EXT_validation_features is the layer's own extension, offered by every
+        // layer version since 1.2 (newer ones also read it as layer settings).
+        let checks = [
+            vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION,
+            vk::ValidationFeatureEnableEXT::BEST_PRACTICES,
+        ];
+        let mut features =
+            vk::ValidationFeaturesEXT::default().enabled_validation_features(&checks);
+        if options.validation {
+            extensions.push(ash::ext::validation_features::NAME.as_ptr());
+        }
         let info = vk::InstanceCreateInfo::default()
             .application_info(&app)
             .enabled_layer_names(&layers)
             .enabled_extension_names(&extensions);
+        let info = if options.validation {
+            info.push_next(&mut features)
+        } else {
+            info
+        };
         // SAFETY: the create info only points at locals that outlive the call.
         let instance = unsafe { entry.create_instance(&info, None) }.vk("vkCreateInstance")?;
         let mut owner = InstanceOwner {

@@ -7,7 +7,7 @@ use super::renderer::{DrawTally, Renderer};
 use super::sampled_set::SampledSet;
 use crate::gpu::Pipeline;
 use crate::mffr::{MffrOrder, FAR_VIEW_INDEX};
-use crate::plan::{PassKind, PassPlan, Submission};
+use crate::plan::{LoadOp, PassKind, PassPlan, Submission};
 use crate::scene::Draw;
 use crate::view::Eye;
 
@@ -48,19 +48,32 @@ impl Renderer<'_> {
                 if pass_plan.kind == PassKind::FarField {
                     sky[3] = 0.0;
                 }
-                let clears = [
-                    vk::ClearValue {
-                        color: vk::ClearColorValue { float32: sky },
-                    },
-                    // Reverse-Z: clear to the far plane, 0.
-                    vk::ClearValue {
-                        depth_stencil: vk::ClearDepthStencilValue {
-                            depth: 0.0,
-                            stencil: 0,
-                        },
-                    },
-                    vk::ClearValue::default(),
-                ];
+                // One clear value per attachment, in `uses()` order (the render pass's), up to
+                // the last one the plan clears: none for a pass that clears nothing.
+                let clear_value = |format: crate::plan::Format| {
+                    if format.is_depth() {
+                        // Reverse-Z: clear to the far plane, 0.
+                        vk::ClearValue {
+                            depth_stencil: vk::ClearDepthStencilValue {
+                                depth: 0.0,
+                                stencil: 0,
+                            },
+                        }
+                    } else {
+                        vk::ClearValue {
+                            color: vk::ClearColorValue { float32: sky },
+                        }
+                    }
+                };
+                let uses: Vec<_> = pass_plan.uses().collect();
+                let cleared = uses
+                    .iter()
+                    .rposition(|u| u.load == LoadOp::Clear)
+                    .map_or(0, |i| i + 1);
+                let clears: Vec<vk::ClearValue> = uses[..cleared]
+                    .iter()
+                    .map(|u| clear_value(self.plan.attachments[u.attachment].format))
+                    .collect();
                 let begin = vk::RenderPassBeginInfo::default()
                     .render_pass(pass.render_pass.raw)
                     .framebuffer(pass.framebuffer.raw)
