@@ -259,14 +259,9 @@ fn the_fovea_is_the_full_resolution_reference() {
     };
     let (reference, _) = foveate_tests::render(&gpu, &scene, &reference_config);
     let config = foveated_frame(screen, 0.35, 8.0);
-    for gaze in [
-        Vec2::ZERO,
-        Vec2::new(0.0, -0.3),
-        Vec2::new(-0.3, -0.2),
-        Vec2::new(0.3, -0.25),
-        Vec2::new(1.0, -1.0),
-        Vec2::new(-1.0, -1.0),
-    ] {
+    // Centre, off-centre, and clamped at the bottom-left corner (content there, so a shift
+    // shows: the bottom-right corner is uniform ground).
+    for gaze in [Vec2::ZERO, Vec2::new(0.3, -0.25), Vec2::new(-1.0, -1.0)] {
         let image = render_at(&gpu, &scene, &config, gaze);
         let blend = Blend::of(&gpu, &config, gaze);
         let (psnr, off) = fovea_identity(&reference, &image, &blend);
@@ -276,13 +271,11 @@ fn the_fovea_is_the_full_resolution_reference() {
             100.0 * off
         );
         let (psnr, off) = fovea_identity(&shifted_one_pixel(&reference), &image, &blend);
-        if false {
-            assert!(
-                psnr < 55.0 && off > 0.001,
-                "negative control: a window one pixel off passes ({psnr:.1} dB, {:.3} %)",
-                100.0 * off
-            );
-        }
+        assert!(
+            psnr < 55.0 && off > 0.001,
+            "negative control: a window one pixel off passes ({psnr:.1} dB, {:.3} %)",
+            100.0 * off
+        );
     }
 }
 
