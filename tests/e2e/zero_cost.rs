@@ -1,6 +1,9 @@
-//! A switched-off effect costs nothing: it adds no pass, attachment or buffer to the plan and
-//! not one byte to what the renderer allocates (measured from the allocator); switched on, it
-//! does add them.
+//! A switched-off effect costs nothing: it adds no pass, attachment or buffer to the plan, no
+//! Vulkan object of any kind (images, buffers, pipelines, query pools, lazily allocated
+//! memory, …, counted as the renderer creates them) and not one byte of allocator memory;
+//! switched on, each adds what it needs.
+
+use std::collections::BTreeMap;
 
 use foveate::cull::Strategy;
 use foveate::foveation::FoveationConfig;
@@ -11,102 +14,179 @@ use foveate::render::Renderer;
 use foveate::scene::{default_scene, Scene};
 use foveate_tests::{assert_validation_clean, gpu};
 
-/// Bytes a renderer for `plan` allocates, and the draw calls of its first frame.
-fn cost(gpu: &Gpu, scene: &Scene, plan: &FramePlan) -> (u64, u64) {
-    let before = gpu.allocated_bytes();
-    let mut renderer = Renderer::new(gpu, plan, scene).unwrap();
-    let bytes = gpu.allocated_bytes() - before;
-    let draws = renderer.render_frame(scene.head).unwrap().draw_calls;
-    drop(renderer);
-    assert_eq!(gpu.allocated_bytes(), before, "everything is given back");
-    (bytes, draws)
+/// What a renderer for `plan` costs: allocator bytes, live Vulkan objects by kind (after its
+/// first frame), and that frame's draw calls.
+struct Cost {
+    bytes: u64,
+    objects: BTreeMap<&'static str, i64>,
+    draws: u64,
 }
 
-#[test]
-fn switched_off_effects_are_absent_from_plan_and_allocation() {
-    let gpu = gpu();
-    let scene = default_scene();
-    let baseline = RenderConfig {
+fn cost(gpu: &Gpu, scene: &Scene, plan: &FramePlan) -> Cost {
+    let (bytes_before, objects_before) = (gpu.allocated_bytes(), gpu.live_objects());
+    let mut renderer = Renderer::new(gpu, plan, scene).unwrap();
+    let bytes = gpu.allocated_bytes() - bytes_before;
+    let draws = renderer.render_frame(scene.head).unwrap().draw_calls;
+    let objects = difference(&gpu.live_objects(), &objects_before);
+    drop(renderer);
+    assert_eq!(
+        gpu.allocated_bytes(),
+        bytes_before,
+        "every byte is given back"
+    );
+    assert_eq!(
+        gpu.live_objects(),
+        objects_before,
+        "every object is destroyed"
+    );
+    Cost {
+        bytes,
+        objects,
+        draws,
+    }
+}
+
+/// `a − b` per kind, kinds with no difference left out.
+fn difference(
+    a: &BTreeMap<&'static str, i64>,
+    b: &BTreeMap<&'static str, i64>,
+) -> BTreeMap<&'static str, i64> {
+    a.keys()
+        .chain(b.keys())
+        .map(|&k| (k, a.get(k).unwrap_or(&0) - b.get(k).unwrap_or(&0)))
+        .filter(|&(_, d)| d != 0)
+        .collect()
+}
+
+fn baseline() -> RenderConfig {
+    RenderConfig {
         resolution: Some(Resolution::square(64)),
-        count_fragments: false,
         timestamps: false,
         ..RenderConfig::default()
-    };
+    }
+}
+
+/// Each effect's "off" — the flag off, or configured in a way that leaves nothing to do —
+/// plans exactly the baseline and creates exactly its objects and bytes. Mutation: a pipeline,
+/// buffer or image created whether or not its effect is planned (say the mask pipeline or the
+/// counter buffer made unconditionally) fails it.
+#[test]
+fn switched_off_effects_cost_no_object_and_no_byte() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let empty = Scene::empty();
+    let plan = |s: &Scene, c: &RenderConfig| foveate::plan(s, c, gpu.caps()).unwrap();
+    for (scene, what) in [(&scene, "default scene"), (&empty, "empty scene")] {
+        let base_plan = plan(scene, &baseline());
+        assert!(base_plan.buffers.is_empty() && base_plan.timestamp_queries == 0);
+        assert!(base_plan.counted.is_empty());
+        let base = cost(&gpu, scene, &base_plan);
+        assert!(base.objects["Pipeline"] >= 1 && base.objects["Image"] >= 1);
+        let mut offs = vec![
+            (
+                "MFFR split past the far plane",
+                RenderConfig {
+                    mffr: Some(MffrConfig {
+                        split: SplitDistance::Metres(baseline().far * 2.0),
+                        ..MffrConfig::default()
+                    }),
+                    ..baseline()
+                },
+            ),
+            ("every flag off", baseline()),
+        ];
+        if what == "empty scene" {
+            // Nothing beyond the split: MFFR has no far field to render.
+            offs.push((
+                "MFFR without far content",
+                RenderConfig {
+                    mffr: Some(MffrConfig::default()),
+                    ..baseline()
+                },
+            ));
+        }
+        for (name, config) in offs {
+            let p = plan(scene, &config);
+            assert_eq!(p, base_plan, "{what}, {name}: the baseline's plan");
+            let c = cost(&gpu, scene, &p);
+            assert_eq!(c.objects, base.objects, "{what}, {name}: objects");
+            assert_eq!(
+                (c.bytes, c.draws),
+                (base.bytes, base.draws),
+                "{what}, {name}"
+            );
+        }
+    }
+    assert_validation_clean(&gpu);
+}
+
+/// Switched on, each effect adds the objects it needs and the plan shows them — and the
+/// instruments add exactly their one object: the counter buffer (its shader variants replace
+/// the plain ones) or the query pool. Mutation: an effect whose resources are not created,
+/// or counting that leaves an extra pipeline behind, fails it.
+#[test]
+fn switched_on_effects_add_what_they_need() {
+    let gpu = gpu();
+    let scene = default_scene();
     let plan = |c: &RenderConfig| foveate::plan(&scene, c, gpu.caps()).unwrap();
-    let base_plan = plan(&baseline);
-    assert!(base_plan.buffers.is_empty() && base_plan.timestamp_queries == 0);
-    let (base_bytes, base_draws) = cost(&gpu, &scene, &base_plan);
-
-    // Configured but switched off: the plan is the baseline's, and so is the allocation.
-    let split_past_far = RenderConfig {
-        mffr: Some(MffrConfig {
-            split: SplitDistance::Metres(baseline.far * 2.0),
-            ..MffrConfig::default()
-        }),
-        ..baseline.clone()
+    let base_plan = plan(&baseline());
+    let base = cost(&gpu, &scene, &base_plan);
+    let on = |f: &dyn Fn(&mut RenderConfig)| {
+        let mut c = baseline();
+        f(&mut c);
+        c
     };
-    let off = plan(&split_past_far);
-    assert_eq!(off, base_plan);
-    assert_eq!(cost(&gpu, &scene, &off), (base_bytes, base_draws));
-
-    let on: [(&str, RenderConfig); 6] = [
+    let mut cases: Vec<(String, RenderConfig)> = vec![
+        ("hmd mask".into(), on(&|c| c.hmd_mask = true)),
+        ("mffr".into(), on(&|c| c.mffr = Some(MffrConfig::default()))),
         (
-            "hmd mask",
-            RenderConfig {
-                hmd_mask: true,
-                ..baseline.clone()
-            },
+            "foveation".into(),
+            on(&|c| {
+                c.foveation = Some(FoveationConfig::default());
+                c.views = 4;
+            }),
         ),
         (
-            "mffr",
-            RenderConfig {
-                mffr: Some(MffrConfig::default()),
-                ..baseline.clone()
-            },
+            "fragment counting".into(),
+            on(&|c| c.count_fragments = true),
         ),
-        (
-            "foveation",
-            RenderConfig {
-                foveation: Some(FoveationConfig::default()),
-                views: 4,
-                ..baseline.clone()
-            },
-        ),
-        (
-            "culling",
-            RenderConfig {
-                culling: Some(CullConfig {
-                    strategy: Strategy::Superfrustum,
-                    draw_distance: 100.0,
-                }),
-                ..baseline.clone()
-            },
-        ),
-        (
-            "fragment counter",
-            RenderConfig {
-                count_fragments: true,
-                ..baseline.clone()
-            },
-        ),
-        (
-            "timestamps",
-            RenderConfig {
-                timestamps: true,
-                ..baseline.clone()
-            },
-        ),
+        ("timestamps".into(), on(&|c| c.timestamps = true)),
     ];
-    for (name, config) in on {
+    for strategy in Strategy::ALL {
+        cases.push((
+            format!("culling {}", strategy.name()),
+            on(&|c| {
+                c.hmd_mask = strategy.culls_to_lens();
+                c.culling = Some(CullConfig {
+                    strategy,
+                    draw_distance: 100.0,
+                });
+            }),
+        ));
+    }
+    for (name, config) in cases {
         let p = plan(&config);
         assert_ne!(p, base_plan, "{name} changes the plan");
-        let (bytes, _) = cost(&gpu, &scene, &p);
-        match name {
-            // A query pool is not allocator memory; the plan shows its queries instead.
-            "timestamps" => assert!(p.timestamp_queries > 0),
+        let c = cost(&gpu, &scene, &p);
+        let added = difference(&c.objects, &base.objects);
+        match name.as_str() {
+            "fragment counting" => assert_eq!(added, BTreeMap::from([("Buffer", 1)]), "{name}"),
+            "timestamps" => assert_eq!(added, BTreeMap::from([("QueryPool", 1)]), "{name}"),
+            _ => assert!(
+                added.values().any(|&n| n > 0),
+                "{name} adds no object: {added:?}"
+            ),
+        }
+        match name.as_str() {
             // Smaller views replace the full-size ones: foveation changes the bytes, downwards.
-            "foveation" => assert_ne!(bytes, base_bytes),
-            _ => assert!(bytes > base_bytes, "{name}: {bytes} vs {base_bytes}"),
+            "foveation" => assert_ne!(c.bytes, base.bytes),
+            "timestamps" => assert_eq!(c.bytes, base.bytes, "a query pool is no allocation"),
+            _ => assert!(
+                c.bytes > base.bytes,
+                "{name}: {} vs {}",
+                c.bytes,
+                base.bytes
+            ),
         }
     }
     assert_validation_clean(&gpu);

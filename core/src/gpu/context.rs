@@ -1,3 +1,4 @@
+use std::collections::BTreeMap;
 use std::ffi::{c_void, CStr, CString};
 use std::mem::ManuallyDrop;
 use std::sync::{Arc, Mutex};
@@ -169,6 +170,24 @@ pub(crate) struct DeviceOwner {
     pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
     pub(crate) device: ash::Device,
     instance: Arc<InstanceOwner>,
+    /// Vulkan objects alive now, by kind: what a renderer creates is counted, not assumed.
+    live: Mutex<BTreeMap<&'static str, i64>>,
+}
+
+impl DeviceOwner {
+    /// One more live object of `kind` (each owning wrapper calls this once, at construction).
+    pub(crate) fn created(&self, kind: &'static str) {
+        if let Ok(mut live) = self.live.lock() {
+            *live.entry(kind).or_default() += 1;
+        }
+    }
+
+    /// One fewer live object of `kind` (the owning wrapper's `Drop`).
+    pub(crate) fn destroyed(&self, kind: &'static str) {
+        if let Ok(mut live) = self.live.lock() {
+            *live.entry(kind).or_default() -= 1;
+        }
+    }
 }
 
 impl Drop for DeviceOwner {
@@ -302,6 +321,7 @@ impl Gpu {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             device,
             instance,
+            live: Mutex::new(BTreeMap::new()),
         });
         Ok(Gpu {
             dev,
@@ -372,6 +392,20 @@ impl Gpu {
             .allocator
             .lock()
             .map_or(0, |a| a.generate_report().total_allocated_bytes)
+    }
+
+    /// Vulkan objects foveate holds alive on this device, by kind (`Image`, `Buffer`,
+    /// `Pipeline`, `QueryPool`, `LazyMemory`, …); kinds with none alive are left out.
+    pub fn live_objects(&self) -> BTreeMap<&'static str, i64> {
+        self.dev.live.lock().map_or_else(
+            |_| BTreeMap::new(),
+            |live| {
+                live.iter()
+                    .filter(|(_, &n)| n != 0)
+                    .map(|(&k, &n)| (k, n))
+                    .collect()
+            },
+        )
     }
 
     /// Waits until the device is idle.

@@ -18,6 +18,7 @@ macro_rules! owned_handle {
         impl $name {
             /// Takes ownership of `raw`, which must have been created on `dev`'s device.
             pub(crate) fn from_raw(dev: &Arc<DeviceOwner>, raw: $raw) -> Self {
+                dev.created(stringify!($name));
                 Self { dev: dev.clone(), raw }
             }
         }
@@ -27,6 +28,7 @@ macro_rules! owned_handle {
                 // SAFETY: the handle was created on this device and is owned only here; users
                 // keep it alive until the GPU work using it has completed (fence waited).
                 unsafe { self.dev.device.$destroy(self.raw, None) }
+                self.dev.destroyed(stringify!($name));
             }
         }
     };

@@ -29,6 +29,7 @@ impl Buffer {
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid create info; the buffer is owned by the returned value.
         let raw = unsafe { dev.device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        dev.created("Buffer");
         let mut buffer = Buffer {
             dev: dev.clone(),
             raw,
@@ -79,6 +80,7 @@ impl Drop for Buffer {
     fn drop(&mut self) {
         // SAFETY: owned handle; users keep buffers alive until GPU work using them completed.
         unsafe { self.dev.device.destroy_buffer(self.raw, None) };
+        self.dev.destroyed("Buffer");
         if let Some(a) = self.allocation.take() {
             let _ = lock(&self.dev).free(a);
         }
@@ -163,6 +165,7 @@ impl Image {
         } else {
             vk::ImageAspectFlags::COLOR
         };
+        dev.created("Image");
         let mut image = Image {
             dev: dev.clone(),
             raw,
@@ -188,6 +191,7 @@ impl Image {
                     .memory_type_index(type_index);
                 let memory =
                     unsafe { dev.device.allocate_memory(&alloc, None) }.vk("vkAllocateMemory")?;
+                dev.created("LazyMemory");
                 (memory, 0, ImageMemory::Lazy(memory))
             }
             None => {
@@ -241,11 +245,15 @@ impl Drop for Image {
         // SAFETY: owned handle; views die before (they are separate owned values whose users
         // drop them first) and GPU work using the image has completed.
         unsafe { self.dev.device.destroy_image(self.raw, None) };
+        self.dev.destroyed("Image");
         match self.memory.take() {
             Some(ImageMemory::Allocator(a)) => {
                 let _ = lock(&self.dev).free(a);
             }
-            Some(ImageMemory::Lazy(m)) => unsafe { self.dev.device.free_memory(m, None) },
+            Some(ImageMemory::Lazy(m)) => {
+                unsafe { self.dev.device.free_memory(m, None) };
+                self.dev.destroyed("LazyMemory");
+            }
             None => {}
         }
     }
