@@ -154,13 +154,18 @@ fn depth_shift_beats_rotation_only() {
     );
 }
 
-/// The HMD mask hides, measured per eye by the coverage probe, the fraction its lens region
-/// hides: the published hidden-area fraction where there is one, the circular fallback's
-/// 1 − π/4 where not.
+/// The HMD mask, measured per eye by the coverage probe, keeps exactly the pixels whose
+/// centres lie in the fan the mask shader draws (the 128-gon circumscribing the lens ellipse),
+/// counted on the CPU — within 0.05 % (a centre exactly on an edge may go either way). And the
+/// lens ellipse hides the published hidden-area fraction (the circular fallback's 1 − π/4 where
+/// there is none), integrated on a fine grid independently of the region's own formula — not
+/// its bisection read back. Mutations: a mask fan with fewer segments, an ellipse radius off
+/// by a pixel, or a region bisected to the wrong fraction fail it.
 #[test]
 fn hmd_mask_coverage_per_profile() {
     let gpu = gpu();
     let empty = Scene::empty();
+    let size = 256u32;
     for profile in HMD_PROFILES {
         let c = RenderConfig {
             hmd: profile.name.into(),
@@ -168,26 +173,68 @@ fn hmd_mask_coverage_per_profile() {
             coverage_probe: true,
             count_fragments: true,
             msaa: 1,
-            resolution: Some(Resolution::square(256)),
+            resolution: Some(Resolution::square(size)),
             ..RenderConfig::default()
         };
         let plan = foveate::plan(&empty, &c, gpu.caps()).unwrap();
         let (_, stats) = foveate_tests::render_plan(&gpu, &empty, &plan, 1);
         let probe = stats.per_view(CountedStep::Probe);
+        let expected_hidden = match profile.hidden_area_fraction {
+            Some(f) => f as f64,
+            None => 1.0 - std::f64::consts::FRAC_PI_4,
+        };
         for (eye, lens) in plan.hmd_mask.unwrap().iter().enumerate() {
-            let measured = 1.0 - probe[eye] as f64 / (256.0 * 256.0);
-            let expected = match profile.hidden_area_fraction {
-                Some(f) => f as f64,
-                None => 1.0 - std::f64::consts::FRAC_PI_4,
-            };
-            assert!((lens.hidden_fraction() - expected).abs() < 1e-4);
+            let e = lens.ndc_ellipse().as_dvec4();
+            // Ellipse-normalised coordinates of an NDC point.
+            let q = |x: f64, y: f64| ((x - e.x) / e.z, (y - e.y) / e.w);
+            let fan = mask_fan_pixels(size, &q);
+            let measured = probe[eye];
             assert!(
-                (measured - expected).abs() < 0.01,
-                "{}: eye {eye} hides {measured:.4}, expected {expected:.4}",
+                measured.abs_diff(fan) as f64 <= 5e-4 * (size * size) as f64,
+                "{}: eye {eye} keeps {measured} pixels, the fan covers {fan}",
+                profile.name
+            );
+            // The ellipse's hidden area over the image, on a 2048² grid of the NDC square.
+            let n = 2048;
+            let mut outside = 0u64;
+            for j in 0..n {
+                for i in 0..n {
+                    let x = -1.0 + (2 * i + 1) as f64 / n as f64;
+                    let y = -1.0 + (2 * j + 1) as f64 / n as f64;
+                    let (u, v) = q(x, y);
+                    outside += (u * u + v * v > 1.0) as u64;
+                }
+            }
+            let hidden = outside as f64 / (n * n) as f64;
+            assert!(
+                (hidden - expected_hidden).abs() < 1e-3,
+                "{}: eye {eye}: the ellipse hides {hidden:.4}, published {expected_hidden:.4}",
                 profile.name
             );
         }
     }
+}
+
+/// Pixels of a `size`² view whose centres lie inside the mask fan: the regular 128-gon
+/// circumscribing the unit circle in ellipse-normalised coordinates `q` (see
+/// `shaders/mask.vert`), as its edges' half-planes.
+fn mask_fan_pixels(size: u32, q: &dyn Fn(f64, f64) -> (f64, f64)) -> u64 {
+    let segments = 128;
+    let normals: Vec<(f64, f64)> = (0..segments)
+        .map(|k| {
+            let a = std::f64::consts::TAU * (k as f64 + 0.5) / segments as f64;
+            (a.cos(), a.sin())
+        })
+        .collect();
+    let mut inside = 0;
+    for y in 0..size {
+        for x in 0..size {
+            let ndc = |p: u32| -1.0 + (2 * p + 1) as f64 / size as f64;
+            let (u, v) = q(ndc(x), ndc(y));
+            inside += normals.iter().all(|&(nx, ny)| u * nx + v * ny <= 1.0) as u64;
+        }
+    }
+    inside
 }
 
 /// MFFR under foveation: the far composite runs in all four views and the composed eyes match

@@ -308,16 +308,21 @@ mod tests {
         let tol = 1e-5;
         for eye in Eye::BOTH {
             let fov = e.fov(eye);
-            let head_from_eye = e.head_from_eye(eye);
+            // In f64 throughout: the poses and tangents widened, every point computed anew, so
+            // the check owes nothing to the f32 arithmetic it checks.
+            let head_from_eye = e.head_from_eye(eye).as_dmat4();
+            let far_from_head = far_from_head.as_dmat4();
+            let [left, right, up, down] = fov.as_array().map(f64::from);
+            let (split, far) = (g.split_m as f64, g.far as f64);
             let n = 8;
             for i in 0..=n {
                 for j in 0..=n {
-                    for s in [g.split_m, 0.5 * (g.split_m + g.far), g.far] {
-                        let x = -fov.left + (fov.left + fov.right) * i as f32 / n as f32;
-                        let y = -fov.down + (fov.up + fov.down) * j as f32 / n as f32;
-                        let p = head_from_eye.transform_point3(Vec3::new(x * s, y * s, -s));
+                    for s in [split, 0.5 * (split + far), far] {
+                        let x = -left + (left + right) * i as f64 / n as f64;
+                        let y = -down + (up + down) * j as f64 / n as f64;
+                        let p = head_from_eye.transform_point3(glam::DVec3::new(x * s, y * s, -s));
                         let q = far_from_head.transform_point3(p);
-                        let (qx, qy, qz) = (q.x as f64, q.y as f64, q.z as f64);
+                        let (qx, qy, qz) = (q.x, q.y, q.z);
                         let depth = -qz;
                         assert!(
                             depth >= g.far_near as f64 * (1.0 - 1e-6),
