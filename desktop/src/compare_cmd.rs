@@ -1,4 +1,3 @@
-use std::io::Write as _;
 use std::path::PathBuf;
 
 use anyhow::Result;
@@ -109,11 +108,10 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         ..RenderConfig::default()
     };
     let total = 1 + args.msaa.len() * (1 + args.ratios.len());
-    let mut done = 0;
-    let mut step = |what: &str| {
-        done += 1;
-        eprint!("\r[{done}/{total}] {what:<40}");
-        let _ = std::io::stderr().flush();
+    let bar = crate::progress::bar("compare", total as u64);
+    let step = |what: &str| {
+        bar.set_message(what.to_string());
+        bar.inc(1);
     };
     step("reference: stereo, MSAA 4");
     let reference = run(
@@ -190,7 +188,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             ));
         }
     }
-    eprintln!();
+    bar.finish_and_clear();
     println!(
         "\n{:<24} {:>10} {:>7} {:>12} {:>12} {:>15} {:>15} {:>15}",
         "configuration",

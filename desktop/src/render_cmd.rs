@@ -1,4 +1,3 @@
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
@@ -61,6 +60,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         };
         let mut filter = GazeFilter::new(0.5);
         let mut frames: Vec<FrameStats> = Vec::new();
+        let bar = crate::progress::bar(mode.name(), args.frames as u64);
         for i in 0..args.frames {
             if let Some(trace) = &trace {
                 // The latest sample at or before this frame's time (90 Hz).
@@ -74,10 +74,9 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
             if i > 0 || args.frames == 1 {
                 frames.push(stats);
             }
-            eprint!("\r{mode}: frame {}/{}", i + 1, args.frames);
-            let _ = std::io::stderr().flush();
+            bar.inc(1);
         }
-        eprintln!();
+        bar.finish_and_clear();
         let image = renderer.readback()?.side_by_side();
         let out = output_path(&args.out, mode, modes.len() > 1);
         image

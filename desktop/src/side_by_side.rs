@@ -1,8 +1,6 @@
 //! Measuring configurations side by side: every renderer of a group renders one frame in turn,
 //! round after round, so a noisy machine's drift hits them all alike.
 
-use std::io::Write as _;
-
 use anyhow::Result;
 use foveate::gpu::Gpu;
 use foveate::metrics::Stats;
@@ -47,9 +45,9 @@ pub fn measure_group(
         })
         .collect::<Result<Vec<_>>>()?;
     let mut samples = vec![Vec::new(); configs.len()];
+    let bar = crate::progress::bar(label, rounds as u64);
     for round in 0..rounds {
-        eprint!("\r{label}: round {}/{rounds}   ", round + 1);
-        let _ = std::io::stderr().flush();
+        bar.inc(1);
         for (r, s) in renderers.iter_mut().zip(&mut samples) {
             let stats = r.render_frame(scene.head)?;
             if round > 0 {
@@ -57,7 +55,7 @@ pub fn measure_group(
             }
         }
     }
-    eprint!("\r{:<60}\r", "");
+    bar.finish_and_clear();
     renderers
         .iter_mut()
         .zip(samples)
