@@ -564,9 +564,9 @@ fn bench_runs_the_whole_matrix_on_a_tiny_scene_and_writes_every_output() {
         );
     }
     // 24 matrix rows and 2 zero-cost rows, 2 frames each, every frame's pixels counted.
-    let frames = read_csv(&dir.join("frames.csv"), 10);
+    let frames = read_csv(&dir.join("frames.csv"), 11);
     assert_eq!(frames.len(), 26 * 2);
-    for (file, columns) in [("frames.csv", 10), ("summary.csv", 19), ("accuracy.csv", 6)] {
+    for (file, columns) in [("frames.csv", 11), ("summary.csv", 20), ("accuracy.csv", 6)] {
         for r in read_csv(&dir.join(file), columns) {
             assert_numeric(&r, &["config", "family", "approximation"]);
         }
@@ -597,6 +597,27 @@ fn bench_runs_the_whole_matrix_on_a_tiny_scene_and_writes_every_output() {
                 median(r, "total_pixels") >= median(r, "pixels") + 2.0 * 48.0 * 48.0,
                 "{name}: the composite is counted"
             );
+        }
+        // MFFR draws the far field once, in its far pass: the eye passes draw fewer triangles
+        // than the twin's, and the far pass draws some. (Total triangles may not drop: objects
+        // straddling the split are drawn on both sides.)
+        let parts: Vec<&str> = name.split(" & ").collect();
+        if parts.contains(&"MFFR") {
+            let twin: Vec<&str> = parts.into_iter().filter(|&p| p != "MFFR").collect();
+            let twin = row(&if twin.is_empty() {
+                "baseline".to_string()
+            } else {
+                twin.join(" & ")
+            });
+            let far = median(r, "far_triangles");
+            assert!(far > 0.0, "{name}: the far pass draws");
+            assert!(
+                median(r, "triangles") - far < median(twin, "triangles"),
+                "{name}: eye passes {} vs {}",
+                median(r, "triangles") - far,
+                median(twin, "triangles")
+            );
+            assert_eq!(median(twin, "far_triangles"), 0.0);
         }
     }
     // The baseline again: the same work exactly, and a time within noise of the baseline.

@@ -88,39 +88,67 @@ pub fn sphere_cone(cone: &Cone, s: &Sphere) -> bool {
     cone_distance(cone, s.center) <= s.radius as f64
 }
 
-/// Distance to an elliptical cone, by minimising over its boundary rays (the cone is convex, so
-/// outside points are nearest to some boundary ray). Sampled densely, then refined.
+/// Exact distance to an elliptical cone (one nappe, apex at `origin`): the projection onto the
+/// convex set C = {(x/a)² + (y/b)² ≤ z², z ≥ 0} in the cone's frame. Outside C the nearest
+/// point is the apex or satisfies the KKT conditions with a multiplier μ ≥ 0:
+/// x = qₓa²/(a²+μ), y = q_y b²/(b²+μ), z = q_z/(1−μ), on the surface, i.e. F(μ) = 0 with
+/// F(μ) = qₓ²a²/(a²+μ)² + q_y²b²/(b²+μ)² − q_z²/(1−μ)².
+/// - q_z > 0: F(0) > 0 (q is outside), F decreases to −∞ as μ → 1⁻: one root in (0, 1).
+/// - q_z < 0: z ≥ 0 needs μ > 1; F rises from −∞ and ends with the sign of
+///   qₓ²a² + q_y²b² − q_z² (q outside the polar cone): then it crosses zero exactly once (two
+///   crossings would be two projections onto a convex set), else the apex is nearest.
+/// - q_z = 0: μ = 1, z taken from the surface.
+///
+/// Each root is bracketed and bisected to f64 resolution: no sampling.
 pub fn elliptical_cone_distance(cone: &EllipticalCone, p: glam::Vec3) -> f64 {
     let q = cone.cone_from_world.as_dmat3() * (d(p) - d(cone.origin));
-    let (tx, ty) = (cone.tan_x as f64, cone.tan_y as f64);
-    if q.z > 0.0 && (q.x / tx).powi(2) + (q.y / ty).powi(2) <= q.z * q.z {
+    let (a, b) = (cone.tan_x as f64, cone.tan_y as f64);
+    let (a2, b2) = (a * a, b * b);
+    if q.z >= 0.0 && (q.x / a).powi(2) + (q.y / b).powi(2) <= q.z * q.z {
         return 0.0;
     }
-    let ray_distance = |phi: f64| {
-        let dir = DVec3::new(tx * phi.cos(), ty * phi.sin(), 1.0).normalize();
-        let t = q.dot(dir).max(0.0);
-        (q - dir * t).length()
+    let point = |mu: f64, z: f64| DVec3::new(q.x * a2 / (a2 + mu), q.y * b2 / (b2 + mu), z);
+    // (x/a)² + (y/b)² at the KKT point for μ.
+    let xy = |mu: f64| (q.x * a / (a2 + mu)).powi(2) + (q.y * b / (b2 + mu)).powi(2);
+    let f = |mu: f64| xy(mu) - (q.z / (1.0 - mu)).powi(2);
+    // Bisection on [lo, hi] where f(lo) > 0 > f(hi) (or the reverse, given by `rising`).
+    let bisect = |mut lo: f64, mut hi: f64, rising: bool| {
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if (f(mid) > 0.0) != rising {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
     };
-    let steps = 720;
-    let mut best = (f64::INFINITY, 0.0);
-    for i in 0..steps {
-        let phi = i as f64 / steps as f64 * std::f64::consts::TAU;
-        let dist = ray_distance(phi);
-        if dist < best.0 {
-            best = (dist, phi);
-        }
-    }
-    // Golden-section refinement around the best sample.
-    let step = std::f64::consts::TAU / steps as f64;
-    let (mut lo, mut hi) = (best.1 - step, best.1 + step);
-    for _ in 0..60 {
-        let m1 = hi - (hi - lo) * 0.618_033_988_75;
-        let m2 = lo + (hi - lo) * 0.618_033_988_75;
-        if ray_distance(m1) < ray_distance(m2) {
-            hi = m2;
+    let nearest = if q.z > 0.0 {
+        let mu = bisect(0.0, 1.0, false);
+        Some(point(mu, q.z / (1.0 - mu)))
+    } else if q.z < 0.0 {
+        if q.x * q.x * a2 + q.y * q.y * b2 <= q.z * q.z {
+            None // in the polar cone: the apex is nearest
         } else {
-            lo = m1;
+            // F > 0 somewhere past 1: double until it is, then bisect the crossing.
+            let mut hi = 2.0;
+            while f(hi) <= 0.0 && hi < 1e300 {
+                hi *= 2.0;
+            }
+            let mu = bisect(1.0, hi, true);
+            Some(point(mu, q.z / (1.0 - mu)))
         }
-    }
-    best.0.min(ray_distance((lo + hi) / 2.0))
+    } else {
+        let s = point(1.0, 0.0);
+        Some(DVec3::new(
+            s.x,
+            s.y,
+            ((s.x / a).powi(2) + (s.y / b).powi(2)).sqrt(),
+        ))
+    };
+    let apex = q.length();
+    nearest.map_or(apex, |n| (q - n).length().min(apex))
 }

@@ -133,6 +133,7 @@ impl Renderer<'_> {
                     _ => unreachable!("every planned pass has its pipelines"),
                 }
                 device.cmd_end_render_pass(cmd);
+                self.pass_ends.borrow_mut().push(self.tally.get().triangles);
                 if self.counter.is_some() {
                     // The next pass's counting atomics follow this one's.
                     let atomics = (

@@ -64,6 +64,8 @@ pub struct FrameStats {
     pub draw_calls: u64,
     /// Triangles those draw commands submitted (per draw: triangles × instances).
     pub triangles: u64,
+    /// Of those, the triangles each pass submitted, in plan order.
+    pub pass_triangles: Vec<u64>,
 }
 
 /// Fragments one step of a pass shaded, measured by the counting frame's atomics.
@@ -165,6 +167,8 @@ pub struct Renderer<'g> {
     pub(super) instance_ids: Option<Buffer>,
     /// What the frame being recorded has drawn so far.
     pub(super) tally: std::cell::Cell<DrawTally>,
+    /// The running triangle tally at the end of each pass recorded so far.
+    pub(super) pass_ends: std::cell::RefCell<Vec<u64>>,
     images: Vec<Image>,
     pub(super) bindings: SceneBindings,
     pub(super) scene: SceneBuffers,
@@ -341,6 +345,7 @@ impl<'g> Renderer<'g> {
                 .then(|| FrameCulling::new(scene, &scene_buffers.draws, plan)),
             instance_ids,
             tally: Default::default(),
+            pass_ends: Default::default(),
             images,
             bindings,
             scene: scene_buffers,
@@ -453,6 +458,7 @@ impl<'g> Renderer<'g> {
                 .vk("vkBeginCommandBuffer")?;
         }
         self.tally.set(DrawTally::default());
+        self.pass_ends.borrow_mut().clear();
         self.record(self.cmd);
         unsafe { device.end_command_buffer(self.cmd) }.vk("vkEndCommandBuffer")?;
         let recorded = Instant::now();
@@ -490,6 +496,14 @@ impl<'g> Renderer<'g> {
             instances_drawn,
             draw_calls: self.tally.get().calls,
             triangles: self.tally.get().triangles,
+            pass_triangles: {
+                let ends = self.pass_ends.borrow();
+                let starts = std::iter::once(0).chain(ends.iter().copied());
+                ends.iter()
+                    .zip(starts)
+                    .map(|(end, start)| end - start)
+                    .collect()
+            },
         };
         if self.counter.is_some() {
             let scene = stats.per_view(CountedStep::Scene);

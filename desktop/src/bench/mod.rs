@@ -186,7 +186,7 @@ pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         for &frame in &rail_frames {
             for (i, r) in &mut renderers {
                 let stats = r.render_frame(pose(frame))?;
-                samples.push(FrameSample::new(*i, frame, &stats));
+                samples.push(FrameSample::new(*i, frame, &stats, &plans[*i]));
                 tick("bench");
             }
         }

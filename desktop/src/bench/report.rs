@@ -7,7 +7,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use foveate::gpu::Gpu;
 use foveate::metrics::Stats;
-use foveate::plan::{FramePlan, RenderConfig};
+use foveate::plan::{FramePlan, PassKind, RenderConfig};
 use foveate::render::FrameStats;
 use foveate::scene::{Instance, Scene, Vertex};
 use serde::Serialize;
@@ -50,6 +50,8 @@ pub struct FrameSample {
     pub gpu_ms: f64,
     pub draw_calls: u64,
     pub triangles: u64,
+    /// Triangles the MFFR far pass submitted (0 without one).
+    pub far_triangles: u64,
     /// Fragments the scene draws shaded, all views (on the counted frames).
     pub pixels: Option<u64>,
     /// Fragments every pass shaded: masks, composites and probes too (on the counted frames).
@@ -57,7 +59,14 @@ pub struct FrameSample {
 }
 
 impl FrameSample {
-    pub fn new(config: usize, rail_frame: u64, s: &FrameStats) -> Self {
+    pub fn new(config: usize, rail_frame: u64, s: &FrameStats, plan: &FramePlan) -> Self {
+        let far_triangles = plan
+            .passes
+            .iter()
+            .zip(&s.pass_triangles)
+            .filter(|(p, _)| p.kind == PassKind::FarField)
+            .map(|(_, &t)| t)
+            .sum();
         FrameSample {
             config,
             rail_frame,
@@ -67,6 +76,7 @@ impl FrameSample {
             gpu_ms: s.gpu_ms.unwrap_or(f64::NAN),
             draw_calls: s.draw_calls,
             triangles: s.triangles,
+            far_triangles,
             pixels: None,
             total_pixels: None,
         }
@@ -126,6 +136,7 @@ pub struct RowSummary {
     pub gpu_ms: Summary,
     pub draw_calls: Summary,
     pub triangles: Summary,
+    pub far_triangles: Summary,
     /// Fragments the scene draws shaded, and every pass (composition included).
     pub pixels: Option<Summary>,
     pub total_pixels: Option<Summary>,
@@ -216,6 +227,7 @@ impl Report {
                     gpu_ms: of(i, &|s| s.gpu_ms),
                     draw_calls: of(i, &|s| s.draw_calls as f64),
                     triangles: of(i, &|s| s.triangles as f64),
+                    far_triangles: of(i, &|s| s.far_triangles as f64),
                     pixels: counted(|s| s.pixels),
                     total_pixels: counted(|s| s.total_pixels),
                     ratio_median: frame.median / base_frame.median,
@@ -451,6 +463,7 @@ impl Report {
             "gpu_ms",
             "draw_calls",
             "triangles",
+            "far_triangles",
             "pixels",
             "total_pixels",
         ])?;
@@ -465,6 +478,7 @@ impl Report {
                 &format!("{:.4}", s.gpu_ms),
                 &s.draw_calls,
                 &s.triangles,
+                &s.far_triangles,
                 &count(s.pixels),
                 &count(s.total_pixels),
             ])?;
@@ -484,6 +498,7 @@ impl Report {
             "cpu_median_ms",
             "draw_calls",
             "triangles",
+            "far_triangles",
             "pixels",
             "total_pixels",
             "ratio_median",
@@ -509,6 +524,7 @@ impl Report {
                 &f4(r.cpu_ms.median),
                 &format!("{:.0}", r.draw_calls.median),
                 &format!("{:.0}", r.triangles.median),
+                &format!("{:.0}", r.far_triangles.median),
                 &median(r.pixels),
                 &median(r.total_pixels),
                 &f4(r.ratio_median),
