@@ -98,7 +98,7 @@ fn region_error(
 
 pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     anyhow::ensure!(args.frames >= 1, "invalid frames = 0: at least 1");
-    let gaze = crate::cli::gaze_from(&args.gaze)?;
+    let gaze = crate::gaze_arg::gaze_from(&args.gaze)?;
     let scene = named_scene(&args.scene)?;
     let gpu = Gpu::new(options)?;
     let screen = Resolution::square(args.res);

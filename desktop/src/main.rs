@@ -7,6 +7,8 @@ mod compare_cmd;
 mod counts;
 mod csv_out;
 mod cull_cmd;
+mod frame_args;
+mod gaze_arg;
 mod mask_cmd;
 mod mffr_cmd;
 mod pixels_cmd;

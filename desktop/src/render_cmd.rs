@@ -1,6 +1,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
+use clap::Args;
 use foveate::foveation::{parse_gaze_csv, simulated_trace, GazeFilter};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::Stats;
@@ -8,7 +9,25 @@ use foveate::render::{counting_frame, FrameStats, Renderer};
 use foveate::scene::named_scene;
 use foveate::StereoMode;
 
-use crate::cli::RenderArgs;
+use crate::frame_args::ConfigArgs;
+
+#[derive(Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Drive the gaze from a trace: a CSV file (`time,left_x,left_y,right_x,right_y,valid`) or
+    /// `sim` for simulated fixations and saccades; frame i uses the sample at i / 90 s, filtered
+    /// (bad samples keep the last good gaze, then return to the centre).
+    #[arg(long)]
+    pub gaze_trace: Option<String>,
+    /// Frames to render (the first is a warm-up and not counted in the statistics).
+    #[arg(long, default_value_t = 10)]
+    pub frames: u32,
+    /// Where to write the side-by-side PNG (with `--stereo all`, one file per mode is written,
+    /// the mode's name inserted before the extension).
+    #[arg(long, default_value = "frame.png")]
+    pub out: PathBuf,
+}
 
 /// What one mode's run measured.
 struct ModeResult {
@@ -41,7 +60,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         println!("{plan}\n");
         let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
         if let Some(g) = &args.config.gaze {
-            renderer.set_gaze([crate::cli::gaze_from(g)?; 2]);
+            renderer.set_gaze([crate::gaze_arg::gaze_from(g)?; 2]);
         }
         let transient = plan.attachments.iter().filter(|a| a.transient).count();
         println!(

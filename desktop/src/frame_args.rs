@@ -1,0 +1,120 @@
+//! The frame configuration `render` and `plan` share: headset, stereo mode, MSAA, resolution and
+//! every effect's switches, turned into a [`RenderConfig`].
+
+use anyhow::Result;
+use clap::Args;
+use foveate::foveation::FoveationConfig;
+use foveate::mffr::MffrConfig;
+use foveate::plan::{RenderConfig, Resolution, StereoMode};
+
+/// Frame configuration shared by `render` and `plan`.
+#[derive(Args, Clone)]
+pub struct ConfigArgs {
+    /// Headset profile: index, vive, rift-cv1, quest2.
+    #[arg(long, default_value = "index")]
+    pub hmd: String,
+    /// Stereo submission: multiview, two-pass, per-object, instanced (`render` also takes `all`).
+    #[arg(long, default_value = "multiview")]
+    pub stereo: String,
+    /// MSAA samples on the scene pass: 1 or 4.
+    #[arg(long, default_value_t = 4)]
+    pub msaa: u32,
+    /// Per-eye resolution: N (square), WxH, or `native` for the headset's panel.
+    #[arg(long, default_value = "1024")]
+    pub res: String,
+    /// Views per pass (2 for stereo).
+    #[arg(long, default_value_t = 2)]
+    pub views: u32,
+    /// Interpupillary distance in millimetres (default 64).
+    #[arg(long)]
+    pub ipd_mm: Option<f32>,
+    /// Outward cant of each eye in degrees (default: the headset's).
+    #[arg(long)]
+    pub cant: Option<f32>,
+    /// Foveated rendering at this ratio (e.g. 0.35): four views, composed per eye.
+    #[arg(long)]
+    pub foveate: Option<f32>,
+    /// Pixels per side of the four foveated views (default: resolution × ratio).
+    #[arg(long)]
+    pub view_res: Option<u32>,
+    /// Fixed fovea diameter on screen in pixels (default: the whole fovea window).
+    #[arg(long)]
+    pub fovea_size: Option<u32>,
+    /// Blend band in screen pixels at the fovea's edge (smoothstep); default: an eighth of the
+    /// fovea's diameter.
+    #[arg(long)]
+    pub blend_band: Option<f32>,
+    /// Foveation without the inset/outset stencil masks.
+    #[arg(long)]
+    pub no_stencil: bool,
+    /// Gaze of both eyes, normalised: X,Y in -1..1 (x right, y up).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub gaze: Option<Vec<f32>>,
+    /// Tint the composed image: fovea green, band yellow, periphery blue.
+    #[arg(long)]
+    pub tint: bool,
+    /// The HMD stencil mask: no fragment is shaded where the lens hides the image.
+    #[arg(long)]
+    pub hmd_mask: bool,
+    /// Monoscopic far-field rendering: far-first, near-first, alternate-eye or depth-shift.
+    #[arg(long)]
+    pub mffr: Option<String>,
+    /// Where MFFR splits near from far: a disparity (`1px`: z = IPD x focal / 1 px) or metres
+    /// (`40m`).
+    #[arg(long, default_value = "1px")]
+    pub split: String,
+    /// Scene: `default` (lit cubes and spheres, near and far), `fill` (24 full-view walls drawn
+    /// back to front: a fill-bound frame) or `city` (blocks from 28 m to 400 m: far-heavy).
+    #[arg(long, default_value = "default")]
+    pub scene: String,
+}
+
+impl ConfigArgs {
+    /// The config for one stereo mode (`stereo` may be `all`; the caller picks the mode).
+    pub fn config(&self, stereo: StereoMode) -> Result<RenderConfig> {
+        let resolution = match self.res.as_str() {
+            "native" => None,
+            r => Some(r.parse::<Resolution>()?),
+        };
+        let foveation = self.foveate.map(|ratio| FoveationConfig {
+            ratio,
+            view_resolution: self.view_res,
+            stencil: !self.no_stencil,
+            fovea_size: self.fovea_size,
+            blend_band_px: self.blend_band.unwrap_or(-1.0),
+            debug_tint: self.tint,
+        });
+        let mffr = self
+            .mffr
+            .as_deref()
+            .map(|name| MffrConfig::named(name, self.split.parse()?))
+            .transpose()?;
+        Ok(RenderConfig {
+            hmd: self.hmd.clone(),
+            hmd_mask: self.hmd_mask,
+            mffr,
+            resolution,
+            stereo,
+            // Foveation renders four views unless the user asked for something else.
+            views: if foveation.is_some() && self.views == 2 {
+                4
+            } else {
+                self.views
+            },
+            foveation,
+            msaa: self.msaa,
+            ipd_m: self.ipd_mm.map(|mm| mm / 1000.0),
+            cant_deg: self.cant,
+            ..RenderConfig::default()
+        })
+    }
+
+    /// The stereo modes asked for: one, or all four for `all`.
+    pub fn stereo_modes(&self) -> Result<Vec<StereoMode>> {
+        if self.stereo == "all" {
+            Ok(StereoMode::ALL.to_vec())
+        } else {
+            Ok(vec![self.stereo.parse()?])
+        }
+    }
+}
