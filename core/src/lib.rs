@@ -7,6 +7,7 @@
 pub mod cull;
 pub mod foveation;
 pub mod gpu;
+pub mod measure;
 pub mod metrics;
 pub mod mffr;
 pub mod plan;
@@ -14,5 +15,6 @@ pub mod render;
 pub mod scene;
 pub mod shaders;
 pub mod view;
+pub mod vocab;
 
 pub use plan::{plan, ConfigError, FramePlan, RenderConfig, StereoMode};

@@ -3,8 +3,8 @@ use std::time::Instant;
 
 use anyhow::Result;
 use clap::Args;
-use foveate::cull::measure::{hale_tables, rails_bench, RailsParams};
 use foveate::cull::{batch_kernel, CullHierarchy, HierarchyParams, Strategy};
+use foveate::measure::{hale_tables, rails_bench, RailsParams};
 use foveate::scene::ThesisScene;
 use foveate::view::{Eye, HmdProfile, LensRegion, DEFAULT_IPD_M};
 

@@ -10,7 +10,6 @@ mod bounds;
 mod cone;
 mod frustum;
 mod hierarchy;
-pub mod measure;
 pub mod oracle;
 mod stereo;
 mod triangle;

@@ -1,4 +1,4 @@
-use crate::plan::{ConfigError, Resolution};
+use crate::vocab::{ConfigError, Resolution};
 
 /// What a user chooses about foveation (seed 001 §3.3–3.6).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -91,7 +91,7 @@ pub fn mask_shapes(g: &FoveationGeometry, eyes: &EyeParams, fovea: &[FovTangents
 mod tests {
     use super::*;
     use crate::foveation::FoveationConfig;
-    use crate::plan::Resolution;
+    use crate::vocab::Resolution;
 
     #[test]
     fn centred_gaze_puts_the_hole_in_the_middle_of_a_symmetric_eye() {

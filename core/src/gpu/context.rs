@@ -7,7 +7,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use super::{GpuError, VkResultExt};
-use crate::plan::{DeviceCaps, DriverQuirks};
+use crate::vocab::{DeviceCaps, DriverQuirks};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 

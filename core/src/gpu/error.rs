@@ -1,6 +1,6 @@
 use ash::vk;
 
-use crate::plan::ConfigError;
+use crate::vocab::ConfigError;
 
 /// Everything that can go wrong talking to Vulkan, with what to do about it where we know.
 #[derive(Debug, thiserror::Error)]

@@ -1,7 +1,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-use crate::plan::ConfigError;
+use crate::vocab::ConfigError;
 
 /// Where the near field ends and the far field begins.
 #[derive(Clone, Copy, Debug, PartialEq)]

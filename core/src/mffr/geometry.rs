@@ -1,8 +1,8 @@
 use glam::{Mat4, Vec3, Vec4};
 
 use super::{MffrConfig, MffrVariant, SplitDistance};
-use crate::plan::{ConfigError, Resolution};
 use crate::view::{Eye, EyeParams, FovTangents};
+use crate::vocab::{ConfigError, Resolution};
 
 /// The far view's slot in the `Views` uniform block (after the up to four eye views).
 pub const FAR_VIEW_INDEX: u32 = 4;

@@ -279,7 +279,7 @@ pub struct FramePlan {
     /// fragment counting is on.
     pub counted: Vec<CountedSlot>,
     /// Draw calls one frame records for the scene it was planned with, estimated before culling
-    /// (the renderer's [`FrameStats`](crate::render::FrameStats) has the recorded tally).
+    /// (the renderer's `FrameStats` has the recorded tally).
     pub draw_calls_estimate: u64,
     /// Foveation as resolved for this frame; `None` renders plain stereo.
     pub foveation: Option<FoveationGeometry>,

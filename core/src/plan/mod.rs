@@ -4,17 +4,14 @@
 //! Pure: no Vulkan objects are created here, so every rule is unit-tested without a GPU and
 //! `foveate plan` prints exactly what the renderer will build.
 
-mod caps;
 mod config;
 mod derive;
-mod error;
 mod frame_plan;
 mod print;
 
-pub use caps::{DeviceCaps, DriverQuirks};
-pub use config::{CullConfig, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
+pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
+pub use config::{CullConfig, RenderConfig, StereoMode, MAX_VIEWS};
 pub use derive::{Access, LoadOp, StoreOp};
-pub use error::ConfigError;
 pub use frame_plan::{
     plan, AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, CountedSlot, CountedStep,
     DrawSet, Format, FramePlan, PassKind, PassPlan, Submission, TargetLayout, Use,

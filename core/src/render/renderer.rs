@@ -192,7 +192,7 @@ impl<'g> Renderer<'g> {
     /// counting, no query pool without timestamps, no MSAA images at 1×.
     pub fn new(gpu: &'g Gpu, plan: &FramePlan, scene: &Scene) -> Result<Self, GpuError> {
         if scene.instance_count() != plan.scene_instances {
-            return Err(crate::ConfigError::new(
+            return Err(crate::vocab::ConfigError::new(
                 "scene",
                 format!("{} instances", scene.instance_count()),
                 format!(

@@ -16,13 +16,13 @@ pub const SCENE_NAMES: [&str; 4] = ["default", "fill", "city", "thesis"];
 pub const THESIS_PREVIEW_SCALE: f32 = 0.02;
 
 /// A scene by its command-line name.
-pub fn named_scene(name: &str) -> Result<Scene, crate::plan::ConfigError> {
+pub fn named_scene(name: &str) -> Result<Scene, crate::vocab::ConfigError> {
     match name {
         "default" => Ok(default_scene()),
         "fill" => Ok(fill_scene()),
         "city" => Ok(city_scene()),
         "thesis" => Ok(ThesisScene::new(THESIS_PREVIEW_SCALE)?.to_scene()),
-        _ => Err(crate::plan::ConfigError::new(
+        _ => Err(crate::vocab::ConfigError::new(
             "scene",
             name,
             format!("one of {}", SCENE_NAMES.join(", ")),

@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use super::default_scene::palette;
 use super::{cube, uv_sphere, DrawBatch, Instance, Scene};
 use crate::cull::Sphere;
-use crate::plan::ConfigError;
+use crate::vocab::ConfigError;
 
 pub const THESIS_COUNTS: [u32; 3] = [711, 22, 711];
 pub const THESIS_SPACING: f32 = 3.6;

@@ -1,0 +1,12 @@
+//! The words every module shares: configuration errors, resolutions, what the device can do and
+//! what its driver gets wrong. A leaf: it imports nothing of ours, so any module may import it
+//! without a cycle (`tests/module_graph.rs` checks that, and that no two modules import each
+//! other).
+
+mod caps;
+mod error;
+mod resolution;
+
+pub use caps::{DeviceCaps, DriverQuirks};
+pub use error::ConfigError;
+pub use resolution::Resolution;
