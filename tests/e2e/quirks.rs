@@ -67,3 +67,58 @@ fn lavapipe_multiview_clipping_quirk_is_real() {
         );
     }
 }
+
+/// Two-pass stereo into one layered image, each eye pass writing its own layer. Without MSAA
+/// there is no resolve, so every driver renders it right: the layered frame equals the
+/// multiview frame. With 4× MSAA, `layered_resolve_ignores_base_layer` is measured, not
+/// assumed: planned without the quirk, a driver that has it resolves the right eye into layer
+/// 0, so the right eye stays empty (sky) while planned with it (one image per eye) the frame is
+/// right. Mutation: a two-pass layered plan resolving both eyes into layer 0, or a quirk the
+/// driver no longer has, fails it.
+#[test]
+fn layered_two_pass_and_the_resolve_quirk() {
+    let gpu = gpu();
+    let scene = foveate::scene::default_scene();
+    let config = |stereo, msaa| RenderConfig {
+        stereo,
+        msaa,
+        resolution: Some(Resolution::square(64)),
+        ..RenderConfig::default()
+    };
+    let mut unquirked = gpu.caps().clone();
+    unquirked.quirks.layered_resolve_ignores_base_layer = false;
+    let layered = foveate::plan(&scene, &config(StereoMode::TwoPass, 1), &unquirked).unwrap();
+    assert_eq!(layered.layout, foveate::plan::TargetLayout::Layered);
+    let (image, _) = render_plan(&gpu, &scene, &layered, 1);
+    let multiview = foveate::plan(&scene, &config(StereoMode::Multiview, 1), gpu.caps()).unwrap();
+    let (reference, _) = render_plan(&gpu, &scene, &multiview, 1);
+    for eye in foveate::view::Eye::BOTH {
+        let ssim = reference.eye(eye).ssim(image.eye(eye)).unwrap();
+        assert!(ssim > 0.995, "{eye:?}: layered two-pass SSIM {ssim}");
+    }
+
+    let quirk = gpu.caps().quirks.layered_resolve_ignores_base_layer;
+    let at_4x = foveate::plan(&scene, &config(StereoMode::TwoPass, 4), &unquirked).unwrap();
+    let (unguarded, _) = render_plan(&gpu, &scene, &at_4x, 1);
+    let planned = foveate::plan(&scene, &config(StereoMode::TwoPass, 4), gpu.caps()).unwrap();
+    let (right, _) = render_plan(&gpu, &scene, &planned, 1);
+    assert_eq!(
+        planned.layout == foveate::plan::TargetLayout::PerEye,
+        quirk,
+        "the plan reads the quirk"
+    );
+    let right_eye_ssim = right.right.ssim(&unguarded.right).unwrap();
+    if quirk {
+        assert!(
+            right_eye_ssim < 0.9,
+            "{}: the quirk no longer shows (right eye SSIM {right_eye_ssim}); drop it",
+            gpu.info().driver
+        );
+    } else {
+        assert!(
+            right_eye_ssim > 0.995,
+            "{}: the right eye's resolve lands elsewhere; add the quirk",
+            gpu.info().driver
+        );
+    }
+}

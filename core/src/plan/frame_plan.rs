@@ -205,8 +205,9 @@ impl PassPlan {
 pub enum TargetLayout {
     /// One array layer per eye of one image (multiview).
     Layered,
-    /// One image per eye (two-pass: each pass renders its eye's own image, as naive engines
-    /// do; it also sidesteps lavapipe resolving into layer 0 whatever the view's base layer).
+    /// One image per eye (two-pass on a driver with
+    /// [`DriverQuirks::layered_resolve_ignores_base_layer`](super::DriverQuirks); elsewhere
+    /// each two-pass eye pass renders its own layer of a layered image).
     PerEye,
     /// Both eyes side by side in one double-wide image (per-object, instanced).
     SideBySide,
@@ -431,7 +432,10 @@ pub fn plan(
 
     let layout = match config.stereo {
         StereoMode::Multiview => TargetLayout::Layered,
-        StereoMode::TwoPass => TargetLayout::PerEye,
+        StereoMode::TwoPass if caps.quirks.layered_resolve_ignores_base_layer => {
+            TargetLayout::PerEye
+        }
+        StereoMode::TwoPass => TargetLayout::Layered,
         StereoMode::PerObject | StereoMode::Instanced => TargetLayout::SideBySide,
     };
     let mut attachments = Vec::new();
@@ -560,14 +564,22 @@ fn scene_passes(
     attachments: &mut Vec<AttachmentPlan>,
 ) -> Vec<PassPlan> {
     let msaa = config.msaa > 1;
-    // Per-pass image shape: one layer per view for multiview, one double-wide image for the
-    // side-by-side modes, one single-layer image per eye for two-pass.
+    // Image shape: one layer per view for multiview, one double-wide image for the side-by-side
+    // modes; two-pass renders one eye per pass into single-layer scratch images and resolves
+    // into its eye's layer of the output (layered) or its eye's own image (per eye).
+    let two_pass = config.stereo == StereoMode::TwoPass;
     let (width, layers) = match layout {
+        TargetLayout::Layered if two_pass => (eye.width, 1),
         TargetLayout::Layered => (eye.width, config.views),
         TargetLayout::SideBySide => (eye.width * 2, 1),
         TargetLayout::PerEye => (eye.width, 1),
     };
-    let mut add = |name, role, format, samples, read_after_frame| {
+    let output_layers = if two_pass && layout == TargetLayout::Layered {
+        2
+    } else {
+        layers
+    };
+    let mut add = |name, role, format, samples, read_after_frame, layers| {
         attachments.push(AttachmentPlan {
             name,
             role,
@@ -590,6 +602,7 @@ fn scene_passes(
             Format::Rgba8Srgb,
             config.msaa,
             false,
+            layers,
         )
     });
     let stencil_masks = config.foveation.is_some_and(|f| f.stencil) || config.hmd_mask;
@@ -605,6 +618,7 @@ fn scene_passes(
         depth_format,
         config.msaa,
         false,
+        layers,
     );
     let output_role = if msaa {
         AttachmentRole::Resolve
@@ -613,8 +627,22 @@ fn scene_passes(
     };
     let outputs: Vec<AttachmentId> = match layout {
         TargetLayout::PerEye => vec![
-            add("left eye colour", output_role, Format::Rgba8Srgb, 1, true),
-            add("right eye colour", output_role, Format::Rgba8Srgb, 1, true),
+            add(
+                "left eye colour",
+                output_role,
+                Format::Rgba8Srgb,
+                1,
+                true,
+                1,
+            ),
+            add(
+                "right eye colour",
+                output_role,
+                Format::Rgba8Srgb,
+                1,
+                true,
+                1,
+            ),
         ],
         _ => vec![add(
             if config.views == 4 {
@@ -626,17 +654,25 @@ fn scene_passes(
             Format::Rgba8Srgb,
             1,
             true,
+            output_layers,
         )],
     };
 
     let pass = |name, view_mask, output: AttachmentId, submission| {
         let whole = |id, access| Use::new(id, 0, layers, access);
+        // A single-eye pass into a layered output writes only its eye's layer.
+        let output_use = |access| match submission {
+            Submission::SingleEye(eye) if output_layers == 2 => {
+                Use::new(output, eye.index() as u32, 1, access)
+            }
+            _ => whole(output, access),
+        };
         PassPlan {
             name,
             view_mask,
-            color: whole(color.unwrap_or(output), Access::Clear),
+            color: color.map_or(output_use(Access::Clear), |c| whole(c, Access::Clear)),
             depth: Some(whole(depth, Access::Clear)),
-            resolve: color.map(|_| whole(output, Access::Overwrite)),
+            resolve: color.map(|_| output_use(Access::Overwrite)),
             submission,
             kind: PassKind::Scene,
             samples: far_field.map(|(_, far)| far).into_iter().collect(),
@@ -674,7 +710,7 @@ fn scene_passes(
             pass(
                 "scene (right eye)",
                 0,
-                outputs[1],
+                outputs[outputs.len() - 1],
                 Submission::SingleEye(Eye::Right),
             ),
         ],

@@ -88,11 +88,10 @@ fn without_msaa_there_is_no_multisampled_image_and_no_resolve() {
                 (LoadOp::Clear, StoreOp::DontCare)
             );
         }
-        let colours = if stereo == StereoMode::TwoPass { 2 } else { 1 };
         assert_eq!(
             plan.attachments.len(),
-            colours + 1,
-            "{stereo}: colour (one per eye for two-pass) and depth only"
+            2,
+            "{stereo}: colour (a layer per eye for two-pass) and depth only"
         );
     }
 }
@@ -118,18 +117,37 @@ fn stereo_modes_lay_out_their_targets() {
         .iter()
         .all(|a| a.layers == 2 && a.width == 512));
 
+    // Two-pass: scratch MSAA images (one layer) shared by both passes; each eye resolves into
+    // its own layer of the stereo image — or, on a driver whose in-pass resolve ignores the
+    // base layer, into its own image.
     let two_pass = planned(&config(StereoMode::TwoPass, 4));
+    assert_eq!(two_pass.layout, TargetLayout::Layered);
     assert_eq!(two_pass.passes.len(), 2);
     assert!(two_pass.passes.iter().all(|p| p.view_mask == 0));
-    assert!(two_pass.attachments.iter().all(|a| a.layers == 1));
-    // Scratch MSAA images are shared by both passes; each eye resolves into its own image.
     let outputs = two_pass.outputs();
-    assert_eq!(outputs.len(), 2);
+    assert_eq!(outputs.len(), 1);
+    assert_eq!(two_pass.attachments[outputs[0]].layers, 2);
     for (eye, pass) in two_pass.passes.iter().enumerate() {
+        let resolve = pass.resolve.unwrap();
+        assert_eq!(
+            (resolve.attachment, resolve.base_layer, resolve.layer_count),
+            (outputs[0], eye as u32, 1)
+        );
+        assert_eq!(resolve.store, StoreOp::Store, "each eye's layer is stored");
+        assert_eq!(attachment(&two_pass, &pass.color).layers, 1);
+        assert_eq!(pass.color.attachment, two_pass.passes[0].color.attachment);
+    }
+    let mut quirky = caps();
+    quirky.quirks.layered_resolve_ignores_base_layer = true;
+    let per_eye = plan(&default_scene(), &config(StereoMode::TwoPass, 4), &quirky).unwrap();
+    assert_eq!(per_eye.layout, TargetLayout::PerEye);
+    assert!(per_eye.attachments.iter().all(|a| a.layers == 1));
+    let outputs = per_eye.outputs();
+    assert_eq!(outputs.len(), 2);
+    for (eye, pass) in per_eye.passes.iter().enumerate() {
         let resolve = pass.resolve.unwrap();
         assert_eq!(resolve.attachment, outputs[eye]);
         assert_eq!(resolve.store, StoreOp::Store, "each eye's image is stored");
-        assert_eq!(pass.color.attachment, two_pass.passes[0].color.attachment);
     }
 
     for stereo in [StereoMode::PerObject, StereoMode::Instanced] {

@@ -39,12 +39,16 @@ impl DeviceCaps {
 /// Everything foveate knows a driver gets wrong or lacks, in one place, so that no other code
 /// tests driver names.
 #[derive(Clone, Debug, Default, PartialEq)]
+///
+/// Every field is read by the planner. (Two more lavapipe pitfalls need no workaround because
+/// foveate avoids what they break: `FRAGMENT_SHADER_INVOCATIONS` counts whole raster blocks, and
+/// an occlusion query in a multiview pass reports the sum of all views in its first query; the
+/// fragment counters are atomics instead.)
 pub struct DriverQuirks {
-    /// `FRAGMENT_SHADER_INVOCATIONS` counts whole raster blocks, not pixels (lavapipe).
-    pub fragment_invocations_count_blocks: bool,
-    /// An occlusion query in a multiview pass reports the sum of all views in its first query
-    /// and leaves the others unavailable (lavapipe).
-    pub multiview_occlusion_sums_views: bool,
+    /// An MSAA resolve inside a render pass into an attachment view whose base array layer is
+    /// not 0 writes layer 0 (lavapipe, Mesa 22.3). The planner gives two-pass stereo one image
+    /// per eye instead of one layer per eye of a shared image.
+    pub layered_resolve_ignores_base_layer: bool,
     /// In a multiview pass, primitives the driver has to clip are rasterised into the first
     /// view's layer, whatever their view (lavapipe, Mesa 22.3: every primitive crossing the
     /// viewport edge or the eye plane). The planner works around it with an emulated guard
@@ -58,8 +62,7 @@ impl DriverQuirks {
         const MESA_LLVMPIPE: i32 = 13;
         let lavapipe = driver_id == MESA_LLVMPIPE;
         Self {
-            fragment_invocations_count_blocks: lavapipe,
-            multiview_occlusion_sums_views: lavapipe,
+            layered_resolve_ignores_base_layer: lavapipe,
             multiview_clipping_drops_views: lavapipe,
         }
     }
