@@ -56,6 +56,7 @@ impl Cli {
         GpuOptions {
             validation: self.validation || env.validation,
             device: self.device.clone().or(env.device),
+            pipeline_cache: pipeline_cache_path(),
         }
     }
 
@@ -106,4 +107,17 @@ fn devices() -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Where the CLI keeps compiled pipelines between runs: `FOVEATE_PIPELINE_CACHE` (a path, or
+/// `off`), else `$XDG_CACHE_HOME/foveate/pipelines.bin`, else `~/.cache/foveate/pipelines.bin`.
+fn pipeline_cache_path() -> Option<std::path::PathBuf> {
+    match std::env::var("FOVEATE_PIPELINE_CACHE") {
+        Ok(v) if v == "off" || v.is_empty() => None,
+        Ok(v) => Some(v.into()),
+        Err(_) => std::env::var_os("XDG_CACHE_HOME")
+            .map(std::path::PathBuf::from)
+            .or_else(|| std::env::var_os("HOME").map(|h| std::path::Path::new(&h).join(".cache")))
+            .map(|dir| dir.join("foveate").join("pipelines.bin")),
+    }
 }

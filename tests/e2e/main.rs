@@ -1,6 +1,7 @@
 //! End-to-end tests on a real Vulkan device (lavapipe in CI) with validation on: any validation
 //! message fails the test that caused it.
 
+mod caches;
 mod config_errors;
 mod culling;
 mod foveation;

@@ -13,6 +13,7 @@ pub fn gpu() -> Gpu {
     let options = GpuOptions {
         validation: true,
         device: std::env::var("FOVEATE_DEVICE").ok(),
+        pipeline_cache: None,
     };
     Gpu::new(&options).expect("a Vulkan device with VK_LAYER_KHRONOS_validation (see README)")
 }

@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
-use super::{GpuError, VkResultExt};
+use super::{GpuError, ObjectCache, Pipeline, PipelineCache, RenderPass, VkResultExt};
 use crate::vocab::{DeviceCaps, DriverQuirks};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -18,6 +18,9 @@ pub struct GpuOptions {
     pub validation: bool,
     /// Pick a device by index or by (case-insensitive) part of its name instead of the best.
     pub device: Option<String>,
+    /// Where the pipeline cache persists between runs (`Gpu::save_pipeline_cache` writes it);
+    /// `None` keeps it in memory for this run only.
+    pub pipeline_cache: Option<std::path::PathBuf>,
 }
 
 impl GpuOptions {
@@ -29,6 +32,7 @@ impl GpuOptions {
             device: std::env::var("FOVEATE_DEVICE")
                 .ok()
                 .filter(|d| !d.is_empty()),
+            pipeline_cache: None,
         }
     }
 }
@@ -236,6 +240,12 @@ pub struct Gpu {
     pub(crate) timestamp_period_ns: f64,
     caps: DeviceCaps,
     info: DeviceInfo,
+    /// Render passes and pipelines alive, by description (see [`ObjectCache`]).
+    pub(crate) render_passes: ObjectCache<RenderPass>,
+    pub(crate) pipelines: ObjectCache<Pipeline>,
+    /// The driver's pipeline cache, loaded from and saved to `pipeline_cache_path`.
+    pub(crate) pipeline_cache: PipelineCache,
+    pipeline_cache_path: Option<std::path::PathBuf>,
 }
 
 impl Gpu {
@@ -323,6 +333,8 @@ impl Gpu {
             instance,
             live: Mutex::new(BTreeMap::new()),
         });
+        let pipeline_cache =
+            create_pipeline_cache(&dev, &props, options.pipeline_cache.as_deref())?;
         Ok(Gpu {
             dev,
             physical,
@@ -331,7 +343,41 @@ impl Gpu {
             timestamp_period_ns: props.limits.timestamp_period as f64,
             caps,
             info: chosen.info.clone(),
+            render_passes: ObjectCache::default(),
+            pipelines: ObjectCache::default(),
+            pipeline_cache,
+            pipeline_cache_path: options.pipeline_cache.clone(),
         })
+    }
+
+    /// Writes the pipeline cache where `GpuOptions::pipeline_cache` said (dropping the `Gpu`
+    /// does it too, ignoring errors: a cache is an optimisation), so the next run
+    /// compiles no pipeline this one compiled; returns the path written, if any.
+    pub fn save_pipeline_cache(&self) -> Result<Option<std::path::PathBuf>, GpuError> {
+        let Some(path) = &self.pipeline_cache_path else {
+            return Ok(None);
+        };
+        // SAFETY: the cache belongs to this device.
+        let data = unsafe {
+            self.dev
+                .device
+                .get_pipeline_cache_data(self.pipeline_cache.raw)
+        }
+        .vk("vkGetPipelineCacheData")?;
+        // Written aside and renamed into place: runs in parallel never read a torn file.
+        let write = || -> std::io::Result<()> {
+            if let Some(dir) = path.parent() {
+                std::fs::create_dir_all(dir)?;
+            }
+            let aside = path.with_extension(format!("tmp{}", std::process::id()));
+            std::fs::write(&aside, &data)?;
+            std::fs::rename(&aside, path)
+        };
+        write().map_err(|e| GpuError::PipelineCache {
+            path: path.display().to_string(),
+            error: e.to_string(),
+        })?;
+        Ok(Some(path.clone()))
     }
 
     /// Every physical device with what foveate needs to know of it.
@@ -412,6 +458,44 @@ impl Gpu {
     pub fn wait_idle(&self) -> Result<(), GpuError> {
         unsafe { self.dev.device.device_wait_idle() }.vk("vkDeviceWaitIdle")
     }
+}
+
+impl Drop for Gpu {
+    fn drop(&mut self) {
+        let _ = self.save_pipeline_cache();
+    }
+}
+
+/// The pipeline cache, seeded from `path` when it holds data written for this very device
+/// (the header's vendor, device and cache UUID match); anything else starts it empty.
+fn create_pipeline_cache(
+    dev: &Arc<DeviceOwner>,
+    props: &vk::PhysicalDeviceProperties,
+    path: Option<&std::path::Path>,
+) -> Result<PipelineCache, GpuError> {
+    let data = path
+        .and_then(|p| std::fs::read(p).ok())
+        .filter(|d| pipeline_cache_matches(d, props))
+        .unwrap_or_default();
+    let info = vk::PipelineCacheCreateInfo::default().initial_data(&data);
+    // SAFETY: the data's header was checked against this device.
+    let raw =
+        unsafe { dev.device.create_pipeline_cache(&info, None) }.vk("vkCreatePipelineCache")?;
+    Ok(PipelineCache::from_raw(dev, raw))
+}
+
+/// Vulkan's pipeline cache header (version one): length 32, version 1, vendor ID, device ID,
+/// then the 16-byte cache UUID.
+fn pipeline_cache_matches(data: &[u8], props: &vk::PhysicalDeviceProperties) -> bool {
+    let word = |i: usize| {
+        data.get(4 * i..4 * i + 4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    };
+    word(0) == Some(32)
+        && word(1) == Some(1)
+        && word(2) == Some(props.vendor_id)
+        && word(3) == Some(props.device_id)
+        && data.get(16..32) == Some(&props.pipeline_cache_uuid[..])
 }
 
 fn candidates(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError> {

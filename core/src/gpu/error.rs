@@ -22,6 +22,8 @@ pub enum GpuError {
     Memory(#[from] gpu_allocator::AllocationError),
     #[error(transparent)]
     Config(#[from] ConfigError),
+    #[error("pipeline cache {path}: {error}")]
+    PipelineCache { path: String, error: String },
     #[error("readback asked for before any frame was rendered")]
     NoFrameRendered,
     #[error("Vulkan validation reported {} message(s):\n{}", .0.len(), .0.join("\n"))]

@@ -58,5 +58,6 @@ owned_handle!(
 );
 owned_handle!(Fence, vk::Fence, destroy_fence);
 owned_handle!(QueryPool, vk::QueryPool, destroy_query_pool);
+owned_handle!(PipelineCache, vk::PipelineCache, destroy_pipeline_cache);
 owned_handle!(ImageView, vk::ImageView, destroy_image_view);
 owned_handle!(Sampler, vk::Sampler, destroy_sampler);

@@ -3,11 +3,13 @@
 //! across the band at the fovea's edge. A technique in one place: its descriptor set, sampler,
 //! uniforms, pipeline and recording.
 
-use ash::vk;
 use glam::Vec4;
+
+use std::sync::Arc;
 
 use super::pipelines::{pass_pipeline, PipelineKind};
 use super::sampled_set::SampledSet;
+use super::targets::CompiledPass;
 use crate::gpu::{Buffer, Gpu, GpuError, Image, Pipeline};
 use crate::plan::FramePlan;
 use crate::view::{Eye, FovTangents};
@@ -23,7 +25,7 @@ struct CompositeBlock {
 }
 
 pub(crate) struct Composite {
-    pub pipeline: Pipeline,
+    pub pipeline: Arc<Pipeline>,
     pub set: SampledSet,
 }
 
@@ -34,7 +36,7 @@ impl Composite {
         gpu: &Gpu,
         plan: &FramePlan,
         pass: usize,
-        render_pass: vk::RenderPass,
+        compiled: &CompiledPass,
         views: &Image,
         counter: Option<&Buffer>,
     ) -> Result<Self, GpuError> {
@@ -45,8 +47,9 @@ impl Composite {
             plan,
             pass,
             PipelineKind::Composite,
-            render_pass,
+            compiled,
             &set.layout,
+            &set.layout_description,
         )?;
         Ok(Composite { pipeline, set })
     }

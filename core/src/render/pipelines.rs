@@ -1,10 +1,12 @@
 use std::ffi::CStr;
+use std::sync::Arc;
 
 use ash::vk;
 
+use super::targets::CompiledPass;
 use crate::gpu::{
-    Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, Pipeline, PipelineLayout,
-    ShaderModule, VkResultExt,
+    hash_word, name_word, Buffer, Description, DescriptorPool, DescriptorSetLayout, Gpu, GpuError,
+    Pipeline, PipelineLayout, ShaderModule, VkResultExt,
 };
 use crate::mffr::{MffrOrder, MffrVariant};
 use crate::plan::{CountedStep, DrawSet, FramePlan, PassKind, PassPlan, Submission};
@@ -21,6 +23,9 @@ const ENTRY: &CStr = c"main";
 /// is on, the fragment counter (2), the stencil mask shapes (3) and culled instance ids (4).
 pub(crate) struct SceneBindings {
     pub layout: PipelineLayout,
+    /// What the layout is made of: pipelines for identically described (compatible) layouts
+    /// are shared.
+    pub layout_description: Description,
     _set_layout: DescriptorSetLayout,
     _pool: DescriptorPool,
     pub set: vk::DescriptorSet,
@@ -132,8 +137,20 @@ impl SceneBindings {
             unsafe { device.create_pipeline_layout(&layout_info, None) }
                 .vk("vkCreatePipelineLayout")?,
         );
+        let mut layout_description: Description = bindings
+            .iter()
+            .flat_map(|b| {
+                [
+                    b.binding as u64,
+                    b.descriptor_type.as_raw() as u64,
+                    b.stage_flags.as_raw() as u64,
+                ]
+            })
+            .collect();
+        layout_description.push(push[0].size as u64);
         Ok(SceneBindings {
             layout,
+            layout_description,
             _set_layout: set_layout,
             _pool: pool,
             set,
@@ -246,15 +263,17 @@ impl PipelineKind {
     }
 }
 
-/// A pipeline for pass `pass_index` of the plan.
+/// A pipeline for pass `pass_index` of the plan, compiled as `compiled`, with `layout` (made
+/// as `layout_description` says). Shared with any live pipeline of the same description.
 pub(crate) fn pass_pipeline(
     gpu: &Gpu,
     plan: &FramePlan,
     pass_index: usize,
     kind: PipelineKind,
-    render_pass: vk::RenderPass,
+    compiled: &CompiledPass,
     layout: &PipelineLayout,
-) -> Result<Pipeline, GpuError> {
+    layout_description: &[u64],
+) -> Result<Arc<Pipeline>, GpuError> {
     let pass = &plan.passes[pass_index];
     // Counting frames use the counting variant of every fragment shader (the probe always
     // counts); timed frames never carry the counter.
@@ -286,8 +305,7 @@ pub(crate) fn pass_pipeline(
             pick_frag(&FAR_COMPOSITE_FRAG, &FAR_COMPOSITE_FRAG_COUNTING),
         ),
     };
-    let vert = shader_module(gpu, vert)?;
-    let frag = shader_module(gpu, frag)?;
+    let (vert_binary, frag_binary) = (vert, frag);
     // Specialisation constants, by id: 0 where the view index comes from, 1 the guard band's
     // clip scale, 2 depth shift (the far composite), 3 depth into alpha (the far pass), 4 the
     // step's first counter slot (counting frames). Every stage gets the ones it declares.
@@ -331,113 +349,143 @@ pub(crate) fn pass_pipeline(
     let frag_spec = vk::SpecializationInfo::default()
         .map_entries(&frag_entries)
         .data(&spec_data);
-    let stages = [
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::VERTEX)
-            .module(vert.raw)
-            .name(ENTRY)
-            .specialization_info(&vert_spec),
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::FRAGMENT)
-            .module(frag.raw)
-            .name(ENTRY)
-            .specialization_info(&frag_spec),
-    ];
-    let bindings = [vk::VertexInputBindingDescription {
-        binding: 0,
-        stride: std::mem::size_of::<Vertex>() as u32,
-        input_rate: vk::VertexInputRate::VERTEX,
-    }];
-    let attributes = [
-        vk::VertexInputAttributeDescription {
-            location: 0,
-            binding: 0,
-            format: vk::Format::R32G32B32_SFLOAT,
-            offset: 0,
-        },
-        vk::VertexInputAttributeDescription {
-            location: 1,
-            binding: 0,
-            format: vk::Format::R32G32B32_SFLOAT,
-            offset: 12,
-        },
-    ];
-    let vertex_input = if kind == PipelineKind::Scene {
-        vk::PipelineVertexInputStateCreateInfo::default()
-            .vertex_binding_descriptions(&bindings)
-            .vertex_attribute_descriptions(&attributes)
-    } else {
-        vk::PipelineVertexInputStateCreateInfo::default()
-    };
-    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-    let viewport = vk::PipelineViewportStateCreateInfo::default()
-        .viewport_count(1)
-        .scissor_count(1);
-    let raster = vk::PipelineRasterizationStateCreateInfo::default()
-        .polygon_mode(vk::PolygonMode::FILL)
-        .depth_clamp_enable(pass.depth_clamp && kind == PipelineKind::Scene)
-        // The projections keep the image upright (Vulkan NDC y down), so on-screen winding is
-        // the geometry's own: counter-clockwise faces the viewer. Masks and the probe are 2D.
-        .cull_mode(if kind == PipelineKind::Scene {
-            vk::CullModeFlags::BACK
-        } else {
-            vk::CullModeFlags::NONE
-        })
-        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-        .line_width(1.0);
     let samples = if kind == PipelineKind::Composite {
         1
     } else {
         plan.samples
     };
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::from_raw(samples));
     let stencil = stencil_state(pass, kind);
-    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(kind == PipelineKind::Scene)
-        .depth_write_enable(kind == PipelineKind::Scene)
-        // Reverse-Z: nearer is greater.
-        .depth_compare_op(vk::CompareOp::GREATER)
-        .stencil_test_enable(stencil.is_some())
-        .front(stencil.unwrap_or_default())
-        .back(stencil.unwrap_or_default());
-    let writes_colour = matches!(
-        kind,
-        PipelineKind::Scene | PipelineKind::Composite | PipelineKind::FarComposite
-    );
-    let write = if writes_colour {
-        vk::ColorComponentFlags::RGBA
-    } else {
-        vk::ColorComponentFlags::empty()
-    };
-    let blend_attachments =
-        [vk::PipelineColorBlendAttachmentState::default().color_write_mask(write)];
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
-    let mut dynamic_states = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
-    if kind == PipelineKind::Mask {
-        dynamic_states.push(vk::DynamicState::STENCIL_REFERENCE);
-    }
-    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-    let info = vk::GraphicsPipelineCreateInfo::default()
-        .stages(&stages)
-        .vertex_input_state(&vertex_input)
-        .input_assembly_state(&assembly)
-        .viewport_state(&viewport)
-        .rasterization_state(&raster)
-        .multisample_state(&multisample)
-        .depth_stencil_state(&depth)
-        .color_blend_state(&blend)
-        .dynamic_state(&dynamic)
-        .layout(layout.raw)
-        .render_pass(render_pass)
-        .subpass(0);
-    // SAFETY: all referenced state lives on this stack frame for the call.
-    let pipelines = unsafe {
-        gpu.device()
-            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-    }
-    .map_err(|(_, e)| e)
-    .vk("vkCreateGraphicsPipelines")?;
-    Ok(Pipeline::from_raw(&gpu.dev, pipelines[0]))
+    // Everything the create info below depends on: the shaders and their constants, the fixed
+    // state the kind and the pass decide, the render pass's and the layout's descriptions.
+    let mut description: Description = vec![
+        kind as u64,
+        name_word(vert_binary.name),
+        name_word(frag_binary.name),
+        samples as u64,
+        (pass.depth_clamp && kind == PipelineKind::Scene) as u64,
+        hash_word(&stencil.map(|s| {
+            (
+                s.fail_op.as_raw(),
+                s.pass_op.as_raw(),
+                s.depth_fail_op.as_raw(),
+                s.compare_op.as_raw(),
+                s.compare_mask,
+                s.write_mask,
+                s.reference,
+            )
+        })),
+    ];
+    description.extend(constants.iter().map(|c| u32::from_le_bytes(c.1) as u64));
+    description.extend(vert_ids.iter().chain(frag_ids).map(|&i| i as u64 + 100));
+    description.push(compiled.description.len() as u64);
+    description.extend(&compiled.description);
+    description.extend(layout_description);
+    gpu.pipelines.get_or_create(description, || {
+        let vert = shader_module(gpu, vert_binary)?;
+        let frag = shader_module(gpu, frag_binary)?;
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(vert.raw)
+                .name(ENTRY)
+                .specialization_info(&vert_spec),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(frag.raw)
+                .name(ENTRY)
+                .specialization_info(&frag_spec),
+        ];
+        let bindings = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: std::mem::size_of::<Vertex>() as u32,
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        let attributes = [
+            vk::VertexInputAttributeDescription {
+                location: 0,
+                binding: 0,
+                format: vk::Format::R32G32B32_SFLOAT,
+                offset: 0,
+            },
+            vk::VertexInputAttributeDescription {
+                location: 1,
+                binding: 0,
+                format: vk::Format::R32G32B32_SFLOAT,
+                offset: 12,
+            },
+        ];
+        let vertex_input = if kind == PipelineKind::Scene {
+            vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&bindings)
+                .vertex_attribute_descriptions(&attributes)
+        } else {
+            vk::PipelineVertexInputStateCreateInfo::default()
+        };
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .depth_clamp_enable(pass.depth_clamp && kind == PipelineKind::Scene)
+            // The projections keep the image upright (Vulkan NDC y down), so on-screen winding is
+            // the geometry's own: counter-clockwise faces the viewer. Masks and the probe are 2D.
+            .cull_mode(if kind == PipelineKind::Scene {
+                vk::CullModeFlags::BACK
+            } else {
+                vk::CullModeFlags::NONE
+            })
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::from_raw(samples));
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(kind == PipelineKind::Scene)
+            .depth_write_enable(kind == PipelineKind::Scene)
+            // Reverse-Z: nearer is greater.
+            .depth_compare_op(vk::CompareOp::GREATER)
+            .stencil_test_enable(stencil.is_some())
+            .front(stencil.unwrap_or_default())
+            .back(stencil.unwrap_or_default());
+        let writes_colour = matches!(
+            kind,
+            PipelineKind::Scene | PipelineKind::Composite | PipelineKind::FarComposite
+        );
+        let write = if writes_colour {
+            vk::ColorComponentFlags::RGBA
+        } else {
+            vk::ColorComponentFlags::empty()
+        };
+        let blend_attachments =
+            [vk::PipelineColorBlendAttachmentState::default().color_write_mask(write)];
+        let blend =
+            vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+        let mut dynamic_states = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        if kind == PipelineKind::Mask {
+            dynamic_states.push(vk::DynamicState::STENCIL_REFERENCE);
+        }
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout.raw)
+            .render_pass(compiled.render_pass.raw)
+            .subpass(0);
+        // SAFETY: all referenced state lives on this stack frame for the call.
+        let pipelines = unsafe {
+            gpu.device()
+                .create_graphics_pipelines(gpu.pipeline_cache.raw, &[info], None)
+        }
+        .map_err(|(_, e)| e)
+        .vk("vkCreateGraphicsPipelines")?;
+        Ok(Pipeline::from_raw(&gpu.dev, pipelines[0]))
+    })
 }

@@ -1,3 +1,4 @@
+use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
@@ -143,10 +144,10 @@ impl StereoImage {
 /// the pass has masks, a coverage probe or a far field to composite.
 pub(super) struct PassPipelines {
     /// `None` for a composite pass (its pipeline lives in [`Composite`]).
-    pub scene: Option<Pipeline>,
-    pub mask: Option<Pipeline>,
-    pub coverage: Option<Pipeline>,
-    pub far: Option<Pipeline>,
+    pub scene: Option<Arc<Pipeline>>,
+    pub mask: Option<Arc<Pipeline>>,
+    pub coverage: Option<Arc<Pipeline>>,
+    pub far: Option<Arc<Pipeline>>,
 }
 
 /// A [`FramePlan`] compiled into Vulkan objects for one scene.
@@ -275,8 +276,9 @@ impl<'g> Renderer<'g> {
                     plan,
                     i,
                     kind,
-                    compiled.render_pass.raw,
+                    &compiled,
                     &bindings.layout,
+                    &bindings.layout_description,
                 )
             };
             let pipelines = match p.kind {
@@ -288,8 +290,9 @@ impl<'g> Renderer<'g> {
                             plan,
                             i,
                             PipelineKind::FarComposite,
-                            compiled.render_pass.raw,
+                            &compiled,
                             &f.set.layout,
+                            &f.set.layout_description,
                         )?),
                         _ => None,
                     },
@@ -308,7 +311,7 @@ impl<'g> Renderer<'g> {
                         gpu,
                         plan,
                         i,
-                        compiled.render_pass.raw,
+                        &compiled,
                         views,
                         counter.as_ref(),
                     )?);

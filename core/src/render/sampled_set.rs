@@ -5,12 +5,14 @@
 use ash::vk;
 
 use crate::gpu::{
-    Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, Image, ImageView, MemoryLocation,
-    PipelineLayout, Sampler, VkResultExt,
+    Buffer, Description, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, Image, ImageView,
+    MemoryLocation, PipelineLayout, Sampler, VkResultExt,
 };
 
 pub(crate) struct SampledSet {
     pub layout: PipelineLayout,
+    /// What the layout is made of (see `SceneBindings::layout_description`).
+    pub layout_description: Description,
     _set_layout: DescriptorSetLayout,
     _pool: DescriptorPool,
     pub set: vk::DescriptorSet,
@@ -164,8 +166,20 @@ impl SampledSet {
             &gpu.dev,
             unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?,
         );
+        let mut layout_description: Description = bindings
+            .iter()
+            .flat_map(|b| {
+                [
+                    b.binding as u64,
+                    b.descriptor_type.as_raw() as u64,
+                    b.stage_flags.as_raw() as u64,
+                ]
+            })
+            .collect();
+        layout_description.push(push_bytes as u64);
         Ok(SampledSet {
             layout,
+            layout_description,
             _set_layout: set_layout,
             _pool: pool,
             set,

@@ -3,8 +3,10 @@
 
 use ash::vk;
 
+use std::sync::Arc;
+
 use crate::gpu::{
-    Framebuffer, Gpu, GpuError, Image, ImageDesc, ImageView, RenderPass, VkResultExt,
+    Description, Framebuffer, Gpu, GpuError, Image, ImageDesc, ImageView, RenderPass, VkResultExt,
 };
 use crate::plan::{AttachmentPlan, Format, FramePlan, LoadOp, StoreOp, Use};
 
@@ -57,7 +59,10 @@ pub(crate) fn create_images(gpu: &Gpu, plan: &FramePlan) -> Result<Vec<Image>, G
 
 /// A render pass of the plan made concrete.
 pub(crate) struct CompiledPass {
-    pub render_pass: RenderPass,
+    /// Shared with every other live pass of the same description (see `gpu::ObjectCache`).
+    pub render_pass: Arc<RenderPass>,
+    /// That description: pipelines made for this render pass carry it in theirs.
+    pub description: Description,
     pub framebuffer: Framebuffer,
     _views: Vec<ImageView>,
     pub extent: vk::Extent2D,
@@ -184,6 +189,25 @@ pub(crate) fn compile_pass(
             .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
             .dst_access_mask(vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::SHADER_READ),
     ];
+    // Everything the render pass's create info depends on; the dependencies are the same for
+    // every pass.
+    let mut description: Description = vec![
+        pass.view_mask as u64,
+        pass.depth.is_some() as u64,
+        pass.resolve.is_some() as u64,
+    ];
+    for d in &descriptions {
+        description.extend([
+            d.format.as_raw() as u64,
+            d.samples.as_raw() as u64,
+            d.load_op.as_raw() as u64,
+            d.store_op.as_raw() as u64,
+            d.stencil_load_op.as_raw() as u64,
+            d.stencil_store_op.as_raw() as u64,
+            d.initial_layout.as_raw() as u64,
+            d.final_layout.as_raw() as u64,
+        ]);
+    }
     let subpasses = [subpass];
     let masks = [pass.view_mask];
     let mut multiview = vk::RenderPassMultiviewCreateInfo::default()
@@ -196,9 +220,12 @@ pub(crate) fn compile_pass(
     if pass.view_mask != 0 {
         info = info.push_next(&mut multiview);
     }
-    // SAFETY: the create info points at locals alive for the call.
-    let raw = unsafe { gpu.device().create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
-    let render_pass = RenderPass::from_raw(&gpu.dev, raw);
+    let render_pass = gpu.render_passes.get_or_create(description.clone(), || {
+        // SAFETY: the create info points at locals alive for the call.
+        let raw =
+            unsafe { gpu.device().create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
+        Ok::<_, GpuError>(RenderPass::from_raw(&gpu.dev, raw))
+    })?;
 
     // Multiview framebuffers have one layer and array views holding every view's layer.
     let array = pass.view_mask != 0;
@@ -223,6 +250,7 @@ pub(crate) fn compile_pass(
     Ok(CompiledPass {
         framebuffer: Framebuffer::from_raw(&gpu.dev, raw),
         render_pass,
+        description,
         _views: views,
         extent,
     })
