@@ -48,6 +48,56 @@ impl StoreOp {
     }
 }
 
+/// The layout an attachment is in when a pass starts or ends with it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layout {
+    /// Contents not needed: the driver may discard them.
+    Undefined,
+    ColorAttachment,
+    DepthStencilAttachment,
+    /// Ready for the copy that reads the frame's output back.
+    TransferSrc,
+    /// Ready to be sampled by a later pass.
+    ShaderReadOnly,
+}
+
+impl Layout {
+    /// Where a use starts and ends: loaded contents must already be in the working layout
+    /// (otherwise `Undefined` lets the driver skip preserving them); stored contents end ready
+    /// for whoever reads them next — the frame's readback, a later pass sampling them — and
+    /// anything else stays in the working layout.
+    pub fn around(
+        working: Layout,
+        load: LoadOp,
+        store: StoreOp,
+        read_after_frame: bool,
+        sampled_later: bool,
+    ) -> (Layout, Layout) {
+        let initial = if load == LoadOp::Load {
+            working
+        } else {
+            Layout::Undefined
+        };
+        let last = if read_after_frame && store == StoreOp::Store {
+            Layout::TransferSrc
+        } else if sampled_later {
+            Layout::ShaderReadOnly
+        } else {
+            working
+        };
+        (initial, last)
+    }
+}
+
+/// What a cleared attachment starts as.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ClearValue {
+    /// Linear-light RGBA.
+    Color([f32; 4]),
+    /// Reverse-Z depth (0 is the far plane) and stencil.
+    DepthStencil { depth: f32, stencil: u32 },
+}
+
 /// An attachment can live only on tile (transient, lazily allocated where the device offers
 /// it) when no pass ever loads or stores it.
 pub fn is_transient(loads: &[LoadOp], stores: &[StoreOp]) -> bool {
@@ -70,5 +120,28 @@ impl fmt::Display for StoreOp {
             StoreOp::Store => "STORE",
             StoreOp::DontCare => "DONT_CARE",
         })
+    }
+}
+
+impl fmt::Display for Layout {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Layout::Undefined => "UNDEFINED",
+            Layout::ColorAttachment => "COLOR_ATTACHMENT",
+            Layout::DepthStencilAttachment => "DEPTH_STENCIL_ATTACHMENT",
+            Layout::TransferSrc => "TRANSFER_SRC",
+            Layout::ShaderReadOnly => "SHADER_READ_ONLY",
+        })
+    }
+}
+
+impl fmt::Display for ClearValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ClearValue::Color([r, g, b, a]) => write!(f, "colour ({r}, {g}, {b}, {a})"),
+            ClearValue::DepthStencil { depth, stencil } => {
+                write!(f, "depth {depth}, stencil {stencil}")
+            }
+        }
     }
 }

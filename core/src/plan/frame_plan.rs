@@ -1,4 +1,4 @@
-use super::derive::{is_transient, Access, LoadOp, StoreOp};
+use super::derive::{is_transient, Access, ClearValue, Layout, LoadOp, StoreOp};
 use super::{ConfigError, CullConfig, DeviceCaps, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
 use crate::cull::Strategy;
 use crate::foveation::FoveationGeometry;
@@ -83,6 +83,11 @@ pub struct Use {
     pub access: Access,
     pub load: LoadOp,
     pub store: StoreOp,
+    /// Layout at the pass's start and end (derived: [`Layout::around`]).
+    pub initial_layout: Layout,
+    pub final_layout: Layout,
+    /// What a cleared use starts as; `None` unless `load` clears.
+    pub clear: Option<ClearValue>,
 }
 
 impl Use {
@@ -95,6 +100,9 @@ impl Use {
             access,
             load: LoadOp::from_access(access),
             store: StoreOp::DontCare,
+            initial_layout: Layout::Undefined,
+            final_layout: Layout::Undefined,
+            clear: None,
         }
     }
 
@@ -384,6 +392,10 @@ impl FramePlan {
         attachment_traffic + sampled + read_back
     }
 }
+
+/// Linear-light colour of the sky: every colour attachment clears to it (the MFFR far pass
+/// with alpha 0: the sky is infinitely far, see `shaders/scene.frag`).
+pub const SKY: [f32; 4] = [0.22, 0.38, 0.62, 1.0];
 
 pub(crate) const FRAGMENT_COUNTER: &str = "fragment counter";
 pub(crate) const INSTANCE_IDS: &str = "instance ids";
@@ -860,6 +872,11 @@ fn derive_ops(plan: &mut FramePlan) {
         })
         .collect();
     for (i, pass) in plan.passes.iter_mut().enumerate() {
+        let sky = if pass.kind == PassKind::FarField {
+            [SKY[0], SKY[1], SKY[2], 0.0]
+        } else {
+            SKY
+        };
         for u in pass.uses_mut() {
             let later = all_uses.iter().filter(|(j, v)| *j > i && v.overlaps(u));
             let mut kept_later = false;
@@ -876,6 +893,28 @@ fn derive_ops(plan: &mut FramePlan) {
                 plan.attachments[u.attachment].read_after_frame && !replaced_later;
             u.load = LoadOp::from_access(u.access);
             u.store = StoreOp::from_read_later(kept_later || read_by_frame_reader);
+            let a = &plan.attachments[u.attachment];
+            let working = if a.format.is_depth() {
+                Layout::DepthStencilAttachment
+            } else {
+                Layout::ColorAttachment
+            };
+            (u.initial_layout, u.final_layout) = Layout::around(
+                working,
+                u.load,
+                u.store,
+                a.read_after_frame,
+                sampled_after[i].contains(&u.attachment),
+            );
+            // Reverse-Z: depth clears to the far plane, 0.
+            u.clear = (u.load == LoadOp::Clear).then_some(if a.format.is_depth() {
+                ClearValue::DepthStencil {
+                    depth: 0.0,
+                    stencil: 0,
+                }
+            } else {
+                ClearValue::Color(sky)
+            });
         }
     }
     for (id, a) in plan.attachments.iter_mut().enumerate() {

@@ -11,11 +11,11 @@ mod print;
 
 pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
 pub use config::{CullConfig, RenderConfig, StereoMode, MAX_VIEWS};
-pub use derive::{Access, LoadOp, StoreOp};
+pub use derive::{Access, ClearValue, Layout, LoadOp, StoreOp};
 pub use frame_plan::{
     plan, AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, CountedSlot, CountedStep,
     DrawSet, Format, FramePlan, PassKind, PassPlan, Submission, TargetLayout, Use,
-    COUNTER_SLOTS_PER_STEP,
+    COUNTER_SLOTS_PER_STEP, SKY,
 };
 
 #[cfg(test)]

@@ -218,6 +218,14 @@ impl fmt::Display for FramePlan {
                     u.load,
                     u.store
                 )?;
+                let clear = u
+                    .clear
+                    .map_or(String::new(), |c| format!("; clears to {c}"));
+                writeln!(
+                    f,
+                    "            layout {} → {}{clear}",
+                    u.initial_layout, u.final_layout
+                )?;
             }
         }
         if !self.counted.is_empty() {

@@ -783,3 +783,44 @@ fn culling_picks_each_pass_its_draw_set_and_adds_only_the_id_buffer() {
         assert_eq!(e.field, "draw distance");
     }
 }
+
+/// Layouts and clear values are the plan's: a cleared or overwritten use starts UNDEFINED, the
+/// output ends ready for the readback, views sampled by composition end shader-readable,
+/// scratch stays in its working layout; colour clears to the sky (the far pass's with alpha 0),
+/// depth to the far plane. Mutation: a final layout left at the working one for the output,
+/// or a clear colour with the far pass's alpha 1, fails it.
+#[test]
+fn the_plan_decides_layouts_and_clear_values() {
+    let plan = planned(&foveated(true));
+    let (scene, composite) = (&plan.passes[0], &plan.passes[1]);
+    assert_eq!(
+        (scene.color.initial_layout, scene.color.final_layout),
+        (Layout::Undefined, Layout::ColorAttachment)
+    );
+    assert_eq!(scene.color.clear, Some(ClearValue::Color(SKY)));
+    let depth = scene.depth.unwrap();
+    assert_eq!(depth.final_layout, Layout::DepthStencilAttachment);
+    assert_eq!(
+        depth.clear,
+        Some(ClearValue::DepthStencil {
+            depth: 0.0,
+            stencil: 0
+        })
+    );
+    let views = scene.resolve.unwrap();
+    assert_eq!(
+        (views.final_layout, views.clear),
+        (Layout::ShaderReadOnly, None)
+    );
+    assert_eq!(
+        (composite.color.initial_layout, composite.color.final_layout),
+        (Layout::Undefined, Layout::TransferSrc)
+    );
+    let mffr = planned(&with_mffr(crate::mffr::MffrOrder::FarFirst));
+    let far = mffr.far_pass().unwrap();
+    assert_eq!(
+        far.color.clear,
+        Some(ClearValue::Color([SKY[0], SKY[1], SKY[2], 0.0]))
+    );
+    assert_eq!(far.resolve.unwrap().final_layout, Layout::ShaderReadOnly);
+}

@@ -11,5 +11,5 @@ mod sampled_set;
 mod scene_buffers;
 mod targets;
 
-pub use record::SKY;
+pub use crate::plan::SKY;
 pub use renderer::{counting_frame, FrameStats, Renderer, StepFragments, StereoImage};

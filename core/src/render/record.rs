@@ -7,12 +7,9 @@ use super::renderer::{DrawTally, Renderer};
 use super::sampled_set::SampledSet;
 use crate::gpu::Pipeline;
 use crate::mffr::{MffrOrder, FAR_VIEW_INDEX};
-use crate::plan::{LoadOp, PassKind, PassPlan, Submission};
+use crate::plan::{ClearValue, PassKind, PassPlan, Submission};
 use crate::scene::Draw;
 use crate::view::Eye;
-
-/// Linear-light clear colour of the sky.
-pub const SKY: [f32; 4] = [0.22, 0.38, 0.62, 1.0];
 
 impl Renderer<'_> {
     /// Records the whole frame into `cmd` (already begun).
@@ -43,36 +40,24 @@ impl Renderer<'_> {
             for (index, (pass_plan, (pass, pipelines))) in
                 self.plan.passes.iter().zip(&self.passes).enumerate()
             {
-                // The far pass clears alpha to 0: the sky is infinitely far (see scene.frag).
-                let mut sky = SKY;
-                if pass_plan.kind == PassKind::FarField {
-                    sky[3] = 0.0;
-                }
                 // One clear value per attachment, in `uses()` order (the render pass's), up to
                 // the last one the plan clears: none for a pass that clears nothing.
-                let clear_value = |format: crate::plan::Format| {
-                    if format.is_depth() {
-                        // Reverse-Z: clear to the far plane, 0.
-                        vk::ClearValue {
-                            depth_stencil: vk::ClearDepthStencilValue {
-                                depth: 0.0,
-                                stencil: 0,
-                            },
-                        }
-                    } else {
-                        vk::ClearValue {
-                            color: vk::ClearColorValue { float32: sky },
-                        }
-                    }
-                };
                 let uses: Vec<_> = pass_plan.uses().collect();
                 let cleared = uses
                     .iter()
-                    .rposition(|u| u.load == LoadOp::Clear)
+                    .rposition(|u| u.clear.is_some())
                     .map_or(0, |i| i + 1);
                 let clears: Vec<vk::ClearValue> = uses[..cleared]
                     .iter()
-                    .map(|u| clear_value(self.plan.attachments[u.attachment].format))
+                    .map(|u| match u.clear {
+                        Some(ClearValue::DepthStencil { depth, stencil }) => vk::ClearValue {
+                            depth_stencil: vk::ClearDepthStencilValue { depth, stencil },
+                        },
+                        Some(ClearValue::Color(float32)) => vk::ClearValue {
+                            color: vk::ClearColorValue { float32 },
+                        },
+                        None => vk::ClearValue::default(),
+                    })
                     .collect();
                 let begin = vk::RenderPassBeginInfo::default()
                     .render_pass(pass.render_pass.raw)

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use crate::gpu::{
     Description, Framebuffer, Gpu, GpuError, Image, ImageDesc, ImageView, RenderPass, VkResultExt,
 };
-use crate::plan::{AttachmentPlan, Format, FramePlan, LoadOp, StoreOp, Use};
+use crate::plan::{AttachmentPlan, Format, FramePlan, Layout, LoadOp, StoreOp, Use};
 
 pub(crate) fn vk_format(format: Format) -> vk::Format {
     match format {
@@ -68,15 +68,18 @@ pub(crate) struct CompiledPass {
     pub extent: vk::Extent2D,
 }
 
-fn attachment_layout(a: &AttachmentPlan) -> vk::ImageLayout {
-    if a.format.is_depth() {
-        vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL
-    } else {
-        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL
+pub(crate) fn vk_layout(layout: Layout) -> vk::ImageLayout {
+    match layout {
+        Layout::Undefined => vk::ImageLayout::UNDEFINED,
+        Layout::ColorAttachment => vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        Layout::DepthStencilAttachment => vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        Layout::TransferSrc => vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        Layout::ShaderReadOnly => vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
     }
 }
 
-fn description(plan: &FramePlan, pass_index: usize, u: &Use) -> vk::AttachmentDescription {
+/// The attachment description of a use: every op and layout as the plan derived it.
+fn description(plan: &FramePlan, u: &Use) -> vk::AttachmentDescription {
     let a = &plan.attachments[u.attachment];
     let load = match u.load {
         LoadOp::Clear => vk::AttachmentLoadOp::CLEAR,
@@ -86,24 +89,6 @@ fn description(plan: &FramePlan, pass_index: usize, u: &Use) -> vk::AttachmentDe
     let store = match u.store {
         StoreOp::Store => vk::AttachmentStoreOp::STORE,
         StoreOp::DontCare => vk::AttachmentStoreOp::DONT_CARE,
-    };
-    let working = attachment_layout(a);
-    // Contents that are loaded must already be in the working layout; otherwise UNDEFINED lets
-    // the driver skip preserving them. The frame's output ends ready for the transfer reading it.
-    let initial = if u.load == LoadOp::Load {
-        working
-    } else {
-        vk::ImageLayout::UNDEFINED
-    };
-    let sampled_later = plan.passes[pass_index + 1..]
-        .iter()
-        .any(|p| p.samples.contains(&u.attachment));
-    let last = if a.read_after_frame && u.store == StoreOp::Store {
-        vk::ImageLayout::TRANSFER_SRC_OPTIMAL
-    } else if sampled_later {
-        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
-    } else {
-        working
     };
     let stencil = a.format == Format::D32S8;
     vk::AttachmentDescription::default()
@@ -121,8 +106,8 @@ fn description(plan: &FramePlan, pass_index: usize, u: &Use) -> vk::AttachmentDe
         } else {
             vk::AttachmentStoreOp::DONT_CARE
         })
-        .initial_layout(initial)
-        .final_layout(last)
+        .initial_layout(vk_layout(u.initial_layout))
+        .final_layout(vk_layout(u.final_layout))
 }
 
 pub(crate) fn compile_pass(
@@ -133,10 +118,8 @@ pub(crate) fn compile_pass(
 ) -> Result<CompiledPass, GpuError> {
     let pass = &plan.passes[pass_index];
     let uses: Vec<&Use> = pass.uses().collect();
-    let descriptions: Vec<vk::AttachmentDescription> = uses
-        .iter()
-        .map(|u| description(plan, pass_index, u))
-        .collect();
+    let descriptions: Vec<vk::AttachmentDescription> =
+        uses.iter().map(|u| description(plan, u)).collect();
     // References follow `uses()`: colour, then depth if any, then resolve if any.
     let color_ref = [vk::AttachmentReference {
         attachment: 0,
