@@ -92,7 +92,7 @@ fn two_pass_per_eye_culling_draws_each_eye_its_own_set() {
     let scene = thesis();
     let per_eye = config(StereoMode::TwoPass, Some(CullConfig::THESIS));
     let plan = foveate::plan(&scene, &per_eye, gpu.caps()).unwrap();
-    let sets: Vec<DrawSet> = plan.passes.iter().map(|p| p.draw_set).collect();
+    let sets: Vec<DrawSet> = plan.passes.iter().filter_map(|p| p.draw_set()).collect();
     assert_eq!(
         sets,
         [

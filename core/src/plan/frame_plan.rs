@@ -1,4 +1,5 @@
 use super::derive::{is_transient, Access, ClearValue, Layout, LoadOp, StoreOp};
+use super::steps::{stencil_states, Step};
 use super::{ConfigError, CullConfig, DeviceCaps, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
 use crate::cull::Strategy;
 use crate::foveation::FoveationGeometry;
@@ -168,15 +169,8 @@ pub struct PassPlan {
     /// Attachments of earlier passes this pass samples.
     pub samples: Vec<AttachmentId>,
     pub submission: Submission,
-    /// Inset/outset stencil masks are written per view at the start of the pass; scene draws
-    /// test them (never write them).
-    pub stencil_masks: bool,
-    /// A full-view draw under the masks, counted per view, after the scene.
-    pub coverage_probe: bool,
-    /// MFFR: the far image (the one attachment in `samples`) is composited into every view,
-    /// before the scene (far-first) or under it, into pixels it left uncovered (near-first).
-    pub far_field: Option<MffrOrder>,
-    pub draw_set: DrawSet,
+    /// What the pass does, in order (mask fans, far composite, scene, probe; or composition).
+    pub steps: Vec<Step>,
     /// Depth clamp instead of clipping at the near and far planes (the MFFR split), to work
     /// around [`DriverQuirks`](super::DriverQuirks) dropping clipped primitives' views.
     pub depth_clamp: bool,
@@ -195,6 +189,39 @@ impl PassPlan {
         ]
         .into_iter()
         .flatten()
+    }
+
+    /// Whether the pass writes stencil masks first.
+    pub fn has_masks(&self) -> bool {
+        self.steps
+            .iter()
+            .any(|s| matches!(s, Step::MaskFans { .. }))
+    }
+
+    /// The MFFR far image is composited into this pass: before the scene (far-first) or after
+    /// it, into the pixels it left (near-first).
+    pub fn far_composite(&self) -> Option<MffrOrder> {
+        let far = self
+            .steps
+            .iter()
+            .position(|s| matches!(s, Step::FarComposite { .. }))?;
+        let scene = self
+            .steps
+            .iter()
+            .position(|s| matches!(s, Step::Scene { .. }))?;
+        Some(if far < scene {
+            MffrOrder::FarFirst
+        } else {
+            MffrOrder::NearFirst
+        })
+    }
+
+    /// The instances the pass's scene step draws.
+    pub fn draw_set(&self) -> Option<DrawSet> {
+        self.steps.iter().find_map(|s| match s {
+            Step::Scene { draw_set, .. } => Some(*draw_set),
+            _ => None,
+        })
     }
 
     fn uses_mut(&mut self) -> impl Iterator<Item = &mut Use> {
@@ -299,6 +326,9 @@ pub struct FramePlan {
     pub mffr: Option<MffrGeometry>,
     /// Per-frame culling, when on.
     pub culling: Option<CullConfig>,
+    /// The sets culled each frame, in order; a scene step's `cull_slot` indexes this (empty
+    /// when every pass draws every instance).
+    pub cull_slots: Vec<DrawSet>,
     /// Instances of the scene the plan was made for: buffers are sized for them, and a
     /// renderer refuses another scene.
     pub scene_instances: usize,
@@ -491,7 +521,7 @@ pub fn plan(
             // Clipping at the MFFR split would drop views too: clamp depth instead, so what lies
             // beyond the split lands on the far plane's depth, 0, and fails the depth test
             // against the clear value (reverse-Z, GREATER) without any primitive being clipped.
-            p.depth_clamp = p.far_field.is_some() && caps.depth_clamp;
+            p.depth_clamp = p.far_composite().is_some() && caps.depth_clamp;
         }
     }
     let mut plan = FramePlan {
@@ -514,8 +544,10 @@ pub fn plan(
         hmd_mask,
         mffr,
         culling: config.culling,
+        cull_slots: Vec::new(),
         scene_instances: scene.instance_count(),
     };
+    assign_cull_slots(&mut plan);
     plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
     if config.timestamps {
         // One before the frame and one after each pass.
@@ -528,7 +560,7 @@ pub fn plan(
             bytes: 4 * (COUNTER_SLOTS_PER_STEP * plan.counted.len() as u32) as u64,
         });
     }
-    if plan.passes.iter().any(|p| p.draw_set != DrawSet::All) {
+    if !plan.cull_slots.is_empty() {
         // Near and far sets of one frame, each at most every instance.
         plan.buffers.push(BufferPlan {
             name: INSTANCE_IDS,
@@ -543,28 +575,49 @@ pub fn plan(
 /// far composite (far-first before the scene, near-first after it), its scene, its probe; the
 /// composition pass's full-view draw.
 fn counted_steps(passes: &[PassPlan]) -> Vec<CountedSlot> {
-    let mut counted = Vec::new();
-    for (pass, p) in passes.iter().enumerate() {
-        let mut add = |step| counted.push(CountedSlot { pass, step });
-        if p.kind == PassKind::Composite {
-            add(CountedStep::Composite);
-            continue;
-        }
-        if p.stencil_masks {
-            add(CountedStep::Mask);
-        }
-        if p.far_field == Some(MffrOrder::FarFirst) {
-            add(CountedStep::FarComposite);
-        }
-        add(CountedStep::Scene);
-        if p.far_field == Some(MffrOrder::NearFirst) {
-            add(CountedStep::FarComposite);
-        }
-        if p.coverage_probe {
-            add(CountedStep::Probe);
+    passes
+        .iter()
+        .enumerate()
+        .flat_map(|(pass, p)| {
+            p.steps.iter().map(move |s| CountedSlot {
+                pass,
+                step: match s {
+                    Step::MaskFans { .. } => CountedStep::Mask,
+                    Step::FarComposite { .. } => CountedStep::FarComposite,
+                    Step::Scene { .. } => CountedStep::Scene,
+                    Step::Probe { .. } => CountedStep::Probe,
+                    Step::Composite => CountedStep::Composite,
+                },
+            })
+        })
+        .collect()
+}
+
+/// One cull slot per distinct culled draw set, in pass order (at most two: both eyes' set,
+/// each eye's own, or MFFR's near and far fields), and each scene step pointed at its slot.
+fn assign_cull_slots(plan: &mut FramePlan) {
+    let mut slots: Vec<DrawSet> = Vec::new();
+    for pass in &mut plan.passes {
+        for step in &mut pass.steps {
+            if let Step::Scene {
+                draw_set,
+                cull_slot,
+                ..
+            } = step
+            {
+                if *draw_set == DrawSet::All {
+                    continue;
+                }
+                let slot = slots.iter().position(|s| s == draw_set).unwrap_or_else(|| {
+                    slots.push(*draw_set);
+                    slots.len() - 1
+                });
+                *cull_slot = Some(slot);
+            }
         }
     }
-    counted
+    debug_assert!(slots.len() <= 2, "the instance-id buffer holds two sets");
+    plan.cull_slots = slots;
 }
 
 /// The scene pass(es) of a stereo frame and the attachments they use.
@@ -688,16 +741,38 @@ fn scene_passes(
             submission,
             kind: PassKind::Scene,
             samples: far_field.map(|(_, far)| far).into_iter().collect(),
-            stencil_masks,
-            coverage_probe: config.coverage_probe,
-            far_field: far_field.map(|(order, _)| order),
-            draw_set: match (far_field, config.culling, submission) {
-                (Some(_), _, _) => DrawSet::NearField,
-                (None, None, _) => DrawSet::All,
-                (None, Some(c), Submission::SingleEye(eye)) if c.strategy == Strategy::PerEye => {
-                    DrawSet::VisibleToEye(eye)
+            steps: {
+                let draw_set = match (far_field, config.culling, submission) {
+                    (Some(_), _, _) => DrawSet::NearField,
+                    (None, None, _) => DrawSet::All,
+                    (None, Some(c), Submission::SingleEye(eye))
+                        if c.strategy == Strategy::PerEye =>
+                    {
+                        DrawSet::VisibleToEye(eye)
+                    }
+                    (None, Some(_), _) => DrawSet::Visible,
+                };
+                let (fans, scene, probe, far) = stencil_states(stencil_masks, near_first);
+                let mut steps = Vec::new();
+                if stencil_masks {
+                    steps.push(Step::MaskFans { stencil: fans });
                 }
-                (None, Some(_), _) => DrawSet::Visible,
+                let far_step = Step::FarComposite { stencil: far };
+                if far_field.is_some() && !near_first {
+                    steps.push(far_step);
+                }
+                steps.push(Step::Scene {
+                    draw_set,
+                    cull_slot: None,
+                    stencil: scene,
+                });
+                if near_first {
+                    steps.push(far_step);
+                }
+                if config.coverage_probe {
+                    steps.push(Step::Probe { stencil: probe });
+                }
+                steps
             },
             depth_clamp: false,
             guard_band: 1,
@@ -774,10 +849,7 @@ fn composite_pass(
         resolve: None,
         samples: vec![views],
         submission: Submission::Multiview,
-        stencil_masks: false,
-        coverage_probe: false,
-        far_field: None,
-        draw_set: DrawSet::All,
+        steps: vec![Step::Composite],
         depth_clamp: false,
         guard_band: 1,
     }
@@ -831,10 +903,11 @@ fn far_pass(
         resolve: color.map(|_| whole(output, Access::Overwrite)),
         samples: Vec::new(),
         submission: Submission::FarView,
-        stencil_masks: false,
-        coverage_probe: false,
-        far_field: None,
-        draw_set: DrawSet::FarField,
+        steps: vec![Step::Scene {
+            draw_set: DrawSet::FarField,
+            cull_slot: None,
+            stencil: None,
+        }],
         depth_clamp: false,
         guard_band: 1,
     }
@@ -945,7 +1018,7 @@ fn draw_calls_estimate(scene: &Scene, plan: &FramePlan) -> u64 {
                 Submission::PerObject => 2 * scene.instance_count() as u64,
                 _ => meshes,
             };
-            scene_draws + p.far_field.is_some() as u64
+            scene_draws + p.far_composite().is_some() as u64
         })
         .sum()
 }

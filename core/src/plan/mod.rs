@@ -8,6 +8,7 @@ mod config;
 mod derive;
 mod frame_plan;
 mod print;
+mod steps;
 
 pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
 pub use config::{CullConfig, RenderConfig, StereoMode, MAX_VIEWS};
@@ -17,6 +18,7 @@ pub use frame_plan::{
     DrawSet, Format, FramePlan, PassKind, PassPlan, Submission, TargetLayout, Use,
     COUNTER_SLOTS_PER_STEP, SKY,
 };
+pub use steps::{CompareOp, StencilOp, StencilState, Step, MASK_BIT, NEAR_BIT};
 
 #[cfg(test)]
 mod tests;

@@ -1,6 +1,6 @@
 use std::fmt;
 
-use super::{DrawSet, FramePlan, PassKind, Submission, TargetLayout};
+use super::{DrawSet, FramePlan, PassKind, Step, Submission, TargetLayout};
 use crate::mffr::MffrOrder;
 
 fn mib(bytes: u64) -> String {
@@ -146,49 +146,53 @@ impl fmt::Display for FramePlan {
                     self.attachments[id].name
                 )?;
             }
-            if p.stencil_masks {
-                let mut masks = Vec::new();
-                if self.hmd_mask.is_some() {
-                    masks.push("the lens-visible ellipse in the eye (periphery) views");
+            let steps: Vec<String> = p.steps.iter().map(ToString::to_string).collect();
+            writeln!(f, "    steps: {}", steps.join(" → "))?;
+            for step in &p.steps {
+                match step {
+                    Step::MaskFans { .. } => {
+                        let mut masks = Vec::new();
+                        if self.hmd_mask.is_some() {
+                            masks.push("the lens-visible ellipse in the eye (periphery) views");
+                        }
+                        if self.foveation.is_some_and(|g| g.stencil) {
+                            masks.push(
+                                "inset circle in the fovea views, outset (hole) in the periphery views",
+                            );
+                        }
+                        writeln!(f, "    stencil masks first: {}", masks.join("; "))?;
+                    }
+                    Step::Scene { draw_set, .. } => match draw_set {
+                        DrawSet::All => {}
+                        DrawSet::Visible => writeln!(
+                            f,
+                            "    draws the instances its views may see (culled per frame: {})",
+                            self.culling.map_or("", |c| c.strategy.name())
+                        )?,
+                        DrawSet::VisibleToEye(eye) => writeln!(
+                            f,
+                            "    draws the instances the {} eye's frustum keeps (culled per frame for this eye alone)",
+                            eye.name()
+                        )?,
+                        DrawSet::NearField => writeln!(
+                            f,
+                            "    draws the near field (instances in front of the split, culled per frame)"
+                        )?,
+                        DrawSet::FarField => writeln!(
+                            f,
+                            "    draws the far field (instances beyond the split, culled per frame)"
+                        )?,
+                    },
+                    Step::FarComposite { .. } => match p.far_composite() {
+                        Some(MffrOrder::FarFirst) => writeln!(f, "    far image composited first into every pixel, near field drawn over it")?,
+                        _ => writeln!(f, "    near field first, marking stencil; far image composited into the unmarked pixels")?,
+                    },
+                    Step::Probe { .. } => writeln!(
+                        f,
+                        "    coverage probe last: a full-view draw per view, counted"
+                    )?,
+                    Step::Composite => {}
                 }
-                if self.foveation.is_some_and(|g| g.stencil) {
-                    masks.push(
-                        "inset circle in the fovea views, outset (hole) in the periphery views",
-                    );
-                }
-                writeln!(f, "    stencil masks first: {}", masks.join("; "))?;
-            }
-            match p.draw_set {
-                DrawSet::All => {}
-                DrawSet::Visible => writeln!(
-                    f,
-                    "    draws the instances its views may see (culled per frame: {})",
-                    self.culling.map_or("", |c| c.strategy.name())
-                )?,
-                DrawSet::VisibleToEye(eye) => writeln!(
-                    f,
-                    "    draws the instances the {} eye's frustum keeps (culled per frame for this eye alone)",
-                    eye.name()
-                )?,
-                DrawSet::NearField => writeln!(
-                    f,
-                    "    draws the near field (instances in front of the split, culled per frame)"
-                )?,
-                DrawSet::FarField => writeln!(
-                    f,
-                    "    draws the far field (instances beyond the split, culled per frame)"
-                )?,
-            }
-            match p.far_field {
-                Some(MffrOrder::FarFirst) => writeln!(f, "    far image composited first into every pixel, near field drawn over it")?,
-                Some(MffrOrder::NearFirst) => writeln!(f, "    near field first, marking stencil; far image composited into the unmarked pixels")?,
-                None => {}
-            }
-            if p.coverage_probe {
-                writeln!(
-                    f,
-                    "    coverage probe last: a full-view draw per view, counted"
-                )?;
             }
             if p.depth_clamp {
                 writeln!(

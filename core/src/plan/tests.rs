@@ -497,7 +497,7 @@ fn foveation_plans_four_low_resolution_views_in_one_pass() {
     assert_eq!(plan.passes.len(), 2, "scene pass + composition");
     let pass = &plan.passes[0];
     assert_eq!((pass.kind, pass.view_mask), (PassKind::Scene, 0b1111));
-    assert!(pass.stencil_masks);
+    assert!(pass.has_masks());
     for u in pass.uses() {
         let a = attachment(&plan, u);
         assert!(
@@ -550,7 +550,7 @@ fn composition_samples_the_views_which_are_therefore_stored() {
 #[test]
 fn no_masks_no_stencil() {
     let plan = planned(&foveated(false));
-    assert!(!plan.passes[0].stencil_masks);
+    assert!(!plan.passes[0].has_masks());
     assert!(plan.attachments.iter().all(|a| a.format != Format::D32S8));
 }
 
@@ -618,7 +618,7 @@ fn hmd_mask_adds_stencil_and_nothing_else() {
     });
     let depth = |p: &FramePlan| attachment(p, &p.passes[0].depth.unwrap()).format;
     assert_eq!((depth(&off), depth(&on)), (Format::D32, Format::D32S8));
-    assert!(on.passes[0].stencil_masks && !off.passes[0].stencil_masks);
+    assert!(on.passes[0].has_masks() && !off.passes[0].has_masks());
     assert_eq!(
         on.passes.len(),
         off.passes.len(),
@@ -639,7 +639,10 @@ fn mffr_plans_a_mono_far_pass_the_eye_pass_samples() {
     ] {
         let plan = plan(&scene, &with_mffr(order), &caps()).unwrap();
         let far = plan.far_pass().expect("far pass planned");
-        assert_eq!((far.view_mask, far.draw_set), (0, DrawSet::FarField));
+        assert_eq!(
+            (far.view_mask, far.draw_set().unwrap()),
+            (0, DrawSet::FarField)
+        );
         let far_colour = far.resolve.unwrap();
         assert_eq!(far_colour.store, StoreOp::Store, "sampled later, so stored");
         assert!(
@@ -649,7 +652,7 @@ fn mffr_plans_a_mono_far_pass_the_eye_pass_samples() {
         let eye = &plan.passes[1];
         assert_eq!(eye.samples, vec![far_colour.attachment]);
         assert_eq!(
-            (eye.far_field, eye.draw_set),
+            (eye.far_composite(), eye.draw_set().unwrap()),
             (Some(order), DrawSet::NearField)
         );
         // Only near-first writes stencil.
@@ -726,7 +729,13 @@ fn mffr_needs_an_eye_pass_to_composite_into() {
         ..with_mffr(crate::mffr::MffrOrder::NearFirst)
     };
     let p = plan(&scene, &two_pass, &caps()).unwrap();
-    assert_eq!(p.passes.iter().filter(|p| p.far_field.is_some()).count(), 2);
+    assert_eq!(
+        p.passes
+            .iter()
+            .filter(|p| p.far_composite().is_some())
+            .count(),
+        2
+    );
 }
 
 #[test]
@@ -741,7 +750,11 @@ fn culling_picks_each_pass_its_draw_set_and_adds_only_the_id_buffer() {
         ..config(stereo, 4)
     };
     let sets = |c: &RenderConfig| -> Vec<DrawSet> {
-        planned(c).passes.iter().map(|p| p.draw_set).collect()
+        planned(c)
+            .passes
+            .iter()
+            .filter_map(|p| p.draw_set())
+            .collect()
     };
     // The thesis' baseline: each eye's pass culled with its own frustum.
     assert_eq!(
@@ -823,4 +836,74 @@ fn the_plan_decides_layouts_and_clear_values() {
         Some(ClearValue::Color([SKY[0], SKY[1], SKY[2], 0.0]))
     );
     assert_eq!(far.resolve.unwrap().final_layout, Layout::ShaderReadOnly);
+}
+
+/// Each pass is an ordered list of steps with the stencil state each runs under, decided here:
+/// masks first (writing bit 0), the far composite before the scene far-first and after it
+/// near-first (the scene then writing bit 1 and the composite testing both bits), the probe
+/// last; culled scene steps point at the plan's cull slots. Mutation: the near-first composite
+/// recorded before the scene, or a probe testing no stencil, fails it.
+#[test]
+fn passes_are_ordered_steps_with_their_stencil() {
+    use crate::mffr::MffrOrder;
+    let kinds = |p: &PassPlan| -> Vec<String> {
+        p.steps
+            .iter()
+            .map(|s| s.to_string().split(' ').next().unwrap().to_string())
+            .collect()
+    };
+    let masked = planned(&RenderConfig {
+        hmd_mask: true,
+        coverage_probe: true,
+        count_fragments: true,
+        ..config(StereoMode::Multiview, 1)
+    });
+    assert_eq!(kinds(&masked.passes[0]), ["mask", "scene", "probe"]);
+    let Step::MaskFans { stencil: fans } = masked.passes[0].steps[0] else {
+        panic!("mask fans first")
+    };
+    assert_eq!((fans.pass, fans.write_mask), (StencilOp::Replace, MASK_BIT));
+    let probe = masked.passes[0].steps[2].stencil().unwrap();
+    assert_eq!(
+        (probe.compare, probe.compare_mask),
+        (CompareOp::Equal, MASK_BIT)
+    );
+
+    let near_first = planned(&with_mffr(MffrOrder::NearFirst));
+    let eye = near_first
+        .passes
+        .iter()
+        .find(|p| p.kind == PassKind::Scene)
+        .unwrap();
+    assert_eq!(kinds(eye), ["scene", "far"]);
+    let scene = eye.steps[0].stencil().unwrap();
+    assert_eq!(
+        (scene.pass, scene.write_mask),
+        (StencilOp::Replace, NEAR_BIT)
+    );
+    let far = eye.steps[1].stencil().unwrap();
+    assert_eq!((far.compare_mask, far.reference), (NEAR_BIT, 0));
+    let far_first = planned(&with_mffr(MffrOrder::FarFirst));
+    let eye = far_first
+        .passes
+        .iter()
+        .find(|p| p.kind == PassKind::Scene)
+        .unwrap();
+    assert_eq!(kinds(eye), ["far", "scene"]);
+    assert_eq!(eye.steps[1].stencil(), None, "far-first needs no stencil");
+    // The far pass and the near field are culled into two slots, in pass order.
+    assert_eq!(
+        near_first.cull_slots,
+        [DrawSet::FarField, DrawSet::NearField]
+    );
+    let slots: Vec<Option<usize>> = near_first
+        .passes
+        .iter()
+        .flat_map(|p| &p.steps)
+        .filter_map(|s| match s {
+            Step::Scene { cull_slot, .. } => Some(*cull_slot),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(slots, [Some(0), Some(1)]);
 }

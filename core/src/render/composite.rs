@@ -1,16 +1,12 @@
 //! Composition of a foveated frame (seed 001 §3.3–3.4, §3.6.1): each eye at full resolution,
 //! the periphery view upscaled bilinearly and the fovea view blended over it with smoothstep
-//! across the band at the fovea's edge. A technique in one place: its descriptor set, sampler,
-//! uniforms, pipeline and recording.
+//! across the band at the fovea's edge: its descriptor set, sampler and uniforms (its pipeline is
+//! its step's, like every other).
 
 use glam::Vec4;
 
-use std::sync::Arc;
-
-use super::pipelines::{pass_pipeline, PipelineKind};
 use super::sampled_set::SampledSet;
-use super::targets::CompiledPass;
-use crate::gpu::{Buffer, Gpu, GpuError, Image, Pipeline};
+use crate::gpu::{Buffer, Gpu, GpuError, Image};
 use crate::plan::FramePlan;
 use crate::view::{Eye, FovTangents};
 
@@ -25,33 +21,17 @@ struct CompositeBlock {
 }
 
 pub(crate) struct Composite {
-    pub pipeline: Arc<Pipeline>,
     pub set: SampledSet,
 }
 
 impl Composite {
-    /// Sets up composition for pass `pass`, sampling `views` (the scene pass's four layers) and
-    /// counting into `counter` in counting frames.
-    pub fn new(
-        gpu: &Gpu,
-        plan: &FramePlan,
-        pass: usize,
-        compiled: &CompiledPass,
-        views: &Image,
-        counter: Option<&Buffer>,
-    ) -> Result<Self, GpuError> {
+    /// Sets up sampling of `views` (the scene pass's four layers), counting into `counter` in
+    /// counting frames.
+    pub fn new(gpu: &Gpu, views: &Image, counter: Option<&Buffer>) -> Result<Self, GpuError> {
         let bytes = std::mem::size_of::<CompositeBlock>() as u64;
-        let set = SampledSet::new(gpu, views, bytes, 0, counter)?;
-        let pipeline = pass_pipeline(
-            gpu,
-            plan,
-            pass,
-            PipelineKind::Composite,
-            compiled,
-            &set.layout,
-            &set.layout_description,
-        )?;
-        Ok(Composite { pipeline, set })
+        Ok(Composite {
+            set: SampledSet::new(gpu, views, bytes, 0, counter)?,
+        })
     }
 
     /// Writes this frame's windows: each eye's periphery and (gaze-dependent) fovea tangents.

@@ -1,7 +1,7 @@
 //! Per-frame culling in the renderer (seed 000 §3): the scene's instances in the chunk-and-octree
-//! hierarchy, culled into at most two sets a frame — both eyes' set, each eye's own set
-//! (per-eye culling of a two-pass frame), or MFFR's near and far fields — and written as the
-//! instance ids the indirect scene shader reads.
+//! hierarchy, culled into the plan's cull slots — both eyes' set, each eye's own set (per-eye
+//! culling of a two-pass frame), or MFFR's near and far fields — and written as the instance
+//! ids the indirect scene shader reads.
 
 use glam::{Mat4, Vec3};
 
@@ -23,13 +23,11 @@ pub(crate) struct FrameCulling {
     /// With MFFR, how far from the head the near field reaches: everything in front of the
     /// split, whose far corners lie farther from the head than the split itself.
     near_reach: Option<f32>,
-    /// Two-pass per-eye culling: each eye's pass draws its own set.
-    per_eye: bool,
     buckets: Vec<Vec<u32>>,
-    /// This frame's ids: set 0's, then set 1's.
+    /// This frame's ids: slot 0's, then slot 1's.
     pub ids: Vec<u32>,
-    /// This frame's draws of each set, each indexing its part of `ids`.
-    pub sets: [Vec<Draw>; 2],
+    /// This frame's draws of each of the plan's cull slots, each indexing its part of `ids`.
+    pub sets: Vec<Vec<Draw>>,
 }
 
 impl FrameCulling {
@@ -51,18 +49,14 @@ impl FrameCulling {
             near_reach: plan
                 .mffr
                 .map(|m| reach(&plan.eyes, plan.near, m.split_m).min(draw_distance)),
-            per_eye: plan
-                .passes
-                .iter()
-                .any(|p| matches!(p.draw_set, DrawSet::VisibleToEye(_))),
             buckets: vec![Vec::new(); draws.len()],
             ids: Vec::new(),
-            sets: [Vec::new(), Vec::new()],
+            sets: vec![Vec::new(); plan.cull_slots.len()],
         }
     }
 
-    /// Culls one frame into [`FrameCulling::sets`]. `far` is the MFFR far view's frustum, when
-    /// MFFR is planned.
+    /// Culls one frame into [`FrameCulling::sets`], one set per cull slot of the plan. `far` is
+    /// the MFFR far view's frustum, when MFFR is planned.
     pub fn cull(
         &mut self,
         plan: &FramePlan,
@@ -83,22 +77,30 @@ impl FrameCulling {
             frame,
             lens_regions: &self.lens_regions,
         };
-        let results: [Option<CullResult>; 2] = match (far, self.near_reach) {
-            (Some(far), Some(near_reach)) => [
-                Some(strategy.cull(h, &view(near_reach))),
-                Some(h.cull(far, centre, draw_distance)),
-            ],
-            _ if self.per_eye => {
-                let frusta =
-                    StereoFrusta::new(&plan.eyes, world_from_head, plan.near, draw_distance);
-                frusta.eyes.map(|f| Some(h.cull(&f, centre, draw_distance)))
-            }
-            _ => [Some(strategy.cull(h, &view(draw_distance))), None],
+        let eye = |e: Eye| {
+            let frusta = StereoFrusta::new(&plan.eyes, world_from_head, plan.near, draw_distance);
+            h.cull(&frusta.eyes[e.index()], centre, draw_distance)
         };
+        let results: Vec<CullResult> = plan
+            .cull_slots
+            .iter()
+            .map(|set| match set {
+                DrawSet::Visible | DrawSet::All => strategy.cull(h, &view(draw_distance)),
+                DrawSet::VisibleToEye(e) => eye(*e),
+                DrawSet::NearField => strategy.cull(
+                    h,
+                    &view(self.near_reach.expect("a near field is planned with MFFR")),
+                ),
+                DrawSet::FarField => h.cull(
+                    far.expect("a far field is planned with MFFR"),
+                    centre,
+                    draw_distance,
+                ),
+            })
+            .collect();
         self.ids.clear();
         for (set, result) in self.sets.iter_mut().zip(&results) {
             set.clear();
-            let Some(result) = result else { continue };
             self.buckets.iter_mut().for_each(Vec::clear);
             for i in result.visible.indices() {
                 let id = h.ids[i as usize];

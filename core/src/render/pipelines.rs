@@ -8,8 +8,10 @@ use crate::gpu::{
     hash_word, name_word, Buffer, Description, DescriptorPool, DescriptorSetLayout, Gpu, GpuError,
     Pipeline, PipelineLayout, ShaderModule, VkResultExt,
 };
-use crate::mffr::{MffrOrder, MffrVariant};
-use crate::plan::{CountedStep, DrawSet, FramePlan, PassKind, PassPlan, Submission};
+use crate::mffr::MffrVariant;
+use crate::plan::{
+    CompareOp, CountedStep, DrawSet, FramePlan, PassKind, StencilOp, StencilState, Step, Submission,
+};
 use crate::scene::Vertex;
 use crate::shaders::{
     ShaderBinary, COMPOSITE_FRAG, COMPOSITE_FRAG_COUNTING, COMPOSITE_VERT, COVERAGE_FRAG,
@@ -158,62 +160,22 @@ impl SceneBindings {
     }
 }
 
-/// Stencil bits of a scene pass: bit 0 is set where the masks keep a pixel (the lens-visible
-/// area, a fovea's inset circle, a periphery outside its hole), bit 1 where the MFFR near field
-/// drew (near-first). `None`: no stencil test.
-const MASK_BIT: u32 = 1;
-const NEAR_BIT: u32 = 2;
-
-fn stencil_state(pass: &PassPlan, kind: PipelineKind) -> Option<vk::StencilOpState> {
-    let masks = pass.stencil_masks;
-    let near_first = pass.far_field == Some(MffrOrder::NearFirst);
-    let op = |compare_op, compare_mask, reference, pass_op, write_mask| vk::StencilOpState {
+/// The plan's stencil state in Vulkan's terms (failing fragments keep the value).
+fn vk_stencil(s: StencilState) -> vk::StencilOpState {
+    vk::StencilOpState {
         fail_op: vk::StencilOp::KEEP,
-        pass_op,
+        pass_op: match s.pass {
+            StencilOp::Keep => vk::StencilOp::KEEP,
+            StencilOp::Replace => vk::StencilOp::REPLACE,
+        },
         depth_fail_op: vk::StencilOp::KEEP,
-        compare_op,
-        compare_mask,
-        write_mask,
-        reference,
-    };
-    let keep = vk::StencilOp::KEEP;
-    match kind {
-        // Keep shapes write 1, drop shapes 0 (the reference is set per draw).
-        PipelineKind::Mask => Some(op(
-            vk::CompareOp::ALWAYS,
-            0,
-            0,
-            vk::StencilOp::REPLACE,
-            MASK_BIT,
-        )),
-        // Tested against the masks; near-first marks what the near field covers.
-        PipelineKind::Scene if masks || near_first => Some(op(
-            if masks {
-                vk::CompareOp::EQUAL
-            } else {
-                vk::CompareOp::ALWAYS
-            },
-            MASK_BIT,
-            MASK_BIT | NEAR_BIT,
-            if near_first {
-                vk::StencilOp::REPLACE
-            } else {
-                keep
-            },
-            if near_first { NEAR_BIT } else { 0 },
-        )),
-        PipelineKind::Coverage if masks => {
-            Some(op(vk::CompareOp::EQUAL, MASK_BIT, MASK_BIT, keep, 0))
-        }
-        // Only kept pixels the near field left uncovered (near-first), or every kept pixel.
-        PipelineKind::FarComposite if masks || near_first => Some(op(
-            vk::CompareOp::EQUAL,
-            if masks { MASK_BIT } else { 0 } | if near_first { NEAR_BIT } else { 0 },
-            if masks { MASK_BIT } else { 0 },
-            keep,
-            0,
-        )),
-        _ => None,
+        compare_op: match s.compare {
+            CompareOp::Always => vk::CompareOp::ALWAYS,
+            CompareOp::Equal => vk::CompareOp::EQUAL,
+        },
+        compare_mask: s.compare_mask,
+        write_mask: s.write_mask,
+        reference: s.reference,
     }
 }
 
@@ -251,6 +213,17 @@ pub(crate) enum PipelineKind {
 }
 
 impl PipelineKind {
+    /// The pipeline a step draws with.
+    pub fn of(step: &Step) -> PipelineKind {
+        match step {
+            Step::MaskFans { .. } => PipelineKind::Mask,
+            Step::FarComposite { .. } => PipelineKind::FarComposite,
+            Step::Scene { .. } => PipelineKind::Scene,
+            Step::Probe { .. } => PipelineKind::Coverage,
+            Step::Composite => PipelineKind::Composite,
+        }
+    }
+
     /// The counted step this pipeline draws.
     fn counted_step(self) -> CountedStep {
         match self {
@@ -263,18 +236,19 @@ impl PipelineKind {
     }
 }
 
-/// A pipeline for pass `pass_index` of the plan, compiled as `compiled`, with `layout` (made
-/// as `layout_description` says). Shared with any live pipeline of the same description.
-pub(crate) fn pass_pipeline(
+/// The pipeline of step `step` of pass `pass_index`, compiled as `compiled`, with `layout`
+/// (made as `layout_description` says). Shared with any live pipeline of the same description.
+pub(crate) fn step_pipeline(
     gpu: &Gpu,
     plan: &FramePlan,
     pass_index: usize,
-    kind: PipelineKind,
+    step: &Step,
     compiled: &CompiledPass,
     layout: &PipelineLayout,
     layout_description: &[u64],
 ) -> Result<Arc<Pipeline>, GpuError> {
     let pass = &plan.passes[pass_index];
+    let kind = PipelineKind::of(step);
     // Counting frames use the counting variant of every fragment shader (the probe always
     // counts); timed frames never carry the counter.
     let counter_base = plan.counter_base(pass_index, kind.counted_step());
@@ -287,7 +261,13 @@ pub(crate) fn pass_pipeline(
     };
     let (vert, frag) = match kind {
         PipelineKind::Scene => (
-            if pass.draw_set == DrawSet::All {
+            if matches!(
+                step,
+                Step::Scene {
+                    draw_set: DrawSet::All,
+                    ..
+                }
+            ) {
                 &SCENE_VERT
             } else {
                 &SCENE_VERT_INDIRECT
@@ -354,7 +334,7 @@ pub(crate) fn pass_pipeline(
     } else {
         plan.samples
     };
-    let stencil = stencil_state(pass, kind);
+    let stencil = step.stencil().map(vk_stencil);
     // Everything the create info below depends on: the shaders and their constants, the fixed
     // state the kind and the pass decide, the render pass's and the layout's descriptions.
     let mut description: Description = vec![

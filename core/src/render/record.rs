@@ -6,8 +6,8 @@ use ash::vk;
 use super::renderer::{DrawTally, Renderer};
 use super::sampled_set::SampledSet;
 use crate::gpu::Pipeline;
-use crate::mffr::{MffrOrder, FAR_VIEW_INDEX};
-use crate::plan::{ClearValue, PassKind, PassPlan, Submission};
+use crate::mffr::FAR_VIEW_INDEX;
+use crate::plan::{ClearValue, PassPlan, Step, Submission};
 use crate::scene::Draw;
 use crate::view::Eye;
 
@@ -68,54 +68,60 @@ impl Renderer<'_> {
                     })
                     .clear_values(&clears);
                 device.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
-                match (pass_plan.kind, &pipelines.scene, &self.composite) {
-                    (PassKind::Composite, _, Some(composite)) => {
-                        self.record_full_view(
-                            cmd,
-                            &composite.pipeline,
-                            &composite.set,
-                            pass_plan,
-                            pass.extent,
-                        );
-                    }
-                    (_, Some(scene), _) => {
-                        self.bind_scene_set(cmd);
-                        if let Some(mask) = &pipelines.mask {
-                            self.record_masks(cmd, mask, pass_plan, pass.extent);
-                        }
-                        let far = pipelines.far.as_ref().zip(self.far_composite.as_ref());
-                        if let (Some((pipeline, far)), Some(MffrOrder::FarFirst)) =
-                            (far, pass_plan.far_field)
-                        {
-                            self.record_full_view(cmd, pipeline, &far.set, pass_plan, pass.extent);
+                // The plan's steps in the plan's order, each with its own pipeline.
+                for (step, pipeline) in pass_plan.steps.iter().zip(pipelines) {
+                    match *step {
+                        Step::MaskFans { .. } => {
                             self.bind_scene_set(cmd);
+                            self.record_masks(cmd, pipeline, pass_plan, pass.extent);
                         }
-                        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, scene.raw);
-                        device.cmd_bind_vertex_buffers(cmd, 0, &[self.scene.vertices.raw], &[0]);
-                        device.cmd_bind_index_buffer(
-                            cmd,
-                            self.scene.indices.raw,
-                            0,
-                            vk::IndexType::UINT32,
-                        );
-                        self.record_submission(cmd, pass_plan, pass.extent);
-                        if let (Some((pipeline, far)), Some(MffrOrder::NearFirst)) =
-                            (far, pass_plan.far_field)
-                        {
+                        Step::FarComposite { .. } => {
+                            let far = self.far_composite.as_ref().expect("planned with MFFR");
                             self.record_full_view(cmd, pipeline, &far.set, pass_plan, pass.extent);
-                            self.bind_scene_set(cmd);
                         }
-                        if let Some(coverage) = &pipelines.coverage {
-                            // Full-view triangle, counted per view under the same stencil state.
+                        Step::Scene { cull_slot, .. } => {
+                            self.bind_scene_set(cmd);
                             device.cmd_bind_pipeline(
                                 cmd,
                                 vk::PipelineBindPoint::GRAPHICS,
-                                coverage.raw,
+                                pipeline.raw,
+                            );
+                            device.cmd_bind_vertex_buffers(
+                                cmd,
+                                0,
+                                &[self.scene.vertices.raw],
+                                &[0],
+                            );
+                            device.cmd_bind_index_buffer(
+                                cmd,
+                                self.scene.indices.raw,
+                                0,
+                                vk::IndexType::UINT32,
+                            );
+                            self.record_submission(cmd, pass_plan, pass.extent, cull_slot);
+                        }
+                        Step::Probe { .. } => {
+                            // Full-view triangle, counted per view under its stencil state.
+                            self.bind_scene_set(cmd);
+                            device.cmd_bind_pipeline(
+                                cmd,
+                                vk::PipelineBindPoint::GRAPHICS,
+                                pipeline.raw,
                             );
                             self.full_view_draw(cmd);
                         }
+                        Step::Composite => {
+                            let composite =
+                                self.composite.as_ref().expect("planned with foveation");
+                            self.record_full_view(
+                                cmd,
+                                pipeline,
+                                &composite.set,
+                                pass_plan,
+                                pass.extent,
+                            );
+                        }
                     }
-                    _ => unreachable!("every planned pass has its pipelines"),
                 }
                 device.cmd_end_render_pass(cmd);
                 self.pass_ends.borrow_mut().push(self.tally.get().triangles);
@@ -155,11 +161,12 @@ impl Renderer<'_> {
         cmd: vk::CommandBuffer,
         pass: &PassPlan,
         extent: vk::Extent2D,
+        cull_slot: Option<usize>,
     ) {
         let eye_width = self.plan.eye_resolution.width;
         let full = rect(0, extent.width, extent.height);
         let submission = pass.submission;
-        let draws = self.pass_draws(pass);
+        let draws = self.draws(cull_slot);
         match submission {
             Submission::Multiview | Submission::Instanced => {
                 self.set_view(cmd, full, 0, pass.guard_band);

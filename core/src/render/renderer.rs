@@ -7,7 +7,7 @@ use glam::{Mat4, Vec2, Vec4};
 use super::composite::Composite;
 use super::culling::FrameCulling;
 use super::far_field::FarComposite;
-use super::pipelines::{pass_pipeline, PipelineKind, SceneBindings};
+use super::pipelines::{step_pipeline, SceneBindings};
 use super::record::memory_barrier;
 use super::scene_buffers::SceneBuffers;
 use super::targets::{compile_pass, create_images, CompiledPass};
@@ -20,8 +20,8 @@ use crate::gpu::{
 use crate::metrics::RgbaImage;
 use crate::mffr::FAR_VIEW_INDEX;
 use crate::plan::{
-    CountedStep, DrawSet, FramePlan, PassKind, PassPlan, RenderConfig, TargetLayout,
-    COUNTER_SLOTS_PER_STEP, MAX_VIEWS,
+    CountedStep, FramePlan, PassPlan, RenderConfig, Step, TargetLayout, COUNTER_SLOTS_PER_STEP,
+    MAX_VIEWS,
 };
 use crate::scene::{Draw, Scene};
 use crate::view::{reverse_z_projection, Eye, FovTangents};
@@ -140,16 +140,6 @@ impl StereoImage {
     }
 }
 
-/// The pipelines of one planned pass: mask, coverage and far composite pipelines exist only when
-/// the pass has masks, a coverage probe or a far field to composite.
-pub(super) struct PassPipelines {
-    /// `None` for a composite pass (its pipeline lives in [`Composite`]).
-    pub scene: Option<Arc<Pipeline>>,
-    pub mask: Option<Arc<Pipeline>>,
-    pub coverage: Option<Arc<Pipeline>>,
-    pub far: Option<Arc<Pipeline>>,
-}
-
 /// A [`FramePlan`] compiled into Vulkan objects for one scene.
 ///
 /// Frames are rendered one at a time (the CPU waits for each frame's fence), so everything a
@@ -158,7 +148,8 @@ pub struct Renderer<'g> {
     pub(super) gpu: &'g Gpu,
     pub(super) plan: FramePlan,
     // Passes (framebuffers, views) go before the images they view.
-    pub(super) passes: Vec<(CompiledPass, PassPipelines)>,
+    /// Each pass compiled, with one pipeline per step of the plan's, in step order.
+    pub(super) passes: Vec<(CompiledPass, Vec<Arc<Pipeline>>)>,
     /// Composition of a foveated frame, when planned.
     pub(super) composite: Option<Composite>,
     /// The MFFR far composite, when planned.
@@ -226,7 +217,7 @@ impl<'g> Renderer<'g> {
         let masks = plan
             .passes
             .iter()
-            .any(|p| p.stencil_masks)
+            .any(PassPlan::has_masks)
             .then(|| {
                 let bytes = std::mem::size_of::<[Vec4; 8]>() as u64;
                 Buffer::new(
@@ -259,7 +250,12 @@ impl<'g> Renderer<'g> {
             instance_ids.as_ref(),
         )?;
         let images = create_images(gpu, plan)?;
-        let mut composite = None;
+        let composite = plan
+            .passes
+            .iter()
+            .find(|p| p.steps.contains(&Step::Composite))
+            .map(|p| Composite::new(gpu, &images[p.samples[0]], counter.as_ref()))
+            .transpose()?;
         let far_composite = plan
             .far_pass()
             .map(|p| {
@@ -270,59 +266,24 @@ impl<'g> Renderer<'g> {
         let mut passes = Vec::with_capacity(plan.passes.len());
         for (i, p) in plan.passes.iter().enumerate() {
             let compiled = compile_pass(gpu, plan, i, &images)?;
-            let pipeline = |kind| {
-                pass_pipeline(
-                    gpu,
-                    plan,
-                    i,
-                    kind,
-                    &compiled,
-                    &bindings.layout,
-                    &bindings.layout_description,
-                )
-            };
-            let pipelines = match p.kind {
-                PassKind::Scene | PassKind::FarField => PassPipelines {
-                    scene: Some(pipeline(PipelineKind::Scene)?),
-                    far: match (&far_composite, p.far_field) {
-                        (Some(f), Some(_)) => Some(pass_pipeline(
-                            gpu,
-                            plan,
-                            i,
-                            PipelineKind::FarComposite,
-                            &compiled,
-                            &f.set.layout,
-                            &f.set.layout_description,
-                        )?),
+            // Each step's pipeline, with the layout of the resources it reads: the composites
+            // their sampled sets, everything else the scene's bindings.
+            let pipelines = p
+                .steps
+                .iter()
+                .map(|step| {
+                    let set = match step {
+                        Step::Composite => composite.as_ref().map(|c| &c.set),
+                        Step::FarComposite { .. } => far_composite.as_ref().map(|f| &f.set),
                         _ => None,
-                    },
-                    mask: p
-                        .stencil_masks
-                        .then(|| pipeline(PipelineKind::Mask))
-                        .transpose()?,
-                    coverage: p
-                        .coverage_probe
-                        .then(|| pipeline(PipelineKind::Coverage))
-                        .transpose()?,
-                },
-                PassKind::Composite => {
-                    let views = &images[p.samples[0]];
-                    composite = Some(Composite::new(
-                        gpu,
-                        plan,
-                        i,
-                        &compiled,
-                        views,
-                        counter.as_ref(),
-                    )?);
-                    PassPipelines {
-                        scene: None,
-                        mask: None,
-                        coverage: None,
-                        far: None,
-                    }
-                }
-            };
+                    };
+                    let (layout, description) = match set {
+                        Some(set) => (&set.layout, &set.layout_description),
+                        None => (&bindings.layout, &bindings.layout_description),
+                    };
+                    step_pipeline(gpu, plan, i, step, &compiled, layout, description)
+                })
+                .collect::<Result<Vec<_>, _>>()?;
             passes.push((compiled, pipelines));
         }
         let queries = (plan.timestamp_queries > 0)
@@ -478,12 +439,15 @@ impl<'g> Renderer<'g> {
             .plan
             .passes
             .iter()
-            .filter(|p| p.kind != PassKind::Composite)
-            .map(|p| {
-                self.pass_draws(p)
-                    .iter()
-                    .map(|d| d.instance_count as u64)
-                    .sum()
+            .flat_map(|p| &p.steps)
+            .filter_map(|s| match *s {
+                Step::Scene { cull_slot, .. } => Some(
+                    self.draws(cull_slot)
+                        .iter()
+                        .map(|d| d.instance_count as u64)
+                        .sum(),
+                ),
+                _ => None,
             })
             .collect();
         let mut stats = FrameStats {
@@ -560,16 +524,11 @@ impl<'g> Renderer<'g> {
     }
 
     /// The draws a pass records this frame.
-    pub(super) fn pass_draws(&self, pass: &PassPlan) -> &[Draw] {
-        let Some(culling) = &self.culling else {
-            return &self.scene.draws;
-        };
-        match pass.draw_set {
-            DrawSet::All => &self.scene.draws,
-            DrawSet::Visible | DrawSet::NearField | DrawSet::VisibleToEye(Eye::Left) => {
-                &culling.sets[0]
-            }
-            DrawSet::VisibleToEye(Eye::Right) | DrawSet::FarField => &culling.sets[1],
+    /// The draws of a scene step: this frame's cull slot, or every instance.
+    pub(super) fn draws(&self, cull_slot: Option<usize>) -> &[Draw] {
+        match (cull_slot, &self.culling) {
+            (Some(slot), Some(culling)) => &culling.sets[slot],
+            _ => &self.scene.draws,
         }
     }
 
