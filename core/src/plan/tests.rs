@@ -4,20 +4,7 @@ use super::*;
 use crate::scene::default_scene;
 
 fn caps() -> DeviceCaps {
-    DeviceCaps {
-        device_name: "test device".into(),
-        max_multiview_views: 4,
-        framebuffer_sample_counts: 0b101, // 1 and 4 samples
-        max_image_dimension_2d: 8192,
-        max_viewport_dimension: 8192,
-        viewport_bounds: (-16384.0, 16384.0),
-        lazily_allocated_memory: true,
-        fragment_stores_and_atomics: true,
-        shader_clip_distance: true,
-        depth_clamp: true,
-        timestamps: true,
-        quirks: DriverQuirks::default(),
-    }
+    DeviceCaps::generic()
 }
 
 fn config(stereo: StereoMode, msaa: u32) -> RenderConfig {

@@ -1,6 +1,7 @@
 //! The renderer: compiles a [`FramePlan`](crate::plan::FramePlan) into Vulkan objects and
 //! records, submits and measures frames.
 
+mod command_log;
 mod composite;
 mod culling;
 mod far_field;
@@ -12,4 +13,6 @@ mod scene_buffers;
 mod targets;
 
 pub use crate::plan::SKY;
+pub use command_log::{Command, CommandLog};
+pub use record::{record_frame, FrameDraws, Recorder, Rect};
 pub use renderer::{counting_frame, FrameStats, Renderer, StepFragments, StereoImage};

@@ -1,359 +1,459 @@
-//! Recording one frame: the plan's passes with the scene submitted as each pass's
-//! [`Submission`] says.
+//! Recording one frame: the plan's passes and their steps, in order, through [`Recorder`] —
+//! one narrow interface, implemented by Vulkan ([`VulkanRecorder`]) and by a command log
+//! (`render::CommandLog`) that tests read without a GPU. The executor decides nothing: what it
+//! records follows from the plan and the frame's draws.
 
 use ash::vk;
 
 use super::renderer::{DrawTally, Renderer};
-use super::sampled_set::SampledSet;
-use crate::gpu::Pipeline;
 use crate::mffr::FAR_VIEW_INDEX;
-use crate::plan::{ClearValue, PassPlan, Step, Submission};
+use crate::plan::{ClearValue, FramePlan, PassPlan, Step, Submission};
 use crate::scene::Draw;
+use crate::shaders::MASK_VERTICES;
 use crate::view::Eye;
 
-impl Renderer<'_> {
-    /// Records the whole frame into `cmd` (already begun).
-    pub(super) fn record(&self, cmd: vk::CommandBuffer) {
-        let device = self.gpu.device();
-        // SAFETY (whole function): every handle recorded belongs to this renderer, which waits
-        // for the frame's fence before anything it owns can be dropped.
-        unsafe {
-            if let Some(q) = &self.queries {
-                device.cmd_reset_query_pool(cmd, q.raw, 0, self.plan.timestamp_queries);
-                device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, q.raw, 0);
-            }
-            if let Some(counter) = &self.counter {
-                device.cmd_fill_buffer(cmd, counter.raw, 0, vk::WHOLE_SIZE, 0);
-                memory_barrier(
-                    device,
-                    cmd,
-                    (
-                        vk::PipelineStageFlags::TRANSFER,
-                        vk::AccessFlags::TRANSFER_WRITE,
-                    ),
-                    (
-                        vk::PipelineStageFlags::FRAGMENT_SHADER,
-                        vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-                    ),
-                );
-            }
-            for (index, (pass_plan, (pass, pipelines))) in
-                self.plan.passes.iter().zip(&self.passes).enumerate()
-            {
-                // One clear value per attachment, in `uses()` order (the render pass's), up to
-                // the last one the plan clears: none for a pass that clears nothing.
-                let uses: Vec<_> = pass_plan.uses().collect();
-                let cleared = uses
-                    .iter()
-                    .rposition(|u| u.clear.is_some())
-                    .map_or(0, |i| i + 1);
-                let clears: Vec<vk::ClearValue> = uses[..cleared]
-                    .iter()
-                    .map(|u| match u.clear {
-                        Some(ClearValue::DepthStencil { depth, stencil }) => vk::ClearValue {
-                            depth_stencil: vk::ClearDepthStencilValue { depth, stencil },
-                        },
-                        Some(ClearValue::Color(float32)) => vk::ClearValue {
-                            color: vk::ClearColorValue { float32 },
-                        },
-                        None => vk::ClearValue::default(),
-                    })
-                    .collect();
-                let begin = vk::RenderPassBeginInfo::default()
-                    .render_pass(pass.render_pass.raw)
-                    .framebuffer(pass.framebuffer.raw)
-                    .render_area(vk::Rect2D {
-                        offset: vk::Offset2D::default(),
-                        extent: pass.extent,
-                    })
-                    .clear_values(&clears);
-                device.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
-                // The plan's steps in the plan's order, each with its own pipeline.
-                for (step, pipeline) in pass_plan.steps.iter().zip(pipelines) {
-                    match *step {
-                        Step::MaskFans { .. } => {
-                            self.bind_scene_set(cmd);
-                            self.record_masks(cmd, pipeline, pass_plan, pass.extent);
-                        }
-                        Step::FarComposite { .. } => {
-                            let far = self.far_composite.as_ref().expect("planned with MFFR");
-                            self.record_full_view(cmd, pipeline, &far.set, pass_plan, pass.extent);
-                        }
-                        Step::Scene { cull_slot, .. } => {
-                            self.bind_scene_set(cmd);
-                            device.cmd_bind_pipeline(
-                                cmd,
-                                vk::PipelineBindPoint::GRAPHICS,
-                                pipeline.raw,
-                            );
-                            device.cmd_bind_vertex_buffers(
-                                cmd,
-                                0,
-                                &[self.scene.vertices.raw],
-                                &[0],
-                            );
-                            device.cmd_bind_index_buffer(
-                                cmd,
-                                self.scene.indices.raw,
-                                0,
-                                vk::IndexType::UINT32,
-                            );
-                            self.record_submission(cmd, pass_plan, pass.extent, cull_slot);
-                        }
-                        Step::Probe { .. } => {
-                            // Full-view triangle, counted per view under its stencil state.
-                            self.bind_scene_set(cmd);
-                            device.cmd_bind_pipeline(
-                                cmd,
-                                vk::PipelineBindPoint::GRAPHICS,
-                                pipeline.raw,
-                            );
-                            self.full_view_draw(cmd);
-                        }
-                        Step::Composite => {
-                            let composite =
-                                self.composite.as_ref().expect("planned with foveation");
-                            self.record_full_view(
-                                cmd,
-                                pipeline,
-                                &composite.set,
-                                pass_plan,
-                                pass.extent,
-                            );
-                        }
+/// A rectangle of a pass's render area: x, y, width, height in pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Rect {
+    pub x: u32,
+    pub y: u32,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// What recording a frame does, in the renderer's own terms.
+pub trait Recorder {
+    /// Before the frame: reset `count` timestamp queries.
+    fn reset_queries(&mut self, count: u32);
+    /// A timestamp after everything recorded so far.
+    fn timestamp(&mut self, index: u32);
+    /// Counting frames: zero the fragment counters, visible to the fragment shaders.
+    fn clear_counters(&mut self);
+    /// Counting frames: one pass's counting atomics before the next pass's.
+    fn counters_barrier(&mut self);
+    /// Counting frames: the counters, visible to the host.
+    fn counters_to_host(&mut self);
+    fn begin_pass(&mut self, pass: usize, clears: &[ClearValue]);
+    fn end_pass(&mut self, pass: usize);
+    /// Step `step` of pass `pass`: its pipeline and the resources it reads.
+    fn bind_step(&mut self, pass: usize, step: usize);
+    /// The scene's vertex and index buffers.
+    fn bind_geometry(&mut self);
+    /// Viewport `guard_band` times larger than `area`, centred on it, scissored to it.
+    fn set_viewport(&mut self, area: Rect, guard_band: u32);
+    /// The vertex stage's push constant: the view index or the mask fans' shape set.
+    fn push_vertex(&mut self, value: u32);
+    /// The fragment stage's push constant (the far composite's view in a single-eye pass).
+    fn push_fragment(&mut self, value: u32);
+    fn stencil_reference(&mut self, reference: u32);
+    /// `vertices` generated vertices (full-view triangles, mask fans).
+    fn draw(&mut self, vertices: u32);
+    /// Mesh `mesh` for `instance_count` instances from `first_instance`.
+    fn draw_indexed(&mut self, mesh: usize, instance_count: u32, first_instance: u32);
+}
+
+/// What one frame draws: every instance, and each cull slot's culled draws.
+pub struct FrameDraws<'a> {
+    pub all: &'a [Draw],
+    pub culled: &'a [Vec<Draw>],
+}
+
+impl FrameDraws<'_> {
+    fn of(&self, cull_slot: Option<usize>) -> &[Draw] {
+        cull_slot.map_or(self.all, |slot| &self.culled[slot])
+    }
+}
+
+/// Records the frame `plan` describes into `rec`.
+pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder) {
+    let timestamps = plan.timestamp_queries > 0;
+    let counting = plan.count_fragments();
+    if timestamps {
+        rec.reset_queries(plan.timestamp_queries);
+        rec.timestamp(0);
+    }
+    if counting {
+        rec.clear_counters();
+    }
+    for (index, pass) in plan.passes.iter().enumerate() {
+        // One clear value per attachment, in `uses()` order (the render pass's), up to the
+        // last one the plan clears: none for a pass that clears nothing.
+        let uses: Vec<_> = pass.uses().collect();
+        let cleared = uses
+            .iter()
+            .rposition(|u| u.clear.is_some())
+            .map_or(0, |i| i + 1);
+        let clears: Vec<ClearValue> = uses[..cleared]
+            .iter()
+            .map(|u| {
+                u.clear.unwrap_or(ClearValue::DepthStencil {
+                    depth: 0.0,
+                    stencil: 0,
+                })
+            })
+            .collect();
+        rec.begin_pass(index, &clears);
+        let area = pass_area(plan, pass);
+        for (step_index, step) in pass.steps.iter().enumerate() {
+            rec.bind_step(index, step_index);
+            match *step {
+                Step::MaskFans { .. } => {
+                    // Every view's keep shapes as the mask bit, then its drop shapes cleared.
+                    rec.set_viewport(area, pass.guard_band);
+                    for (shape_set, reference) in [(0u32, 1u32), (1, 0)] {
+                        rec.stencil_reference(reference);
+                        rec.push_vertex(shape_set);
+                        rec.draw(MASK_VERTICES);
                     }
                 }
-                device.cmd_end_render_pass(cmd);
-                self.pass_ends.borrow_mut().push(self.tally.get().triangles);
-                if self.counter.is_some() {
-                    // The next pass's counting atomics follow this one's.
-                    let atomics = (
-                        vk::PipelineStageFlags::FRAGMENT_SHADER,
-                        vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-                    );
-                    memory_barrier(device, cmd, atomics, atomics);
-                }
-                if let Some(q) = &self.queries {
-                    device.cmd_write_timestamp(
-                        cmd,
-                        vk::PipelineStageFlags::BOTTOM_OF_PIPE,
-                        q.raw,
-                        index as u32 + 1,
-                    );
-                }
-            }
-            if self.counter.is_some() {
-                memory_barrier(
-                    device,
-                    cmd,
-                    (
-                        vk::PipelineStageFlags::FRAGMENT_SHADER,
-                        vk::AccessFlags::SHADER_WRITE,
-                    ),
-                    (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-                );
-            }
-        }
-    }
-
-    unsafe fn record_submission(
-        &self,
-        cmd: vk::CommandBuffer,
-        pass: &PassPlan,
-        extent: vk::Extent2D,
-        cull_slot: Option<usize>,
-    ) {
-        let eye_width = self.plan.eye_resolution.width;
-        let full = rect(0, extent.width, extent.height);
-        let submission = pass.submission;
-        let draws = self.draws(cull_slot);
-        match submission {
-            Submission::Multiview | Submission::Instanced => {
-                self.set_view(cmd, full, 0, pass.guard_band);
-                let doubled = submission == Submission::Instanced;
-                for draw in draws {
-                    self.draw(cmd, draw, doubled);
-                }
-            }
-            Submission::SingleEye(_) | Submission::FarView => {
-                let view = match submission {
-                    Submission::SingleEye(eye) => eye.index() as u32,
-                    _ => FAR_VIEW_INDEX,
-                };
-                self.set_view(cmd, full, view, pass.guard_band);
-                for draw in draws {
-                    self.draw(cmd, draw, false);
-                }
-            }
-            Submission::PerObject => {
-                for draw in draws {
-                    for i in 0..draw.instance_count {
-                        let one = Draw {
-                            first_instance: draw.first_instance + i,
-                            instance_count: 1,
-                            ..*draw
-                        };
-                        for eye in Eye::BOTH {
-                            let x = eye.index() as u32 * eye_width;
-                            self.set_view(
-                                cmd,
-                                rect(x, eye_width, extent.height),
-                                eye.index() as u32,
-                                pass.guard_band,
-                            );
-                            self.draw(cmd, &one, false);
-                        }
+                Step::FarComposite { .. } => {
+                    // A single-eye pass tells the shader its view; multiview reads gl_ViewIndex.
+                    if let Submission::SingleEye(eye) = pass.submission {
+                        rec.push_fragment(eye.index() as u32);
+                    } else {
+                        rec.push_fragment(0);
                     }
+                    rec.set_viewport(area, pass.guard_band);
+                    rec.draw(3);
+                }
+                Step::Scene { cull_slot, .. } => {
+                    rec.bind_geometry();
+                    submit(plan, pass, area, draws.of(cull_slot), rec);
+                }
+                Step::Probe { .. } | Step::Composite => {
+                    rec.set_viewport(area, pass.guard_band);
+                    rec.draw(3);
                 }
             }
         }
-    }
-
-    /// The stencil masks of a pass, written before anything else: every view's keep shape as
-    /// 1, then its drop shape as 0. Leaves the reference at 1, which scene draws test against.
-    unsafe fn record_masks(
-        &self,
-        cmd: vk::CommandBuffer,
-        mask: &Pipeline,
-        pass: &PassPlan,
-        extent: vk::Extent2D,
-    ) {
-        let device = self.gpu.device();
-        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, mask.raw);
-        self.set_view(
-            cmd,
-            rect(0, extent.width, extent.height),
-            0,
-            pass.guard_band,
-        );
-        for (shape_set, reference) in [(0u32, 1u32), (1, 0)] {
-            device.cmd_set_stencil_reference(cmd, vk::StencilFaceFlags::FRONT_AND_BACK, reference);
-            device.cmd_push_constants(
-                cmd,
-                self.bindings.layout.raw,
-                vk::ShaderStageFlags::VERTEX,
-                0,
-                &shape_set.to_le_bytes(),
-            );
-            device.cmd_draw(cmd, crate::shaders::MASK_VERTICES, 1, 0, 0);
-            self.count_draw(crate::shaders::MASK_VERTICES as u64 / 3);
+        rec.end_pass(index);
+        if counting {
+            rec.counters_barrier();
+        }
+        if timestamps {
+            rec.timestamp(index as u32 + 1);
         }
     }
-
-    /// The scene shaders' descriptor set (masks and the coverage probe use it too).
-    unsafe fn bind_scene_set(&self, cmd: vk::CommandBuffer) {
-        self.gpu.device().cmd_bind_descriptor_sets(
-            cmd,
-            vk::PipelineBindPoint::GRAPHICS,
-            self.bindings.layout.raw,
-            0,
-            &[self.bindings.set],
-            &[],
-        );
+    if counting {
+        rec.counters_to_host();
     }
+}
 
-    /// A full-view triangle sampling an earlier pass's image: foveated composition, or the MFFR
-    /// far composite (which in a single-eye pass learns its view from a push constant).
-    unsafe fn record_full_view(
-        &self,
-        cmd: vk::CommandBuffer,
-        pipeline: &Pipeline,
-        set: &SampledSet,
-        pass: &PassPlan,
-        extent: vk::Extent2D,
-    ) {
-        let device = self.gpu.device();
-        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
-        device.cmd_bind_descriptor_sets(
-            cmd,
-            vk::PipelineBindPoint::GRAPHICS,
-            set.layout.raw,
-            0,
-            &[set.set],
-            &[],
-        );
-        if set.push_bytes > 0 {
-            let view = match pass.submission {
-                Submission::SingleEye(eye) => eye.index() as u32,
-                _ => 0, // multiview: the shader reads gl_ViewIndex
+/// A pass's render area: its colour attachment's extent.
+fn pass_area(plan: &FramePlan, pass: &PassPlan) -> Rect {
+    let a = &plan.attachments[pass.color.attachment];
+    Rect {
+        x: 0,
+        y: 0,
+        width: a.width,
+        height: a.height,
+    }
+}
+
+/// The scene's draws as the pass's submission says: once for multiview, instanced (instance
+/// count doubled: instance 2k is object k's left eye, 2k+1 its right), a single eye or the far
+/// view; or every object twice with the view switched between (per-object).
+fn submit(plan: &FramePlan, pass: &PassPlan, area: Rect, draws: &[Draw], rec: &mut dyn Recorder) {
+    let view = |rec: &mut dyn Recorder, area, view: u32| {
+        rec.set_viewport(area, pass.guard_band);
+        rec.push_vertex(view);
+    };
+    match pass.submission {
+        Submission::Multiview | Submission::Instanced => {
+            view(rec, area, 0);
+            let k = if pass.submission == Submission::Instanced {
+                2
+            } else {
+                1
             };
-            device.cmd_push_constants(
-                cmd,
-                set.layout.raw,
-                vk::ShaderStageFlags::FRAGMENT,
-                0,
-                &view.to_le_bytes(),
+            for d in draws {
+                rec.draw_indexed(d.mesh, d.instance_count * k, d.first_instance * k);
+            }
+        }
+        Submission::SingleEye(_) | Submission::FarView => {
+            let index = match pass.submission {
+                Submission::SingleEye(eye) => eye.index() as u32,
+                _ => FAR_VIEW_INDEX,
+            };
+            view(rec, area, index);
+            for d in draws {
+                rec.draw_indexed(d.mesh, d.instance_count, d.first_instance);
+            }
+        }
+        Submission::PerObject => {
+            let width = plan.eye_resolution.width;
+            for d in draws {
+                for i in 0..d.instance_count {
+                    for eye in Eye::BOTH {
+                        let half = Rect {
+                            x: eye.index() as u32 * width,
+                            width,
+                            ..area
+                        };
+                        view(rec, half, eye.index() as u32);
+                        rec.draw_indexed(d.mesh, 1, d.first_instance + i);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Records into a Vulkan command buffer with a renderer's objects, tallying what it draws.
+pub(super) struct VulkanRecorder<'r> {
+    pub r: &'r Renderer<'r>,
+    pub cmd: vk::CommandBuffer,
+    pub tally: DrawTally,
+    /// The running triangle tally at the end of each pass.
+    pub pass_ends: Vec<u64>,
+    /// The layout the current step's resources were bound with (for push constants).
+    layout: vk::PipelineLayout,
+}
+
+impl<'r> VulkanRecorder<'r> {
+    pub fn new(r: &'r Renderer<'r>, cmd: vk::CommandBuffer) -> Self {
+        Self {
+            r,
+            cmd,
+            tally: DrawTally::default(),
+            pass_ends: Vec::new(),
+            layout: vk::PipelineLayout::null(),
+        }
+    }
+
+    fn device(&self) -> &ash::Device {
+        self.r.gpu.device()
+    }
+
+    fn count(&mut self, triangles: u64) {
+        self.tally.calls += 1;
+        self.tally.triangles += triangles;
+    }
+
+    fn barrier(
+        &self,
+        src: (vk::PipelineStageFlags, vk::AccessFlags),
+        dst: (vk::PipelineStageFlags, vk::AccessFlags),
+    ) {
+        // SAFETY: recording into this renderer's command buffer.
+        unsafe { memory_barrier(self.device(), self.cmd, src, dst) }
+    }
+}
+
+// SAFETY (every method): the handles recorded belong to the renderer, which waits for the
+// frame's fence before anything it owns can be dropped or touched again.
+impl Recorder for VulkanRecorder<'_> {
+    fn reset_queries(&mut self, count: u32) {
+        if let Some(q) = &self.r.queries {
+            unsafe {
+                self.device()
+                    .cmd_reset_query_pool(self.cmd, q.raw, 0, count)
+            };
+        }
+    }
+
+    fn timestamp(&mut self, index: u32) {
+        if let Some(q) = &self.r.queries {
+            let stage = if index == 0 {
+                vk::PipelineStageFlags::TOP_OF_PIPE
+            } else {
+                vk::PipelineStageFlags::BOTTOM_OF_PIPE
+            };
+            unsafe {
+                self.device()
+                    .cmd_write_timestamp(self.cmd, stage, q.raw, index)
+            };
+        }
+    }
+
+    fn clear_counters(&mut self) {
+        if let Some(counter) = &self.r.counter {
+            unsafe {
+                self.device()
+                    .cmd_fill_buffer(self.cmd, counter.raw, 0, vk::WHOLE_SIZE, 0)
+            };
+            self.barrier(
+                (
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                ),
+                (
+                    vk::PipelineStageFlags::FRAGMENT_SHADER,
+                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                ),
             );
         }
-        self.set_viewport(cmd, rect(0, extent.width, extent.height), pass.guard_band);
-        self.full_view_draw(cmd);
     }
 
-    /// One triangle covering the viewport (the pipeline bound makes it a composite or a probe).
-    unsafe fn full_view_draw(&self, cmd: vk::CommandBuffer) {
-        self.gpu.device().cmd_draw(cmd, 3, 1, 0, 0);
-        self.count_draw(1);
+    fn counters_barrier(&mut self) {
+        let atomics = (
+            vk::PipelineStageFlags::FRAGMENT_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        self.barrier(atomics, atomics);
     }
 
-    fn count_draw(&self, triangles: u64) {
-        let t = self.tally.get();
-        self.tally.set(DrawTally {
-            calls: t.calls + 1,
-            triangles: t.triangles + triangles,
-        });
-    }
-
-    /// Viewport, scissor and the eye index the vertex shader reads in push-constant modes.
-    unsafe fn set_view(&self, cmd: vk::CommandBuffer, area: vk::Rect2D, eye: u32, guard_band: u32) {
-        self.set_viewport(cmd, area, guard_band);
-        let device = self.gpu.device();
-        device.cmd_push_constants(
-            cmd,
-            self.bindings.layout.raw,
-            vk::ShaderStageFlags::VERTEX,
-            0,
-            &eye.to_le_bytes(),
+    fn counters_to_host(&mut self) {
+        self.barrier(
+            (
+                vk::PipelineStageFlags::FRAGMENT_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            ),
+            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
         );
     }
 
-    /// A viewport `guard_band` times larger than `area`, centred on it, scissored to it.
-    unsafe fn set_viewport(&self, cmd: vk::CommandBuffer, area: vk::Rect2D, guard_band: u32) {
-        let device = self.gpu.device();
+    fn begin_pass(&mut self, pass: usize, clears: &[ClearValue]) {
+        let compiled = &self.r.passes[pass].0;
+        let clears: Vec<vk::ClearValue> = clears
+            .iter()
+            .map(|c| match *c {
+                ClearValue::DepthStencil { depth, stencil } => vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue { depth, stencil },
+                },
+                ClearValue::Color(float32) => vk::ClearValue {
+                    color: vk::ClearColorValue { float32 },
+                },
+            })
+            .collect();
+        let begin = vk::RenderPassBeginInfo::default()
+            .render_pass(compiled.render_pass.raw)
+            .framebuffer(compiled.framebuffer.raw)
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent: compiled.extent,
+            })
+            .clear_values(&clears);
+        unsafe {
+            self.device()
+                .cmd_begin_render_pass(self.cmd, &begin, vk::SubpassContents::INLINE)
+        };
+    }
+
+    fn end_pass(&mut self, _pass: usize) {
+        unsafe { self.device().cmd_end_render_pass(self.cmd) };
+        self.pass_ends.push(self.tally.triangles);
+    }
+
+    fn bind_step(&mut self, pass: usize, step: usize) {
+        let r = self.r;
+        let pipeline = &r.passes[pass].1[step];
+        // The composites read their sampled sets; every other step the scene's bindings.
+        let (layout, set) = match r.plan.passes[pass].steps[step] {
+            Step::Composite => {
+                let c = &r.composite.as_ref().expect("planned with foveation").set;
+                (c.layout.raw, c.set)
+            }
+            Step::FarComposite { .. } => {
+                let f = &r.far_composite.as_ref().expect("planned with MFFR").set;
+                (f.layout.raw, f.set)
+            }
+            _ => (r.bindings.layout.raw, r.bindings.set),
+        };
+        self.layout = layout;
+        unsafe {
+            let device = self.device();
+            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+            device.cmd_bind_descriptor_sets(
+                self.cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                layout,
+                0,
+                &[set],
+                &[],
+            );
+        }
+    }
+
+    fn bind_geometry(&mut self) {
+        let scene = &self.r.scene;
+        unsafe {
+            let device = self.device();
+            device.cmd_bind_vertex_buffers(self.cmd, 0, &[scene.vertices.raw], &[0]);
+            device.cmd_bind_index_buffer(self.cmd, scene.indices.raw, 0, vk::IndexType::UINT32);
+        }
+    }
+
+    fn set_viewport(&mut self, area: Rect, guard_band: u32) {
         let k = guard_band as f32;
-        let (w, h) = (area.extent.width as f32, area.extent.height as f32);
+        let (w, h) = (area.width as f32, area.height as f32);
         let viewport = vk::Viewport {
-            x: area.offset.x as f32 - (k - 1.0) * 0.5 * w,
-            y: -(k - 1.0) * 0.5 * h,
+            x: area.x as f32 - (k - 1.0) * 0.5 * w,
+            y: area.y as f32 - (k - 1.0) * 0.5 * h,
             width: k * w,
             height: k * h,
             min_depth: 0.0,
             max_depth: 1.0,
         };
-        device.cmd_set_viewport(cmd, 0, &[viewport]);
-        device.cmd_set_scissor(cmd, 0, &[area]);
+        let scissor = vk::Rect2D {
+            offset: vk::Offset2D {
+                x: area.x as i32,
+                y: area.y as i32,
+            },
+            extent: vk::Extent2D {
+                width: area.width,
+                height: area.height,
+            },
+        };
+        unsafe {
+            let device = self.device();
+            device.cmd_set_viewport(self.cmd, 0, &[viewport]);
+            device.cmd_set_scissor(self.cmd, 0, &[scissor]);
+        }
     }
 
-    /// One indexed draw; `doubled` doubles instance count and first instance for instanced
-    /// stereo, so instance 2k is object k's left eye and 2k+1 its right.
-    unsafe fn draw(&self, cmd: vk::CommandBuffer, draw: &Draw, doubled: bool) {
-        let mesh = self.scene.meshes[draw.mesh];
-        let k = if doubled { 2 } else { 1 };
-        self.count_draw(mesh.index_count as u64 / 3 * (draw.instance_count * k) as u64);
-        self.gpu.device().cmd_draw_indexed(
-            cmd,
-            mesh.index_count,
-            draw.instance_count * k,
-            mesh.first_index,
-            mesh.vertex_offset,
-            draw.first_instance * k,
-        );
+    fn push_vertex(&mut self, value: u32) {
+        unsafe {
+            self.device().cmd_push_constants(
+                self.cmd,
+                self.layout,
+                vk::ShaderStageFlags::VERTEX,
+                0,
+                &value.to_le_bytes(),
+            )
+        };
     }
-}
 
-fn rect(x: u32, width: u32, height: u32) -> vk::Rect2D {
-    vk::Rect2D {
-        offset: vk::Offset2D { x: x as i32, y: 0 },
-        extent: vk::Extent2D { width, height },
+    fn push_fragment(&mut self, value: u32) {
+        unsafe {
+            self.device().cmd_push_constants(
+                self.cmd,
+                self.layout,
+                vk::ShaderStageFlags::FRAGMENT,
+                0,
+                &value.to_le_bytes(),
+            )
+        };
+    }
+
+    fn stencil_reference(&mut self, reference: u32) {
+        unsafe {
+            self.device().cmd_set_stencil_reference(
+                self.cmd,
+                vk::StencilFaceFlags::FRONT_AND_BACK,
+                reference,
+            )
+        };
+    }
+
+    fn draw(&mut self, vertices: u32) {
+        unsafe { self.device().cmd_draw(self.cmd, vertices, 1, 0, 0) };
+        self.count(vertices as u64 / 3);
+    }
+
+    fn draw_indexed(&mut self, mesh: usize, instance_count: u32, first_instance: u32) {
+        let m = self.r.scene.meshes[mesh];
+        unsafe {
+            self.device().cmd_draw_indexed(
+                self.cmd,
+                m.index_count,
+                instance_count,
+                m.first_index,
+                m.vertex_offset,
+                first_instance,
+            )
+        };
+        self.count(m.index_count as u64 / 3 * instance_count as u64);
     }
 }
 

@@ -8,7 +8,7 @@ use super::composite::Composite;
 use super::culling::FrameCulling;
 use super::far_field::FarComposite;
 use super::pipelines::{step_pipeline, SceneBindings};
-use super::record::memory_barrier;
+use super::record::{memory_barrier, record_frame, FrameDraws, VulkanRecorder};
 use super::scene_buffers::SceneBuffers;
 use super::targets::{compile_pass, create_images, CompiledPass};
 use crate::cull::Frustum;
@@ -157,10 +157,6 @@ pub struct Renderer<'g> {
     /// Per-frame culling and its id buffer (only when a pass draws a culled set).
     pub(super) culling: Option<FrameCulling>,
     pub(super) instance_ids: Option<Buffer>,
-    /// What the frame being recorded has drawn so far.
-    pub(super) tally: std::cell::Cell<DrawTally>,
-    /// The running triangle tally at the end of each pass recorded so far.
-    pub(super) pass_ends: std::cell::RefCell<Vec<u64>>,
     images: Vec<Image>,
     pub(super) bindings: SceneBindings,
     pub(super) scene: SceneBuffers,
@@ -308,8 +304,6 @@ impl<'g> Renderer<'g> {
                 .is_some()
                 .then(|| FrameCulling::new(scene, &scene_buffers.draws, plan)),
             instance_ids,
-            tally: Default::default(),
-            pass_ends: Default::default(),
             images,
             bindings,
             scene: scene_buffers,
@@ -421,9 +415,15 @@ impl<'g> Renderer<'g> {
                 .begin_command_buffer(self.cmd, &begin)
                 .vk("vkBeginCommandBuffer")?;
         }
-        self.tally.set(DrawTally::default());
-        self.pass_ends.borrow_mut().clear();
-        self.record(self.cmd);
+        let (tally, pass_ends) = {
+            let draws = FrameDraws {
+                all: &self.scene.draws,
+                culled: self.culling.as_ref().map_or(&[][..], |c| &c.sets),
+            };
+            let mut recorder = VulkanRecorder::new(self, self.cmd);
+            record_frame(&self.plan, &draws, &mut recorder);
+            (recorder.tally, recorder.pass_ends)
+        };
         unsafe { device.end_command_buffer(self.cmd) }.vk("vkEndCommandBuffer")?;
         let recorded = Instant::now();
         self.gpu.submit(self.cmd, &self.fence)?;
@@ -461,12 +461,12 @@ impl<'g> Renderer<'g> {
             steps,
             cpu_cull_ms,
             instances_drawn,
-            draw_calls: self.tally.get().calls,
-            triangles: self.tally.get().triangles,
+            draw_calls: tally.calls,
+            triangles: tally.triangles,
             pass_triangles: {
-                let ends = self.pass_ends.borrow();
-                let starts = std::iter::once(0).chain(ends.iter().copied());
-                ends.iter()
+                let starts = std::iter::once(0).chain(pass_ends.iter().copied());
+                pass_ends
+                    .iter()
                     .zip(starts)
                     .map(|(end, start)| end - start)
                     .collect()

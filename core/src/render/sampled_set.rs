@@ -19,8 +19,6 @@ pub(crate) struct SampledSet {
     _sampler: Sampler,
     _view: ImageView,
     pub uniforms: Buffer,
-    /// Bytes of fragment push constants the layout declares.
-    pub push_bytes: u32,
 }
 
 impl SampledSet {
@@ -186,7 +184,6 @@ impl SampledSet {
             _sampler: sampler,
             _view: view,
             uniforms,
-            push_bytes,
         })
     }
 }

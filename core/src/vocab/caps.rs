@@ -23,6 +23,25 @@ pub struct DeviceCaps {
 }
 
 impl DeviceCaps {
+    /// A capable tile-GPU-like device without quirks (4 views, 1× and 4× MSAA, lazily
+    /// allocated memory), for planning and recording without a GPU: tests and examples.
+    pub fn generic() -> Self {
+        DeviceCaps {
+            device_name: "generic device".into(),
+            max_multiview_views: 4,
+            framebuffer_sample_counts: 0b101, // 1 and 4 samples
+            max_image_dimension_2d: 8192,
+            max_viewport_dimension: 8192,
+            viewport_bounds: (-16384.0, 16384.0),
+            lazily_allocated_memory: true,
+            fragment_stores_and_atomics: true,
+            shader_clip_distance: true,
+            depth_clamp: true,
+            timestamps: true,
+            quirks: DriverQuirks::default(),
+        }
+    }
+
     pub fn supports_samples(&self, samples: u32) -> bool {
         samples.is_power_of_two() && self.framebuffer_sample_counts & samples != 0
     }

@@ -1,0 +1,363 @@
+//! A [`Recorder`] that keeps what a frame records as a list of commands: the recording of any
+//! plan, read without a GPU (tests, and anyone checking what a configuration records).
+
+use super::record::{record_frame, FrameDraws, Recorder, Rect};
+use crate::plan::{ClearValue, FramePlan, Step};
+use crate::scene::{Draw, Scene};
+
+/// One recorded command, in the renderer's terms.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Command {
+    ResetQueries(u32),
+    Timestamp(u32),
+    ClearCounters,
+    CountersBarrier,
+    CountersToHost,
+    BeginPass {
+        pass: usize,
+        clears: Vec<ClearValue>,
+    },
+    EndPass(usize),
+    /// A step's pipeline and resources bound (the step as the plan has it).
+    BindStep {
+        pass: usize,
+        step: Step,
+    },
+    BindGeometry,
+    SetViewport {
+        area: Rect,
+        guard_band: u32,
+    },
+    PushVertex(u32),
+    PushFragment(u32),
+    StencilReference(u32),
+    Draw(u32),
+    DrawIndexed {
+        mesh: usize,
+        instance_count: u32,
+        first_instance: u32,
+    },
+}
+
+/// The commands one frame of a plan records.
+pub struct CommandLog<'p> {
+    plan: &'p FramePlan,
+    pub commands: Vec<Command>,
+}
+
+impl<'p> CommandLog<'p> {
+    /// Records one frame of `plan` over `scene`'s draws. Culled steps draw every instance (the
+    /// log shows what is recorded, not what a cull would keep).
+    pub fn record(plan: &'p FramePlan, scene: &Scene) -> Self {
+        let all: Vec<Draw> = scene.draws().collect();
+        let culled = vec![all.clone(); plan.cull_slots.len()];
+        let mut log = CommandLog {
+            plan,
+            commands: Vec::new(),
+        };
+        record_frame(
+            plan,
+            &FrameDraws {
+                all: &all,
+                culled: &culled,
+            },
+            &mut log,
+        );
+        log
+    }
+}
+
+impl Recorder for CommandLog<'_> {
+    fn reset_queries(&mut self, count: u32) {
+        self.commands.push(Command::ResetQueries(count));
+    }
+    fn timestamp(&mut self, index: u32) {
+        self.commands.push(Command::Timestamp(index));
+    }
+    fn clear_counters(&mut self) {
+        self.commands.push(Command::ClearCounters);
+    }
+    fn counters_barrier(&mut self) {
+        self.commands.push(Command::CountersBarrier);
+    }
+    fn counters_to_host(&mut self) {
+        self.commands.push(Command::CountersToHost);
+    }
+    fn begin_pass(&mut self, pass: usize, clears: &[ClearValue]) {
+        self.commands.push(Command::BeginPass {
+            pass,
+            clears: clears.to_vec(),
+        });
+    }
+    fn end_pass(&mut self, pass: usize) {
+        self.commands.push(Command::EndPass(pass));
+    }
+    fn bind_step(&mut self, pass: usize, step: usize) {
+        self.commands.push(Command::BindStep {
+            pass,
+            step: self.plan.passes[pass].steps[step],
+        });
+    }
+    fn bind_geometry(&mut self) {
+        self.commands.push(Command::BindGeometry);
+    }
+    fn set_viewport(&mut self, area: Rect, guard_band: u32) {
+        self.commands
+            .push(Command::SetViewport { area, guard_band });
+    }
+    fn push_vertex(&mut self, value: u32) {
+        self.commands.push(Command::PushVertex(value));
+    }
+    fn push_fragment(&mut self, value: u32) {
+        self.commands.push(Command::PushFragment(value));
+    }
+    fn stencil_reference(&mut self, reference: u32) {
+        self.commands.push(Command::StencilReference(reference));
+    }
+    fn draw(&mut self, vertices: u32) {
+        self.commands.push(Command::Draw(vertices));
+    }
+    fn draw_indexed(&mut self, mesh: usize, instance_count: u32, first_instance: u32) {
+        self.commands.push(Command::DrawIndexed {
+            mesh,
+            instance_count,
+            first_instance,
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::foveation::FoveationConfig;
+    use crate::mffr::{MffrConfig, MffrOrder};
+    use crate::plan::{DeviceCaps, RenderConfig, Resolution, StereoMode, SKY};
+    use crate::scene::default_scene;
+
+    fn log_of(config: &RenderConfig) -> (FramePlan, Vec<Command>) {
+        let scene = default_scene();
+        let plan = crate::plan(&scene, config, &DeviceCaps::generic()).unwrap();
+        let commands = CommandLog::record(&plan, &scene).commands;
+        (plan, commands)
+    }
+
+    fn base() -> RenderConfig {
+        RenderConfig {
+            resolution: Some(Resolution::square(64)),
+            timestamps: false,
+            ..RenderConfig::default()
+        }
+    }
+
+    /// The commands with draws and state left out: passes and steps in order.
+    fn outline(commands: &[Command]) -> Vec<String> {
+        commands
+            .iter()
+            .filter_map(|c| match c {
+                Command::BeginPass { pass, .. } => Some(format!("begin {pass}")),
+                Command::EndPass(pass) => Some(format!("end {pass}")),
+                Command::BindStep { step, .. } => {
+                    Some(step.to_string().split(" [").next().unwrap().to_string())
+                }
+                Command::ClearCounters => Some("clear counters".into()),
+                Command::CountersBarrier => Some("counters barrier".into()),
+                Command::CountersToHost => Some("counters to host".into()),
+                Command::Timestamp(i) => Some(format!("timestamp {i}")),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Step order per configuration. Mutation: the executor recording the far composite
+    /// before the scene in near-first, the probe before the scene, or the composition in the
+    /// scene pass fails it.
+    #[test]
+    fn steps_are_recorded_in_the_plans_order() {
+        let (_, plain) = log_of(&base());
+        assert_eq!(outline(&plain), ["begin 0", "scene", "end 0"]);
+        let foveated = RenderConfig {
+            views: 4,
+            foveation: Some(FoveationConfig::default()),
+            hmd_mask: true,
+            ..base()
+        };
+        let (_, log) = log_of(&foveated);
+        assert_eq!(
+            outline(&log),
+            [
+                "begin 0",
+                "mask fans",
+                "scene",
+                "end 0",
+                "begin 1",
+                "composite",
+                "end 1"
+            ]
+        );
+        for (order, expected) in [
+            (MffrOrder::NearFirst, ["scene", "far composite"]),
+            (MffrOrder::FarFirst, ["far composite", "scene"]),
+        ] {
+            let (_, log) = log_of(&RenderConfig {
+                mffr: Some(MffrConfig {
+                    order,
+                    ..MffrConfig::default()
+                }),
+                ..base()
+            });
+            let outline = outline(&log);
+            assert_eq!(outline[..3], ["begin 0", "scene (cull slot 0)", "end 0"]);
+            let eye: Vec<&str> = outline[4..6]
+                .iter()
+                .map(|s| s.split(" (").next().unwrap())
+                .collect();
+            assert_eq!(eye, expected, "{order:?}");
+        }
+    }
+
+    /// A switched-off effect records nothing: no stencil reference, no mask fans, no push for
+    /// a composite, no counter, no timestamp in the plain frame; switched on, each appears.
+    /// Mutation: an executor clearing counters or writing timestamps unconditionally fails it.
+    #[test]
+    fn effects_that_are_off_record_nothing() {
+        let (_, plain) = log_of(&base());
+        let has = |log: &[Command], f: &dyn Fn(&Command) -> bool| log.iter().any(f);
+        assert!(!has(&plain, &|c| matches!(
+            c,
+            Command::StencilReference(_)
+                | Command::PushFragment(_)
+                | Command::ClearCounters
+                | Command::CountersBarrier
+                | Command::CountersToHost
+                | Command::Timestamp(_)
+                | Command::ResetQueries(_)
+                | Command::Draw(_)
+        )));
+        let (_, masked) = log_of(&RenderConfig {
+            hmd_mask: true,
+            ..base()
+        });
+        assert!(has(&masked, &|c| matches!(c, Command::StencilReference(1))));
+        let (plan, timed) = log_of(&RenderConfig {
+            timestamps: true,
+            ..base()
+        });
+        assert_eq!(
+            timed.first(),
+            Some(&Command::ResetQueries(plan.timestamp_queries))
+        );
+        assert_eq!(timed.last(), Some(&Command::Timestamp(1)));
+    }
+
+    /// Counting frames: the counters cleared before the first pass, a barrier after every
+    /// pass (one pass's atomics before the next's), made visible to the host at the end.
+    /// Mutation: a missing barrier between the scene and the composition fails it.
+    #[test]
+    fn counting_frames_fence_their_counters() {
+        let (_, log) = log_of(
+            &RenderConfig {
+                views: 4,
+                foveation: Some(FoveationConfig::default()),
+                ..base()
+            }
+            .counting(),
+        );
+        assert_eq!(
+            outline(&log),
+            [
+                "clear counters",
+                "begin 0",
+                "mask fans",
+                "scene",
+                "end 0",
+                "counters barrier",
+                "begin 1",
+                "composite",
+                "end 1",
+                "counters barrier",
+                "counters to host"
+            ]
+        );
+    }
+
+    /// Each pass begins with the plan's clear values: the scene pass clears colour to the sky
+    /// and depth to the far plane; composition, which overwrites every pixel, clears nothing.
+    /// Mutation: clear values handed to a pass that loads or overwrites fails it.
+    #[test]
+    fn passes_begin_with_the_plans_clears() {
+        let (_, log) = log_of(&RenderConfig {
+            views: 4,
+            foveation: Some(FoveationConfig::default()),
+            msaa: 1,
+            ..base()
+        });
+        let clears: Vec<&Vec<ClearValue>> = log
+            .iter()
+            .filter_map(|c| match c {
+                Command::BeginPass { clears, .. } => Some(clears),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(
+            clears,
+            [
+                &vec![
+                    ClearValue::Color(SKY),
+                    ClearValue::DepthStencil {
+                        depth: 0.0,
+                        stencil: 0
+                    }
+                ],
+                &Vec::new()
+            ]
+        );
+    }
+
+    /// Per-object stereo draws every instance twice, once per eye's half of the image with the
+    /// eye's index pushed; instanced stereo doubles instance counts. Mutation: per-object
+    /// drawing each object once, or instanced not doubling, fails it.
+    #[test]
+    fn submissions_record_as_their_strategy_says() {
+        let scene = default_scene();
+        let instances: u32 = scene.draws().map(|d| d.instance_count).sum();
+        let drawn = |log: &[Command]| -> (u32, usize) {
+            let mut total = 0;
+            let mut calls = 0;
+            for c in log {
+                if let Command::DrawIndexed { instance_count, .. } = c {
+                    total += instance_count;
+                    calls += 1;
+                }
+            }
+            (total, calls)
+        };
+        let (_, per_object) = log_of(&RenderConfig {
+            stereo: StereoMode::PerObject,
+            ..base()
+        });
+        assert_eq!(drawn(&per_object), (2 * instances, 2 * instances as usize));
+        let pushes: Vec<u32> = per_object
+            .iter()
+            .filter_map(|c| match c {
+                Command::PushVertex(v) => Some(*v),
+                _ => None,
+            })
+            .take(4)
+            .collect();
+        assert_eq!(pushes, [0, 1, 0, 1], "left and right eye alternate");
+        let (_, instanced) = log_of(&RenderConfig {
+            stereo: StereoMode::Instanced,
+            ..base()
+        });
+        assert_eq!(drawn(&instanced).0, 2 * instances);
+        let (_, two_pass) = log_of(&RenderConfig {
+            stereo: StereoMode::TwoPass,
+            ..base()
+        });
+        assert_eq!(
+            drawn(&two_pass).0,
+            2 * instances,
+            "the scene once per eye pass"
+        );
+    }
+}
