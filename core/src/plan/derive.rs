@@ -3,6 +3,8 @@
 
 use std::fmt;
 
+use super::model::{AttachmentId, FramePlan, PassKind, Use, SKY};
+
 /// What a pass declares about an attachment's contents when it starts using it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Access {
@@ -143,5 +145,84 @@ impl fmt::Display for ClearValue {
                 write!(f, "depth {depth}, stencil {stencil}")
             }
         }
+    }
+}
+
+/// Fills in every use's store op and every attachment's transient flag from declared intent:
+/// a use stores only if a later pass keeps its contents or the frame's reader needs them and no
+/// later pass replaces them first.
+pub(super) fn derive_ops(plan: &mut FramePlan) {
+    let all_uses: Vec<(usize, Use)> = plan
+        .passes
+        .iter()
+        .enumerate()
+        .flat_map(|(i, p)| p.uses().map(move |u| (i, *u)))
+        .collect();
+    // Attachments sampled by some pass after pass i.
+    let sampled_after: Vec<Vec<AttachmentId>> = (0..plan.passes.len())
+        .map(|i| {
+            plan.passes[i + 1..]
+                .iter()
+                .flat_map(|p| p.samples.iter().copied())
+                .collect()
+        })
+        .collect();
+    for (i, pass) in plan.passes.iter_mut().enumerate() {
+        let sky = if pass.kind == PassKind::FarField {
+            [SKY[0], SKY[1], SKY[2], 0.0]
+        } else {
+            SKY
+        };
+        for u in pass.uses_mut() {
+            let later = all_uses.iter().filter(|(j, v)| *j > i && v.overlaps(u));
+            let mut kept_later = false;
+            let mut replaced_later = false;
+            for (_, v) in later {
+                match v.access {
+                    Access::Keep if !replaced_later => kept_later = true,
+                    Access::Clear | Access::Overwrite => replaced_later = true,
+                    Access::Keep => {}
+                }
+            }
+            kept_later |= sampled_after[i].contains(&u.attachment);
+            let read_by_frame_reader =
+                plan.attachments[u.attachment].read_after_frame && !replaced_later;
+            u.load = LoadOp::from_access(u.access);
+            u.store = StoreOp::from_read_later(kept_later || read_by_frame_reader);
+            let a = &plan.attachments[u.attachment];
+            let working = if a.format.is_depth() {
+                Layout::DepthStencilAttachment
+            } else {
+                Layout::ColorAttachment
+            };
+            (u.initial_layout, u.final_layout) = Layout::around(
+                working,
+                u.load,
+                u.store,
+                a.read_after_frame,
+                sampled_after[i].contains(&u.attachment),
+            );
+            // Reverse-Z: depth clears to the far plane, 0.
+            u.clear = (u.load == LoadOp::Clear).then_some(if a.format.is_depth() {
+                ClearValue::DepthStencil {
+                    depth: 0.0,
+                    stencil: 0,
+                }
+            } else {
+                ClearValue::Color(sky)
+            });
+        }
+    }
+    for (id, a) in plan.attachments.iter_mut().enumerate() {
+        let uses: Vec<&Use> = plan
+            .passes
+            .iter()
+            .flat_map(|p| p.uses())
+            .filter(|u| u.attachment == id)
+            .collect();
+        let loads: Vec<LoadOp> = uses.iter().map(|u| u.load).collect();
+        let stores: Vec<StoreOp> = uses.iter().map(|u| u.store).collect();
+        a.sampled = plan.passes.iter().any(|p| p.samples.contains(&id));
+        a.transient = !a.read_after_frame && !a.sampled && is_transient(&loads, &stores);
     }
 }

@@ -4,19 +4,26 @@
 //! Pure: no Vulkan objects are created here, so every rule is unit-tested without a GPU and
 //! `foveate plan` prints exactly what the renderer will build.
 
+mod build;
+mod composition;
 mod config;
+mod counting;
 mod derive;
-mod frame_plan;
+mod mffr;
+mod model;
 mod print;
 mod steps;
+mod stereo_scene;
+mod validate;
 
 pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
+pub use build::plan;
 pub use config::{CullConfig, RenderConfig, StereoMode, MAX_VIEWS};
 pub use derive::{Access, ClearValue, Layout, LoadOp, StoreOp};
-pub use frame_plan::{
-    plan, AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, CountedSlot, CountedStep,
-    DrawSet, Format, FramePlan, PassKind, PassPlan, Submission, TargetLayout, Use,
-    COUNTER_SLOTS_PER_STEP, SKY,
+pub use model::{
+    AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, CountedSlot, CountedStep, DrawSet,
+    Format, FramePlan, PassKind, PassPlan, Submission, TargetLayout, Use, COUNTER_SLOTS_PER_STEP,
+    SKY,
 };
 pub use steps::{CompareOp, StencilOp, StencilState, Step, MASK_BIT, NEAR_BIT};
 

@@ -1,0 +1,36 @@
+//! Fragment counting (a technique of counting frames only): every step that shades fragments
+//! gets five counter slots, in recording order, and one buffer holds them.
+
+use super::model::*;
+use super::steps::Step;
+
+/// Every step that shades fragments, pass by pass in recording order: a pass's mask fans, its
+/// far composite (far-first before the scene, near-first after it), its scene, its probe; the
+/// composition pass's full-view draw.
+fn counted_steps(passes: &[PassPlan]) -> Vec<CountedSlot> {
+    passes
+        .iter()
+        .enumerate()
+        .flat_map(|(pass, p)| {
+            p.steps.iter().map(move |s| CountedSlot {
+                pass,
+                step: match s {
+                    Step::MaskFans { .. } => CountedStep::Mask,
+                    Step::FarComposite { .. } => CountedStep::FarComposite,
+                    Step::Scene { .. } => CountedStep::Scene,
+                    Step::Probe { .. } => CountedStep::Probe,
+                    Step::Composite => CountedStep::Composite,
+                },
+            })
+        })
+        .collect()
+}
+
+/// A counting frame: every step counted, and the buffer holding its counters.
+pub(super) fn plan_counting(plan: &mut FramePlan) {
+    plan.counted = counted_steps(&plan.passes);
+    plan.buffers.push(BufferPlan {
+        name: FRAGMENT_COUNTER,
+        bytes: 4 * (COUNTER_SLOTS_PER_STEP * plan.counted.len() as u32) as u64,
+    });
+}

@@ -1,0 +1,65 @@
+//! MFFR's far field: one mono pass from the far view into an image the eye passes composite
+//! (their far-composite step is added with the scene steps, `stereo_scene`).
+
+use super::derive::Access;
+use super::model::*;
+use super::steps::Step;
+use super::{RenderConfig, Resolution};
+
+/// The MFFR far pass: the far field once, from one view, resolved into an image every eye
+/// pass samples (and which is therefore stored).
+pub(super) fn far_pass(
+    config: &RenderConfig,
+    size: Resolution,
+    attachments: &mut Vec<AttachmentPlan>,
+) -> PassPlan {
+    let mut add = |name, role, format, samples| {
+        attachments.push(AttachmentPlan {
+            name,
+            role,
+            format,
+            samples,
+            width: size.width,
+            height: size.height,
+            layers: 1,
+            read_after_frame: false,
+            sampled: false,
+            transient: false,
+        });
+        attachments.len() - 1
+    };
+    let msaa = config.msaa > 1;
+    let color = msaa.then(|| {
+        add(
+            "far colour (MSAA)",
+            AttachmentRole::Color,
+            Format::Rgba8Srgb,
+            config.msaa,
+        )
+    });
+    let depth = add("far depth", AttachmentRole::Depth, Format::D32, config.msaa);
+    let output_role = if msaa {
+        AttachmentRole::Resolve
+    } else {
+        AttachmentRole::Color
+    };
+    let output = add("far field colour", output_role, Format::Rgba8Srgb, 1);
+    let whole = |id, access| Use::new(id, 0, 1, access);
+    PassPlan {
+        name: "far field (mono)",
+        kind: PassKind::FarField,
+        view_mask: 0,
+        color: whole(color.unwrap_or(output), Access::Clear),
+        depth: Some(whole(depth, Access::Clear)),
+        resolve: color.map(|_| whole(output, Access::Overwrite)),
+        samples: Vec::new(),
+        submission: Submission::FarView,
+        steps: vec![Step::Scene {
+            draw_set: DrawSet::FarField,
+            cull_slot: None,
+            stencil: None,
+        }],
+        depth_clamp: false,
+        guard_band: 1,
+    }
+}

@@ -1,0 +1,437 @@
+//! The plan's model: attachments with their uses, passes with their steps, the frame plan and
+//! the figures it derives (bytes, traffic). Built by `build`, completed by `derive`.
+
+use super::derive::{Access, ClearValue, Layout, LoadOp, StoreOp};
+use super::steps::Step;
+use super::{CullConfig, Resolution, StereoMode, MAX_VIEWS};
+use crate::foveation::FoveationGeometry;
+use crate::mffr::{MffrGeometry, MffrOrder};
+use crate::view::{Eye, EyeParams, HmdProfile, LensRegion};
+
+/// Pixel formats the planner uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Colour: 8-bit sRGB, so MSAA resolves and blending happen in linear light.
+    Rgba8Srgb,
+    /// Reverse-Z depth without stencil.
+    D32,
+    /// Reverse-Z depth with stencil, only when an effect writes stencil masks.
+    D32S8,
+}
+
+impl Format {
+    pub fn bytes_per_pixel(self) -> u64 {
+        match self {
+            Format::Rgba8Srgb | Format::D32 => 4,
+            // D32_SFLOAT_S8_UINT is commonly stored as 4 + 1 bytes (plus padding).
+            Format::D32S8 => 5,
+        }
+    }
+
+    pub fn is_depth(self) -> bool {
+        matches!(self, Format::D32 | Format::D32S8)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AttachmentRole {
+    Color,
+    Depth,
+    /// Single-sample target an MSAA colour attachment resolves into inside the pass.
+    Resolve,
+}
+
+/// Index into [`FramePlan::attachments`].
+pub type AttachmentId = usize;
+
+/// One image the frame renders into, and its fate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AttachmentPlan {
+    pub name: &'static str,
+    pub role: AttachmentRole,
+    pub format: Format,
+    pub samples: u32,
+    pub width: u32,
+    pub height: u32,
+    pub layers: u32,
+    /// Read after the frame (readback or presentation).
+    pub read_after_frame: bool,
+    /// Sampled by a later pass (a texture, not an attachment, there).
+    pub sampled: bool,
+    /// Never loaded nor stored by any pass: may live on tile only.
+    pub transient: bool,
+}
+
+impl AttachmentPlan {
+    pub fn bytes(&self) -> u64 {
+        self.width as u64
+            * self.height as u64
+            * self.layers as u64
+            * self.samples as u64
+            * self.format.bytes_per_pixel()
+    }
+
+    fn layer_bytes(&self) -> u64 {
+        self.bytes() / self.layers as u64
+    }
+}
+
+/// A pass's use of (some layers of) an attachment, with the ops derived from intent.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Use {
+    pub attachment: AttachmentId,
+    pub base_layer: u32,
+    pub layer_count: u32,
+    pub access: Access,
+    pub load: LoadOp,
+    pub store: StoreOp,
+    /// Layout at the pass's start and end (derived: [`Layout::around`]).
+    pub initial_layout: Layout,
+    pub final_layout: Layout,
+    /// What a cleared use starts as; `None` unless `load` clears.
+    pub clear: Option<ClearValue>,
+}
+
+impl Use {
+    pub(super) fn new(
+        attachment: AttachmentId,
+        base_layer: u32,
+        layer_count: u32,
+        access: Access,
+    ) -> Self {
+        // Ops are placeholders until `derive_ops` has seen the whole frame.
+        Self {
+            attachment,
+            base_layer,
+            layer_count,
+            access,
+            load: LoadOp::from_access(access),
+            store: StoreOp::DontCare,
+            initial_layout: Layout::Undefined,
+            final_layout: Layout::Undefined,
+            clear: None,
+        }
+    }
+
+    pub(super) fn overlaps(&self, other: &Use) -> bool {
+        self.attachment == other.attachment
+            && self.base_layer < other.base_layer + other.layer_count
+            && other.base_layer < self.base_layer + self.layer_count
+    }
+}
+
+/// How a pass submits the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Submission {
+    /// Once, broadcast to the views in the pass's view mask.
+    Multiview,
+    /// Once, for one eye.
+    SingleEye(Eye),
+    /// Every object twice, switching eye and viewport between the draws.
+    PerObject,
+    /// Every draw with its instance count doubled.
+    Instanced,
+    /// Once, from the MFFR far view.
+    FarView,
+}
+
+/// Which instances a scene pass draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DrawSet {
+    /// Every instance, straight from the scene's draws.
+    All,
+    /// Instances the culling strategy keeps for the pass's views (culled per frame).
+    Visible,
+    /// Instances one eye's own frustum keeps: per-eye culling of a two-pass frame.
+    VisibleToEye(Eye),
+    /// Instances reaching in front of the MFFR split (culled per frame).
+    NearField,
+    /// Instances reaching beyond the MFFR far pass's near plane (culled per frame).
+    FarField,
+}
+
+/// What a pass does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PassKind {
+    /// Draws the scene (and, when planned, stencil masks and the coverage probe).
+    Scene,
+    /// Composes each eye at full resolution from the periphery and fovea views it samples.
+    Composite,
+    /// MFFR: the far field, once, into an image the eye passes sample.
+    FarField,
+}
+
+/// One render pass of the frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PassPlan {
+    pub name: &'static str,
+    pub kind: PassKind,
+    /// Multiview view mask; 0 for a pass without multiview.
+    pub view_mask: u32,
+    pub color: Use,
+    pub depth: Option<Use>,
+    /// In-pass MSAA resolve target (`pResolveAttachments`).
+    pub resolve: Option<Use>,
+    /// Attachments of earlier passes this pass samples.
+    pub samples: Vec<AttachmentId>,
+    pub submission: Submission,
+    /// What the pass does, in order (mask fans, far composite, scene, probe; or composition).
+    pub steps: Vec<Step>,
+    /// Depth clamp instead of clipping at the near and far planes (the MFFR split), to work
+    /// around [`DriverQuirks`](super::DriverQuirks) dropping clipped primitives' views.
+    pub depth_clamp: bool,
+    /// Emulated guard band: clip-space x and y are divided by this factor and the viewport
+    /// grown by it, so primitives reaching less than this many view widths past the edge need
+    /// no clipping. 1 = off; set only to work around [`DriverQuirks`](super::DriverQuirks).
+    pub guard_band: u32,
+}
+
+impl PassPlan {
+    pub fn uses(&self) -> impl Iterator<Item = &Use> {
+        [
+            Some(&self.color),
+            self.depth.as_ref(),
+            self.resolve.as_ref(),
+        ]
+        .into_iter()
+        .flatten()
+    }
+
+    /// Whether the pass writes stencil masks first.
+    pub fn has_masks(&self) -> bool {
+        self.steps
+            .iter()
+            .any(|s| matches!(s, Step::MaskFans { .. }))
+    }
+
+    /// The MFFR far image is composited into this pass: before the scene (far-first) or after
+    /// it, into the pixels it left (near-first).
+    pub fn far_composite(&self) -> Option<MffrOrder> {
+        let far = self
+            .steps
+            .iter()
+            .position(|s| matches!(s, Step::FarComposite { .. }))?;
+        let scene = self
+            .steps
+            .iter()
+            .position(|s| matches!(s, Step::Scene { .. }))?;
+        Some(if far < scene {
+            MffrOrder::FarFirst
+        } else {
+            MffrOrder::NearFirst
+        })
+    }
+
+    /// The instances the pass's scene step draws.
+    pub fn draw_set(&self) -> Option<DrawSet> {
+        self.steps.iter().find_map(|s| match s {
+            Step::Scene { draw_set, .. } => Some(*draw_set),
+            _ => None,
+        })
+    }
+
+    pub(super) fn uses_mut(&mut self) -> impl Iterator<Item = &mut Use> {
+        [
+            Some(&mut self.color),
+            self.depth.as_mut(),
+            self.resolve.as_mut(),
+        ]
+        .into_iter()
+        .flatten()
+    }
+}
+
+/// How the two eyes' images are laid out in the frame's images.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TargetLayout {
+    /// One array layer per eye of one image (multiview).
+    Layered,
+    /// One image per eye (two-pass on a driver with
+    /// [`DriverQuirks::layered_resolve_ignores_base_layer`](super::DriverQuirks); elsewhere
+    /// each two-pass eye pass renders its own layer of a layered image).
+    PerEye,
+    /// Both eyes side by side in one double-wide image (per-object, instanced).
+    SideBySide,
+}
+
+/// A step of a pass that shades fragments, counted on its own in counting frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CountedStep {
+    /// Stencil mask fans (the HMD mask, foveation's inset/outset), at the start of the pass.
+    Mask,
+    /// The MFFR far image composited into the eye views.
+    FarComposite,
+    /// The scene's meshes.
+    Scene,
+    /// The coverage probe's full-view draw.
+    Probe,
+    /// Foveated composition: each eye at full resolution.
+    Composite,
+}
+
+impl CountedStep {
+    pub fn name(self) -> &'static str {
+        match self {
+            CountedStep::Mask => "mask",
+            CountedStep::FarComposite => "far composite",
+            CountedStep::Scene => "scene",
+            CountedStep::Probe => "probe",
+            CountedStep::Composite => "composite",
+        }
+    }
+}
+
+/// One counted step: its pass (index into [`FramePlan::passes`]) and what it draws. Its five
+/// counter slots (views 0–3, then the MFFR far view) start at [`FramePlan::counter_base`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CountedSlot {
+    pub pass: usize,
+    pub step: CountedStep,
+}
+
+/// Counter slots per counted step: four views and the MFFR far view.
+pub const COUNTER_SLOTS_PER_STEP: u32 = MAX_VIEWS + 1;
+
+/// A buffer that exists only because an effect asked for it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BufferPlan {
+    pub name: &'static str,
+    pub bytes: u64,
+}
+
+/// Everything a frame consists of, decided before any Vulkan object exists.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FramePlan {
+    pub hmd: &'static HmdProfile,
+    pub eyes: EyeParams,
+    pub eye_resolution: Resolution,
+    pub stereo: StereoMode,
+    pub views: u32,
+    pub samples: u32,
+    pub near: f32,
+    pub far: f32,
+    pub layout: TargetLayout,
+    pub attachments: Vec<AttachmentPlan>,
+    pub passes: Vec<PassPlan>,
+    /// Effect-only buffers (e.g. the fragment counter); empty when no such effect is on.
+    pub buffers: Vec<BufferPlan>,
+    /// Timestamp queries per frame (before the frame, after each pass); 0 when timing is off.
+    pub timestamp_queries: u32,
+    /// Steps whose fragments a counting frame counts, in recording order; empty unless
+    /// fragment counting is on.
+    pub counted: Vec<CountedSlot>,
+    /// Draw calls one frame records for the scene it was planned with, estimated before culling
+    /// (the renderer's `FrameStats` has the recorded tally).
+    pub draw_calls_estimate: u64,
+    /// Foveation as resolved for this frame; `None` renders plain stereo.
+    pub foveation: Option<FoveationGeometry>,
+    /// Each eye's lens-visible region, when the HMD stencil mask is on.
+    pub hmd_mask: Option<[LensRegion; 2]>,
+    /// MFFR as resolved for this frame: `None` when off, or when the scene has nothing beyond
+    /// the split.
+    pub mffr: Option<MffrGeometry>,
+    /// Per-frame culling, when on.
+    pub culling: Option<CullConfig>,
+    /// The sets culled each frame, in order; a scene step's `cull_slot` indexes this (empty
+    /// when every pass draws every instance).
+    pub cull_slots: Vec<DrawSet>,
+    /// Instances of the scene the plan was made for: buffers are sized for them, and a
+    /// renderer refuses another scene.
+    pub scene_instances: usize,
+}
+
+impl FramePlan {
+    /// The per-view fragment counter, when fragment counting is on.
+    pub fn fragment_counter(&self) -> Option<&BufferPlan> {
+        self.buffers.iter().find(|b| b.name == FRAGMENT_COUNTER)
+    }
+
+    pub fn count_fragments(&self) -> bool {
+        self.fragment_counter().is_some()
+    }
+
+    /// Where the counter slots of `step` in pass `pass` start, when that step is counted. A
+    /// single-eye pass's mask fans count into their eye's slot (the shader sees view 0).
+    pub fn counter_base(&self, pass: usize, step: CountedStep) -> Option<u32> {
+        let slot = self
+            .counted
+            .iter()
+            .position(|c| c.pass == pass && c.step == step)?;
+        let eye_offset = match (step, self.passes[pass].submission) {
+            (CountedStep::Mask, Submission::SingleEye(eye)) => eye.index() as u32,
+            _ => 0,
+        };
+        Some(slot as u32 * COUNTER_SLOTS_PER_STEP + eye_offset)
+    }
+
+    /// The per-frame list of culled instance ids, when some pass draws a culled set.
+    pub fn instance_ids(&self) -> Option<&BufferPlan> {
+        self.buffers.iter().find(|b| b.name == INSTANCE_IDS)
+    }
+
+    /// The MFFR far pass, when planned.
+    pub fn far_pass(&self) -> Option<&PassPlan> {
+        self.passes.iter().find(|p| p.kind == PassKind::FarField)
+    }
+
+    /// The attachments read after the frame, in eye order: the stereo image.
+    pub fn outputs(&self) -> Vec<AttachmentId> {
+        (0..self.attachments.len())
+            .filter(|&i| self.attachments[i].read_after_frame)
+            .collect()
+    }
+
+    /// Bytes of attachments that must be backed by memory (not transient).
+    pub fn resident_bytes(&self) -> u64 {
+        self.attachments
+            .iter()
+            .filter(|a| !a.transient)
+            .map(AttachmentPlan::bytes)
+            .sum()
+    }
+
+    /// Bytes of attachments that may live on tile only.
+    pub fn transient_bytes(&self) -> u64 {
+        self.attachments
+            .iter()
+            .filter(|a| a.transient)
+            .map(AttachmentPlan::bytes)
+            .sum()
+    }
+
+    /// Estimated external memory traffic per frame on a tile GPU: bytes loaded into tile
+    /// memory, stored out of it, sampled by later passes, and read back as the output.
+    pub fn external_traffic_bytes(&self) -> u64 {
+        let attachment_traffic: u64 = self
+            .passes
+            .iter()
+            .flat_map(|p| p.uses())
+            .map(|u| {
+                let a = &self.attachments[u.attachment];
+                let bytes = a.layer_bytes() * u.layer_count as u64;
+                let loaded = if u.load == LoadOp::Load { bytes } else { 0 };
+                let stored = if u.store == StoreOp::Store { bytes } else { 0 };
+                loaded + stored
+            })
+            .sum();
+        let sampled: u64 = self
+            .passes
+            .iter()
+            .flat_map(|p| &p.samples)
+            .map(|&i| self.attachments[i].bytes())
+            .sum();
+        let read_back: u64 = self
+            .outputs()
+            .iter()
+            .map(|&i| self.attachments[i].bytes())
+            .sum();
+        attachment_traffic + sampled + read_back
+    }
+}
+
+/// Linear-light colour of the sky: every colour attachment clears to it (the MFFR far pass
+/// with alpha 0: the sky is infinitely far, see `shaders/scene.frag`).
+pub const SKY: [f32; 4] = [0.22, 0.38, 0.62, 1.0];
+
+pub(crate) const FRAGMENT_COUNTER: &str = "fragment counter";
+pub(crate) const INSTANCE_IDS: &str = "instance ids";

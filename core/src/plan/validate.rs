@@ -1,0 +1,232 @@
+//! Validation: a configuration the device or foveate cannot render is refused with the field,
+//! the value and the limit.
+
+use super::{ConfigError, DeviceCaps, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
+use crate::view::{EyeParams, HmdProfile};
+
+pub(super) fn validate_eyes(
+    config: &RenderConfig,
+    hmd: &HmdProfile,
+) -> Result<EyeParams, ConfigError> {
+    let ipd = config.ipd_m.unwrap_or(crate::view::DEFAULT_IPD_M);
+    if !ipd.is_finite() || !(0.0..=0.1).contains(&ipd) {
+        return Err(ConfigError::new(
+            "ipd",
+            ipd,
+            "a finite distance in metres, 0 ≤ ipd ≤ 0.1",
+        ));
+    }
+    let mut eyes = hmd.eyes(ipd);
+    if let Some(cant) = config.cant_deg {
+        if !cant.is_finite() || cant.abs() > 45.0 {
+            return Err(ConfigError::new(
+                "cant",
+                cant,
+                "finite degrees, |cant| ≤ 45",
+            ));
+        }
+        eyes.cant_rad = cant.to_radians();
+    }
+    if let Some(fov) = config.fov {
+        // Each half-angle within (-89°, 89°) and the two halves of an axis spanning > 0.
+        let max = 89f32.to_radians().tan();
+        let ok = |t: f32| t.is_finite() && t.abs() < max;
+        let valid = fov.as_array().into_iter().all(ok)
+            && fov.left + fov.right > 0.0
+            && fov.up + fov.down > 0.0;
+        if !valid {
+            return Err(ConfigError::new(
+                "fov",
+                format!("{:?}", fov.as_array()),
+                format!("finite tangents with |t| < {max:.1} (89°) spanning a positive angle on each axis"),
+            ));
+        }
+        eyes.left_fov = fov;
+        eyes.right_fov = fov.mirrored();
+    }
+    Ok(eyes)
+}
+
+pub(super) fn validate_resolution(
+    config: &RenderConfig,
+    hmd: &HmdProfile,
+    caps: &DeviceCaps,
+) -> Result<Resolution, ConfigError> {
+    let res = config.resolution.unwrap_or(Resolution {
+        width: hmd.panel_per_eye.0,
+        height: hmd.panel_per_eye.1,
+    });
+    let side_by_side = matches!(config.stereo, StereoMode::PerObject | StereoMode::Instanced);
+    let max_width = if side_by_side {
+        caps.max_image_dimension_2d / 2
+    } else {
+        caps.max_image_dimension_2d
+    };
+    let max_height = caps.max_image_dimension_2d;
+    if res.width == 0 || res.height == 0 || res.width > max_width || res.height > max_height {
+        let why = if side_by_side {
+            " (both eyes share one double-wide image)"
+        } else {
+            ""
+        };
+        return Err(ConfigError::new(
+            "resolution",
+            res,
+            format!(
+                "each side 1..={} wide and 1..={max_height} high per eye on this device{why}",
+                max_width
+            ),
+        ));
+    }
+    Ok(res)
+}
+
+pub(super) fn validate_views(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), ConfigError> {
+    let limit = MAX_VIEWS.min(caps.max_multiview_views);
+    if config.views == 0 || config.views > limit {
+        return Err(ConfigError::new(
+            "views",
+            config.views,
+            format!(
+                "at most {limit} (foveate renders up to {MAX_VIEWS} views in one pass; this device's maxMultiviewViewCount is {})",
+                caps.max_multiview_views
+            ),
+        ));
+    }
+    let wanted = if config.foveation.is_some() { 4 } else { 2 };
+    if config.views != wanted {
+        let why = if wanted == 4 {
+            "foveated rendering uses exactly 4 views (periphery and fovea per eye)"
+        } else {
+            "stereo rendering uses exactly 2 views (4 with foveation)"
+        };
+        return Err(ConfigError::new("views", config.views, why));
+    }
+    if config.foveation.is_some() && config.stereo != StereoMode::Multiview {
+        return Err(ConfigError::new(
+            "stereo",
+            config.stereo,
+            "foveation renders its 4 views with multiview",
+        ));
+    }
+    Ok(())
+}
+
+pub(super) fn validate_msaa(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), ConfigError> {
+    let device: Vec<String> = caps.sample_counts().iter().map(u32::to_string).collect();
+    if !matches!(config.msaa, 1 | 4) || !caps.supports_samples(config.msaa) {
+        return Err(ConfigError::new(
+            "msaa",
+            config.msaa,
+            format!(
+                "1 or 4, and one the device supports (it supports {})",
+                device.join(", ")
+            ),
+        ));
+    }
+    Ok(())
+}
+
+pub(super) fn validate_depth_range(config: &RenderConfig) -> Result<(), ConfigError> {
+    if !config.near.is_finite() || config.near <= 0.0 {
+        return Err(ConfigError::new(
+            "near",
+            config.near,
+            "a finite distance > 0",
+        ));
+    }
+    if config.far.is_nan() || config.far <= config.near {
+        return Err(ConfigError::new(
+            "far",
+            config.far,
+            format!("greater than near ({})", config.near),
+        ));
+    }
+    Ok(())
+}
+
+pub(super) fn validate_culling(config: &RenderConfig) -> Result<(), ConfigError> {
+    match config.culling {
+        Some(c) if !(c.draw_distance.is_finite() && c.draw_distance > config.near) => {
+            Err(ConfigError::new(
+                "draw distance",
+                c.draw_distance,
+                format!("a finite distance beyond near ({})", config.near),
+            ))
+        }
+        // The cones drop what the lens hides; without the mask those pixels would show the
+        // scene minus the culled objects, an error no lens-region score would see.
+        Some(c) if c.strategy.culls_to_lens() && !config.hmd_mask => Err(ConfigError::new(
+            "culling",
+            c.strategy.name(),
+            "lens-region culling needs the HMD mask on (hmd_mask, --hmd-mask): it drops what only the mask hides",
+        )),
+        _ => Ok(()),
+    }
+}
+
+pub(super) fn validate_features(
+    config: &RenderConfig,
+    caps: &DeviceCaps,
+) -> Result<(), ConfigError> {
+    let need = |ok: bool, field, value: &str, what: &str| {
+        if ok {
+            Ok(())
+        } else {
+            Err(ConfigError::new(
+                field,
+                value,
+                format!("needs {what}, which {} lacks", caps.device_name),
+            ))
+        }
+    };
+    match config.stereo {
+        StereoMode::Multiview => need(
+            caps.max_multiview_views >= 2,
+            "stereo",
+            "multiview",
+            "VK_KHR_multiview",
+        )?,
+        StereoMode::Instanced => need(
+            caps.shader_clip_distance,
+            "stereo",
+            "instanced",
+            "shaderClipDistance",
+        )?,
+        _ => {}
+    }
+    if config.count_fragments {
+        need(
+            caps.fragment_stores_and_atomics,
+            "count_fragments",
+            "true",
+            "fragmentStoresAndAtomics",
+        )?;
+    }
+    if config.timestamps {
+        need(
+            caps.timestamps,
+            "timestamps",
+            "true",
+            "timestamp queries on the graphics queue",
+        )?;
+    }
+    if config.mffr.is_some()
+        && !matches!(config.stereo, StereoMode::Multiview | StereoMode::TwoPass)
+    {
+        return Err(ConfigError::new(
+            "stereo",
+            config.stereo,
+            "MFFR composites the far field into multiview or two-pass eye passes",
+        ));
+    }
+    if config.coverage_probe && (config.stereo != StereoMode::Multiview || !config.count_fragments)
+    {
+        return Err(ConfigError::new(
+            "coverage_probe",
+            "true",
+            "needs multiview and fragment counting",
+        ));
+    }
+    Ok(())
+}
