@@ -2,14 +2,18 @@
 //! records, submits and measures frames.
 
 mod command_log;
-mod composite;
+mod composition;
+mod counting;
 mod culling;
-mod far_field;
+mod masks;
+mod mffr;
 mod pipelines;
+mod probe;
 mod record;
 mod renderer;
 mod sampled_set;
 mod scene_buffers;
+mod stereo_scene;
 mod targets;
 
 pub use crate::plan::SKY;

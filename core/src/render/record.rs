@@ -6,11 +6,8 @@
 use ash::vk;
 
 use super::renderer::{DrawTally, Renderer};
-use crate::mffr::FAR_VIEW_INDEX;
-use crate::plan::{ClearValue, FramePlan, PassPlan, Step, Submission};
+use crate::plan::{ClearValue, FramePlan, PassPlan, Step};
 use crate::scene::Draw;
-use crate::shaders::MASK_VERTICES;
-use crate::view::Eye;
 
 /// A rectangle of a pass's render area: x, y, width, height in pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,33 +94,13 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
         for (step_index, step) in pass.steps.iter().enumerate() {
             rec.bind_step(index, step_index);
             match *step {
-                Step::MaskFans { .. } => {
-                    // Every view's keep shapes as the mask bit, then its drop shapes cleared.
-                    rec.set_viewport(area, pass.guard_band);
-                    for (shape_set, reference) in [(0u32, 1u32), (1, 0)] {
-                        rec.stencil_reference(reference);
-                        rec.push_vertex(shape_set);
-                        rec.draw(MASK_VERTICES);
-                    }
-                }
-                Step::FarComposite { .. } => {
-                    // A single-eye pass tells the shader its view; multiview reads gl_ViewIndex.
-                    if let Submission::SingleEye(eye) = pass.submission {
-                        rec.push_fragment(eye.index() as u32);
-                    } else {
-                        rec.push_fragment(0);
-                    }
-                    rec.set_viewport(area, pass.guard_band);
-                    rec.draw(3);
-                }
+                Step::MaskFans { .. } => super::masks::record_mask_fans(pass, area, rec),
+                Step::FarComposite { .. } => super::mffr::record_far_composite(pass, area, rec),
                 Step::Scene { cull_slot, .. } => {
-                    rec.bind_geometry();
-                    submit(plan, pass, area, draws.of(cull_slot), rec);
+                    super::stereo_scene::record_scene(plan, pass, area, draws.of(cull_slot), rec)
                 }
-                Step::Probe { .. } | Step::Composite => {
-                    rec.set_viewport(area, pass.guard_band);
-                    rec.draw(3);
-                }
+                Step::Probe { .. } => super::probe::record_probe(pass, area, rec),
+                Step::Composite => super::composition::record_composition(pass, area, rec),
             }
         }
         rec.end_pass(index);
@@ -147,55 +124,6 @@ fn pass_area(plan: &FramePlan, pass: &PassPlan) -> Rect {
         y: 0,
         width: a.width,
         height: a.height,
-    }
-}
-
-/// The scene's draws as the pass's submission says: once for multiview, instanced (instance
-/// count doubled: instance 2k is object k's left eye, 2k+1 its right), a single eye or the far
-/// view; or every object twice with the view switched between (per-object).
-fn submit(plan: &FramePlan, pass: &PassPlan, area: Rect, draws: &[Draw], rec: &mut dyn Recorder) {
-    let view = |rec: &mut dyn Recorder, area, view: u32| {
-        rec.set_viewport(area, pass.guard_band);
-        rec.push_vertex(view);
-    };
-    match pass.submission {
-        Submission::Multiview | Submission::Instanced => {
-            view(rec, area, 0);
-            let k = if pass.submission == Submission::Instanced {
-                2
-            } else {
-                1
-            };
-            for d in draws {
-                rec.draw_indexed(d.mesh, d.instance_count * k, d.first_instance * k);
-            }
-        }
-        Submission::SingleEye(_) | Submission::FarView => {
-            let index = match pass.submission {
-                Submission::SingleEye(eye) => eye.index() as u32,
-                _ => FAR_VIEW_INDEX,
-            };
-            view(rec, area, index);
-            for d in draws {
-                rec.draw_indexed(d.mesh, d.instance_count, d.first_instance);
-            }
-        }
-        Submission::PerObject => {
-            let width = plan.eye_resolution.width;
-            for d in draws {
-                for i in 0..d.instance_count {
-                    for eye in Eye::BOTH {
-                        let half = Rect {
-                            x: eye.index() as u32 * width,
-                            width,
-                            ..area
-                        };
-                        view(rec, half, eye.index() as u32);
-                        rec.draw_indexed(d.mesh, 1, d.first_instance + i);
-                    }
-                }
-            }
-        }
     }
 }
 

@@ -4,15 +4,15 @@ use std::time::Instant;
 use ash::vk;
 use glam::{Mat4, Vec2, Vec4};
 
-use super::composite::Composite;
+use super::composition::Composite;
 use super::culling::FrameCulling;
-use super::far_field::FarComposite;
+use super::mffr::FarComposite;
 use super::pipelines::{step_pipeline, SceneBindings};
 use super::record::{memory_barrier, record_frame, FrameDraws, VulkanRecorder};
 use super::scene_buffers::SceneBuffers;
 use super::targets::{compile_pass, create_images, CompiledPass};
 use crate::cull::Frustum;
-use crate::foveation::{fovea_views, mask_shapes};
+use crate::foveation::fovea_views;
 use crate::gpu::{
     Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, Pipeline, QueryPool,
     VkResultExt,
@@ -360,7 +360,7 @@ impl<'g> Renderer<'g> {
                 reverse_z_projection(fov, plan.near, eye_far) * world_from_view.inverse();
         }
         if let Some(masks) = &mut self.masks {
-            masks.write(&stencil_shapes(plan, fovea.as_ref()));
+            masks.write(&super::masks::stencil_shapes(plan, fovea.as_ref()));
         }
         if let (Some(composite), Some(fovea)) = (&mut self.composite, &fovea) {
             composite.update(plan, fovea);
@@ -506,24 +506,12 @@ impl<'g> Renderer<'g> {
 
     /// Every counted step's per-view counts (empty without fragment counting).
     fn read_fragment_counts(&mut self) -> Vec<StepFragments> {
-        let Some(c) = self.counter.as_mut() else {
-            return Vec::new();
-        };
-        let per_step = COUNTER_SLOTS_PER_STEP as usize;
-        let counts = c.read_u32s(per_step * self.plan.counted.len());
-        self.plan
-            .counted
-            .iter()
-            .zip(counts.chunks_exact(per_step))
-            .map(|(slot, views)| StepFragments {
-                pass: self.plan.passes[slot.pass].name,
-                step: slot.step,
-                views: std::array::from_fn(|v| u64::from(views[v])),
-            })
-            .collect()
+        match self.counter.as_mut() {
+            Some(counter) => super::counting::read_counts(&self.plan, counter),
+            None => Vec::new(),
+        }
     }
 
-    /// The draws a pass records this frame.
     /// The draws of a scene step: this frame's cull slot, or every instance.
     pub(super) fn draws(&self, cull_slot: Option<usize>) -> &[Draw] {
         match (cull_slot, &self.culling) {
@@ -642,26 +630,4 @@ pub fn counting_frame(
     let mut renderer = Renderer::new(gpu, &plan, scene)?;
     renderer.set_gaze(gaze);
     renderer.render_frame(world_from_head)
-}
-
-/// The stencil shapes of a frame (see `shaders/mask.vert`): per view, what it keeps ([0..4)) and
-/// then drops ([4..8)). The eye (periphery) views keep the lens-visible ellipse with the HMD
-/// mask, everything without; foveation's inset and outset masks go on top.
-fn stencil_shapes(plan: &FramePlan, fovea: Option<&[FovTangents; 2]>) -> [Vec4; 8] {
-    let full = Vec4::new(0.0, 0.0, 2.0, 2.0);
-    let mut shapes = [Vec4::ZERO; 8];
-    if let (Some(g), Some(fovea)) = (&plan.foveation, fovea) {
-        if g.stencil {
-            shapes = mask_shapes(g, &plan.eyes, fovea);
-        } else {
-            shapes[2..4].fill(full);
-        }
-    }
-    for eye in Eye::BOTH {
-        shapes[eye.index()] = match &plan.hmd_mask {
-            Some(lens) => lens[eye.index()].ndc_ellipse(),
-            None => full,
-        };
-    }
-    shapes
 }

@@ -5,9 +5,10 @@
 
 use glam::Vec4;
 
+use super::record::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
-use crate::plan::FramePlan;
+use crate::plan::{FramePlan, PassPlan};
 use crate::view::{Eye, FovTangents};
 
 /// The composition's uniform block (`Composite` in `shaders/composite.frag`, std140).
@@ -59,4 +60,10 @@ impl Composite {
         };
         self.set.uniforms.write(&[block]);
     }
+}
+
+/// The composition step: one full-view triangle per eye (multiview) sampling the views.
+pub(super) fn record_composition(pass: &PassPlan, area: Rect, rec: &mut dyn Recorder) {
+    rec.set_viewport(area, pass.guard_band);
+    rec.draw(3);
 }

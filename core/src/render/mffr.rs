@@ -4,10 +4,12 @@
 
 use glam::{Mat4, Vec4};
 
+use super::record::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
 use crate::mffr::FarReprojection;
 use crate::plan::MAX_VIEWS;
+use crate::plan::{PassPlan, Submission};
 use crate::view::FovTangents;
 
 /// The far composite's uniform block (`FarComposite` in `shaders/far_composite.frag`, std140).
@@ -47,4 +49,16 @@ impl FarComposite {
         }
         self.set.uniforms.write(&[block]);
     }
+}
+
+/// The far composite step: a full-view triangle reprojecting the far image into each view; a
+/// single-eye pass tells the shader its view, multiview reads `gl_ViewIndex`.
+pub(super) fn record_far_composite(pass: &PassPlan, area: Rect, rec: &mut dyn Recorder) {
+    let view = match pass.submission {
+        Submission::SingleEye(eye) => eye.index() as u32,
+        _ => 0,
+    };
+    rec.push_fragment(view);
+    rec.set_viewport(area, pass.guard_band);
+    rec.draw(3);
 }
