@@ -30,6 +30,18 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
         "composite_counting.frag.spv",
         &["COUNT_FRAGMENTS"],
     ),
+    ("radial_mask.frag", "radial_mask.frag.spv", &[]),
+    (
+        "radial_mask.frag",
+        "radial_mask_counting.frag.spv",
+        &["COUNT_FRAGMENTS"],
+    ),
+    ("reconstruct.frag", "reconstruct.frag.spv", &[]),
+    (
+        "reconstruct.frag",
+        "reconstruct_counting.frag.spv",
+        &["COUNT_FRAGMENTS"],
+    ),
     ("far_composite.frag", "far_composite.frag.spv", &[]),
     (
         "far_composite.frag",

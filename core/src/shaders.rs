@@ -38,6 +38,12 @@ pub const COMPOSITE_FRAG_COUNTING: ShaderBinary = spirv!("composite_counting.fra
 pub const FAR_COMPOSITE_FRAG: ShaderBinary = spirv!("far_composite.frag.spv");
 pub const FAR_COMPOSITE_FRAG_COUNTING: ShaderBinary = spirv!("far_composite_counting.frag.spv");
 
+/// Radial density masking: the mask (stencil on skipped quads) and the reconstruction.
+pub const RADIAL_MASK_FRAG: ShaderBinary = spirv!("radial_mask.frag.spv");
+pub const RADIAL_MASK_FRAG_COUNTING: ShaderBinary = spirv!("radial_mask_counting.frag.spv");
+pub const RECONSTRUCT_FRAG: ShaderBinary = spirv!("reconstruct.frag.spv");
+pub const RECONSTRUCT_FRAG_COUNTING: ShaderBinary = spirv!("reconstruct_counting.frag.spv");
+
 /// Vertices of one mask fan (128 triangles; see `shaders/mask.vert`).
 pub const MASK_VERTICES: u32 = 128 * 3;
 
@@ -57,6 +63,10 @@ pub const ALL: &[ShaderBinary] = &[
     COMPOSITE_FRAG_COUNTING,
     FAR_COMPOSITE_FRAG,
     FAR_COMPOSITE_FRAG_COUNTING,
+    RADIAL_MASK_FRAG,
+    RADIAL_MASK_FRAG_COUNTING,
+    RECONSTRUCT_FRAG,
+    RECONSTRUCT_FRAG_COUNTING,
 ];
 
 impl ShaderBinary {

@@ -5,7 +5,7 @@ use anyhow::Result;
 use clap::Args;
 use foveate::foveation::FoveationConfig;
 use foveate::mffr::MffrConfig;
-use foveate::plan::{RenderConfig, Resolution, StereoMode};
+use foveate::plan::{RadialDensity, RenderConfig, Resolution, StereoMode};
 
 /// Frame configuration shared by `render` and `plan`.
 #[derive(Args, Clone)]
@@ -63,6 +63,16 @@ pub struct ConfigArgs {
     /// (`40m`).
     #[arg(long, default_value = "1px")]
     pub split: String,
+    /// Radial density masking: 2x2 quads skipped in the periphery (every other past
+    /// `--radial-inner`, three in four past `--radial-outer`), reconstructed after the pass.
+    #[arg(long)]
+    pub radial_density: bool,
+    /// Where radial density masking starts, in units of the lens radius (default 0.5).
+    #[arg(long)]
+    pub radial_inner: Option<f32>,
+    /// Where it skips three quads in four (default 0.8).
+    #[arg(long)]
+    pub radial_outer: Option<f32>,
     /// Scene: `default` (lit cubes and spheres, near and far), `fill` (24 full-view walls drawn
     /// back to front: a fill-bound frame) or `city` (blocks from 28 m to 400 m: far-heavy).
     #[arg(long, default_value = "default")]
@@ -89,7 +99,15 @@ impl ConfigArgs {
             .as_deref()
             .map(|name| MffrConfig::named(name, self.split.parse()?))
             .transpose()?;
+        let radial_density = self.radial_density.then(|| {
+            let default = RadialDensity::default();
+            RadialDensity {
+                inner: self.radial_inner.unwrap_or(default.inner),
+                outer: self.radial_outer.unwrap_or(default.outer),
+            }
+        });
         Ok(RenderConfig {
+            radial_density,
             hmd: self.hmd.clone(),
             hmd_mask: self.hmd_mask,
             mffr,

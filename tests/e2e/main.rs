@@ -9,6 +9,7 @@ mod fragment_counter;
 mod golden;
 mod mffr;
 mod quirks;
+mod radial_density;
 mod shaders;
 mod stereo;
 mod zero_cost;

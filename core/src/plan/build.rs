@@ -7,6 +7,7 @@ use super::counting::plan_counting;
 use super::derive::derive_ops;
 use super::mffr::far_pass;
 use super::model::*;
+use super::radial_density::add_radial_density;
 use super::steps::Step;
 use super::stereo_scene::scene_passes;
 use super::validate::*;
@@ -57,6 +58,11 @@ pub fn plan(
         }
     }
 
+    let radial_density = config
+        .radial_density
+        .map(|r| r.resolve(hmd, &eyes, eye_resolution))
+        .transpose()?;
+
     let layout = match config.stereo {
         StereoMode::Multiview => TargetLayout::Layered,
         StereoMode::TwoPass if caps.quirks.layered_resolve_ignores_base_layer => {
@@ -92,6 +98,9 @@ pub fn plan(
             &mut attachments,
         );
         passes.push(composite);
+    }
+    if radial_density.is_some() {
+        add_radial_density(&mut passes, &mut attachments, eye_resolution);
     }
     if caps.quirks.multiview_clipping_drops_views {
         for p in passes.iter_mut().filter(|p| p.view_mask != 0) {
@@ -129,6 +138,7 @@ pub fn plan(
         hmd_mask,
         mffr,
         culling: config.culling,
+        radial_density,
         cull_slots: Vec::new(),
         scene_instances: scene.instance_count(),
     };
@@ -201,7 +211,7 @@ fn draw_calls_estimate(scene: &Scene, plan: &FramePlan) -> u64 {
         .iter()
         .map(|p| {
             let scene_draws = match p.submission {
-                _ if p.kind == PassKind::Composite => 1,
+                _ if matches!(p.kind, PassKind::Composite | PassKind::Reconstruct) => 1,
                 Submission::PerObject => 2 * scene.instance_count() as u64,
                 _ => meshes,
             };

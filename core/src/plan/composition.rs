@@ -14,6 +14,27 @@ pub(super) fn composite_pass(
     eye: Resolution,
     attachments: &mut Vec<AttachmentPlan>,
 ) -> PassPlan {
+    output_pass(
+        scene,
+        eye,
+        attachments,
+        "composite (fovea over periphery)",
+        PassKind::Composite,
+        Step::Composite,
+    )
+}
+
+/// A full-view pass per eye (multiview) that samples the scene pass's output — which is then
+/// stored for it, not read after the frame — and writes the frame's output at `eye` size:
+/// foveated composition, radial density reconstruction.
+pub(super) fn output_pass(
+    scene: &PassPlan,
+    eye: Resolution,
+    attachments: &mut Vec<AttachmentPlan>,
+    name: &'static str,
+    kind: PassKind,
+    step: Step,
+) -> PassPlan {
     let views = scene
         .resolve
         .map_or(scene.color.attachment, |r| r.attachment);
@@ -31,15 +52,15 @@ pub(super) fn composite_pass(
         transient: false,
     });
     PassPlan {
-        name: "composite (fovea over periphery)",
-        kind: PassKind::Composite,
+        name,
+        kind,
         view_mask: 0b11,
         color: Use::new(attachments.len() - 1, 0, 2, Access::Overwrite),
         depth: None,
         resolve: None,
         samples: vec![views],
         submission: Submission::Multiview,
-        steps: vec![Step::Composite],
+        steps: vec![step],
         depth_clamp: false,
         guard_band: 1,
     }

@@ -116,6 +116,9 @@ pub struct RenderConfig {
     pub hmd_mask: bool,
     /// Monoscopic far-field rendering: the far field once, composited into each eye.
     pub mffr: Option<MffrConfig>,
+    /// Radial density masking: 2×2 quads skipped in the periphery, reconstructed after the
+    /// scene pass.
+    pub radial_density: Option<super::radial_density::RadialDensity>,
     /// Count every pixel each view renders (a full-view draw under the pass's stencil masks,
     /// counted by the fragment counter) — `foveate pixels` measures with it.
     pub coverage_probe: bool,
@@ -141,6 +144,7 @@ impl Default for RenderConfig {
             foveation: None,
             hmd_mask: false,
             mffr: None,
+            radial_density: None,
             coverage_probe: false,
             culling: None,
         }

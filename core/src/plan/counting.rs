@@ -20,6 +20,8 @@ fn counted_steps(passes: &[PassPlan]) -> Vec<CountedSlot> {
                     Step::Scene { .. } => CountedStep::Scene,
                     Step::Probe { .. } => CountedStep::Probe,
                     Step::Composite => CountedStep::Composite,
+                    Step::RadialMask { .. } => CountedStep::RadialMask,
+                    Step::Reconstruct => CountedStep::Reconstruct,
                 },
             })
         })

@@ -12,6 +12,7 @@ mod derive;
 mod mffr;
 mod model;
 mod print;
+mod radial_density;
 mod steps;
 mod stereo_scene;
 mod validate;
@@ -25,7 +26,8 @@ pub use model::{
     Format, FramePlan, PassKind, PassPlan, Submission, TargetLayout, Use, COUNTER_SLOTS_PER_STEP,
     SKY,
 };
-pub use steps::{CompareOp, StencilOp, StencilState, Step, MASK_BIT, NEAR_BIT};
+pub use radial_density::{RadialDensity, RadialDensityGeometry};
+pub use steps::{CompareOp, StencilOp, StencilState, Step, MASK_BIT, NEAR_BIT, SKIP_BIT};
 
 #[cfg(test)]
 mod tests;

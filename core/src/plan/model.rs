@@ -159,6 +159,8 @@ pub enum PassKind {
     Composite,
     /// MFFR: the far field, once, into an image the eye passes sample.
     FarField,
+    /// Radial density masking: the skipped quads filled from their neighbours.
+    Reconstruct,
 }
 
 /// One render pass of the frame.
@@ -267,6 +269,9 @@ pub enum CountedStep {
     Probe,
     /// Foveated composition: each eye at full resolution.
     Composite,
+    /// Radial density masking's mask (a full-view draw) and its reconstruction.
+    RadialMask,
+    Reconstruct,
 }
 
 impl CountedStep {
@@ -277,6 +282,8 @@ impl CountedStep {
             CountedStep::Scene => "scene",
             CountedStep::Probe => "probe",
             CountedStep::Composite => "composite",
+            CountedStep::RadialMask => "radial mask",
+            CountedStep::Reconstruct => "reconstruct",
         }
     }
 }
@@ -332,6 +339,8 @@ pub struct FramePlan {
     pub mffr: Option<MffrGeometry>,
     /// Per-frame culling, when on.
     pub culling: Option<CullConfig>,
+    /// Radial density masking as resolved, when on.
+    pub radial_density: Option<super::radial_density::RadialDensityGeometry>,
     /// The sets culled each frame, in order; a scene step's `cull_slot` indexes this (empty
     /// when every pass draws every instance).
     pub cull_slots: Vec<DrawSet>,

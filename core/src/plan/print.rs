@@ -121,7 +121,7 @@ impl fmt::Display for FramePlan {
         writeln!(f, "passes:")?;
         for p in &self.passes {
             let submission = match p.submission {
-                _ if p.kind == PassKind::Composite => {
+                _ if matches!(p.kind, PassKind::Composite | PassKind::Reconstruct) => {
                     "a full-view triangle per eye, sampling the views".to_string()
                 }
                 Submission::Multiview => "scene once, broadcast by multiview".to_string(),
@@ -191,7 +191,16 @@ impl fmt::Display for FramePlan {
                         f,
                         "    coverage probe last: a full-view draw per view, counted"
                     )?,
-                    Step::Composite => {}
+                    Step::RadialMask { .. } => {
+                        if let Some(r) = &self.radial_density {
+                            writeln!(
+                                f,
+                                "    radial density mask: 2x2 quads skipped past {} of the lens radius (every other), past {} (three in four); reconstructed after the pass",
+                                r.config.inner, r.config.outer
+                            )?;
+                        }
+                    }
+                    Step::Composite | Step::Reconstruct => {}
                 }
             }
             if p.depth_clamp {

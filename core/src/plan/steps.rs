@@ -10,6 +10,8 @@ use super::DrawSet;
 /// (near-first), so the far composite fills only what it left.
 pub const MASK_BIT: u32 = 1;
 pub const NEAR_BIT: u32 = 2;
+/// Stencil bit 2: set on the quads radial density masking skips.
+pub const SKIP_BIT: u32 = 4;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CompareOp {
@@ -52,6 +54,10 @@ pub enum Step {
     },
     /// The coverage probe: a full-view draw under the masks, counted per view.
     Probe { stencil: Option<StencilState> },
+    /// Radial density masking: a full-view draw marking the skipped quads (`SKIP_BIT`).
+    RadialMask { stencil: StencilState },
+    /// Radial density reconstruction: a full-view draw per eye filling the skipped quads.
+    Reconstruct,
     /// Foveated composition: a full-view draw per eye sampling the four views.
     Composite,
 }
@@ -59,11 +65,11 @@ pub enum Step {
 impl Step {
     pub fn stencil(&self) -> Option<StencilState> {
         match *self {
-            Step::MaskFans { stencil } => Some(stencil),
+            Step::MaskFans { stencil } | Step::RadialMask { stencil } => Some(stencil),
             Step::FarComposite { stencil }
             | Step::Scene { stencil, .. }
             | Step::Probe { stencil } => stencil,
-            Step::Composite => None,
+            Step::Composite | Step::Reconstruct => None,
         }
     }
 }
@@ -151,6 +157,8 @@ impl fmt::Display for Step {
             Step::Scene { .. } => "scene".to_string(),
             Step::Probe { .. } => "probe".to_string(),
             Step::Composite => "composite".to_string(),
+            Step::RadialMask { .. } => "radial mask".to_string(),
+            Step::Reconstruct => "reconstruct".to_string(),
         };
         match self.stencil() {
             Some(s) => write!(f, "{name} [{s}]"),

@@ -61,7 +61,7 @@ pub(super) fn scene_passes(
     });
     let stencil_masks = config.foveation.is_some_and(|f| f.stencil) || config.hmd_mask;
     let near_first = far_field.is_some_and(|(order, _)| order == MffrOrder::NearFirst);
-    let depth_format = if stencil_masks || near_first {
+    let depth_format = if stencil_masks || near_first || config.radial_density.is_some() {
         Format::D32S8
     } else {
         Format::D32

@@ -894,3 +894,67 @@ fn passes_are_ordered_steps_with_their_stencil() {
         .collect();
     assert_eq!(slots, [Some(0), Some(1)]);
 }
+
+/// Radial density masking: the mask step after the mask fans and before the scene, marking
+/// SKIP_BIT; the scene (and probe) skip it on top of the masks; a reconstruction pass samples
+/// the masked views, which are therefore stored, and writes the output. Refused with another
+/// stereo mode, foveation or MFFR, and with inner ≥ outer. Mutation: the scene not testing
+/// SKIP_BIT, or the mask recorded after the scene, fails it.
+#[test]
+fn radial_density_masks_then_reconstructs() {
+    let config = RenderConfig {
+        radial_density: Some(RadialDensity::default()),
+        hmd_mask: true,
+        ..config(StereoMode::Multiview, 4)
+    };
+    let plan = planned(&config);
+    let scene = &plan.passes[0];
+    assert!(matches!(scene.steps[0], Step::MaskFans { .. }));
+    let Step::RadialMask { stencil: mark } = scene.steps[1] else {
+        panic!("{:?}", scene.steps)
+    };
+    assert_eq!((mark.write_mask, mark.reference), (SKIP_BIT, SKIP_BIT));
+    let s = scene.steps[2].stencil().unwrap();
+    assert_eq!(
+        (s.compare, s.compare_mask & SKIP_BIT, s.reference & SKIP_BIT),
+        (CompareOp::Equal, SKIP_BIT, 0),
+        "the scene skips the marked quads"
+    );
+    assert_eq!(
+        s.compare_mask & MASK_BIT,
+        MASK_BIT,
+        "and keeps testing the HMD mask"
+    );
+    let reconstruct = &plan.passes[1];
+    assert_eq!(reconstruct.kind, PassKind::Reconstruct);
+    assert_eq!(reconstruct.steps, [Step::Reconstruct]);
+    let views = scene.resolve.unwrap();
+    assert_eq!(reconstruct.samples, [views.attachment]);
+    assert_eq!(views.store, StoreOp::Store);
+    assert_eq!(
+        attachment(&plan, &scene.depth.unwrap()).format,
+        Format::D32S8
+    );
+    assert_eq!(plan.outputs(), [reconstruct.color.attachment]);
+
+    for bad in [
+        RenderConfig {
+            stereo: StereoMode::TwoPass,
+            ..config.clone()
+        },
+        RenderConfig {
+            radial_density: Some(RadialDensity {
+                inner: 0.9,
+                outer: 0.5,
+            }),
+            ..config.clone()
+        },
+    ] {
+        let error = plan_err(&bad);
+        assert_eq!(error.field, "radial_density", "{error}");
+    }
+}
+
+fn plan_err(config: &RenderConfig) -> ConfigError {
+    plan(&default_scene(), config, &caps()).unwrap_err()
+}

@@ -211,6 +211,17 @@ pub(super) fn validate_features(
             "timestamp queries on the graphics queue",
         )?;
     }
+    if config.radial_density.is_some()
+        && (config.stereo != StereoMode::Multiview
+            || config.foveation.is_some()
+            || config.mffr.is_some())
+    {
+        return Err(ConfigError::new(
+            "radial_density",
+            "on",
+            "radial density masking reconstructs a multiview stereo frame: not with another stereo mode, foveation or MFFR",
+        ));
+    }
     if config.mffr.is_some()
         && !matches!(config.stereo, StereoMode::Multiview | StereoMode::TwoPass)
     {

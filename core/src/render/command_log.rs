@@ -360,4 +360,26 @@ mod tests {
             "the scene once per eye pass"
         );
     }
+
+    /// Radial density masking records its mask before the scene and its reconstruction as a
+    /// pass of its own. Mutation: the mask recorded after the scene fails it.
+    #[test]
+    fn radial_density_masks_before_the_scene_and_reconstructs_after() {
+        let (_, log) = log_of(&RenderConfig {
+            radial_density: Some(crate::plan::RadialDensity::default()),
+            ..base()
+        });
+        assert_eq!(
+            outline(&log),
+            [
+                "begin 0",
+                "radial mask",
+                "scene",
+                "end 0",
+                "begin 1",
+                "reconstruct",
+                "end 1"
+            ]
+        );
+    }
 }

@@ -9,6 +9,7 @@ mod masks;
 mod mffr;
 mod pipelines;
 mod probe;
+mod radial_density;
 mod record;
 mod renderer;
 mod sampled_set;

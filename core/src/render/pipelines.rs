@@ -16,7 +16,8 @@ use crate::scene::Vertex;
 use crate::shaders::{
     ShaderBinary, COMPOSITE_FRAG, COMPOSITE_FRAG_COUNTING, COMPOSITE_VERT, COVERAGE_FRAG,
     COVERAGE_VERT, FAR_COMPOSITE_FRAG, FAR_COMPOSITE_FRAG_COUNTING, MASK_FRAG, MASK_FRAG_COUNTING,
-    MASK_VERT, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_VERT, SCENE_VERT_INDIRECT,
+    MASK_VERT, RADIAL_MASK_FRAG, RADIAL_MASK_FRAG_COUNTING, RECONSTRUCT_FRAG,
+    RECONSTRUCT_FRAG_COUNTING, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_VERT, SCENE_VERT_INDIRECT,
 };
 
 const ENTRY: &CStr = c"main";
@@ -210,6 +211,11 @@ pub(crate) enum PipelineKind {
     Composite,
     /// MFFR: a full-view triangle sampling the far image, under the pass's stencil.
     FarComposite,
+    /// Radial density masking: a full-view triangle marking skipped quads in stencil.
+    RadialMask,
+    /// Radial density reconstruction: a full-view triangle sampling the masked views
+    /// (single-sampled, no depth).
+    Reconstruct,
 }
 
 impl PipelineKind {
@@ -221,6 +227,8 @@ impl PipelineKind {
             Step::Scene { .. } => PipelineKind::Scene,
             Step::Probe { .. } => PipelineKind::Coverage,
             Step::Composite => PipelineKind::Composite,
+            Step::RadialMask { .. } => PipelineKind::RadialMask,
+            Step::Reconstruct => PipelineKind::Reconstruct,
         }
     }
 
@@ -232,6 +240,8 @@ impl PipelineKind {
             PipelineKind::Coverage => CountedStep::Probe,
             PipelineKind::Composite => CountedStep::Composite,
             PipelineKind::FarComposite => CountedStep::FarComposite,
+            PipelineKind::RadialMask => CountedStep::RadialMask,
+            PipelineKind::Reconstruct => CountedStep::Reconstruct,
         }
     }
 }
@@ -284,22 +294,44 @@ pub(crate) fn step_pipeline(
             &COMPOSITE_VERT,
             pick_frag(&FAR_COMPOSITE_FRAG, &FAR_COMPOSITE_FRAG_COUNTING),
         ),
+        PipelineKind::RadialMask => (
+            &COMPOSITE_VERT,
+            pick_frag(&RADIAL_MASK_FRAG, &RADIAL_MASK_FRAG_COUNTING),
+        ),
+        PipelineKind::Reconstruct => (
+            &COMPOSITE_VERT,
+            pick_frag(&RECONSTRUCT_FRAG, &RECONSTRUCT_FRAG_COUNTING),
+        ),
     };
     let (vert_binary, frag_binary) = (vert, frag);
     // Specialisation constants, by id: 0 where the view index comes from, 1 the guard band's
     // clip scale, 2 depth shift (the far composite), 3 depth into alpha (the far pass), 4 the
-    // step's first counter slot (counting frames). Every stage gets the ones it declares.
+    // step's first counter slot (counting frames), 10–21 radial density's view size, radii and
+    // lens ellipses (`shaders/radial_density.glsl`). Every stage gets the ones it declares.
     let far_pass = pass.kind == PassKind::FarField;
     let depth_shift = plan
         .mffr
         .is_some_and(|m| m.config.variant == MffrVariant::DepthShift);
-    let constants: [(u32, [u8; 4]); 5] = [
+    let mut constants: Vec<(u32, [u8; 4])> = vec![
         (0, view_source(pass.submission).to_le_bytes()),
         (1, (1.0 / pass.guard_band as f32).to_le_bytes()),
         (2, (depth_shift as u32).to_le_bytes()),
         (3, (far_pass as u32).to_le_bytes()),
         (4, counter_base.unwrap_or(0).to_le_bytes()),
     ];
+    if let Some(r) = &plan.radial_density {
+        let values = [
+            r.view.width as f32,
+            r.view.height as f32,
+            r.config.inner,
+            r.config.outer,
+        ]
+        .into_iter()
+        .chain(r.lens.iter().flat_map(|l| l.to_array()));
+        constants.extend((10..).zip(values.map(f32::to_le_bytes)));
+    }
+    const RADIAL: [u32; 12] = [10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21];
+    let radial_and_counter: Vec<u32> = RADIAL.iter().copied().chain([4]).collect();
     let spec_data: Vec<u8> = constants.iter().flat_map(|c| c.1).collect();
     let entries: Vec<vk::SpecializationMapEntry> = constants
         .iter()
@@ -320,6 +352,7 @@ pub(crate) fn step_pipeline(
     let (vert_ids, frag_ids): (&[u32], &[u32]) = match kind {
         PipelineKind::Scene => (&[0, 1], &[3, 4]),
         PipelineKind::FarComposite => (&[1], &[0, 2, 4]),
+        PipelineKind::RadialMask | PipelineKind::Reconstruct => (&[1], &radial_and_counter),
         _ => (&[1], &[4]),
     };
     let (vert_entries, frag_entries) = (pick(vert_ids), pick(frag_ids));
@@ -329,7 +362,7 @@ pub(crate) fn step_pipeline(
     let frag_spec = vk::SpecializationInfo::default()
         .map_entries(&frag_entries)
         .data(&spec_data);
-    let samples = if kind == PipelineKind::Composite {
+    let samples = if matches!(kind, PipelineKind::Composite | PipelineKind::Reconstruct) {
         1
     } else {
         plan.samples
@@ -430,7 +463,10 @@ pub(crate) fn step_pipeline(
             .back(stencil.unwrap_or_default());
         let writes_colour = matches!(
             kind,
-            PipelineKind::Scene | PipelineKind::Composite | PipelineKind::FarComposite
+            PipelineKind::Scene
+                | PipelineKind::Composite
+                | PipelineKind::FarComposite
+                | PipelineKind::Reconstruct
         );
         let write = if writes_colour {
             vk::ColorComponentFlags::RGBA

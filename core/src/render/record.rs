@@ -101,6 +101,10 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
                 }
                 Step::Probe { .. } => super::probe::record_probe(pass, area, rec),
                 Step::Composite => super::composition::record_composition(pass, area, rec),
+                Step::RadialMask { .. } => {
+                    super::radial_density::record_radial_mask(pass, area, rec)
+                }
+                Step::Reconstruct => super::radial_density::record_reconstruction(pass, area, rec),
             }
         }
         rec.end_pass(index);
@@ -275,6 +279,14 @@ impl Recorder for VulkanRecorder<'_> {
             Step::FarComposite { .. } => {
                 let f = &r.far_composite.as_ref().expect("planned with MFFR").set;
                 (f.layout.raw, f.set)
+            }
+            Step::Reconstruct => {
+                let s = &r
+                    .reconstruction
+                    .as_ref()
+                    .expect("planned with radial density")
+                    .set;
+                (s.layout.raw, s.set)
             }
             _ => (r.bindings.layout.raw, r.bindings.set),
         };

@@ -8,6 +8,7 @@ use super::composition::Composite;
 use super::culling::FrameCulling;
 use super::mffr::FarComposite;
 use super::pipelines::{step_pipeline, SceneBindings};
+use super::radial_density::Reconstruction;
 use super::record::{memory_barrier, record_frame, FrameDraws, VulkanRecorder};
 use super::scene_buffers::SceneBuffers;
 use super::targets::{compile_pass, create_images, CompiledPass};
@@ -154,6 +155,8 @@ pub struct Renderer<'g> {
     pub(super) composite: Option<Composite>,
     /// The MFFR far composite, when planned.
     pub(super) far_composite: Option<FarComposite>,
+    /// Radial density reconstruction, when planned.
+    pub(super) reconstruction: Option<Reconstruction>,
     /// Per-frame culling and its id buffer (only when a pass draws a culled set).
     pub(super) culling: Option<FrameCulling>,
     pub(super) instance_ids: Option<Buffer>,
@@ -252,6 +255,12 @@ impl<'g> Renderer<'g> {
             .find(|p| p.steps.contains(&Step::Composite))
             .map(|p| Composite::new(gpu, &images[p.samples[0]], counter.as_ref()))
             .transpose()?;
+        let reconstruction = plan
+            .passes
+            .iter()
+            .find(|p| p.steps.contains(&Step::Reconstruct))
+            .map(|p| Reconstruction::new(gpu, &images[p.samples[0]], counter.as_ref()))
+            .transpose()?;
         let far_composite = plan
             .far_pass()
             .map(|p| {
@@ -271,6 +280,7 @@ impl<'g> Renderer<'g> {
                     let set = match step {
                         Step::Composite => composite.as_ref().map(|c| &c.set),
                         Step::FarComposite { .. } => far_composite.as_ref().map(|f| &f.set),
+                        Step::Reconstruct => reconstruction.as_ref().map(|r| &r.set),
                         _ => None,
                     };
                     let (layout, description) = match set {
@@ -300,6 +310,7 @@ impl<'g> Renderer<'g> {
             passes,
             composite,
             far_composite,
+            reconstruction,
             culling: instance_ids
                 .is_some()
                 .then(|| FrameCulling::new(scene, &scene_buffers.draws, plan)),

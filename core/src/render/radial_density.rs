@@ -1,0 +1,38 @@
+//! Radial density masking in the renderer (builder: `plan/radial_density.rs`; shaders:
+//! `radial_density.glsl`, `radial_mask.frag`, `reconstruct.frag`): recording the mask and the
+//! reconstruction, and the reconstruction's sampled views. Every parameter is a
+//! specialisation constant of the pipelines, so there is nothing to update per frame.
+
+use super::record::{Recorder, Rect};
+use super::sampled_set::SampledSet;
+use crate::gpu::{Buffer, Gpu, GpuError, Image};
+use crate::plan::PassPlan;
+
+/// The reconstruction's resources: the masked views, sampled.
+pub(crate) struct Reconstruction {
+    pub set: SampledSet,
+}
+
+impl Reconstruction {
+    /// Sets up sampling of `views` (the scene pass's two layers), counting into `counter` in
+    /// counting frames.
+    pub fn new(gpu: &Gpu, views: &Image, counter: Option<&Buffer>) -> Result<Self, GpuError> {
+        // The shader reads no uniforms: the smallest block the sampled set allows.
+        Ok(Reconstruction {
+            set: SampledSet::new(gpu, views, 16, 0, counter)?,
+        })
+    }
+}
+
+/// The mask step: one full-view triangle per view; its shader keeps the skipped quads, whose
+/// stencil it marks.
+pub(super) fn record_radial_mask(pass: &PassPlan, area: Rect, rec: &mut dyn Recorder) {
+    rec.set_viewport(area, pass.guard_band);
+    rec.draw(3);
+}
+
+/// The reconstruction step: one full-view triangle per eye.
+pub(super) fn record_reconstruction(pass: &PassPlan, area: Rect, rec: &mut dyn Recorder) {
+    rec.set_viewport(area, pass.guard_band);
+    rec.draw(3);
+}
