@@ -5,7 +5,7 @@ use clap::Args;
 use foveate::foveation::{fovea_centre_px, fovea_views, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::{RgbaImage, Stats};
-use foveate::plan::{RenderConfig, Resolution, StereoMode};
+use foveate::plan::{RadialDensity, RenderConfig, Resolution, StereoMode};
 use foveate::render::{counting_frame, Renderer, StereoImage};
 use foveate::scene::{named_scene, Scene};
 use foveate::view::Eye;
@@ -38,6 +38,9 @@ pub struct CompareArgs {
     /// Blend band in screen pixels (default: an eighth of the fovea).
     #[arg(long)]
     blend_band: Option<f32>,
+    /// Also price radial density masking (its default radii) at each MSAA count.
+    #[arg(long)]
+    radial_density: bool,
     /// Frames per configuration (the first is a warm-up).
     #[arg(long, default_value_t = 5)]
     frames: u32,
@@ -107,7 +110,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         stereo: StereoMode::Multiview,
         ..RenderConfig::default()
     };
-    let total = 1 + args.msaa.len() * (1 + args.ratios.len());
+    let total = 1 + args.msaa.len() * (1 + args.radial_density as usize + args.ratios.len());
     let bar = crate::progress::bar("compare", total as u64);
     let step = |what: &str| {
         bar.set_message(what.to_string());
@@ -164,6 +167,17 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             args.frames,
         )?;
         rows.push((format!("stereo, MSAA {msaa}"), msaa, None, stereo, None));
+        if args.radial_density {
+            let name = format!("radial density, MSAA {msaa}");
+            step(&name);
+            let config = RenderConfig {
+                msaa,
+                radial_density: Some(RadialDensity::default()),
+                ..base.clone()
+            };
+            let masked = run(&gpu, &scene, &config, gaze, args.frames)?;
+            rows.push((name, msaa, None, masked, None));
+        }
         for &ratio in &args.ratios {
             step(&format!("foveated {ratio}, MSAA {msaa}"));
             let foveation = FoveationConfig {

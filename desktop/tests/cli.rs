@@ -361,6 +361,7 @@ fn compare_prints_time_and_error_per_region() {
         "4",
         "--gaze",
         "-0.2,0.1",
+        "--radial-density",
         "--csv",
         csv.to_str().unwrap(),
     ]);
@@ -379,6 +380,13 @@ fn compare_prints_time_and_error_per_region() {
         .iter()
         .find(|r| r["config"] == "foveated 0.5, MSAA 4")
         .expect("foveated row");
+    // Radial density masking is priced like every other approximation.
+    let masked = rows
+        .iter()
+        .find(|r| r["config"] == "radial density, MSAA 4")
+        .expect("radial density row");
+    let psnr: f64 = masked["psnr_periphery"].parse().unwrap();
+    assert!(psnr.is_finite() && psnr > 20.0, "{masked:?}");
     // The fovea maps 1:1 and matches the reference there.
     let fovea_psnr: f64 = row["psnr_fovea"].parse().unwrap();
     assert!(fovea_psnr > 40.0, "{row:?}");

@@ -11,7 +11,7 @@ use foveate::foveation::FoveationConfig;
 use foveate::gpu::Gpu;
 use foveate::metrics::RgbaImage;
 use foveate::mffr::MffrConfig;
-use foveate::plan::{CullConfig, RenderConfig};
+use foveate::plan::{CullConfig, RadialDensity, RenderConfig};
 use foveate::scene::Scene;
 use foveate::view::{Eye, LensRegion};
 use glam::Mat4;
@@ -61,6 +61,11 @@ fn points(
         ));
     }
     out.push(("MSAA", "MSAA 1x".into(), with(&|c| c.msaa = 1)));
+    out.push((
+        "radial density",
+        "radial density masking".into(),
+        with(&|c| c.radial_density = Some(RadialDensity::default())),
+    ));
     out.push((
         "stencil mask",
         "HMD stencil mask".into(),
