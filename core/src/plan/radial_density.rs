@@ -111,6 +111,8 @@ pub(super) fn add_radial_density(
         .unwrap_or(0);
     scene.steps.insert(at, Step::RadialMask { stencil: mark });
     let scene = scene.clone();
+    let views = scene.resolve.unwrap_or(scene.color).attachment;
+    attachments[views].name = "masked stereo colour";
     let reconstruct = output_pass(
         &scene,
         eye,
