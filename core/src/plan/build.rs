@@ -4,9 +4,11 @@
 
 use super::composition::composite_pass;
 use super::counting::plan_counting;
-use super::derive::derive_ops;
-use super::mffr::far_pass;
+use super::derive::{assign_stencil, derive_ops};
+use super::masks::add_mask_fans;
+use super::mffr::{add_far_composite, far_pass};
 use super::model::*;
+use super::probe::add_probe;
 use super::radial_density::add_radial_density;
 use super::steps::Step;
 use super::stereo_scene::scene_passes;
@@ -82,14 +84,22 @@ pub fn plan(
         config,
         render_resolution,
         layout,
-        mffr.map(|g| {
-            (
-                g.config.order,
-                far_colour.expect("planned with the far pass"),
-            )
-        }),
+        far_colour,
         &mut attachments,
     ));
+    // Each technique's steps around the scene step of every eye pass.
+    let masks = config.hmd_mask || foveation.is_some_and(|f| f.stencil);
+    for pass in passes.iter_mut().filter(|p| p.kind == PassKind::Scene) {
+        if masks {
+            add_mask_fans(pass);
+        }
+        if let Some(g) = &mffr {
+            add_far_composite(pass, g.config.order);
+        }
+        if config.coverage_probe {
+            add_probe(pass);
+        }
+    }
     if foveation.is_some() {
         let scene = passes.iter().find(|p| p.kind == PassKind::Scene);
         let composite = composite_pass(
@@ -158,6 +168,7 @@ pub fn plan(
             bytes: 2 * 4 * (scene.instance_count().max(1) as u64),
         });
     }
+    assign_stencil(&mut plan);
     derive_ops(&mut plan);
     Ok(plan)
 }

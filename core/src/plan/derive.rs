@@ -3,7 +3,8 @@
 
 use std::fmt;
 
-use super::model::{AttachmentId, FramePlan, PassKind, Use, SKY};
+use super::model::{AttachmentId, Format, FramePlan, PassKind, Use, SKY};
+use super::steps::assign_stencil_states;
 
 /// What a pass declares about an attachment's contents when it starts using it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -224,5 +225,18 @@ pub(super) fn derive_ops(plan: &mut FramePlan) {
         let stores: Vec<StoreOp> = uses.iter().map(|u| u.store).collect();
         a.sampled = plan.passes.iter().any(|p| p.samples.contains(&id));
         a.transient = !a.read_after_frame && !a.sampled && is_transient(&loads, &stores);
+    }
+}
+
+/// Every step's stencil state from the steps its pass has, and a stencil-capable depth format
+/// wherever a step tests or writes stencil.
+pub(super) fn assign_stencil(plan: &mut FramePlan) {
+    for pass in &mut plan.passes {
+        assign_stencil_states(&mut pass.steps);
+        if pass.steps.iter().any(|s| s.stencil().is_some()) {
+            if let Some(depth) = pass.depth {
+                plan.attachments[depth.attachment].format = Format::D32S8;
+            }
+        }
     }
 }

@@ -1,10 +1,11 @@
-//! MFFR's far field: one mono pass from the far view into an image the eye passes composite
-//! (their far-composite step is added with the scene steps, `stereo_scene`).
+//! MFFR's far field: one mono pass from the far view into an image the eye passes composite,
+//! before their scene step (far-first) or after it (near-first).
 
 use super::derive::Access;
 use super::model::*;
 use super::steps::Step;
 use super::{RenderConfig, Resolution};
+use crate::mffr::MffrOrder;
 
 /// The MFFR far pass: the far field once, from one view, resolved into an image every eye
 /// pass samples (and which is therefore stored).
@@ -62,4 +63,18 @@ pub(super) fn far_pass(
         depth_clamp: false,
         guard_band: 1,
     }
+}
+
+/// The far composite step of an eye pass, on the side of its scene step the order says.
+pub(super) fn add_far_composite(pass: &mut PassPlan, order: MffrOrder) {
+    let scene = pass
+        .steps
+        .iter()
+        .position(|s| matches!(s, Step::Scene { .. }))
+        .unwrap_or(0);
+    let at = match order {
+        MffrOrder::FarFirst => scene,
+        MffrOrder::NearFirst => scene + 1,
+    };
+    pass.steps.insert(at, Step::FarComposite { stencil: None });
 }

@@ -8,7 +8,7 @@ use glam::Vec4;
 
 use super::composition::output_pass;
 use super::model::*;
-use super::steps::{CompareOp, StencilOp, StencilState, Step, SKIP_BIT};
+use super::steps::{stencil_placeholder, Step};
 use super::{ConfigError, Resolution};
 use crate::view::{Eye, EyeParams, HmdProfile};
 
@@ -62,8 +62,8 @@ impl RadialDensity {
     }
 }
 
-/// Adds the mask step to the scene pass — after any mask fans, before the scene — and makes the
-/// scene and probe steps skip what it marks; then the reconstruction pass.
+/// Adds the mask step to the scene pass — after any mask fans, before the scene; the scene and
+/// probe skip what it marks (`steps::assign_stencil_states`) — then the reconstruction pass.
 pub(super) fn add_radial_density(
     passes: &mut Vec<PassPlan>,
     attachments: &mut Vec<AttachmentPlan>,
@@ -72,44 +72,17 @@ pub(super) fn add_radial_density(
     let Some(scene) = passes.iter_mut().find(|p| p.kind == PassKind::Scene) else {
         return;
     };
-    let mark = StencilState {
-        compare: CompareOp::Always,
-        compare_mask: 0,
-        reference: SKIP_BIT,
-        pass: StencilOp::Replace,
-        write_mask: SKIP_BIT,
-    };
-    let skip_marked = |stencil: Option<StencilState>| {
-        Some(match stencil {
-            Some(s) => StencilState {
-                compare: CompareOp::Equal,
-                compare_mask: s.compare_mask | SKIP_BIT,
-                reference: s.reference & !SKIP_BIT,
-                ..s
-            },
-            None => StencilState {
-                compare: CompareOp::Equal,
-                compare_mask: SKIP_BIT,
-                reference: 0,
-                pass: StencilOp::Keep,
-                write_mask: 0,
-            },
-        })
-    };
-    for step in &mut scene.steps {
-        match step {
-            Step::Scene { stencil, .. } | Step::Probe { stencil } => {
-                *stencil = skip_marked(*stencil)
-            }
-            _ => {}
-        }
-    }
     let at = scene
         .steps
         .iter()
         .position(|s| !matches!(s, Step::MaskFans { .. }))
         .unwrap_or(0);
-    scene.steps.insert(at, Step::RadialMask { stencil: mark });
+    scene.steps.insert(
+        at,
+        Step::RadialMask {
+            stencil: stencil_placeholder(),
+        },
+    );
     let scene = scene.clone();
     let views = scene.resolve.unwrap_or(scene.color).attachment;
     attachments[views].name = "masked stereo colour";

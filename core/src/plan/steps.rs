@@ -74,17 +74,29 @@ impl Step {
     }
 }
 
-/// The stencil states of a scene pass's steps, from what the pass has: masks and/or an MFFR
-/// near-first composite. (mask fans, scene, probe, far composite.)
-pub(crate) fn stencil_states(
-    masks: bool,
-    near_first: bool,
-) -> (
-    StencilState,
-    Option<StencilState>,
-    Option<StencilState>,
-    Option<StencilState>,
-) {
+/// A step's stencil before `derive` assigns it (builders add steps; the rule below decides).
+pub(crate) fn stencil_placeholder() -> StencilState {
+    StencilState {
+        compare: CompareOp::Always,
+        compare_mask: 0,
+        reference: 0,
+        pass: StencilOp::Keep,
+        write_mask: 0,
+    }
+}
+
+/// The stencil state of every step of a pass, from which stencil-writing steps it has: mask
+/// fans (bit 0 kept), a near-first far composite (bit 1 marks the near field) and a radial
+/// density mask (bit 2 marks skipped quads).
+pub(crate) fn assign_stencil_states(steps: &mut [Step]) {
+    let has = |f: fn(&Step) -> bool| steps.iter().any(f);
+    let masks = has(|s| matches!(s, Step::MaskFans { .. }));
+    let skip = has(|s| matches!(s, Step::RadialMask { .. }));
+    let far = steps
+        .iter()
+        .position(|s| matches!(s, Step::FarComposite { .. }));
+    let scene = steps.iter().position(|s| matches!(s, Step::Scene { .. }));
+    let near_first = matches!((far, scene), (Some(f), Some(s)) if f > s);
     let state = |compare, compare_mask, reference, pass, write_mask| StencilState {
         compare,
         compare_mask,
@@ -92,39 +104,58 @@ pub(crate) fn stencil_states(
         pass,
         write_mask,
     };
-    // Keep shapes write MASK_BIT, drop shapes clear it (the reference is set per fan set).
-    let fans = state(CompareOp::Always, 0, 0, StencilOp::Replace, MASK_BIT);
-    // Tested against the masks; near-first marks what the near field covers.
-    let scene = (masks || near_first).then(|| {
-        state(
-            if masks {
-                CompareOp::Equal
-            } else {
-                CompareOp::Always
-            },
-            MASK_BIT,
-            MASK_BIT | NEAR_BIT,
-            if near_first {
-                StencilOp::Replace
-            } else {
-                StencilOp::Keep
-            },
-            if near_first { NEAR_BIT } else { 0 },
-        )
-    });
-    let probe = masks.then(|| state(CompareOp::Equal, MASK_BIT, MASK_BIT, StencilOp::Keep, 0));
-    // Only kept pixels the near field left uncovered (near-first), or every kept pixel.
-    let far = (masks || near_first).then(|| {
-        let masked = if masks { MASK_BIT } else { 0 };
-        state(
-            CompareOp::Equal,
-            masked | if near_first { NEAR_BIT } else { 0 },
-            masked,
-            StencilOp::Keep,
-            0,
-        )
-    });
-    (fans, scene, probe, far)
+    let bit = |on: bool, bit: u32| if on { bit } else { 0 };
+    // What a kept pixel has: the mask bit where masks run, no skip bit.
+    let kept_mask = bit(masks, MASK_BIT) | bit(skip, SKIP_BIT);
+    let kept = bit(masks, MASK_BIT);
+    for step in steps.iter_mut() {
+        match step {
+            // Keep shapes write the mask bit, drop shapes clear it (reference set per fan set).
+            Step::MaskFans { stencil } => {
+                *stencil = state(CompareOp::Always, 0, 0, StencilOp::Replace, MASK_BIT)
+            }
+            Step::RadialMask { stencil } => {
+                *stencil = state(CompareOp::Always, 0, SKIP_BIT, StencilOp::Replace, SKIP_BIT)
+            }
+            // Tested against the masks and the skipped quads; near-first marks what it covers.
+            Step::Scene { stencil, .. } => {
+                *stencil = (masks || skip || near_first).then(|| {
+                    state(
+                        if masks || skip {
+                            CompareOp::Equal
+                        } else {
+                            CompareOp::Always
+                        },
+                        kept_mask,
+                        kept | bit(near_first, NEAR_BIT),
+                        if near_first {
+                            StencilOp::Replace
+                        } else {
+                            StencilOp::Keep
+                        },
+                        bit(near_first, NEAR_BIT),
+                    )
+                })
+            }
+            Step::Probe { stencil } => {
+                *stencil = (masks || skip)
+                    .then(|| state(CompareOp::Equal, kept_mask, kept, StencilOp::Keep, 0))
+            }
+            // Only kept pixels the near field left uncovered (near-first), or every kept pixel.
+            Step::FarComposite { stencil } => {
+                *stencil = (masks || near_first).then(|| {
+                    state(
+                        CompareOp::Equal,
+                        kept_mask | bit(near_first, NEAR_BIT),
+                        kept,
+                        StencilOp::Keep,
+                        0,
+                    )
+                })
+            }
+            Step::Composite | Step::Reconstruct => {}
+        }
+    }
 }
 
 impl fmt::Display for StencilState {

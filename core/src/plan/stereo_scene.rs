@@ -1,12 +1,11 @@
-//! The stereo scene pass(es): their attachments and steps as the submission strategy, the
-//! masks (HMD mask, foveation's inset/outset), MFFR's far composite and the probe call for.
+//! The stereo scene pass(es): their attachments and their scene step, as the submission strategy
+//! says (masks, MFFR's far composite and the probe are their own builders' steps).
 
 use super::derive::Access;
 use super::model::*;
-use super::steps::{stencil_states, Step};
+use super::steps::Step;
 use super::{RenderConfig, Resolution, StereoMode};
 use crate::cull::Strategy;
-use crate::mffr::MffrOrder;
 use crate::view::Eye;
 
 /// The scene pass(es) of a stereo frame and the attachments they use.
@@ -14,7 +13,7 @@ pub(super) fn scene_passes(
     config: &RenderConfig,
     eye: Resolution,
     layout: TargetLayout,
-    far_field: Option<(MffrOrder, AttachmentId)>,
+    far_field: Option<AttachmentId>,
     attachments: &mut Vec<AttachmentPlan>,
 ) -> Vec<PassPlan> {
     let msaa = config.msaa > 1;
@@ -59,17 +58,11 @@ pub(super) fn scene_passes(
             layers,
         )
     });
-    let stencil_masks = config.foveation.is_some_and(|f| f.stencil) || config.hmd_mask;
-    let near_first = far_field.is_some_and(|(order, _)| order == MffrOrder::NearFirst);
-    let depth_format = if stencil_masks || near_first || config.radial_density.is_some() {
-        Format::D32S8
-    } else {
-        Format::D32
-    };
+    // D32 until a step that tests stencil asks for D32S8 (`derive`).
     let depth = add(
         "scene depth",
         AttachmentRole::Depth,
-        depth_format,
+        Format::D32,
         config.msaa,
         false,
         layers,
@@ -129,9 +122,10 @@ pub(super) fn scene_passes(
             resolve: color.map(|_| output_use(Access::Overwrite)),
             submission,
             kind: PassKind::Scene,
-            samples: far_field.map(|(_, far)| far).into_iter().collect(),
-            steps: {
-                let draw_set = match (far_field, config.culling, submission) {
+            samples: far_field.into_iter().collect(),
+            // The scene step; other techniques' builders add theirs around it.
+            steps: vec![Step::Scene {
+                draw_set: match (far_field, config.culling, submission) {
                     (Some(_), _, _) => DrawSet::NearField,
                     (None, None, _) => DrawSet::All,
                     (None, Some(c), Submission::SingleEye(eye))
@@ -140,29 +134,10 @@ pub(super) fn scene_passes(
                         DrawSet::VisibleToEye(eye)
                     }
                     (None, Some(_), _) => DrawSet::Visible,
-                };
-                let (fans, scene, probe, far) = stencil_states(stencil_masks, near_first);
-                let mut steps = Vec::new();
-                if stencil_masks {
-                    steps.push(Step::MaskFans { stencil: fans });
-                }
-                let far_step = Step::FarComposite { stencil: far };
-                if far_field.is_some() && !near_first {
-                    steps.push(far_step);
-                }
-                steps.push(Step::Scene {
-                    draw_set,
-                    cull_slot: None,
-                    stencil: scene,
-                });
-                if near_first {
-                    steps.push(far_step);
-                }
-                if config.coverage_probe {
-                    steps.push(Step::Probe { stencil: probe });
-                }
-                steps
-            },
+                },
+                cull_slot: None,
+                stencil: None,
+            }],
             depth_clamp: false,
             guard_band: 1,
         }
