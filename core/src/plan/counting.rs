@@ -2,7 +2,6 @@
 //! gets five counter slots, in recording order, and one buffer holds them.
 
 use super::model::*;
-use super::steps::Step;
 
 /// Every step that shades fragments, pass by pass in recording order: a pass's mask fans, its
 /// far composite (far-first before the scene, near-first after it), its scene, its probe; the
@@ -14,15 +13,7 @@ fn counted_steps(passes: &[PassPlan]) -> Vec<CountedSlot> {
         .flat_map(|(pass, p)| {
             p.steps.iter().map(move |s| CountedSlot {
                 pass,
-                step: match s {
-                    Step::MaskFans { .. } => CountedStep::Mask,
-                    Step::FarComposite { .. } => CountedStep::FarComposite,
-                    Step::Scene { .. } => CountedStep::Scene,
-                    Step::Probe { .. } => CountedStep::Probe,
-                    Step::Composite => CountedStep::Composite,
-                    Step::RadialMask { .. } => CountedStep::RadialMask,
-                    Step::Reconstruct => CountedStep::Reconstruct,
-                },
+                step: s.counted(),
             })
         })
         .collect()

@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use super::DrawSet;
+use super::{CountedStep, DrawSet};
 
 /// Stencil bit 0: set where the masks keep a pixel (the lens-visible area, a fovea's inset
 /// circle, a periphery outside its hole). Bit 1: set where the MFFR near field drew
@@ -63,6 +63,19 @@ pub enum Step {
 }
 
 impl Step {
+    /// What a counting frame calls this step's fragments.
+    pub fn counted(&self) -> CountedStep {
+        match self {
+            Step::MaskFans { .. } => CountedStep::Mask,
+            Step::FarComposite { .. } => CountedStep::FarComposite,
+            Step::Scene { .. } => CountedStep::Scene,
+            Step::Probe { .. } => CountedStep::Probe,
+            Step::Composite => CountedStep::Composite,
+            Step::RadialMask { .. } => CountedStep::RadialMask,
+            Step::Reconstruct => CountedStep::Reconstruct,
+        }
+    }
+
     pub fn stencil(&self) -> Option<StencilState> {
         match *self {
             Step::MaskFans { stencil } | Step::RadialMask { stencil } => Some(stencil),

@@ -10,7 +10,7 @@ use crate::gpu::{
 };
 use crate::mffr::MffrVariant;
 use crate::plan::{
-    CompareOp, CountedStep, DrawSet, FramePlan, PassKind, StencilOp, StencilState, Step, Submission,
+    CompareOp, DrawSet, FramePlan, PassKind, StencilOp, StencilState, Step, Submission,
 };
 use crate::scene::Vertex;
 use crate::shaders::{
@@ -140,17 +140,7 @@ impl SceneBindings {
             unsafe { device.create_pipeline_layout(&layout_info, None) }
                 .vk("vkCreatePipelineLayout")?,
         );
-        let mut layout_description: Description = bindings
-            .iter()
-            .flat_map(|b| {
-                [
-                    b.binding as u64,
-                    b.descriptor_type.as_raw() as u64,
-                    b.stage_flags.as_raw() as u64,
-                ]
-            })
-            .collect();
-        layout_description.push(push[0].size as u64);
+        let layout_description = describe_layout(&bindings, push[0].size);
         Ok(SceneBindings {
             layout,
             layout_description,
@@ -159,6 +149,25 @@ impl SceneBindings {
             set,
         })
     }
+}
+
+/// A pipeline layout's description: its bindings and push-constant bytes. Pipelines made with
+/// identically described layouts are compatible, so they are shared (see `gpu::ObjectCache`).
+pub(crate) fn describe_layout(
+    bindings: &[vk::DescriptorSetLayoutBinding],
+    push_bytes: u32,
+) -> Description {
+    bindings
+        .iter()
+        .flat_map(|b| {
+            [
+                b.binding as u64,
+                b.descriptor_type.as_raw() as u64,
+                b.stage_flags.as_raw() as u64,
+            ]
+        })
+        .chain([push_bytes as u64])
+        .collect()
 }
 
 /// The plan's stencil state in Vulkan's terms (failing fragments keep the value).
@@ -231,19 +240,6 @@ impl PipelineKind {
             Step::Reconstruct => PipelineKind::Reconstruct,
         }
     }
-
-    /// The counted step this pipeline draws.
-    fn counted_step(self) -> CountedStep {
-        match self {
-            PipelineKind::Scene => CountedStep::Scene,
-            PipelineKind::Mask => CountedStep::Mask,
-            PipelineKind::Coverage => CountedStep::Probe,
-            PipelineKind::Composite => CountedStep::Composite,
-            PipelineKind::FarComposite => CountedStep::FarComposite,
-            PipelineKind::RadialMask => CountedStep::RadialMask,
-            PipelineKind::Reconstruct => CountedStep::Reconstruct,
-        }
-    }
 }
 
 /// The pipeline of step `step` of pass `pass_index`, compiled as `compiled`, with `layout`
@@ -261,7 +257,7 @@ pub(crate) fn step_pipeline(
     let kind = PipelineKind::of(step);
     // Counting frames use the counting variant of every fragment shader (the probe always
     // counts); timed frames never carry the counter.
-    let counter_base = plan.counter_base(pass_index, kind.counted_step());
+    let counter_base = plan.counter_base(pass_index, step.counted());
     let pick_frag = |plain, counting| {
         if counter_base.is_some() {
             counting

@@ -164,17 +164,7 @@ impl SampledSet {
             &gpu.dev,
             unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?,
         );
-        let mut layout_description: Description = bindings
-            .iter()
-            .flat_map(|b| {
-                [
-                    b.binding as u64,
-                    b.descriptor_type.as_raw() as u64,
-                    b.stage_flags.as_raw() as u64,
-                ]
-            })
-            .collect();
-        layout_description.push(push_bytes as u64);
+        let layout_description = super::pipelines::describe_layout(&bindings, push_bytes);
         Ok(SampledSet {
             layout,
             layout_description,
