@@ -77,8 +77,14 @@ impl FrameCulling {
             frame,
             lens_regions: &self.lens_regions,
         };
+        // Both eyes' frusta once a frame, when a slot culls per eye.
+        let frusta = plan
+            .cull_slots
+            .iter()
+            .any(|s| matches!(s, DrawSet::VisibleToEye(_)))
+            .then(|| StereoFrusta::new(&plan.eyes, world_from_head, plan.near, draw_distance));
         let eye = |e: Eye| {
-            let frusta = StereoFrusta::new(&plan.eyes, world_from_head, plan.near, draw_distance);
+            let frusta = frusta.as_ref().expect("computed for per-eye slots");
             h.cull(&frusta.eyes[e.index()], centre, draw_distance)
         };
         let results: Vec<CullResult> = plan
