@@ -24,10 +24,10 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
     ("coverage.vert", "coverage.vert.spv", &[]),
     ("coverage.frag", "coverage.frag.spv", &[]),
     ("composite.vert", "composite.vert.spv", &[]),
-    ("composite.frag", "composite.frag.spv", &[]),
+    ("output.frag", "output.frag.spv", &[]),
     (
-        "composite.frag",
-        "composite_counting.frag.spv",
+        "output.frag",
+        "output_counting.frag.spv",
         &["COUNT_FRAGMENTS"],
     ),
     ("radial_mask.frag", "radial_mask.frag.spv", &[]),

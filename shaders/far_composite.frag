@@ -7,6 +7,8 @@
 // receive it (near-first) or the near field overwrites it (far-first).
 layout(constant_id = 0) const uint VIEW_SOURCE = 0; // 0: gl_ViewIndex, 1: push constant
 layout(constant_id = 2) const bool DEPTH_SHIFT = false;
+// The frame view this pass's view 0 is (2 in the fovea pass of the two-pass fovea layout).
+layout(constant_id = 5) const uint FIRST_VIEW = 0;
 
 layout(set = 0, binding = 0) uniform sampler2D far_image; // rgb, alpha = far near / depth
 
@@ -34,7 +36,7 @@ vec2 far_uv(vec4 clip) {
 }
 
 void main() {
-    uint view = VIEW_SOURCE == 0u ? gl_ViewIndex : pc.view;
+    uint view = VIEW_SOURCE == 0u ? FIRST_VIEW + gl_ViewIndex : pc.view;
     vec2 ndc = in_uv * 2.0 - 1.0;
     vec4 dir = c.direction[view] * vec4(ndc, 1.0, 0.0);
     vec2 uv = far_uv(dir);

@@ -7,6 +7,9 @@
 // views keep their inset circle, the periphery views keep everything but the fovea's hole.
 layout(constant_id = 1) const float CLIP_XY_SCALE = 1.0;
 
+// The frame view this pass's view 0 is (2 in the fovea pass of the two-pass fovea layout).
+layout(constant_id = 5) const uint FIRST_VIEW = 0;
+
 const uint SEGMENTS = 128u;
 
 layout(std140, set = 0, binding = 3) uniform Masks {
@@ -19,7 +22,7 @@ layout(push_constant) uniform Push {
 } pc;
 
 void main() {
-    vec4 shape = masks.shapes[pc.shape_set * 4u + gl_ViewIndex];
+    vec4 shape = masks.shapes[pc.shape_set * 4u + FIRST_VIEW + gl_ViewIndex];
     uint triangle = uint(gl_VertexIndex) / 3u;
     uint corner = uint(gl_VertexIndex) % 3u;
     vec2 p = shape.xy;

@@ -10,6 +10,12 @@ layout(constant_id = 0) const uint VIEW_SOURCE = 0;
 // Emulated guard band (1/K, see PassPlan::guard_band): the viewport is K times larger than the
 // render area, so x and y shrink by K to land on the same pixels.
 layout(constant_id = 1) const float CLIP_XY_SCALE = 1.0;
+// The frame view this pass's view 0 is (2 in the fovea pass of the two-pass fovea layout).
+layout(constant_id = 5) const uint FIRST_VIEW = 0;
+// The one-pass fovea layout: each culled id's top bit says whether the fovea superfrustum keeps
+// its instance; an instance it misses emits no primitives in the fovea views (2, 3).
+layout(constant_id = 6) const bool FOVEA_TAGS = false;
+const uint FOVEA_TAG = 0x80000000u;
 
 layout(std140, set = 0, binding = 0) uniform Views {
     mat4 view_proj[5]; // up to 4 eye views, then the MFFR far view
@@ -58,12 +64,24 @@ void main() {
         view = uint(gl_InstanceIndex) & 1u;
         instance = uint(gl_InstanceIndex) >> 1;
     } else {
-        view = VIEW_SOURCE == 0u ? gl_ViewIndex : pc.view;
+        view = VIEW_SOURCE == 0u ? FIRST_VIEW + gl_ViewIndex : pc.view;
         instance = uint(gl_InstanceIndex);
     }
 
 #ifdef INDIRECT_INSTANCES
-    instance = ids[instance];
+    uint entry = ids[instance];
+    instance = entry & ~FOVEA_TAG;
+    if (FOVEA_TAGS && view >= 2u && (entry & FOVEA_TAG) == 0u) {
+        // Every vertex of the triangle at one point outside the clip volume: a degenerate
+        // triangle, rejected before clipping or rasterisation (no clipping quirk can touch it).
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        gl_ClipDistance[0] = 1.0;
+        out_normal = vec3(0.0);
+        out_color = vec3(0.0);
+        out_view = view;
+        out_depth = 1.0;
+        return;
+    }
 #endif
     Instance inst = instances[instance];
     vec4 world = inst.model * vec4(in_position, 1.0);

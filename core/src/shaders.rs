@@ -30,10 +30,11 @@ pub const MASK_FRAG_COUNTING: ShaderBinary = spirv!("mask_counting.frag.spv");
 pub const COVERAGE_VERT: ShaderBinary = spirv!("coverage.vert.spv");
 pub const COVERAGE_FRAG: ShaderBinary = spirv!("coverage.frag.spv");
 
-/// Composition of a foveated frame: periphery upscaled, fovea blended over it.
+/// A full-view triangle: the vertex shader of every full-view pass.
 pub const COMPOSITE_VERT: ShaderBinary = spirv!("composite.vert.spv");
-pub const COMPOSITE_FRAG: ShaderBinary = spirv!("composite.frag.spv");
-pub const COMPOSITE_FRAG_COUNTING: ShaderBinary = spirv!("composite_counting.frag.spv");
+/// The output stage: lens distortion and a foveated frame's composition.
+pub const OUTPUT_FRAG: ShaderBinary = spirv!("output.frag.spv");
+pub const OUTPUT_FRAG_COUNTING: ShaderBinary = spirv!("output_counting.frag.spv");
 /// MFFR: the far image reprojected into each view (vertex shader: [`COMPOSITE_VERT`]).
 pub const FAR_COMPOSITE_FRAG: ShaderBinary = spirv!("far_composite.frag.spv");
 pub const FAR_COMPOSITE_FRAG_COUNTING: ShaderBinary = spirv!("far_composite_counting.frag.spv");
@@ -59,8 +60,8 @@ pub const ALL: &[ShaderBinary] = &[
     COVERAGE_VERT,
     COVERAGE_FRAG,
     COMPOSITE_VERT,
-    COMPOSITE_FRAG,
-    COMPOSITE_FRAG_COUNTING,
+    OUTPUT_FRAG,
+    OUTPUT_FRAG_COUNTING,
     FAR_COMPOSITE_FRAG,
     FAR_COMPOSITE_FRAG_COUNTING,
     RADIAL_MASK_FRAG,

@@ -47,6 +47,17 @@ pub struct ConfigArgs {
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
+    /// How a foveated frame renders its four views: one 4-view pass, a periphery and a fovea
+    /// pass, or `auto` (the plan chooses and `foveate plan` says why).
+    #[arg(long, default_value = "auto")]
+    pub fovea_layout: String,
+    /// The fovea views draw every instance the periphery draws, not only what their frusta see.
+    #[arg(long)]
+    pub no_fovea_cull: bool,
+    /// What the frame's last pass writes: `lens` (pre-distorted for the headset's lens, as the
+    /// display shows it) or `undistorted` (plain eye images, foveated frames still composed).
+    #[arg(long, default_value = "lens")]
+    pub output: String,
     /// Gaze of both eyes, normalised: X,Y in -1..1 (x right, y up).
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub gaze: Option<Vec<f32>>,
@@ -93,6 +104,7 @@ impl ConfigArgs {
             fovea_size: self.fovea_size,
             blend_band_px: self.blend_band.unwrap_or(-1.0),
             debug_tint: self.tint,
+            cull_fovea: !self.no_fovea_cull,
         });
         let mffr = self
             .mffr
@@ -123,6 +135,8 @@ impl ConfigArgs {
             msaa: self.msaa,
             ipd_m: self.ipd_mm.map(|mm| mm / 1000.0),
             cant_deg: self.cant,
+            output: self.output.parse()?,
+            fovea_layout: self.fovea_layout.parse()?,
             ..RenderConfig::default()
         })
     }

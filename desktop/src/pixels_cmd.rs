@@ -125,6 +125,7 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
                 fovea_size,
                 blend_band_px: args.blend_band,
                 debug_tint: false,
+                cull_fovea: true,
             };
             let config = RenderConfig {
                 views: 4,

@@ -308,11 +308,12 @@ fn render_foveated_with_gaze_tint_and_the_fill_scene() {
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
     for needle in [
-        "scene (foveated multiview)",
-        "GPU composite (fovea over periphery)",
+        "fovea layout: two-pass",
+        "scene (fovea views)",
+        "GPU output (fovea over periphery, lens-distorted)",
         "right fovea",
-        "scene (foveated multiview) / mask",
-        "composite (fovea over periphery) / composite: left eye 4096, right eye 4096",
+        "scene (fovea views) / mask",
+        "(fovea over periphery, lens-distorted) / output: left eye 4096, right eye 4096",
     ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }

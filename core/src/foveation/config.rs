@@ -18,6 +18,9 @@ pub struct FoveationConfig {
     pub blend_band_px: f32,
     /// Tint the composed image: fovea green, band yellow, periphery blue.
     pub debug_tint: bool,
+    /// The fovea views draw only the instances their frusta see (a superfrustum around both
+    /// fovea frusta, culled per frame); off, they draw what the periphery draws.
+    pub cull_fovea: bool,
 }
 
 impl Default for FoveationConfig {
@@ -29,6 +32,7 @@ impl Default for FoveationConfig {
             fovea_size: None,
             blend_band_px: 0.0,
             debug_tint: false,
+            cull_fovea: true,
         }
     }
 }
@@ -50,6 +54,7 @@ pub struct FoveationGeometry {
     pub stencil: bool,
     pub blend_band_px: f32,
     pub debug_tint: bool,
+    pub cull_fovea: bool,
 }
 
 impl FoveationConfig {
@@ -117,6 +122,7 @@ impl FoveationConfig {
             stencil: self.stencil,
             blend_band_px: band,
             debug_tint: self.debug_tint,
+            cull_fovea: self.cull_fovea,
         })
     }
 }

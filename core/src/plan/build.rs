@@ -2,18 +2,20 @@
 //! passes and steps (`stereo_scene`, `mffr`, `composition`, `counting`), then derive ops,
 //! layouts and clear values (`derive`).
 
-use super::composition::composite_pass;
 use super::counting::plan_counting;
 use super::derive::{assign_stencil, derive_ops};
 use super::masks::add_mask_fans;
 use super::mffr::{add_far_composite, far_pass};
 use super::model::*;
+use super::output::output_pass;
 use super::probe::add_probe;
 use super::radial_density::add_radial_density;
-use super::steps::Step;
-use super::stereo_scene::scene_passes;
+use super::steps::{OutputSource, Step};
+use super::stereo_scene::{scene_passes, FoveaPasses};
 use super::validate::*;
-use super::{ConfigError, DeviceCaps, RenderConfig, Resolution, StereoMode};
+use super::{
+    ConfigError, DeviceCaps, FoveaLayout, OutputStage, RenderConfig, Resolution, StereoMode,
+};
 use crate::mffr::MffrGeometry;
 use crate::scene::Scene;
 use crate::view::Eye;
@@ -79,12 +81,20 @@ pub fn plan(
     let far_colour = far
         .as_ref()
         .map(|p| p.resolve.unwrap_or(p.color).attachment);
+    let fovea_layout = foveation.map(|f| {
+        let cull = f.cull_fovea && mffr.is_none();
+        choose_fovea_layout(config.fovea_layout, cull, scene, f.view, caps)
+    });
     let mut passes: Vec<PassPlan> = far.into_iter().collect();
     passes.extend(scene_passes(
         config,
         render_resolution,
         layout,
         far_colour,
+        fovea_layout.as_ref().map(|c| FoveaPasses {
+            layout: c.layout,
+            cull: c.cull,
+        }),
         &mut attachments,
     ));
     // Each technique's steps around the scene step of every eye pass.
@@ -100,17 +110,36 @@ pub fn plan(
             add_probe(pass);
         }
     }
-    if foveation.is_some() {
-        let scene = passes.iter().find(|p| p.kind == PassKind::Scene);
-        let composite = composite_pass(
-            scene.expect("a foveated frame has its scene pass"),
-            eye_resolution,
-            &mut attachments,
-        );
-        passes.push(composite);
-    }
+    // The output stage: composition folds into it; the lens asks for it on every frame.
+    let lens = config.output == OutputStage::Lens;
     if radial_density.is_some() {
         add_radial_density(&mut passes, &mut attachments, eye_resolution);
+    }
+    let source = match (&fovea_layout, layout) {
+        (Some(c), _) => Some(OutputSource::Foveated {
+            fovea_layer: if c.layout == FoveaLayout::TwoPass {
+                0
+            } else {
+                2
+            },
+        }),
+        _ if !lens => None,
+        _ if radial_density.is_some() => Some(OutputSource::Layered),
+        (None, TargetLayout::Layered) => Some(OutputSource::Layered),
+        (None, TargetLayout::PerEye) => Some(OutputSource::PerEye),
+        (None, TargetLayout::SideBySide) => Some(OutputSource::SideBySide),
+    };
+    if let Some(source) = source {
+        let images: Vec<AttachmentId> = (0..attachments.len())
+            .filter(|&i| attachments[i].read_after_frame)
+            .collect();
+        passes.push(output_pass(
+            images,
+            source,
+            lens,
+            eye_resolution,
+            &mut attachments,
+        ));
     }
     if caps.quirks.multiview_clipping_drops_views {
         for p in passes.iter_mut().filter(|p| p.view_mask != 0) {
@@ -151,6 +180,8 @@ pub fn plan(
         radial_density,
         cull_slots: Vec::new(),
         scene_instances: scene.instance_count(),
+        fovea_layout,
+        lens: lens.then(|| LensOutput::new(hmd.distortion, &eyes)),
     };
     assign_cull_slots(&mut plan);
     plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
@@ -173,8 +204,59 @@ pub fn plan(
     Ok(plan)
 }
 
+/// The layout of a foveated frame's views: as asked, or chosen from the device's quirks and the
+/// scene's geometry against the fovea views' pixels, with the reason.
+fn choose_fovea_layout(
+    asked: FoveaLayout,
+    cull: bool,
+    scene: &Scene,
+    view: Resolution,
+    caps: &DeviceCaps,
+) -> FoveaLayoutChoice {
+    let triangles = scene.triangle_count() as u64;
+    let pixels = view.width as u64 * view.height as u64;
+    let (layout, reason) = match asked {
+        FoveaLayout::OnePass | FoveaLayout::TwoPass => (asked, format!("asked for ({asked})")),
+        FoveaLayout::Auto if !cull => (
+            FoveaLayout::OnePass,
+            "the fovea views draw what the periphery draws (fovea culling off, or MFFR's near \
+             field), so one 4-view pass binds and submits the scene once"
+                .to_string(),
+        ),
+        FoveaLayout::Auto if caps.quirks.multiview_runs_views_serially => (
+            FoveaLayout::TwoPass,
+            format!(
+                "{} runs multiview views one after another: a separate 2-view fovea pass adds no \
+                 per-view work and skips every vertex of the instances the fovea misses",
+                caps.device_name
+            ),
+        ),
+        FoveaLayout::Auto if triangles > pixels => (
+            FoveaLayout::TwoPass,
+            format!(
+                "vertex-bound: {triangles} triangles per view exceed a view's {pixels} pixels, so \
+                 skipping the fovea-culled instances' vertices outweighs a second pass"
+            ),
+        ),
+        FoveaLayout::Auto => (
+            FoveaLayout::OnePass,
+            format!(
+                "fragment-bound: {triangles} triangles per view against a view's {pixels} pixels; \
+                 one 4-view pass bins the scene once, fovea-culled instances emit no primitives \
+                 in the fovea views"
+            ),
+        ),
+    };
+    FoveaLayoutChoice {
+        layout,
+        cull,
+        reason,
+    }
+}
+
 /// One cull slot per distinct culled draw set, in pass order (at most two: both eyes' set,
-/// each eye's own, or MFFR's near and far fields), and each scene step pointed at its slot.
+/// each eye's own, MFFR's near and far fields, or the periphery's and the fovea's), and each
+/// scene step pointed at its slot.
 fn assign_cull_slots(plan: &mut FramePlan) {
     let mut slots: Vec<DrawSet> = Vec::new();
     for pass in &mut plan.passes {
@@ -222,7 +304,7 @@ fn draw_calls_estimate(scene: &Scene, plan: &FramePlan) -> u64 {
         .iter()
         .map(|p| {
             let scene_draws = match p.submission {
-                _ if matches!(p.kind, PassKind::Composite | PassKind::Reconstruct) => 1,
+                _ if matches!(p.kind, PassKind::Output | PassKind::Reconstruct) => 1,
                 Submission::PerObject => 2 * scene.instance_count() as u64,
                 _ => meshes,
             };

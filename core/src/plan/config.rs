@@ -64,6 +64,59 @@ impl FromStr for StereoMode {
     }
 }
 
+/// What the frame's last pass writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum OutputStage {
+    /// The rendered eye images as they are (a foveated frame composed at full resolution):
+    /// what an OpenXR application hands its runtime, whose compositor distorts for the lens;
+    /// and what tests and goldens compare.
+    Undistorted,
+    /// What the display shows: each eye pre-distorted for the headset's lens by a full-view
+    /// output pass, into which a foveated frame's composition folds (a phone VR app's
+    /// compositor pass). Every frame pays for it, the stereo baseline included.
+    Lens,
+}
+
+/// How a foveated frame renders its four views.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FoveaLayout {
+    /// The planner chooses from the scene and the device's quirks (`foveate plan` says why).
+    Auto,
+    /// One 4-view multiview pass; with culling, instances a fovea frustum misses emit no
+    /// primitives in the fovea views (a per-instance view mask read by the vertex shader).
+    OnePass,
+    /// A 2-view periphery pass and a 2-view fovea pass, each drawing its own culled set.
+    TwoPass,
+}
+
+macro_rules! named_enum {
+    ($t:ty, $field:literal, [$($v:expr => $name:literal),+ $(,)?]) => {
+        impl $t {
+            pub fn name(self) -> &'static str {
+                match self { $( v if v == $v => $name, )+ _ => unreachable!() }
+            }
+        }
+        impl fmt::Display for $t {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+        impl FromStr for $t {
+            type Err = ConfigError;
+            fn from_str(s: &str) -> Result<Self, Self::Err> {
+                $( if s == $name { return Ok($v); } )+
+                Err(ConfigError::new($field, s, concat!("one of", $(" ", $name),+)))
+            }
+        }
+    };
+}
+named_enum!(OutputStage, "output", [OutputStage::Undistorted => "undistorted", OutputStage::Lens => "lens"]);
+named_enum!(FoveaLayout, "fovea layout", [
+    FoveaLayout::Auto => "auto",
+    FoveaLayout::OnePass => "one-pass",
+    FoveaLayout::TwoPass => "two-pass",
+]);
+
 /// Per-frame culling of the scene's instances on the CPU (seed 000 §3): distance culling at the
 /// draw distance and a stereo strategy's volume, over the scene's chunk-and-octree hierarchy.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -124,6 +177,11 @@ pub struct RenderConfig {
     pub coverage_probe: bool,
     /// Cull the scene per frame on the CPU; `None` draws every instance.
     pub culling: Option<CullConfig>,
+    /// The frame's last pass: undistorted (the library's default, as for an OpenXR runtime
+    /// that distorts itself) or pre-distorted for the lens (the command line's default).
+    pub output: OutputStage,
+    /// A foveated frame's pass layout.
+    pub fovea_layout: FoveaLayout,
 }
 
 impl Default for RenderConfig {
@@ -147,6 +205,8 @@ impl Default for RenderConfig {
             radial_density: None,
             coverage_probe: false,
             culling: None,
+            output: OutputStage::Undistorted,
+            fovea_layout: FoveaLayout::Auto,
         }
     }
 }

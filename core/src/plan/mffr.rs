@@ -62,6 +62,7 @@ pub(super) fn far_pass(
         }],
         depth_clamp: false,
         guard_band: 1,
+        first_view: 0,
     }
 }
 

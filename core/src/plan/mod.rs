@@ -5,13 +5,13 @@
 //! `foveate plan` prints exactly what the renderer will build.
 
 mod build;
-mod composition;
 mod config;
 mod counting;
 mod derive;
 mod masks;
 mod mffr;
 mod model;
+mod output;
 mod print;
 mod probe;
 mod radial_density;
@@ -21,15 +21,18 @@ mod validate;
 
 pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
 pub use build::plan;
-pub use config::{CullConfig, RenderConfig, StereoMode, MAX_VIEWS};
+pub use config::{CullConfig, FoveaLayout, OutputStage, RenderConfig, StereoMode, MAX_VIEWS};
 pub use derive::{Access, ClearValue, Layout, LoadOp, StoreOp};
 pub use model::{
     AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, CountedSlot, CountedStep, DrawSet,
-    Format, FramePlan, PassKind, PassPlan, Submission, TargetLayout, Use, COUNTER_SLOTS_PER_STEP,
-    SKY,
+    Format, FoveaLayoutChoice, FramePlan, LensOutput, PassKind, PassPlan, Submission, TargetLayout,
+    Use, COUNTER_SLOTS_PER_STEP, SKY,
 };
 pub use radial_density::{RadialDensity, RadialDensityGeometry};
-pub use steps::{CompareOp, StencilOp, StencilState, Step, MASK_BIT, NEAR_BIT, SKIP_BIT};
+pub use steps::{
+    CompareOp, OutputSource, OutputStep, StencilOp, StencilState, Step, MASK_BIT, NEAR_BIT,
+    SKIP_BIT,
+};
 
 #[cfg(test)]
 mod tests;

@@ -6,7 +6,7 @@ use super::steps::Step;
 use super::{CullConfig, Resolution, StereoMode, MAX_VIEWS};
 use crate::foveation::FoveationGeometry;
 use crate::mffr::{MffrGeometry, MffrOrder};
-use crate::view::{Eye, EyeParams, HmdProfile, LensRegion};
+use crate::view::{Eye, EyeParams, FovTangents, HmdProfile, LensRegion, RadialDistortion};
 
 /// Pixel formats the planner uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -148,6 +148,13 @@ pub enum DrawSet {
     NearField,
     /// Instances reaching beyond the MFFR far pass's near plane (culled per frame).
     FarField,
+    /// Instances the superfrustum of the two fovea frusta keeps: the fovea pass of the
+    /// two-pass fovea layout (culled per frame).
+    Fovea,
+    /// The periphery's instances (every one, or the culling strategy's), each tagged with
+    /// whether the fovea superfrustum keeps it: the one-pass fovea layout, whose vertex shader
+    /// emits no primitives in the fovea views for untagged instances (culled per frame).
+    FoveaTagged,
 }
 
 /// What a pass does.
@@ -155,8 +162,9 @@ pub enum DrawSet {
 pub enum PassKind {
     /// Draws the scene (and, when planned, stencil masks and the coverage probe).
     Scene,
-    /// Composes each eye at full resolution from the periphery and fovea views it samples.
-    Composite,
+    /// The output stage: what the display shows, from the images it samples (a foveated
+    /// frame's views composed at full resolution; lens distortion when planned).
+    Output,
     /// MFFR: the far field, once, into an image the eye passes sample.
     FarField,
     /// Radial density masking: the skipped quads filled from their neighbours.
@@ -186,6 +194,9 @@ pub struct PassPlan {
     /// grown by it, so primitives reaching less than this many view widths past the edge need
     /// no clipping. 1 = off; set only to work around [`DriverQuirks`](super::DriverQuirks).
     pub guard_band: u32,
+    /// The frame view the pass's view 0 is (`gl_ViewIndex` + this): 2 for the fovea pass of the
+    /// two-pass fovea layout, 0 otherwise.
+    pub first_view: u32,
 }
 
 impl PassPlan {
@@ -267,8 +278,8 @@ pub enum CountedStep {
     Scene,
     /// The coverage probe's full-view draw.
     Probe,
-    /// Foveated composition: each eye at full resolution.
-    Composite,
+    /// The output stage (with foveation, the composition of each eye at full resolution).
+    Output,
     /// Radial density masking's mask (a full-view draw) and its reconstruction.
     RadialMask,
     Reconstruct,
@@ -281,7 +292,7 @@ impl CountedStep {
             CountedStep::FarComposite => "far composite",
             CountedStep::Scene => "scene",
             CountedStep::Probe => "probe",
-            CountedStep::Composite => "composite",
+            CountedStep::Output => "output",
             CountedStep::RadialMask => "radial mask",
             CountedStep::Reconstruct => "reconstruct",
         }
@@ -347,6 +358,37 @@ pub struct FramePlan {
     /// Instances of the scene the plan was made for: buffers are sized for them, and a
     /// renderer refuses another scene.
     pub scene_instances: usize,
+    /// A foveated frame's pass layout, and why the planner chose it.
+    pub fovea_layout: Option<FoveaLayoutChoice>,
+    /// Lens distortion in the output stage, when the output is for the lens.
+    pub lens: Option<LensOutput>,
+}
+
+/// How a foveated frame renders its four views, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FoveaLayoutChoice {
+    /// `OnePass` or `TwoPass` (never `Auto`).
+    pub layout: super::FoveaLayout,
+    /// Whether the fovea views draw only what their frusta see.
+    pub cull: bool,
+    pub reason: String,
+}
+
+/// The output stage's lens: its distortion and each eye's display field, solved so the
+/// display's edges show the rendered field's edges.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LensOutput {
+    pub distortion: RadialDistortion,
+    pub display: [FovTangents; 2],
+}
+
+impl LensOutput {
+    pub fn new(distortion: RadialDistortion, eyes: &EyeParams) -> Self {
+        LensOutput {
+            distortion,
+            display: Eye::BOTH.map(|e| distortion.display_fov(eyes.fov(e))),
+        }
+    }
 }
 
 impl FramePlan {
@@ -381,6 +423,15 @@ impl FramePlan {
     /// The MFFR far pass, when planned.
     pub fn far_pass(&self) -> Option<&PassPlan> {
         self.passes.iter().find(|p| p.kind == PassKind::FarField)
+    }
+
+    /// How the frame's output holds the two eyes: one layer each after an output or
+    /// reconstruction pass, else as the scene passes wrote them.
+    pub fn output_layout(&self) -> TargetLayout {
+        match self.passes.last().map(|p| p.kind) {
+            Some(PassKind::Output | PassKind::Reconstruct) => TargetLayout::Layered,
+            _ => self.layout,
+        }
     }
 
     /// The attachments read after the frame, in eye order: the stereo image.

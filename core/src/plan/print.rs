@@ -55,6 +55,27 @@ impl fmt::Display for FramePlan {
                 if g.stencil { "on" } else { "off" }
             )?;
         }
+        if let Some(c) = &self.fovea_layout {
+            writeln!(
+                f,
+                "  fovea layout: {}, fovea views {}: {}",
+                c.layout,
+                if c.cull {
+                    "culled to their own superfrustum"
+                } else {
+                    "not culled"
+                },
+                c.reason
+            )?;
+        }
+        if let Some(l) = &self.lens {
+            let d = l.display[0];
+            writeln!(
+                f,
+                "  output for the lens: radial distortion k1 {} k2 {} (tangent units); left display tangents l/r/u/d {:.3}/{:.3}/{:.3}/{:.3} show the rendered field's edges",
+                l.distortion.k1, l.distortion.k2, d.left, d.right, d.up, d.down
+            )?;
+        }
 
         if let Some(regions) = &self.hmd_mask {
             let hidden: Vec<String> = regions
@@ -121,7 +142,7 @@ impl fmt::Display for FramePlan {
         writeln!(f, "passes:")?;
         for p in &self.passes {
             let submission = match p.submission {
-                _ if matches!(p.kind, PassKind::Composite | PassKind::Reconstruct) => {
+                _ if matches!(p.kind, PassKind::Output | PassKind::Reconstruct) => {
                     "a full-view triangle per eye, sampling the views".to_string()
                 }
                 Submission::Multiview => "scene once, broadcast by multiview".to_string(),
@@ -134,9 +155,14 @@ impl fmt::Display for FramePlan {
                 }
                 Submission::FarView => "the far field once, from the far view".to_string(),
             };
+            let first_view = if p.first_view > 0 {
+                format!(" (views {}..)", p.first_view)
+            } else {
+                String::new()
+            };
             writeln!(
                 f,
-                "  {} — view mask {:#04b}; {submission}",
+                "  {} — view mask {:#04b}{first_view}; {submission}",
                 p.name, p.view_mask
             )?;
             for &id in &p.samples {
@@ -182,6 +208,14 @@ impl fmt::Display for FramePlan {
                             f,
                             "    draws the far field (instances beyond the split, culled per frame)"
                         )?,
+                        DrawSet::Fovea => writeln!(
+                            f,
+                            "    draws the instances the fovea views' superfrustum keeps (culled per frame)"
+                        )?,
+                        DrawSet::FoveaTagged => writeln!(
+                            f,
+                            "    draws the periphery's instances, each tagged per frame with whether the fovea superfrustum keeps it; untagged ones emit no primitives in the fovea views"
+                        )?,
                     },
                     Step::FarComposite { .. } => match p.far_composite() {
                         Some(MffrOrder::FarFirst) => writeln!(f, "    far image composited first into every pixel, near field drawn over it")?,
@@ -200,7 +234,7 @@ impl fmt::Display for FramePlan {
                             )?;
                         }
                     }
-                    Step::Composite | Step::Reconstruct => {}
+                    Step::Output(_) | Step::Reconstruct => {}
                 }
             }
             if p.depth_clamp {

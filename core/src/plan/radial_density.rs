@@ -6,8 +6,8 @@
 
 use glam::Vec4;
 
-use super::composition::output_pass;
 use super::model::*;
+use super::output::sampling_pass;
 use super::steps::{stencil_placeholder, Step};
 use super::{ConfigError, Resolution};
 use crate::view::{Eye, EyeParams, HmdProfile};
@@ -86,8 +86,8 @@ pub(super) fn add_radial_density(
     let scene = scene.clone();
     let views = scene.resolve.unwrap_or(scene.color).attachment;
     attachments[views].name = "masked stereo colour";
-    let reconstruct = output_pass(
-        &scene,
+    let reconstruct = sampling_pass(
+        vec![views],
         eye,
         attachments,
         "reconstruct (radial density)",

@@ -58,8 +58,44 @@ pub enum Step {
     RadialMask { stencil: StencilState },
     /// Radial density reconstruction: a full-view draw per eye filling the skipped quads.
     Reconstruct,
-    /// Foveated composition: a full-view draw per eye sampling the four views.
-    Composite,
+    /// The output stage: a full-view draw per eye sampling what the frame rendered, composing a
+    /// foveated frame's views and, for the lens, pre-distorting.
+    Output(OutputStep),
+}
+
+/// What the output stage does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OutputStep {
+    /// Pre-distort for the headset's lens (`OutputStage::Lens`), or not.
+    pub lens: bool,
+    /// Where each eye's rendered image lies in the pass's sampled attachments.
+    pub source: OutputSource,
+}
+
+/// Where the output stage finds each eye's rendered image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputSource {
+    /// Eye `e` is layer `e` of the first sampled image.
+    Layered,
+    /// Both eyes side by side in the first sampled image.
+    SideBySide,
+    /// Eye `e` is the `e`-th sampled image.
+    PerEye,
+    /// A foveated frame: eye `e`'s periphery is layer `e` of the first sampled image, its fovea
+    /// layer `fovea_layer + e` of the last (the same image for the one-pass layout).
+    Foveated { fovea_layer: u32 },
+}
+
+impl OutputSource {
+    /// The shader's `SOURCE` constant (see `shaders/output.frag`).
+    pub fn code(self) -> u32 {
+        match self {
+            OutputSource::Layered => 0,
+            OutputSource::SideBySide => 1,
+            OutputSource::PerEye => 2,
+            OutputSource::Foveated { .. } => 3,
+        }
+    }
 }
 
 impl Step {
@@ -70,7 +106,7 @@ impl Step {
             Step::FarComposite { .. } => CountedStep::FarComposite,
             Step::Scene { .. } => CountedStep::Scene,
             Step::Probe { .. } => CountedStep::Probe,
-            Step::Composite => CountedStep::Composite,
+            Step::Output(_) => CountedStep::Output,
             Step::RadialMask { .. } => CountedStep::RadialMask,
             Step::Reconstruct => CountedStep::Reconstruct,
         }
@@ -82,7 +118,7 @@ impl Step {
             Step::FarComposite { stencil }
             | Step::Scene { stencil, .. }
             | Step::Probe { stencil } => stencil,
-            Step::Composite | Step::Reconstruct => None,
+            Step::Output(_) | Step::Reconstruct => None,
         }
     }
 }
@@ -166,7 +202,7 @@ pub(crate) fn assign_stencil_states(steps: &mut [Step]) {
                     )
                 })
             }
-            Step::Composite | Step::Reconstruct => {}
+            Step::Output(_) | Step::Reconstruct => {}
         }
     }
 }
@@ -200,7 +236,18 @@ impl fmt::Display for Step {
             } => format!("scene (cull slot {slot})"),
             Step::Scene { .. } => "scene".to_string(),
             Step::Probe { .. } => "probe".to_string(),
-            Step::Composite => "composite".to_string(),
+            Step::Output(o) => format!(
+                "output ({}{})",
+                match o.source {
+                    OutputSource::Foveated { .. } => "fovea over periphery",
+                    _ => "eye images",
+                },
+                if o.lens {
+                    ", lens-distorted"
+                } else {
+                    ", undistorted"
+                }
+            ),
             Step::RadialMask { .. } => "radial mask".to_string(),
             Step::Reconstruct => "reconstruct".to_string(),
         };

@@ -1,12 +1,21 @@
 //! The stereo scene pass(es): their attachments and their scene step, as the submission strategy
-//! says (masks, MFFR's far composite and the probe are their own builders' steps).
+//! and a foveated frame's layout say (masks, MFFR's far composite and the probe are their own
+//! builders' steps).
 
 use super::derive::Access;
 use super::model::*;
 use super::steps::Step;
-use super::{RenderConfig, Resolution, StereoMode};
+use super::{FoveaLayout, RenderConfig, Resolution, StereoMode};
 use crate::cull::Strategy;
 use crate::view::Eye;
+
+/// A foveated frame's views as planned: the resolved layout, and whether the fovea views draw
+/// only what their frusta see.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct FoveaPasses {
+    pub layout: FoveaLayout,
+    pub cull: bool,
+}
 
 /// The scene pass(es) of a stereo frame and the attachments they use.
 pub(super) fn scene_passes(
@@ -14,8 +23,10 @@ pub(super) fn scene_passes(
     eye: Resolution,
     layout: TargetLayout,
     far_field: Option<AttachmentId>,
+    fovea: Option<FoveaPasses>,
     attachments: &mut Vec<AttachmentPlan>,
 ) -> Vec<PassPlan> {
+    let two_pass_fovea = fovea.is_some_and(|f| f.layout == FoveaLayout::TwoPass);
     let msaa = config.msaa > 1;
     // Image shape: one layer per view for multiview, one double-wide image for the side-by-side
     // modes; two-pass renders one eye per pass into single-layer scratch images and resolves
@@ -23,6 +34,7 @@ pub(super) fn scene_passes(
     let two_pass = config.stereo == StereoMode::TwoPass;
     let (width, layers) = match layout {
         TargetLayout::Layered if two_pass => (eye.width, 1),
+        TargetLayout::Layered if two_pass_fovea => (eye.width, 2),
         TargetLayout::Layered => (eye.width, config.views),
         TargetLayout::SideBySide => (eye.width * 2, 1),
         TargetLayout::PerEye => (eye.width, 1),
@@ -91,6 +103,17 @@ pub(super) fn scene_passes(
                 1,
             ),
         ],
+        _ if two_pass_fovea => vec![
+            add(
+                "periphery views",
+                output_role,
+                Format::Rgba8Srgb,
+                1,
+                true,
+                2,
+            ),
+            add("fovea views", output_role, Format::Rgba8Srgb, 1, true, 2),
+        ],
         _ => vec![add(
             if config.views == 4 {
                 "views (periphery, fovea)"
@@ -104,8 +127,17 @@ pub(super) fn scene_passes(
             output_layers,
         )],
     };
+    // What the eye (periphery) views draw.
+    let eye_set = |submission| match (far_field, config.culling, submission) {
+        (Some(_), _, _) => DrawSet::NearField,
+        (None, None, _) => DrawSet::All,
+        (None, Some(c), Submission::SingleEye(eye)) if c.strategy == Strategy::PerEye => {
+            DrawSet::VisibleToEye(eye)
+        }
+        (None, Some(_), _) => DrawSet::Visible,
+    };
 
-    let pass = |name, view_mask, output: AttachmentId, submission| {
+    let pass = |name, view_mask, output: AttachmentId, submission, draw_set| {
         let whole = |id, access| Use::new(id, 0, layers, access);
         // A single-eye pass into a layered output writes only its eye's layer.
         let output_use = |access| match submission {
@@ -125,57 +157,90 @@ pub(super) fn scene_passes(
             samples: far_field.into_iter().collect(),
             // The scene step; other techniques' builders add theirs around it.
             steps: vec![Step::Scene {
-                draw_set: match (far_field, config.culling, submission) {
-                    (Some(_), _, _) => DrawSet::NearField,
-                    (None, None, _) => DrawSet::All,
-                    (None, Some(c), Submission::SingleEye(eye))
-                        if c.strategy == Strategy::PerEye =>
-                    {
-                        DrawSet::VisibleToEye(eye)
-                    }
-                    (None, Some(_), _) => DrawSet::Visible,
-                },
+                draw_set,
                 cull_slot: None,
                 stencil: None,
             }],
             depth_clamp: false,
             guard_band: 1,
+            first_view: 0,
         }
     };
-    match config.stereo {
-        StereoMode::Multiview => {
-            let (name, mask) = if config.views == 4 {
-                ("scene (foveated multiview)", 0b1111)
-            } else {
-                ("scene (multiview)", 0b11)
-            };
-            vec![pass(name, mask, outputs[0], Submission::Multiview)]
-        }
-        StereoMode::TwoPass => vec![
-            pass(
-                "scene (left eye)",
-                0,
+    let multiview = Submission::Multiview;
+    // The fovea views' own set, when culled (not with MFFR: they draw its near field).
+    let fovea_culled = fovea.is_some_and(|f| f.cull) && far_field.is_none();
+    match (config.stereo, fovea) {
+        (StereoMode::Multiview, Some(f)) if f.layout == FoveaLayout::TwoPass => {
+            let periphery = pass(
+                "scene (periphery views)",
+                0b11,
                 outputs[0],
-                Submission::SingleEye(Eye::Left),
-            ),
-            pass(
-                "scene (right eye)",
-                0,
-                outputs[outputs.len() - 1],
-                Submission::SingleEye(Eye::Right),
-            ),
-        ],
-        StereoMode::PerObject => vec![pass(
+                multiview,
+                eye_set(multiview),
+            );
+            let fovea_set = if fovea_culled {
+                DrawSet::Fovea
+            } else {
+                eye_set(multiview)
+            };
+            let fovea = PassPlan {
+                first_view: 2,
+                ..pass(
+                    "scene (fovea views)",
+                    0b11,
+                    outputs[1],
+                    multiview,
+                    fovea_set,
+                )
+            };
+            vec![periphery, fovea]
+        }
+        (StereoMode::Multiview, Some(_)) => {
+            let set = if fovea_culled {
+                DrawSet::FoveaTagged
+            } else {
+                eye_set(multiview)
+            };
+            vec![pass(
+                "scene (foveated multiview)",
+                0b1111,
+                outputs[0],
+                multiview,
+                set,
+            )]
+        }
+        (StereoMode::Multiview, None) => vec![pass(
+            "scene (multiview)",
+            0b11,
+            outputs[0],
+            multiview,
+            eye_set(multiview),
+        )],
+        (StereoMode::TwoPass, _) => Eye::BOTH
+            .into_iter()
+            .map(|eye| {
+                let submission = Submission::SingleEye(eye);
+                let name = match eye {
+                    Eye::Left => "scene (left eye)",
+                    Eye::Right => "scene (right eye)",
+                };
+                let output = outputs[eye.index().min(outputs.len() - 1)];
+                pass(name, 0, output, submission, eye_set(submission))
+            })
+            .collect(),
+        (StereoMode::PerObject, _) => vec![pass(
             "scene (per-object)",
             0,
             outputs[0],
             Submission::PerObject,
+            eye_set(Submission::PerObject),
         )],
-        StereoMode::Instanced => vec![pass(
+        (StereoMode::Instanced, _) => vec![pass(
             "scene (instanced)",
             0,
             outputs[0],
             Submission::Instanced,
+            eye_set(Submission::Instanced),
         )],
     }
 }

@@ -227,7 +227,7 @@ fn counting_covers_every_step_that_shades() {
         vec![
             ("scene (foveated multiview)", CountedStep::Mask),
             ("scene (foveated multiview)", CountedStep::Scene),
-            ("composite (fovea over periphery)", CountedStep::Composite),
+            ("output (fovea over periphery)", CountedStep::Output),
         ]
     );
     for (order, expected) in [
@@ -474,6 +474,7 @@ fn foveated(stencil: bool) -> RenderConfig {
             stencil,
             ..Default::default()
         }),
+        fovea_layout: FoveaLayout::OnePass,
         ..config(StereoMode::Multiview, 4)
     }
 }
@@ -518,7 +519,7 @@ fn composition_samples_the_views_which_are_therefore_stored() {
     );
     let views_plan = &plan.attachments[views];
     assert!(views_plan.sampled && !views_plan.transient && !views_plan.read_after_frame);
-    assert_eq!(composite.kind, PassKind::Composite);
+    assert_eq!(composite.kind, PassKind::Output);
     assert_eq!(composite.samples, vec![views]);
     assert!(composite.depth.is_none() && composite.resolve.is_none());
     let out = attachment(&plan, &composite.color);

@@ -131,7 +131,9 @@ mod tests {
     use super::*;
     use crate::foveation::FoveationConfig;
     use crate::mffr::{MffrConfig, MffrOrder};
-    use crate::plan::{DeviceCaps, RenderConfig, Resolution, StereoMode, SKY};
+    use crate::plan::{
+        DeviceCaps, FoveaLayout, OutputStage, RenderConfig, Resolution, StereoMode, SKY,
+    };
     use crate::scene::default_scene;
 
     fn log_of(config: &RenderConfig) -> (FramePlan, Vec<Command>) {
@@ -169,19 +171,48 @@ mod tests {
     }
 
     /// Step order per configuration. Mutation: the executor recording the far composite
-    /// before the scene in near-first, the probe before the scene, or the composition in the
-    /// scene pass fails it.
+    /// before the scene in near-first, the probe before the scene, the composition in the
+    /// scene pass, or the fovea pass drawing the periphery's set fails it.
     #[test]
     fn steps_are_recorded_in_the_plans_order() {
         let (_, plain) = log_of(&base());
         assert_eq!(outline(&plain), ["begin 0", "scene", "end 0"]);
-        let foveated = RenderConfig {
+        let (_, lens) = log_of(&RenderConfig {
+            output: OutputStage::Lens,
+            ..base()
+        });
+        assert_eq!(
+            outline(&lens),
+            [
+                "begin 0",
+                "scene",
+                "end 0",
+                "begin 1",
+                "output (eye images, lens-distorted)",
+                "end 1"
+            ]
+        );
+        let foveated = |fovea_layout| RenderConfig {
             views: 4,
             foveation: Some(FoveationConfig::default()),
             hmd_mask: true,
+            fovea_layout,
             ..base()
         };
-        let (_, log) = log_of(&foveated);
+        let (_, log) = log_of(&foveated(FoveaLayout::OnePass));
+        assert_eq!(
+            outline(&log),
+            [
+                "begin 0",
+                "mask fans",
+                "scene (cull slot 0)",
+                "end 0",
+                "begin 1",
+                "output (fovea over periphery, undistorted)",
+                "end 1"
+            ]
+        );
+        let (_, log) = log_of(&foveated(FoveaLayout::TwoPass));
         assert_eq!(
             outline(&log),
             [
@@ -190,8 +221,12 @@ mod tests {
                 "scene",
                 "end 0",
                 "begin 1",
-                "composite",
-                "end 1"
+                "mask fans",
+                "scene (cull slot 0)",
+                "end 1",
+                "begin 2",
+                "output (fovea over periphery, undistorted)",
+                "end 2"
             ]
         );
         for (order, expected) in [
@@ -258,6 +293,7 @@ mod tests {
             &RenderConfig {
                 views: 4,
                 foveation: Some(FoveationConfig::default()),
+                fovea_layout: FoveaLayout::OnePass,
                 ..base()
             }
             .counting(),
@@ -268,11 +304,11 @@ mod tests {
                 "clear counters",
                 "begin 0",
                 "mask fans",
-                "scene",
+                "scene (cull slot 0)",
                 "end 0",
                 "counters barrier",
                 "begin 1",
-                "composite",
+                "output (fovea over periphery, undistorted)",
                 "end 1",
                 "counters barrier",
                 "counters to host"
@@ -288,6 +324,7 @@ mod tests {
         let (_, log) = log_of(&RenderConfig {
             views: 4,
             foveation: Some(FoveationConfig::default()),
+            fovea_layout: FoveaLayout::OnePass,
             msaa: 1,
             ..base()
         });

@@ -1,16 +1,21 @@
 //! Per-frame culling in the renderer (seed 000 §3): the scene's instances in the chunk-and-octree
 //! hierarchy, culled into the plan's cull slots — both eyes' set, each eye's own set (per-eye
-//! culling of a two-pass frame), or MFFR's near and far fields — and written as the instance
-//! ids the indirect scene shader reads.
+//! culling of a two-pass frame), MFFR's near and far fields, or a foveated frame's fovea set
+//! (alone, or as tags on the periphery's) — and written as the instance ids the indirect scene
+//! shader reads.
 
 use glam::{Mat4, Vec3};
 
 use crate::cull::{
-    CullHierarchy, CullResult, CullView, Frustum, HierarchyParams, StereoFrusta, Strategy,
+    CullHierarchy, CullView, Frustum, HierarchyParams, StereoFrusta, Strategy, Superfrustum,
 };
 use crate::plan::{DrawSet, FramePlan};
 use crate::scene::{Draw, Scene};
-use crate::view::{Eye, EyeParams, LensRegion};
+use crate::view::{Eye, EyeParams, FovTangents, LensRegion};
+
+/// The top bit of a culled id in the one-pass fovea layout: the fovea superfrustum keeps the
+/// instance (`FOVEA_TAG` in `shaders/scene.vert`).
+pub(crate) const FOVEA_TAG: u32 = 1 << 31;
 
 pub(crate) struct FrameCulling {
     hierarchy: CullHierarchy,
@@ -24,6 +29,8 @@ pub(crate) struct FrameCulling {
     /// split, whose far corners lie farther from the head than the split itself.
     near_reach: Option<f32>,
     buckets: Vec<Vec<u32>>,
+    /// This frame's fovea set, by instance (one-pass fovea layout).
+    in_fovea: Vec<bool>,
     /// This frame's ids: slot 0's, then slot 1's.
     pub ids: Vec<u32>,
     /// This frame's draws of each of the plan's cull slots, each indexing its part of `ids`.
@@ -50,19 +57,22 @@ impl FrameCulling {
                 .mffr
                 .map(|m| reach(&plan.eyes, plan.near, m.split_m).min(draw_distance)),
             buckets: vec![Vec::new(); draws.len()],
+            in_fovea: Vec::new(),
             ids: Vec::new(),
             sets: vec![Vec::new(); plan.cull_slots.len()],
         }
     }
 
     /// Culls one frame into [`FrameCulling::sets`], one set per cull slot of the plan. `far` is
-    /// the MFFR far view's frustum, when MFFR is planned.
+    /// the MFFR far view's frustum, when MFFR is planned; `fovea` the fovea views' tangents,
+    /// when foveation is.
     pub fn cull(
         &mut self,
         plan: &FramePlan,
         world_from_head: Mat4,
         frame: u64,
         far: Option<&Frustum>,
+        fovea: Option<&[FovTangents; 2]>,
         draws: &[Draw],
     ) {
         let h = &self.hierarchy;
@@ -87,30 +97,66 @@ impl FrameCulling {
             let frusta = frusta.as_ref().expect("computed for per-eye slots");
             h.cull(&frusta.eyes[e.index()], centre, draw_distance)
         };
-        let results: Vec<CullResult> = plan
-            .cull_slots
-            .iter()
-            .map(|set| match set {
-                DrawSet::Visible | DrawSet::All => strategy.cull(h, &view(draw_distance)),
-                DrawSet::VisibleToEye(e) => eye(*e),
-                DrawSet::NearField => strategy.cull(
+        // The superfrustum around both fovea frusta (the fovea windows as the eyes' fields).
+        let fovea_cull = || {
+            let fovea = fovea.expect("fovea sets are planned with foveation");
+            let eyes = EyeParams {
+                left_fov: fovea[0],
+                right_fov: fovea[1],
+                ..plan.eyes
+            };
+            let sf = Superfrustum::new(&eyes, world_from_head, plan.near, draw_distance);
+            h.cull(&sf.frustum, centre, draw_distance)
+        };
+        let as_ids = |r: crate::cull::CullResult| -> Vec<u32> {
+            r.visible.indices().map(|i| h.ids[i as usize]).collect()
+        };
+        let mut results: Vec<Vec<u32>> = Vec::with_capacity(plan.cull_slots.len());
+        for set in &plan.cull_slots {
+            let ids = match set {
+                DrawSet::Visible | DrawSet::All => as_ids(strategy.cull(h, &view(draw_distance))),
+                DrawSet::VisibleToEye(e) => as_ids(eye(*e)),
+                DrawSet::NearField => as_ids(strategy.cull(
                     h,
                     &view(self.near_reach.expect("a near field is planned with MFFR")),
-                ),
-                DrawSet::FarField => h.cull(
+                )),
+                DrawSet::FarField => as_ids(h.cull(
                     far.expect("a far field is planned with MFFR"),
                     centre,
                     draw_distance,
-                ),
-            })
-            .collect();
+                )),
+                DrawSet::Fovea => as_ids(fovea_cull()),
+                DrawSet::FoveaTagged => {
+                    self.in_fovea.clear();
+                    self.in_fovea.resize(self.draw_of.len(), false);
+                    for id in as_ids(fovea_cull()) {
+                        self.in_fovea[id as usize] = true;
+                    }
+                    let periphery = match plan.culling {
+                        Some(_) => as_ids(strategy.cull(h, &view(draw_distance))),
+                        None => (0..self.draw_of.len() as u32).collect(),
+                    };
+                    periphery
+                        .into_iter()
+                        .map(|id| {
+                            if self.in_fovea[id as usize] {
+                                id | FOVEA_TAG
+                            } else {
+                                id
+                            }
+                        })
+                        .collect()
+                }
+            };
+            results.push(ids);
+        }
         self.ids.clear();
         for (set, result) in self.sets.iter_mut().zip(&results) {
             set.clear();
             self.buckets.iter_mut().for_each(Vec::clear);
-            for i in result.visible.indices() {
-                let id = h.ids[i as usize];
-                self.buckets[self.draw_of[id as usize] as usize].push(id);
+            for &id in result {
+                let instance = (id & !FOVEA_TAG) as usize;
+                self.buckets[self.draw_of[instance] as usize].push(id);
             }
             for (bucket, draw) in self.buckets.iter().zip(draws) {
                 if bucket.is_empty() {

@@ -31,7 +31,7 @@ impl FarComposite {
     pub fn new(gpu: &Gpu, far_image: &Image, counter: Option<&Buffer>) -> Result<Self, GpuError> {
         let bytes = std::mem::size_of::<FarCompositeBlock>() as u64;
         Ok(FarComposite {
-            set: SampledSet::new(gpu, far_image, bytes, 4, counter)?,
+            set: SampledSet::new(gpu, &[far_image], false, bytes, 4, counter)?,
         })
     }
 

@@ -2,11 +2,11 @@
 //! records, submits and measures frames.
 
 mod command_log;
-mod composition;
 mod counting;
 mod culling;
 mod masks;
 mod mffr;
+mod output;
 mod pipelines;
 mod probe;
 mod radial_density;

@@ -10,13 +10,14 @@ use crate::gpu::{
 };
 use crate::mffr::MffrVariant;
 use crate::plan::{
-    CompareOp, DrawSet, FramePlan, PassKind, StencilOp, StencilState, Step, Submission,
+    CompareOp, DrawSet, FramePlan, OutputSource, PassKind, StencilOp, StencilState, Step,
+    Submission,
 };
 use crate::scene::Vertex;
 use crate::shaders::{
-    ShaderBinary, COMPOSITE_FRAG, COMPOSITE_FRAG_COUNTING, COMPOSITE_VERT, COVERAGE_FRAG,
-    COVERAGE_VERT, FAR_COMPOSITE_FRAG, FAR_COMPOSITE_FRAG_COUNTING, MASK_FRAG, MASK_FRAG_COUNTING,
-    MASK_VERT, RADIAL_MASK_FRAG, RADIAL_MASK_FRAG_COUNTING, RECONSTRUCT_FRAG,
+    ShaderBinary, COMPOSITE_VERT, COVERAGE_FRAG, COVERAGE_VERT, FAR_COMPOSITE_FRAG,
+    FAR_COMPOSITE_FRAG_COUNTING, MASK_FRAG, MASK_FRAG_COUNTING, MASK_VERT, OUTPUT_FRAG,
+    OUTPUT_FRAG_COUNTING, RADIAL_MASK_FRAG, RADIAL_MASK_FRAG_COUNTING, RECONSTRUCT_FRAG,
     RECONSTRUCT_FRAG_COUNTING, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_VERT, SCENE_VERT_INDIRECT,
 };
 
@@ -215,9 +216,9 @@ pub(crate) enum PipelineKind {
     Mask,
     /// The coverage probe: a full-view triangle, stencil tested, counted, nothing written.
     Coverage,
-    /// Composition of a foveated frame: a full-view triangle sampling the views (single-sampled,
+    /// The output stage: a full-view triangle sampling what the frame rendered (single-sampled,
     /// no depth).
-    Composite,
+    Output,
     /// MFFR: a full-view triangle sampling the far image, under the pass's stencil.
     FarComposite,
     /// Radial density masking: a full-view triangle marking skipped quads in stencil.
@@ -235,7 +236,7 @@ impl PipelineKind {
             Step::FarComposite { .. } => PipelineKind::FarComposite,
             Step::Scene { .. } => PipelineKind::Scene,
             Step::Probe { .. } => PipelineKind::Coverage,
-            Step::Composite => PipelineKind::Composite,
+            Step::Output(_) => PipelineKind::Output,
             Step::RadialMask { .. } => PipelineKind::RadialMask,
             Step::Reconstruct => PipelineKind::Reconstruct,
         }
@@ -282,9 +283,9 @@ pub(crate) fn step_pipeline(
         ),
         PipelineKind::Mask => (&MASK_VERT, pick_frag(&MASK_FRAG, &MASK_FRAG_COUNTING)),
         PipelineKind::Coverage => (&COVERAGE_VERT, &COVERAGE_FRAG),
-        PipelineKind::Composite => (
+        PipelineKind::Output => (
             &COMPOSITE_VERT,
-            pick_frag(&COMPOSITE_FRAG, &COMPOSITE_FRAG_COUNTING),
+            pick_frag(&OUTPUT_FRAG, &OUTPUT_FRAG_COUNTING),
         ),
         PipelineKind::FarComposite => (
             &COMPOSITE_VERT,
@@ -302,8 +303,10 @@ pub(crate) fn step_pipeline(
     let (vert_binary, frag_binary) = (vert, frag);
     // Specialisation constants, by id: 0 where the view index comes from, 1 the guard band's
     // clip scale, 2 depth shift (the far composite), 3 depth into alpha (the far pass), 4 the
-    // step's first counter slot (counting frames), 10–21 radial density's view size, radii and
-    // lens ellipses (`shaders/radial_density.glsl`). Every stage gets the ones it declares.
+    // step's first counter slot (counting frames), 5 the pass's first view, 6 fovea tags (the
+    // one-pass fovea layout), 10–21 radial density's view size, radii and lens ellipses
+    // (`shaders/radial_density.glsl`), 30–32 the output stage's lens, source and fovea layer.
+    // Every stage gets the ones it declares.
     let far_pass = pass.kind == PassKind::FarField;
     let depth_shift = plan
         .mffr
@@ -314,7 +317,30 @@ pub(crate) fn step_pipeline(
         (2, (depth_shift as u32).to_le_bytes()),
         (3, (far_pass as u32).to_le_bytes()),
         (4, counter_base.unwrap_or(0).to_le_bytes()),
+        (5, pass.first_view.to_le_bytes()),
+        (
+            6,
+            (matches!(
+                step,
+                Step::Scene {
+                    draw_set: DrawSet::FoveaTagged,
+                    ..
+                }
+            ) as u32)
+                .to_le_bytes(),
+        ),
     ];
+    if let Step::Output(o) = step {
+        let fovea_layer = match o.source {
+            OutputSource::Foveated { fovea_layer } => fovea_layer,
+            _ => 0,
+        };
+        constants.extend([
+            (30, (o.lens as u32).to_le_bytes()),
+            (31, o.source.code().to_le_bytes()),
+            (32, fovea_layer.to_le_bytes()),
+        ]);
+    }
     if let Some(r) = &plan.radial_density {
         let values = [
             r.view.width as f32,
@@ -346,10 +372,12 @@ pub(crate) fn step_pipeline(
             .collect()
     };
     let (vert_ids, frag_ids): (&[u32], &[u32]) = match kind {
-        PipelineKind::Scene => (&[0, 1], &[3, 4]),
-        PipelineKind::FarComposite => (&[1], &[0, 2, 4]),
+        PipelineKind::Scene => (&[0, 1, 5, 6], &[3, 4]),
+        PipelineKind::Mask => (&[1, 5], &[4, 5]),
+        PipelineKind::Coverage => (&[1], &[4, 5]),
+        PipelineKind::FarComposite => (&[1], &[0, 2, 4, 5]),
+        PipelineKind::Output => (&[1], &[4, 30, 31, 32]),
         PipelineKind::RadialMask | PipelineKind::Reconstruct => (&[1], &radial_and_counter),
-        _ => (&[1], &[4]),
     };
     let (vert_entries, frag_entries) = (pick(vert_ids), pick(frag_ids));
     let vert_spec = vk::SpecializationInfo::default()
@@ -358,7 +386,7 @@ pub(crate) fn step_pipeline(
     let frag_spec = vk::SpecializationInfo::default()
         .map_entries(&frag_entries)
         .data(&spec_data);
-    let samples = if matches!(kind, PipelineKind::Composite | PipelineKind::Reconstruct) {
+    let samples = if matches!(kind, PipelineKind::Output | PipelineKind::Reconstruct) {
         1
     } else {
         plan.samples
@@ -460,7 +488,7 @@ pub(crate) fn step_pipeline(
         let writes_colour = matches!(
             kind,
             PipelineKind::Scene
-                | PipelineKind::Composite
+                | PipelineKind::Output
                 | PipelineKind::FarComposite
                 | PipelineKind::Reconstruct
         );

@@ -19,7 +19,7 @@ impl Reconstruction {
     pub fn new(gpu: &Gpu, views: &Image, counter: Option<&Buffer>) -> Result<Self, GpuError> {
         // The shader reads no uniforms: the smallest block the sampled set allows.
         Ok(Reconstruction {
-            set: SampledSet::new(gpu, views, 16, 0, counter)?,
+            set: SampledSet::new(gpu, &[views], false, 16, 0, counter)?,
         })
     }
 }

@@ -100,7 +100,7 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
                     super::stereo_scene::record_scene(plan, pass, area, draws.of(cull_slot), rec)
                 }
                 Step::Probe { .. } => super::probe::record_probe(pass, area, rec),
-                Step::Composite => super::composition::record_composition(pass, area, rec),
+                Step::Output(_) => super::output::record_output(pass, area, rec),
                 Step::RadialMask { .. } => {
                     super::radial_density::record_radial_mask(pass, area, rec)
                 }
@@ -272,8 +272,8 @@ impl Recorder for VulkanRecorder<'_> {
         let pipeline = &r.passes[pass].1[step];
         // The composites read their sampled sets; every other step the scene's bindings.
         let (layout, set) = match r.plan.passes[pass].steps[step] {
-            Step::Composite => {
-                let c = &r.composite.as_ref().expect("planned with foveation").set;
+            Step::Output(_) => {
+                let c = &r.output.as_ref().expect("planned with an output pass").set;
                 (c.layout.raw, c.set)
             }
             Step::FarComposite { .. } => {

@@ -4,9 +4,9 @@ use std::time::Instant;
 use ash::vk;
 use glam::{Mat4, Vec2, Vec4};
 
-use super::composition::Composite;
 use super::culling::FrameCulling;
 use super::mffr::FarComposite;
+use super::output::OutputStage;
 use super::pipelines::{step_pipeline, SceneBindings};
 use super::radial_density::Reconstruction;
 use super::record::{memory_barrier, record_frame, FrameDraws, VulkanRecorder};
@@ -21,8 +21,8 @@ use crate::gpu::{
 use crate::metrics::RgbaImage;
 use crate::mffr::FAR_VIEW_INDEX;
 use crate::plan::{
-    CountedStep, FramePlan, PassPlan, RenderConfig, Step, TargetLayout, COUNTER_SLOTS_PER_STEP,
-    MAX_VIEWS,
+    CountedStep, FramePlan, PassKind, PassPlan, RenderConfig, Step, TargetLayout,
+    COUNTER_SLOTS_PER_STEP, MAX_VIEWS,
 };
 use crate::scene::{Draw, Scene};
 use crate::view::{reverse_z_projection, Eye, FovTangents};
@@ -151,8 +151,8 @@ pub struct Renderer<'g> {
     // Passes (framebuffers, views) go before the images they view.
     /// Each pass compiled, with one pipeline per step of the plan's, in step order.
     pub(super) passes: Vec<(CompiledPass, Vec<Arc<Pipeline>>)>,
-    /// Composition of a foveated frame, when planned.
-    pub(super) composite: Option<Composite>,
+    /// The output stage (a foveated frame's composition, lens distortion), when planned.
+    pub(super) output: Option<OutputStage>,
     /// The MFFR far composite, when planned.
     pub(super) far_composite: Option<FarComposite>,
     /// Radial density reconstruction, when planned.
@@ -249,11 +249,16 @@ impl<'g> Renderer<'g> {
             instance_ids.as_ref(),
         )?;
         let images = create_images(gpu, plan)?;
-        let composite = plan
+        let output = plan
             .passes
             .iter()
-            .find(|p| p.steps.contains(&Step::Composite))
-            .map(|p| Composite::new(gpu, &images[p.samples[0]], counter.as_ref()))
+            .find(|p| p.kind == PassKind::Output)
+            .map(|p| {
+                // Two images always: the shader declares both (a one-image source twice).
+                let first = &images[p.samples[0]];
+                let second = &images[p.samples[p.samples.len() - 1]];
+                OutputStage::new(gpu, &[first, second], counter.as_ref())
+            })
             .transpose()?;
         let reconstruction = plan
             .passes
@@ -278,7 +283,7 @@ impl<'g> Renderer<'g> {
                 .iter()
                 .map(|step| {
                     let set = match step {
-                        Step::Composite => composite.as_ref().map(|c| &c.set),
+                        Step::Output(_) => output.as_ref().map(|c| &c.set),
                         Step::FarComposite { .. } => far_composite.as_ref().map(|f| &f.set),
                         Step::Reconstruct => reconstruction.as_ref().map(|r| &r.set),
                         _ => None,
@@ -308,7 +313,7 @@ impl<'g> Renderer<'g> {
             gpu,
             plan: plan.clone(),
             passes,
-            composite,
+            output,
             far_composite,
             reconstruction,
             culling: instance_ids
@@ -373,8 +378,8 @@ impl<'g> Renderer<'g> {
         if let Some(masks) = &mut self.masks {
             masks.write(&super::masks::stencil_shapes(plan, fovea.as_ref()));
         }
-        if let (Some(composite), Some(fovea)) = (&mut self.composite, &fovea) {
-            composite.update(plan, fovea);
+        if let Some(output) = &mut self.output {
+            output.update(plan, fovea.as_ref());
         }
         let mut light_dir = self.light_dir;
         let mut far_frustum = None;
@@ -403,6 +408,7 @@ impl<'g> Renderer<'g> {
                 world_from_head,
                 self.frames_rendered,
                 far_frustum.as_ref(),
+                fovea.as_ref(),
                 &self.scene.draws,
             );
             ids.write(&culling.ids);
@@ -606,7 +612,7 @@ impl<'g> Renderer<'g> {
                 data: data.to_vec(),
             });
         let mut next = || slices.next().expect("two eyes' worth of layers");
-        Ok(match self.plan.layout {
+        Ok(match self.plan.output_layout() {
             TargetLayout::Layered | TargetLayout::PerEye => StereoImage {
                 left: next(),
                 right: next(),

@@ -17,17 +17,19 @@ pub(crate) struct SampledSet {
     _pool: DescriptorPool,
     pub set: vk::DescriptorSet,
     _sampler: Sampler,
-    _view: ImageView,
+    _views: Vec<ImageView>,
     pub uniforms: Buffer,
 }
 
 impl SampledSet {
-    /// Binding 0: `image` (every layer: an array view when it has more than one); binding 1: a
-    /// uniform block of `uniform_bytes`; binding 2, in counting frames only, the fragment
-    /// counter; `push_bytes` of fragment push constants (0 for none).
+    /// Binding 0: `images[0]` (every layer: an array view when it has more than one, or when
+    /// `arrays` asks for one), binding 3: `images[1]` when there is a second; binding 1: a uniform block of `uniform_bytes`;
+    /// binding 2, in counting frames only, the fragment counter; `push_bytes` of fragment push
+    /// constants (0 for none).
     pub fn new(
         gpu: &Gpu,
-        image: &Image,
+        images: &[&Image],
+        arrays: bool,
         uniform_bytes: u64,
         push_bytes: u32,
         counter: Option<&Buffer>,
@@ -38,12 +40,16 @@ impl SampledSet {
             .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
             .descriptor_count(1)
             .stage_flags(vk::ShaderStageFlags::FRAGMENT);
-        let mut bindings = vec![
+        let image_binding = |binding| {
             vk::DescriptorSetLayoutBinding::default()
-                .binding(0)
+                .binding(binding)
                 .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
                 .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+                .stage_flags(vk::ShaderStageFlags::FRAGMENT)
+        };
+        let image_bindings = [0, 3];
+        let mut bindings = vec![
+            image_binding(0),
             vk::DescriptorSetLayoutBinding::default()
                 .binding(1)
                 .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
@@ -51,6 +57,11 @@ impl SampledSet {
                 .stage_flags(vk::ShaderStageFlags::FRAGMENT),
         ];
         bindings.extend(counter.map(|_| counter_binding));
+        bindings.extend(
+            image_bindings[1..images.len()]
+                .iter()
+                .map(|&b| image_binding(b)),
+        );
         // SAFETY: plain object creation; every handle is owned by the returned value.
         let set_layout = DescriptorSetLayout::from_raw(
             &gpu.dev,
@@ -102,7 +113,10 @@ impl SampledSet {
             &gpu.dev,
             unsafe { device.create_sampler(&sampler_info, None) }.vk("vkCreateSampler")?,
         );
-        let view = image.view(0, image.layers, image.layers > 1)?;
+        let views = images
+            .iter()
+            .map(|image| image.view(0, image.layers, arrays || image.layers > 1))
+            .collect::<Result<Vec<_>, _>>()?;
         let uniforms = Buffer::new(
             gpu,
             "sampled pass uniforms",
@@ -110,11 +124,16 @@ impl SampledSet {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
         )?;
-        let image_info = [vk::DescriptorImageInfo {
-            sampler: sampler.raw,
-            image_view: view.raw,
-            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        }];
+        let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = views
+            .iter()
+            .map(|view| {
+                [vk::DescriptorImageInfo {
+                    sampler: sampler.raw,
+                    image_view: view.raw,
+                    image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                }]
+            })
+            .collect();
         let buffer_info = [vk::DescriptorBufferInfo {
             buffer: uniforms.raw,
             offset: 0,
@@ -127,18 +146,24 @@ impl SampledSet {
                 range: vk::WHOLE_SIZE,
             }]
         });
-        let mut writes = vec![
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(0)
-                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                .image_info(&image_info),
+        let mut writes: Vec<vk::WriteDescriptorSet> = image_bindings
+            .iter()
+            .zip(&image_infos)
+            .map(|(&binding, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(binding)
+                    .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                    .image_info(info)
+            })
+            .collect();
+        writes.push(
             vk::WriteDescriptorSet::default()
                 .dst_set(set)
                 .dst_binding(1)
                 .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
                 .buffer_info(&buffer_info),
-        ];
+        );
         if let Some(info) = &counter_info {
             writes.push(
                 vk::WriteDescriptorSet::default()
@@ -172,7 +197,7 @@ impl SampledSet {
             _pool: pool,
             set,
             _sampler: sampler,
-            _view: view,
+            _views: views,
             uniforms,
         })
     }

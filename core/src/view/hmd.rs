@@ -1,4 +1,4 @@
-use super::{EyeParams, FovTangents, LensRegion};
+use super::{EyeParams, FovTangents, LensRegion, RadialDistortion};
 
 /// A headset model: its per-eye panel resolution and its eyes' field of view.
 ///
@@ -19,7 +19,18 @@ pub struct HmdProfile {
     /// Fraction of each eye's image hidden by the lens (the hidden-area mesh's area), where
     /// published; `None` treats the whole image as visible.
     pub hidden_area_fraction: Option<f32>,
+    /// The lens's radial distortion, which the output stage counters.
+    pub distortion: RadialDistortion,
 }
+
+/// The lens model every profile uses. Valve, HTC and Meta publish no distortion coefficients
+/// (their runtimes read per-unit factory calibration), so each profile takes the published
+/// coefficients of a lens of the same kind, a single-element pincushion magnifier: Google
+/// Cardboard's 2015 viewer (Cardboard SDK viewer profile "Cardboard I/O 2015": k1 = 0.34,
+/// k2 = 0.55, tangent units). The display's extent is then solved per headset so that its edges
+/// show exactly the rendered field (`RadialDistortion::display_fov`). Distorted output is
+/// therefore representative of a VR lens, not these headsets' exact images.
+pub const CARDBOARD_2015_LENS: RadialDistortion = RadialDistortion { k1: 0.34, k2: 0.55 };
 
 pub const DEFAULT_IPD_M: f32 = 0.064;
 
@@ -44,6 +55,7 @@ pub const HMD_PROFILES: &[HmdProfile] = &[
         cant_rad: 0.0,
         // No recorded hidden-area mesh area in the sources we have.
         hidden_area_fraction: None,
+        distortion: CARDBOARD_2015_LENS,
     },
     // HTC Vive: 1080×1200 OLED per eye (HTC specification). Tangents: OpenVR raw LRBT of the
     // left eye as recorded by hmdq (hmdgdb, "HTC Vive (90Hz)"): −1.397283, 1.250510,
@@ -61,6 +73,7 @@ pub const HMD_PROFILES: &[HmdProfile] = &[
         cant_rad: 0.0,
         // hmdq: "Left eye HAM mesh ... mesh area: 19.10 %".
         hidden_area_fraction: Some(0.1910),
+        distortion: CARDBOARD_2015_LENS,
     },
     // Oculus Rift CV1: 1080×1200 OLED per eye (Oculus specification). Tangents: Oculus runtime
     // default FOV of the left eye as recorded by hmdq (hmdgdb, "Oculus Rift CV1 (90Hz)"):
@@ -79,6 +92,7 @@ pub const HMD_PROFILES: &[HmdProfile] = &[
         cant_rad: 0.0,
         // hmdq: "mesh area: 14.07 %".
         hidden_area_fraction: Some(0.1407),
+        distortion: CARDBOARD_2015_LENS,
     },
     // Meta Quest 2: 1832×1920 LCD per eye (Meta specification). Tangents: Oculus runtime default
     // FOV of the left eye as recorded by hmdq (hmdgdb, "Oculus Quest 2 (72Hz)"): left 1.279942
@@ -96,6 +110,7 @@ pub const HMD_PROFILES: &[HmdProfile] = &[
         cant_rad: 0.0,
         // hmdq: "mesh area: 9.13 %".
         hidden_area_fraction: Some(0.0913),
+        distortion: CARDBOARD_2015_LENS,
     },
 ];
 

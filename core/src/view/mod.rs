@@ -5,11 +5,13 @@
 //! near plane maps to depth 1 and the far plane to 0, so depth precision is spent far away
 //! where f32 needs it; the depth test is `GREATER` and depth clears to 0.
 
+mod distortion;
 mod hmd;
 mod lens;
 mod projection;
 
-pub use hmd::{HmdProfile, DEFAULT_IPD_M, HMD_PROFILES};
+pub use distortion::RadialDistortion;
+pub use hmd::{HmdProfile, CARDBOARD_2015_LENS, DEFAULT_IPD_M, HMD_PROFILES};
 pub use lens::LensRegion;
 pub use projection::reverse_z_projection;
 

@@ -73,6 +73,11 @@ pub struct DriverQuirks {
     /// viewport edge or the eye plane). The planner works around it with an emulated guard
     /// band; the test `lavapipe_multiview_clipping_quirk_is_real` measures the bug itself.
     pub multiview_clipping_drops_views: bool,
+    /// A multiview pass runs its views one after another, vertex work included (lavapipe: a
+    /// CPU rasteriser replays the draws per view). Splitting a 4-view pass into two 2-view
+    /// passes then adds no per-view work, and each pass can skip what its views do not see;
+    /// the planner's `auto` fovea layout reads it.
+    pub multiview_runs_views_serially: bool,
 }
 
 impl DriverQuirks {
@@ -83,6 +88,7 @@ impl DriverQuirks {
         Self {
             layered_resolve_ignores_base_layer: lavapipe,
             multiview_clipping_drops_views: lavapipe,
+            multiview_runs_views_serially: lavapipe,
         }
     }
 }

@@ -1,0 +1,76 @@
+//! The output stage: every frame's last pass when it has one, writing what the display shows
+//! from what the frame rendered. A foveated frame's composition happens in it (the fovea over
+//! the bilinearly upscaled periphery, smoothstep across the band); for the lens it pre-distorts
+//! each eye. Like a VR compositor's pass, it costs one full-view pass however much it does.
+
+use super::derive::Access;
+use super::model::*;
+use super::steps::{OutputSource, OutputStep, Step};
+use super::Resolution;
+
+/// The output pass: each eye at `eye` size, from `sources` (in eye order; the periphery, then
+/// the fovea views of a two-pass foveated frame) as `source` says.
+pub(super) fn output_pass(
+    sources: Vec<AttachmentId>,
+    source: OutputSource,
+    lens: bool,
+    eye: Resolution,
+    attachments: &mut Vec<AttachmentPlan>,
+) -> PassPlan {
+    let name = match (source, lens) {
+        (OutputSource::Foveated { .. }, true) => "output (fovea over periphery, lens-distorted)",
+        (OutputSource::Foveated { .. }, false) => "output (fovea over periphery)",
+        (_, true) => "output (lens-distorted)",
+        (_, false) => "output",
+    };
+    sampling_pass(
+        sources,
+        eye,
+        attachments,
+        name,
+        PassKind::Output,
+        Step::Output(OutputStep { lens, source }),
+    )
+}
+
+/// A full-view pass per eye (multiview) that samples `sources` — which are then stored for it,
+/// not read after the frame — and writes the frame's image at `eye` size: the output stage,
+/// radial density reconstruction.
+pub(super) fn sampling_pass(
+    sources: Vec<AttachmentId>,
+    eye: Resolution,
+    attachments: &mut Vec<AttachmentPlan>,
+    name: &'static str,
+    kind: PassKind,
+    step: Step,
+) -> PassPlan {
+    for &s in &sources {
+        attachments[s].read_after_frame = false;
+    }
+    attachments.push(AttachmentPlan {
+        name: "stereo colour",
+        role: AttachmentRole::Color,
+        format: Format::Rgba8Srgb,
+        samples: 1,
+        width: eye.width,
+        height: eye.height,
+        layers: 2,
+        read_after_frame: true,
+        sampled: false,
+        transient: false,
+    });
+    PassPlan {
+        name,
+        kind,
+        view_mask: 0b11,
+        color: Use::new(attachments.len() - 1, 0, 2, Access::Overwrite),
+        depth: None,
+        resolve: None,
+        samples: sources,
+        submission: Submission::Multiview,
+        steps: vec![step],
+        depth_clamp: false,
+        guard_band: 1,
+        first_view: 0,
+    }
+}

@@ -1,0 +1,97 @@
+#version 450
+#extension GL_EXT_multiview : require
+
+// The output stage, per eye (gl_ViewIndex): what the display shows. For the lens, each display
+// pixel is first undistorted — the direction the eye sees it in through the lens, a radial
+// polynomial in tangent units — then fetched from what the frame rendered. A foveated frame's
+// composition happens here too: the periphery view upscaled bilinearly and the fovea view
+// over it inside the fovea circle, blended with smoothstep across the band at the circle's
+// edge (seed 001 §3.3, §3.6.1).
+
+// Where each eye's image is (plan::OutputSource): 0 layer `eye` of `images`; 1 both eyes side
+// by side in `images`; 2 `images` for the left eye, `second` for the right; 3 foveated: the
+// periphery is layer `eye` of `images`, the fovea layer FOVEA_LAYER + eye of `second`.
+layout(constant_id = 30) const bool LENS = false;
+layout(constant_id = 31) const uint SOURCE = 0;
+layout(constant_id = 32) const uint FOVEA_LAYER = 2;
+
+layout(set = 0, binding = 0) uniform sampler2DArray images;
+layout(set = 0, binding = 3) uniform sampler2DArray second;
+
+#ifdef COUNT_FRAGMENTS
+layout(early_fragment_tests) in;
+#include "counter.glsl"
+#endif
+
+layout(std140, set = 0, binding = 1) uniform Output {
+    vec4 periphery[2]; // the rendered field: tangents left, right, up, down per eye
+    vec4 fovea[2];     // the fovea views' tangents
+    vec4 display[2];   // the display's field as the lens model places it (LENS)
+    vec4 params;       // fovea diameter (screen px), band (px), debug tint (0/1), unused
+    vec4 screen;       // width, height (px); lens k1, k2
+} c;
+
+layout(location = 0) in vec2 in_uv;
+layout(location = 0) out vec4 out_color;
+
+vec3 eye_image(uint eye, vec2 uv) {
+    if (SOURCE == 1u) {
+        // Keep the bilinear footprint inside this eye's half.
+        float half_texel = 0.5 / float(textureSize(images, 0).x / 2);
+        uv.x = (clamp(uv.x, half_texel, 1.0 - half_texel) + float(eye)) * 0.5;
+        return texture(images, vec3(uv, 0.0)).rgb;
+    }
+    if (SOURCE == 2u && eye == 1u) {
+        return texture(second, vec3(uv, 0.0)).rgb;
+    }
+    return texture(images, vec3(uv, SOURCE == 2u ? 0.0 : float(eye))).rgb;
+}
+
+void main() {
+    uint eye = gl_ViewIndex;
+    vec4 p = c.periphery[eye];
+    vec2 uv = in_uv;
+    // This pixel's direction in the rendered field, as tangents (x right, y up).
+    vec2 t;
+    if (LENS) {
+        vec4 d = c.display[eye];
+        vec2 td = vec2(-d.x + in_uv.x * (d.x + d.y), d.z - in_uv.y * (d.z + d.w));
+        float r2 = dot(td, td);
+        t = td * (1.0 + r2 * (c.screen.z + c.screen.w * r2));
+        uv = vec2((t.x + p.x) / (p.x + p.y), (p.z - t.y) / (p.z + p.w));
+    } else {
+        t = vec2(-p.x + in_uv.x * (p.x + p.y), p.z - in_uv.y * (p.z + p.w));
+    }
+
+    vec3 color = vec3(0.0);
+    if (LENS && (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))))) {
+        // Seen through the lens beyond what was rendered: black, as on a headset.
+    } else if (SOURCE != 3u) {
+        color = eye_image(eye, uv);
+    } else {
+        vec4 f = c.fovea[eye];
+        vec2 fovea_uv = vec2((t.x + f.x) / (f.x + f.y), (f.z - t.y) / (f.z + f.w));
+        vec2 fovea_centre = vec2((f.y - f.x) * 0.5, (f.z - f.w) * 0.5);
+        vec2 px_per_tangent = c.screen.xy / vec2(p.x + p.y, p.z + p.w);
+        float dist = length((t - fovea_centre) * px_per_tangent);
+        float radius = c.params.x * 0.5;
+        float band = c.params.y;
+        // 1 in the fovea, 0 in the periphery, smooth across the band.
+        float w = band > 0.0 ? 1.0 - smoothstep(radius - band, radius, dist) : float(dist < radius);
+        // Fetch only what contributes: most pixels are periphery only, a few fovea only.
+        if (w < 1.0) {
+            color += (1.0 - w) * texture(images, vec3(uv, float(eye))).rgb;
+        }
+        if (w > 0.0) {
+            color += w * texture(second, vec3(fovea_uv, float(FOVEA_LAYER + eye))).rgb;
+        }
+        if (c.params.z > 0.5) {
+            vec3 tint = w >= 1.0 ? vec3(0.2, 1.0, 0.2) : (w > 0.0 ? vec3(1.0, 0.9, 0.1) : vec3(0.2, 0.4, 1.0));
+            color = mix(color, tint, 0.35);
+        }
+    }
+    out_color = vec4(color, 1.0);
+#ifdef COUNT_FRAGMENTS
+    count_fragment(eye);
+#endif
+}
