@@ -4,10 +4,12 @@
 use foveate::foveation::{fovea_centre_px, fovea_views};
 use foveate::foveation::{FoveationConfig, PixelBudget};
 use foveate::metrics::RgbaImage;
-use foveate::plan::{CountedStep, RenderConfig, Resolution, StereoMode};
+use foveate::plan::{
+    CountedStep, FoveaLayout, FramePlan, OutputStage, RenderConfig, Resolution, StereoMode,
+};
 use foveate::render::{Renderer, StereoImage};
 use foveate::scene::{default_scene, Scene};
-use foveate::view::Eye;
+use foveate::view::{Eye, FovTangents};
 use foveate_tests::{gpu, render_plan};
 use glam::Vec2;
 
@@ -138,11 +140,58 @@ fn default_scene_renders_foveated_with_a_moving_gaze() {
 }
 
 /// Where the composite blends, for one foveated frame: each eye's fovea centre in screen
-/// pixels, the fovea's radius and the band's width.
+/// pixels, the fovea's radius and the band's width; through the lens, where each display pixel
+/// looks.
 struct Blend {
     centres: [Vec2; 2],
     radius: f32,
     band: f32,
+    lens: Option<LensOracle>,
+}
+
+/// The lens model evaluated independently of the shader, in f64: where the eye sees a display
+/// pixel, in pixels of the undistorted eye image.
+struct LensOracle {
+    display: [FovTangents; 2],
+    fov: [FovTangents; 2],
+    k1: f64,
+    k2: f64,
+    screen: (u32, u32),
+}
+
+impl LensOracle {
+    fn of(plan: &FramePlan) -> Option<LensOracle> {
+        plan.lens.map(|l| LensOracle {
+            display: l.display,
+            fov: Eye::BOTH.map(|e| plan.eyes.fov(e)),
+            k1: l.distortion.k1 as f64,
+            k2: l.distortion.k2 as f64,
+            screen: (plan.eye_resolution.width, plan.eye_resolution.height),
+        })
+    }
+
+    /// Display pixel (x, y)'s centre seen through the lens, in undistorted image pixels; `None`
+    /// beyond the rendered field.
+    fn render_px(&self, eye: Eye, x: f64, y: f64) -> Option<(f64, f64)> {
+        let (w, h) = (self.screen.0 as f64, self.screen.1 as f64);
+        let (px, py) = self.image_point(eye, x, y);
+        ((0.0..=w).contains(&px) && (0.0..=h).contains(&py)).then_some((px, py))
+    }
+
+    /// Display pixel (x, y)'s centre seen through the lens, in undistorted image pixels.
+    fn image_point(&self, eye: Eye, x: f64, y: f64) -> (f64, f64) {
+        let (w, h) = (self.screen.0 as f64, self.screen.1 as f64);
+        let d = self.display[eye.index()];
+        let p = self.fov[eye.index()];
+        let (dl, dr, du, dd) = (d.left as f64, d.right as f64, d.up as f64, d.down as f64);
+        let (pl, pr, pu, pd) = (p.left as f64, p.right as f64, p.up as f64, p.down as f64);
+        let (u, v) = ((x + 0.5) / w, (y + 0.5) / h);
+        let (dx, dy) = (-dl + u * (dl + dr), du - v * (du + dd));
+        let r2 = dx * dx + dy * dy;
+        let k = 1.0 + r2 * (self.k1 + self.k2 * r2);
+        let (tx, ty) = (dx * k, dy * k);
+        ((tx + pl) / (pl + pr) * w, (pu - ty) / (pu + pd) * h)
+    }
 }
 
 impl Blend {
@@ -155,11 +204,21 @@ impl Blend {
             centres: Eye::BOTH.map(|e| fovea_centre_px(plan.eyes.fov(e), fovea[e.index()], screen)),
             radius: g.fovea_screen_px / 2.0,
             band: g.blend_band_px,
+            lens: LensOracle::of(&plan),
         }
     }
 
+    /// How far from the fovea's centre the image point a display pixel shows lies (infinitely
+    /// far beyond the rendered field).
     fn distance(&self, eye: Eye, x: u32, y: u32) -> f32 {
-        Vec2::new(x as f32 + 0.5, y as f32 + 0.5).distance(self.centres[eye.index()])
+        let p = match &self.lens {
+            Some(lens) => match lens.render_px(eye, x as f64, y as f64) {
+                Some((px, py)) => Vec2::new(px as f32, py as f32),
+                None => return f32::INFINITY,
+            },
+            None => Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
+        };
+        p.distance(self.centres[eye.index()])
     }
 
     /// The fovea's weight at distance `d`, as the composite computes it.
@@ -279,6 +338,26 @@ fn the_fovea_is_the_full_resolution_reference() {
     }
 }
 
+/// An 8-bit sRGB level in linear light.
+fn linear(v: u8) -> f64 {
+    let c = v as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Linear light as an sRGB level (0–255, unrounded).
+fn encode(l: f64) -> f64 {
+    let c = if l <= 0.0031308 {
+        12.92 * l
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    };
+    c * 255.0
+}
+
 /// Fraction of band pixels (both eyes, every row crossing the band) whose composed colour is
 /// more than three levels from the blend the model predicts: the fovea (the reference) over
 /// the periphery with the smoothstep weight at that pixel's distance, mixed in linear light.
@@ -288,22 +367,6 @@ fn band_mismatch(
     periphery: &StereoImage,
     blend: &Blend,
 ) -> f64 {
-    let linear = |v: u8| {
-        let c = v as f64 / 255.0;
-        if c <= 0.04045 {
-            c / 12.92
-        } else {
-            ((c + 0.055) / 1.055).powf(2.4)
-        }
-    };
-    let encode = |l: f64| {
-        let c = if l <= 0.0031308 {
-            12.92 * l
-        } else {
-            1.055 * l.powf(1.0 / 2.4) - 0.055
-        };
-        c * 255.0
-    };
     let (mut off, mut n) = (0u64, 0u64);
     for eye in Eye::BOTH {
         let (c, r, p) = (composed.eye(eye), reference.eye(eye), periphery.eye(eye));
@@ -380,5 +443,263 @@ fn the_band_blends_as_the_model_says() {
         "negative controls pass: hard cut {:.2} %, misplaced band {:.2} %",
         100.0 * cut,
         100.0 * moved
+    );
+}
+
+fn through_the_lens(config: RenderConfig) -> RenderConfig {
+    RenderConfig {
+        output: OutputStage::Lens,
+        ..config
+    }
+}
+
+/// Through the output stage's lens the fovea is still the full-resolution reference (seen
+/// through the same lens), in both fovea layouts: the display pixels whose image point lies
+/// inside the fovea (band excluded), found by the f64 lens oracle. Negative control: the
+/// reference one pixel off fails.
+#[test]
+fn the_fovea_is_the_full_resolution_reference_through_the_lens() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let screen = 256;
+    let reference_config = through_the_lens(RenderConfig {
+        resolution: Some(Resolution::square(screen)),
+        msaa: 4,
+        ..RenderConfig::default()
+    });
+    let (reference, _) = foveate_tests::render(&gpu, &scene, &reference_config);
+    let gaze = Vec2::new(0.3, -0.25);
+    for fovea_layout in [FoveaLayout::OnePass, FoveaLayout::TwoPass] {
+        let config = RenderConfig {
+            fovea_layout,
+            ..through_the_lens(foveated_frame(screen, 0.35, 8.0))
+        };
+        let image = render_at(&gpu, &scene, &config, gaze);
+        let blend = Blend::of(&gpu, &config, gaze);
+        assert!(blend.lens.is_some());
+        let (psnr, off) = fovea_identity(&reference, &image, &blend);
+        assert!(
+            psnr >= 55.0 && off <= 0.001,
+            "{fovea_layout}: fovea PSNR {psnr:.1} dB, {:.3} % of pixels > 2 levels off",
+            100.0 * off
+        );
+        let (psnr, off) = fovea_identity(&shifted_one_pixel(&reference), &image, &blend);
+        assert!(
+            psnr < 55.0 && off > 0.001,
+            "negative control passes ({psnr:.1} dB, {:.3} %)",
+            100.0 * off
+        );
+    }
+}
+
+/// Through the lens the band still blends as the smoothstep model says, at each display
+/// pixel's image point. Negative control: a hard cut fails.
+#[test]
+fn the_band_blends_as_the_model_says_through_the_lens() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let screen = 256;
+    let (reference, _) = foveate_tests::render(
+        &gpu,
+        &scene,
+        &through_the_lens(RenderConfig {
+            resolution: Some(Resolution::square(screen)),
+            msaa: 4,
+            ..RenderConfig::default()
+        }),
+    );
+    let gaze = Vec2::new(0.3, -0.25);
+    let config = through_the_lens(foveated_frame(screen, 0.35, 12.0));
+    let blend = Blend::of(&gpu, &config, gaze);
+    let periphery_only = RenderConfig {
+        foveation: config.foveation.map(|f| FoveationConfig {
+            stencil: false,
+            ..f
+        }),
+        ..config.clone()
+    };
+    let periphery = render_at(&gpu, &scene, &periphery_only, Vec2::new(-1.0, 1.0));
+    let composed = render_at(&gpu, &scene, &config, gaze);
+    let mismatch = band_mismatch(&composed, &reference, &periphery, &blend);
+    assert!(
+        mismatch <= 0.005,
+        "{:.2} % of band pixels off the model",
+        100.0 * mismatch
+    );
+    let hard_cut = render_at(
+        &gpu,
+        &scene,
+        &through_the_lens(foveated_frame(screen, 0.35, 0.0)),
+        gaze,
+    );
+    let cut = band_mismatch(&hard_cut, &reference, &periphery, &blend);
+    assert!(
+        cut > 0.005,
+        "negative control passes: hard cut {:.2} %",
+        100.0 * cut
+    );
+}
+
+/// Fraction of display pixels (both eyes) more than three levels from the undistorted image
+/// sampled bilinearly (in linear light) where `oracle` says the eye sees them, or not black
+/// beyond the rendered field.
+fn lens_mismatch(lens: &StereoImage, undistorted: &StereoImage, oracle: &LensOracle) -> f64 {
+    let (mut off, mut n) = (0u64, 0u64);
+    for eye in Eye::BOTH {
+        let (out, src) = (lens.eye(eye), undistorted.eye(eye));
+        let texel = |x: i64, y: i64, c: usize| {
+            let x = x.clamp(0, src.width as i64 - 1) as u32;
+            let y = y.clamp(0, src.height as i64 - 1) as u32;
+            linear(src.pixel(x, y)[c])
+        };
+        for y in 0..out.height {
+            for x in 0..out.width {
+                let p = out.pixel(x, y);
+                n += 1;
+                let expected: [f64; 3] = match oracle.render_px(eye, x as f64, y as f64) {
+                    None => [0.0; 3],
+                    Some((px, py)) => {
+                        let (sx, sy) = (px - 0.5, py - 0.5);
+                        let (x0, y0) = (sx.floor(), sy.floor());
+                        let (fx, fy) = (sx - x0, sy - y0);
+                        let (x0, y0) = (x0 as i64, y0 as i64);
+                        std::array::from_fn(|c| {
+                            let top = texel(x0, y0, c) * (1.0 - fx) + texel(x0 + 1, y0, c) * fx;
+                            let bottom =
+                                texel(x0, y0 + 1, c) * (1.0 - fx) + texel(x0 + 1, y0 + 1, c) * fx;
+                            encode(top * (1.0 - fy) + bottom * fy)
+                        })
+                    }
+                };
+                off += (0..3).any(|c| (p[c] as f64 - expected[c]).abs() > 3.0) as u64;
+            }
+        }
+    }
+    off as f64 / n as f64
+}
+
+/// The output stage distorts as the lens model says: every display pixel of the lens output is
+/// the undistorted frame sampled where an independent f64 evaluation of the radial polynomial
+/// puts it (black beyond the field), to three levels on 99 % of pixels. Negative controls: the
+/// oracle with k1 10 % larger, or without distortion, fails.
+#[test]
+fn the_lens_distorts_as_the_model_says() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let base = RenderConfig {
+        resolution: Some(Resolution::square(128)),
+        msaa: 4,
+        ..RenderConfig::default()
+    };
+    let (undistorted, _) = foveate_tests::render(&gpu, &scene, &base);
+    let lens_config = through_the_lens(base);
+    let (lens, _) = foveate_tests::render(&gpu, &scene, &lens_config);
+    let plan = foveate::plan(&scene, &lens_config, gpu.caps()).unwrap();
+    let oracle = LensOracle::of(&plan).expect("planned for the lens");
+    // On the lens axis's row the display's edges show the rendered field's edges, by the
+    // oracle's own polynomial (a check of the solved display field).
+    for eye in Eye::BOTH {
+        let (w, h) = (
+            plan.eye_resolution.width as f64,
+            plan.eye_resolution.height as f64,
+        );
+        let d = oracle.display[eye.index()];
+        let axis_row = d.up as f64 / (d.up + d.down) as f64 * h - 0.5;
+        let (left, _) = oracle.image_point(eye, -0.5, axis_row);
+        let (right, _) = oracle.image_point(eye, w - 0.5, axis_row);
+        assert!(
+            left.abs() < 1e-3 && (right - w).abs() < 1e-3,
+            "{left}, {right}"
+        );
+    }
+    let mismatch = lens_mismatch(&lens, &undistorted, &oracle);
+    assert!(
+        mismatch <= 0.01,
+        "{:.2} % of display pixels off the model",
+        100.0 * mismatch
+    );
+    for (what, k1, k2) in [
+        ("k1 10 % larger", oracle.k1 * 1.1, oracle.k2),
+        ("no distortion", 0.0, 0.0),
+    ] {
+        let wrong = LensOracle {
+            k1,
+            k2,
+            ..oracle_copy(&oracle)
+        };
+        let m = lens_mismatch(&lens, &undistorted, &wrong);
+        assert!(
+            m > 0.05,
+            "negative control ({what}) passes: {:.2} %",
+            100.0 * m
+        );
+    }
+}
+
+fn oracle_copy(o: &LensOracle) -> LensOracle {
+    LensOracle {
+        display: o.display,
+        fov: o.fov,
+        k1: o.k1,
+        k2: o.k2,
+        screen: o.screen,
+    }
+}
+
+/// The fovea views draw only what their superfrustum keeps, and no pixel changes: in each
+/// layout the fovea-culled frame equals the unculled one, and the two layouts give the same
+/// image. The culled frames draw fewer instances (the cull does cull). Mutation: the
+/// superfrustum built from one eye's fovea only drops the other fovea's instances and fails.
+#[test]
+fn fovea_culling_changes_no_pixel_in_either_layout() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let gaze = Vec2::new(0.35, -0.2);
+    let frame = |fovea_layout, cull_fovea| {
+        let config = RenderConfig {
+            fovea_layout,
+            foveation: Some(FoveationConfig {
+                ratio: 0.35,
+                cull_fovea,
+                ..Default::default()
+            }),
+            ..foveated_frame(128, 0.35, 4.0)
+        };
+        let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
+        let mut renderer = Renderer::new(&gpu, &plan, &scene).unwrap();
+        renderer.set_gaze([gaze; 2]);
+        let stats = renderer.render_frame(scene.head).unwrap();
+        let image = renderer.readback().unwrap();
+        drop(renderer);
+        foveate_tests::assert_validation_clean(&gpu);
+        (image, stats)
+    };
+    let (two_pass, culled_stats) = frame(FoveaLayout::TwoPass, true);
+    let (two_pass_all, all_stats) = frame(FoveaLayout::TwoPass, false);
+    assert_eq!(
+        culled_stats.instances_drawn.len(),
+        2,
+        "periphery and fovea passes"
+    );
+    assert!(
+        culled_stats.instances_drawn[1] < all_stats.instances_drawn[1],
+        "the fovea pass draws fewer instances: {:?} vs {:?}",
+        culled_stats.instances_drawn,
+        all_stats.instances_drawn
+    );
+    assert!(
+        two_pass == two_pass_all,
+        "two-pass: fovea culling changed pixels"
+    );
+    let (one_pass, _) = frame(FoveaLayout::OnePass, true);
+    let (one_pass_all, _) = frame(FoveaLayout::OnePass, false);
+    assert!(
+        one_pass == one_pass_all,
+        "one-pass: fovea culling changed pixels"
+    );
+    let diff = one_pass.left.psnr(&two_pass.left).unwrap();
+    assert!(
+        one_pass == two_pass,
+        "the layouts differ (left eye PSNR {diff:.1} dB)"
     );
 }

@@ -959,3 +959,127 @@ fn radial_density_masks_then_reconstructs() {
 fn plan_err(config: &RenderConfig) -> ConfigError {
     plan(&default_scene(), config, &caps()).unwrap_err()
 }
+
+/// The output stage for the lens ends every frame, whatever the stereo mode, sampling the eye
+/// images where the scene passes left them; undistorted, a plain stereo frame has no output
+/// pass and nothing samples its image. Mutation: a lens plan without the output pass, or an
+/// undistorted one with it, fails.
+#[test]
+fn the_lens_output_pass_ends_every_frame_and_only_when_asked() {
+    for stereo in StereoMode::ALL {
+        let plain = planned(&config(stereo, 4));
+        assert!(plain.passes.iter().all(|p| p.kind != PassKind::Output));
+        assert!(plain.lens.is_none());
+        let lens = planned(&RenderConfig {
+            output: OutputStage::Lens,
+            ..config(stereo, 4)
+        });
+        assert_eq!(lens.passes.len(), plain.passes.len() + 1, "{stereo}");
+        let out = lens.passes.last().unwrap();
+        let Step::Output(step) = out.steps[0] else {
+            panic!("{stereo}: the last pass is the output stage");
+        };
+        assert!(step.lens);
+        let expected = match plain.layout {
+            TargetLayout::Layered => OutputSource::Layered,
+            TargetLayout::PerEye => OutputSource::PerEye,
+            TargetLayout::SideBySide => OutputSource::SideBySide,
+        };
+        assert_eq!(step.source, expected, "{stereo}");
+        assert_eq!(
+            out.samples,
+            plain.outputs(),
+            "{stereo}: samples the eye images"
+        );
+        assert_eq!(lens.output_layout(), TargetLayout::Layered);
+        assert!(lens.lens.is_some());
+    }
+}
+
+/// The two-pass fovea layout: a 2-view periphery pass and a 2-view fovea pass (views 2 and 3)
+/// drawing the fovea's own culled set, into their own images, both sampled by the output
+/// pass; one pass with tagged instances otherwise. Fovea culling off, the fovea draws what the
+/// periphery draws. Mutation: the fovea pass with first view 0 (it would render the periphery's
+/// views) or drawing every instance fails it.
+#[test]
+fn the_fovea_layouts_plan_their_passes_and_draw_sets() {
+    let two = planned(&RenderConfig {
+        fovea_layout: FoveaLayout::TwoPass,
+        ..foveated(true)
+    });
+    let kinds: Vec<(PassKind, u32, u32)> = two
+        .passes
+        .iter()
+        .map(|p| (p.kind, p.view_mask, p.first_view))
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            (PassKind::Scene, 0b11, 0),
+            (PassKind::Scene, 0b11, 2),
+            (PassKind::Output, 0b11, 0)
+        ]
+    );
+    assert_eq!(two.passes[0].draw_set(), Some(DrawSet::All));
+    assert_eq!(two.passes[1].draw_set(), Some(DrawSet::Fovea));
+    assert_eq!(two.cull_slots, [DrawSet::Fovea]);
+    let images = [
+        two.passes[0].resolve.unwrap().attachment,
+        two.passes[1].resolve.unwrap().attachment,
+    ];
+    assert_ne!(images[0], images[1]);
+    assert_eq!(two.passes[2].samples, images);
+    assert_eq!(
+        two.passes[2].steps[0],
+        Step::Output(OutputStep {
+            lens: false,
+            source: OutputSource::Foveated { fovea_layer: 0 }
+        })
+    );
+    let one = planned(&foveated(true));
+    assert_eq!(one.passes[0].draw_set(), Some(DrawSet::FoveaTagged));
+    let unculled = planned(&RenderConfig {
+        foveation: foveated(true)
+            .foveation
+            .map(|f| crate::foveation::FoveationConfig {
+                cull_fovea: false,
+                ..f
+            }),
+        fovea_layout: FoveaLayout::TwoPass,
+        ..foveated(true)
+    });
+    assert_eq!(unculled.passes[1].draw_set(), Some(DrawSet::All));
+    assert!(unculled.cull_slots.is_empty());
+}
+
+/// `auto` picks the layout from the driver's quirks and the scene, and says why: two passes
+/// where multiview views run one after another or the scene's triangles outnumber a view's
+/// pixels, one pass otherwise; as asked when asked.
+#[test]
+fn auto_fovea_layout_follows_quirks_and_geometry() {
+    let auto = RenderConfig {
+        fovea_layout: FoveaLayout::Auto,
+        ..foveated(true)
+    };
+    let choice = |scene: &crate::scene::Scene, caps: &DeviceCaps| {
+        plan(scene, &auto, caps).unwrap().fovea_layout.unwrap()
+    };
+    let mut serial = caps();
+    serial.quirks.multiview_runs_views_serially = true;
+    let c = choice(&default_scene(), &serial);
+    assert_eq!(c.layout, FoveaLayout::TwoPass);
+    assert!(c.reason.contains("one after another"), "{}", c.reason);
+    let small = crate::scene::fill_scene();
+    assert!(small.triangle_count() < 256 * 256);
+    let c = choice(&small, &caps());
+    assert_eq!(c.layout, FoveaLayout::OnePass);
+    assert!(c.reason.contains("fragment-bound"), "{}", c.reason);
+    let heavy = default_scene();
+    assert!(heavy.triangle_count() > 256 * 256);
+    assert_eq!(choice(&heavy, &caps()).layout, FoveaLayout::TwoPass);
+    let asked = planned(&foveated(true)).fovea_layout.unwrap();
+    assert_eq!(
+        (asked.layout, asked.reason.as_str()),
+        (FoveaLayout::OnePass, "asked for (one-pass)")
+    );
+}
