@@ -18,6 +18,12 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
         "scene_counting.frag.spv",
         &["COUNT_FRAGMENTS"],
     ),
+    ("scene.frag", "scene_lit.frag.spv", &["LIT"]),
+    (
+        "scene.frag",
+        "scene_lit_counting.frag.spv",
+        &["LIT", "COUNT_FRAGMENTS"],
+    ),
     ("mask.vert", "mask.vert.spv", &[]),
     ("mask.frag", "mask.frag.spv", &[]),
     ("mask.frag", "mask_counting.frag.spv", &["COUNT_FRAGMENTS"]),

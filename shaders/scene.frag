@@ -11,12 +11,18 @@ layout(constant_id = 3) const bool DEPTH_IN_ALPHA = false;
 layout(std140, set = 0, binding = 0) uniform Views {
     mat4 view_proj[5];
     vec4 light_dir;
+    vec4 eye_pos[5];
+    vec4 ray_dx[5];    // how each view's ray at unit depth moves per pixel right (world)
+    vec4 ray_dy[5];    // ... and per pixel down
 } views;
 
 layout(location = 0) in vec3 in_normal;
 layout(location = 1) in vec3 in_color;
 layout(location = 2) flat in uint in_view;
 layout(location = 3) in float in_depth;
+layout(location = 4) in vec3 in_world;
+layout(location = 5) in vec2 in_uv;
+layout(location = 6) flat in uint in_material;
 
 layout(location = 0) out vec4 out_color;
 
@@ -24,12 +30,22 @@ layout(location = 0) out vec4 out_color;
 #include "counter.glsl"
 #endif
 
+#ifdef LIT
+#include "lit.glsl"
+#endif
+
 void main() {
     vec3 n = normalize(in_normal);
+#ifdef LIT
+    vec3 shaded = shade_lit(n, in_world, in_uv, in_material, in_color,
+                            views.eye_pos[in_view].xyz, in_depth, views.ray_dx[in_view].xyz,
+                            views.ray_dy[in_view].xyz, views.light_dir.xyz);
+#else
     float diffuse = max(dot(n, -views.light_dir.xyz), 0.0);
     float sky = 0.5 + 0.5 * n.y;
-    vec3 lit = in_color * (0.25 * sky + 0.85 * diffuse);
-    out_color = vec4(lit, DEPTH_IN_ALPHA ? clamp(views.light_dir.w / in_depth, 0.0, 1.0) : 1.0);
+    vec3 shaded = in_color * (0.25 * sky + 0.85 * diffuse);
+#endif
+    out_color = vec4(shaded, DEPTH_IN_ALPHA ? clamp(views.light_dir.w / in_depth, 0.0, 1.0) : 1.0);
 #ifdef COUNT_FRAGMENTS
     count_fragment(in_view);
 #endif

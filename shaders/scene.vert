@@ -20,11 +20,15 @@ const uint FOVEA_TAG = 0x80000000u;
 layout(std140, set = 0, binding = 0) uniform Views {
     mat4 view_proj[5]; // up to 4 eye views, then the MFFR far view
     vec4 light_dir;    // xyz: light direction; w: the far view's near plane
+    vec4 eye_pos[5];   // each view's eye in world space (lit shading's view vector)
+    vec4 ray_dx[5];    // lit shading's per-pixel ray steps (see shaders/lit.glsl)
+    vec4 ray_dy[5];
 } views;
 
 struct Instance {
     mat4 model;
     vec4 color;
+    uvec4 material; // x: index into the lit materials
 };
 layout(std430, set = 0, binding = 1) readonly buffer Instances {
     Instance instances[];
@@ -44,11 +48,15 @@ layout(push_constant) uniform Push {
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec2 in_uv;
 
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_color;
 layout(location = 2) flat out uint out_view;
 layout(location = 3) out float out_depth;
+layout(location = 4) out vec3 out_world;
+layout(location = 5) out vec2 out_uv;
+layout(location = 6) flat out uint out_material;
 
 out gl_PerVertex {
     vec4 gl_Position;
@@ -80,6 +88,9 @@ void main() {
         out_color = vec3(0.0);
         out_view = view;
         out_depth = 1.0;
+        out_world = vec3(0.0);
+        out_uv = vec2(0.0);
+        out_material = 0u;
         return;
     }
 #endif
@@ -102,4 +113,7 @@ void main() {
     out_color = inst.color.rgb;
     out_view = view;
     out_depth = clip.w; // view-space depth: every projection here has w = −z_view
+    out_world = world.xyz;
+    out_uv = in_uv;
+    out_material = inst.material.x;
 }

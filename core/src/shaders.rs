@@ -21,6 +21,9 @@ pub const SCENE_VERT_INDIRECT: ShaderBinary = spirv!("scene_indirect.vert.spv");
 pub const SCENE_FRAG: ShaderBinary = spirv!("scene.frag.spv");
 /// The scene fragment shader with the per-view fragment counter compiled in.
 pub const SCENE_FRAG_COUNTING: ShaderBinary = spirv!("scene_counting.frag.spv");
+/// The scene fragment shader for lit materials (`shaders/lit.glsl`), plain and counting.
+pub const SCENE_LIT_FRAG: ShaderBinary = spirv!("scene_lit.frag.spv");
+pub const SCENE_LIT_FRAG_COUNTING: ShaderBinary = spirv!("scene_lit_counting.frag.spv");
 
 /// Stencil mask fans, one shape per view.
 pub const MASK_VERT: ShaderBinary = spirv!("mask.vert.spv");
@@ -54,6 +57,8 @@ pub const ALL: &[ShaderBinary] = &[
     SCENE_VERT_INDIRECT,
     SCENE_FRAG,
     SCENE_FRAG_COUNTING,
+    SCENE_LIT_FRAG,
+    SCENE_LIT_FRAG_COUNTING,
     MASK_VERT,
     MASK_FRAG,
     MASK_FRAG_COUNTING,

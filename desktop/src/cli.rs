@@ -1,7 +1,6 @@
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::scene::named_scene;
 
 use crate::frame_args::ConfigArgs;
 use crate::render_cmd::RenderArgs;
@@ -65,7 +64,7 @@ impl Cli {
             Command::Devices => devices(),
             Command::Plan(args) => {
                 let gpu = Gpu::new(&self.gpu_options())?;
-                let scene = named_scene(&args.scene)?;
+                let scene = crate::frame_args::scene_from(&args.scene, args.shading.as_deref())?;
                 for mode in args.stereo_modes()? {
                     let plan = foveate::plan(&scene, &args.config(mode)?, gpu.caps())?;
                     println!("{plan}\n");

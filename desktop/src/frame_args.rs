@@ -6,6 +6,7 @@ use clap::Args;
 use foveate::foveation::FoveationConfig;
 use foveate::mffr::MffrConfig;
 use foveate::plan::{RadialDensity, RenderConfig, Resolution, StereoMode};
+use foveate::scene::{named_scene, Scene, Shading};
 
 /// Frame configuration shared by `render` and `plan`.
 #[derive(Args, Clone)]
@@ -84,10 +85,24 @@ pub struct ConfigArgs {
     /// Where it skips three quads in four (default 0.8).
     #[arg(long)]
     pub radial_outer: Option<f32>,
-    /// Scene: `default` (lit cubes and spheres, near and far), `fill` (24 full-view walls drawn
-    /// back to front: a fill-bound frame) or `city` (blocks from 28 m to 400 m: far-heavy).
+    /// Scene: `default` (cubes and spheres, near and far), `fill` (24 full-view walls drawn
+    /// back to front: a fill-bound frame), `city` (blocks from 28 m to 400 m: far-heavy),
+    /// `thesis` (the thesis' object grid) or `atrium` (an arcaded courtyard, lit).
     #[arg(long, default_value = "default")]
     pub scene: String,
+    /// Shading: `flat` (vertex colour, one light) or `lit` (PBR materials with procedural
+    /// textures and lights); default: the scene's own (`atrium` lit, the others flat).
+    #[arg(long)]
+    pub shading: Option<String>,
+}
+
+/// A built-in scene by name, shaded as asked (or as it was built).
+pub fn scene_from(name: &str, shading: Option<&str>) -> Result<Scene> {
+    let scene = named_scene(name)?;
+    Ok(match shading {
+        Some(s) => scene.with_shading(s.parse::<Shading>()?),
+        None => scene,
+    })
 }
 
 impl ConfigArgs {

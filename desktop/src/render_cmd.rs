@@ -6,7 +6,6 @@ use foveate::foveation::{parse_gaze_csv, simulated_trace, GazeFilter};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::Stats;
 use foveate::render::{counting_frame, FrameStats, Renderer};
-use foveate::scene::named_scene;
 use foveate::StereoMode;
 
 use crate::frame_args::ConfigArgs;
@@ -51,7 +50,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         args.frames
     );
     let gpu = Gpu::new(options)?;
-    let scene = named_scene(&args.config.scene)?;
+    let scene = crate::frame_args::scene_from(&args.config.scene, args.config.shading.as_deref())?;
     let modes = args.config.stereo_modes()?;
     println!("device: {}", gpu.info().name);
     let mut results = Vec::new();

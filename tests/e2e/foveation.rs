@@ -8,7 +8,7 @@ use foveate::plan::{
     CountedStep, FoveaLayout, FramePlan, OutputStage, RenderConfig, Resolution, StereoMode,
 };
 use foveate::render::{Renderer, StereoImage};
-use foveate::scene::{default_scene, Scene};
+use foveate::scene::{atrium_scene, default_scene, Scene};
 use foveate::view::{Eye, FovTangents};
 use foveate_tests::{gpu, render_plan};
 use glam::Vec2;
@@ -454,22 +454,25 @@ fn through_the_lens(config: RenderConfig) -> RenderConfig {
 }
 
 /// Through the output stage's lens the fovea is still the full-resolution reference (seen
-/// through the same lens), in both fovea layouts: the display pixels whose image point lies
-/// inside the fovea (band excluded), found by the f64 lens oracle. Negative control: the
-/// reference one pixel off fails.
+/// through the same lens), in both fovea layouts, flat and on the lit atrium's textures: the
+/// display pixels whose image point lies inside the fovea (band excluded), found by the f64
+/// lens oracle. Negative control: the reference one pixel off fails.
 #[test]
 fn the_fovea_is_the_full_resolution_reference_through_the_lens() {
     let gpu = gpu();
-    let scene = default_scene();
     let screen = 256;
     let reference_config = through_the_lens(RenderConfig {
         resolution: Some(Resolution::square(screen)),
         msaa: 4,
         ..RenderConfig::default()
     });
-    let (reference, _) = foveate_tests::render(&gpu, &scene, &reference_config);
     let gaze = Vec2::new(0.3, -0.25);
-    for fovea_layout in [FoveaLayout::OnePass, FoveaLayout::TwoPass] {
+    for (scene, fovea_layout) in [
+        (default_scene(), FoveaLayout::OnePass),
+        (default_scene(), FoveaLayout::TwoPass),
+        (atrium_scene(), FoveaLayout::TwoPass),
+    ] {
+        let (reference, _) = foveate_tests::render(&gpu, &scene, &reference_config);
         let config = RenderConfig {
             fovea_layout,
             ..through_the_lens(foveated_frame(screen, 0.35, 8.0))

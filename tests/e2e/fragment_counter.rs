@@ -37,6 +37,8 @@ fn scene(instances: Vec<Instance>) -> Scene {
         batches: vec![DrawBatch { mesh: 0, instances }],
         head: Mat4::IDENTITY,
         light_dir: Vec3::new(0.0, 0.0, -1.0),
+        materials: Vec::new(),
+        lights: Vec::new(),
     }
 }
 
@@ -219,6 +221,7 @@ fn pixel_triangles(triangles: &[[(f64, f64); 3]]) -> Scene {
             mesh.vertices.push(Vertex {
                 position: at_pixel(t[i], 2.0).to_array(),
                 normal: [0.0, 0.0, 1.0],
+                uv: [0.0, 0.0],
             });
         }
     }
@@ -230,6 +233,8 @@ fn pixel_triangles(triangles: &[[(f64, f64); 3]]) -> Scene {
         }],
         head: Mat4::IDENTITY,
         light_dir: Vec3::new(0.0, 0.0, -1.0),
+        materials: Vec::new(),
+        lights: Vec::new(),
     }
 }
 

@@ -97,6 +97,8 @@ fn no_seam_at_the_split() {
         }],
         head: foveate::view::look_at_head(Vec3::new(0.0, 1.7, 0.0), Vec3::new(0.0, 0.0, -12.0)),
         light_dir: Vec3::NEG_Y,
+        materials: Vec::new(),
+        lights: Vec::new(),
     };
     for cant in [0.0, 10.0] {
         for order in [MffrOrder::NearFirst, MffrOrder::FarFirst] {

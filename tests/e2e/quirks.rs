@@ -20,6 +20,8 @@ fn wide_wall() -> Scene {
         }],
         head: look_at_head(Vec3::new(0.0, 1.6, 0.0), Vec3::new(0.0, 1.3, -10.0)),
         light_dir: -Vec3::Y,
+        materials: Vec::new(),
+        lights: Vec::new(),
     }
 }
 

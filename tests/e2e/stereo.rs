@@ -84,6 +84,8 @@ fn eyes_see_the_expected_disparity() {
         }],
         head: Mat4::IDENTITY,
         light_dir: Vec3::new(0.0, 0.0, -1.0),
+        materials: Vec::new(),
+        lights: Vec::new(),
     };
     let tan = 1.0;
     let config = RenderConfig {

@@ -151,6 +151,10 @@ fn switched_on_effects_add_what_they_need() {
             on(&|c| c.count_fragments = true),
         ),
         ("timestamps".into(), on(&|c| c.timestamps = true)),
+        (
+            "lens output".into(),
+            on(&|c| c.output = foveate::plan::OutputStage::Lens),
+        ),
     ];
     for strategy in Strategy::ALL {
         cases.push((
@@ -189,5 +193,33 @@ fn switched_on_effects_add_what_they_need() {
             ),
         }
     }
+    assert_validation_clean(&gpu);
+}
+
+/// Lit shading is an effect of the scene: a lit scene's renderer makes its three texture
+/// arrays, sampler, material and light buffers; the same scene flat makes none of them.
+/// Mutation: textures made for a flat scene fail it.
+#[test]
+fn lit_shading_adds_its_textures_and_flat_none() {
+    let gpu = gpu();
+    let lit = default_scene().with_shading(foveate::scene::Shading::Lit);
+    let flat = default_scene();
+    let plan = |s: &Scene| foveate::plan(s, &baseline(), gpu.caps()).unwrap();
+    let (lit_plan, flat_plan) = (plan(&lit), plan(&flat));
+    assert!(lit_plan.lit && !flat_plan.lit);
+    let added = difference(
+        &cost(&gpu, &lit, &lit_plan).objects,
+        &cost(&gpu, &flat, &flat_plan).objects,
+    );
+    assert_eq!(
+        (added.get("Image"), added.get("Sampler")),
+        (Some(&3), Some(&1)),
+        "{added:?}"
+    );
+    assert_eq!(
+        added.get("Buffer"),
+        Some(&2),
+        "materials and lights: {added:?}"
+    );
     assert_validation_clean(&gpu);
 }

@@ -269,7 +269,9 @@ impl Gpu {
         let features = vk::PhysicalDeviceFeatures::default()
             .fragment_stores_and_atomics(supported.fragment_stores_and_atomics == vk::TRUE)
             .shader_clip_distance(supported.shader_clip_distance == vk::TRUE)
-            .depth_clamp(supported.depth_clamp == vk::TRUE);
+            .depth_clamp(supported.depth_clamp == vk::TRUE)
+            .sampler_anisotropy(supported.sampler_anisotropy == vk::TRUE)
+            .pipeline_statistics_query(supported.pipeline_statistics_query == vk::TRUE);
         let mut multiview = vk::PhysicalDeviceMultiviewFeatures::default().multiview(true);
         let priorities = [1.0];
         let queues = [vk::DeviceQueueCreateInfo::default()
@@ -325,6 +327,12 @@ impl Gpu {
             shader_clip_distance: supported.shader_clip_distance == vk::TRUE,
             depth_clamp: supported.depth_clamp == vk::TRUE,
             timestamps,
+            max_anisotropy: if supported.sampler_anisotropy == vk::TRUE {
+                props.limits.max_sampler_anisotropy
+            } else {
+                0.0
+            },
+            pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
             quirks: DriverQuirks::for_driver_id(driver_props.driver_id.as_raw()),
         };
         let dev = Arc::new(DeviceOwner {

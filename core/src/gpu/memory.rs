@@ -117,6 +117,7 @@ pub struct Image {
     pub height: u32,
     pub layers: u32,
     pub samples: u32,
+    pub mip_levels: u32,
     pub aspect: vk::ImageAspectFlags,
     /// Whether its memory is lazily allocated.
     pub lazy: bool,
@@ -131,6 +132,8 @@ pub struct ImageDesc<'a> {
     pub height: u32,
     pub layers: u32,
     pub samples: u32,
+    /// Mip levels (1 for attachments; a full chain for textures).
+    pub mip_levels: u32,
     pub usage: vk::ImageUsageFlags,
 }
 
@@ -147,7 +150,7 @@ impl Image {
                 height: desc.height,
                 depth: 1,
             })
-            .mip_levels(1)
+            .mip_levels(desc.mip_levels)
             .array_layers(desc.layers)
             .samples(vk::SampleCountFlags::from_raw(desc.samples))
             .tiling(vk::ImageTiling::OPTIMAL)
@@ -174,6 +177,7 @@ impl Image {
             height: desc.height,
             layers: desc.layers,
             samples: desc.samples,
+            mip_levels: desc.mip_levels,
             aspect,
             lazy: false,
             memory: None,
@@ -233,7 +237,7 @@ impl Image {
         vk::ImageSubresourceRange {
             aspect_mask: self.aspect,
             base_mip_level: 0,
-            level_count: 1,
+            level_count: self.mip_levels,
             base_array_layer: base_layer,
             layer_count,
         }

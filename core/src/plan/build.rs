@@ -17,7 +17,7 @@ use super::{
     ConfigError, DeviceCaps, FoveaLayout, OutputStage, RenderConfig, Resolution, StereoMode,
 };
 use crate::mffr::MffrGeometry;
-use crate::scene::Scene;
+use crate::scene::{Scene, Shading, MAX_POINT_LIGHTS};
 use crate::view::Eye;
 
 /// Plans a frame. Rejects a configuration the device or foveate cannot render with an error
@@ -39,6 +39,13 @@ pub fn plan(
     validate_depth_range(config)?;
     validate_features(config, caps)?;
     validate_culling(config)?;
+    if scene.lights.len() > MAX_POINT_LIGHTS {
+        return Err(ConfigError::new(
+            "scene lights",
+            scene.lights.len(),
+            format!("at most {MAX_POINT_LIGHTS} point lights"),
+        ));
+    }
     let hmd_mask = config
         .hmd_mask
         .then(|| Eye::BOTH.map(|e| hmd.lens_region(eyes.fov(e))));
@@ -181,6 +188,9 @@ pub fn plan(
         cull_slots: Vec::new(),
         scene_instances: scene.instance_count(),
         fovea_layout,
+        lit: scene.shading() == Shading::Lit,
+        anisotropy: (caps.max_anisotropy >= 2.0 && !caps.quirks.anisotropic_filtering_is_slow)
+            .then(|| caps.max_anisotropy.min(8.0)),
         lens: lens.then(|| LensOutput::new(hmd.distortion, &eyes)),
     };
     assign_cull_slots(&mut plan);

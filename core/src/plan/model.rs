@@ -360,6 +360,12 @@ pub struct FramePlan {
     pub scene_instances: usize,
     /// A foveated frame's pass layout, and why the planner chose it.
     pub fovea_layout: Option<FoveaLayoutChoice>,
+    /// The scene has lit materials: its pipelines shade PBR with textures and lights, and its
+    /// renderer makes the textures (a flat scene's makes none).
+    pub lit: bool,
+    /// How lit materials are sampled: anisotropically up to this many samples, or trilinearly
+    /// (`None`: the device lacks it, or a quirk makes it too slow).
+    pub anisotropy: Option<f32>,
     /// Lens distortion in the output stage, when the output is for the lens.
     pub lens: Option<LensOutput>,
 }

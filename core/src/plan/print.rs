@@ -68,6 +68,16 @@ impl fmt::Display for FramePlan {
                 c.reason
             )?;
         }
+        if self.lit {
+            let filter = match self.anisotropy {
+                Some(a) => format!("anisotropic (up to {a}x)"),
+                None => "trilinear".to_string(),
+            };
+            writeln!(
+                f,
+                "  shading: lit PBR materials (base colour, normal, occlusion-roughness-metallic textures with full mips, {filter}), sun, point lights and sky"
+            )?;
+        }
         if let Some(l) = &self.lens {
             let d = l.display[0];
             writeln!(

@@ -5,6 +5,7 @@ mod command_log;
 mod counting;
 mod culling;
 mod masks;
+mod materials;
 mod mffr;
 mod output;
 mod pipelines;

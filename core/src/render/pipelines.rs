@@ -3,10 +3,11 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::materials::MaterialSet;
 use super::targets::CompiledPass;
 use crate::gpu::{
     hash_word, name_word, Buffer, Description, DescriptorPool, DescriptorSetLayout, Gpu, GpuError,
-    Pipeline, PipelineLayout, ShaderModule, VkResultExt,
+    ImageView, Pipeline, PipelineLayout, ShaderModule, VkResultExt,
 };
 use crate::mffr::MffrVariant;
 use crate::plan::{
@@ -18,13 +19,15 @@ use crate::shaders::{
     ShaderBinary, COMPOSITE_VERT, COVERAGE_FRAG, COVERAGE_VERT, FAR_COMPOSITE_FRAG,
     FAR_COMPOSITE_FRAG_COUNTING, MASK_FRAG, MASK_FRAG_COUNTING, MASK_VERT, OUTPUT_FRAG,
     OUTPUT_FRAG_COUNTING, RADIAL_MASK_FRAG, RADIAL_MASK_FRAG_COUNTING, RECONSTRUCT_FRAG,
-    RECONSTRUCT_FRAG_COUNTING, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_VERT, SCENE_VERT_INDIRECT,
+    RECONSTRUCT_FRAG_COUNTING, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_LIT_FRAG,
+    SCENE_LIT_FRAG_COUNTING, SCENE_VERT, SCENE_VERT_INDIRECT,
 };
 
 const ENTRY: &CStr = c"main";
 
 /// The scene shaders' resources: views (binding 0), instances (1) and, only when their effect
-/// is on, the fragment counter (2), the stencil mask shapes (3) and culled instance ids (4).
+/// is on, the fragment counter (2), the stencil mask shapes (3), culled instance ids (4) and a
+/// lit scene's textures (5–7), materials (8) and lights (9).
 pub(crate) struct SceneBindings {
     pub layout: PipelineLayout,
     /// What the layout is made of: pipelines for identically described (compatible) layouts
@@ -43,7 +46,9 @@ impl SceneBindings {
         counter: Option<&Buffer>,
         masks: Option<&Buffer>,
         instance_ids: Option<&Buffer>,
+        lit: Option<&MaterialSet>,
     ) -> Result<Self, GpuError> {
+        let fragment = vk::ShaderStageFlags::FRAGMENT;
         let device = gpu.device();
         // (binding, type, stages, buffer): only what this plan uses exists.
         let uniform = vk::DescriptorType::UNIFORM_BUFFER;
@@ -59,13 +64,25 @@ impl SceneBindings {
             counter.map(|b| (2, storage, vk::ShaderStageFlags::FRAGMENT, b)),
             masks.map(|b| (3, uniform, vk::ShaderStageFlags::VERTEX, b)),
             instance_ids.map(|b| (4, storage, vk::ShaderStageFlags::VERTEX, b)),
+            lit.map(|m| (8, storage, fragment, &m.materials)),
+            lit.map(|m| (9, uniform, fragment, &m.lighting)),
         ]
         .into_iter()
         .flatten()
         .collect();
+        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        let textures: Vec<(u32, &ImageView)> = lit
+            .map(|m| (5..).zip(m.views.iter()).collect())
+            .unwrap_or_default();
         let bindings: Vec<vk::DescriptorSetLayoutBinding> = resources
             .iter()
-            .map(|&(binding, ty, stages, _)| {
+            .map(|&(binding, ty, stages, _)| (binding, ty, stages))
+            .chain(
+                textures
+                    .iter()
+                    .map(|&(binding, _)| (binding, sampled, fragment)),
+            )
+            .map(|(binding, ty, stages)| {
                 vk::DescriptorSetLayoutBinding::default()
                     .binding(binding)
                     .descriptor_type(ty)
@@ -87,6 +104,10 @@ impl SceneBindings {
             },
             vk::DescriptorPoolSize {
                 ty: storage,
+                descriptor_count: 4,
+            },
+            vk::DescriptorPoolSize {
+                ty: sampled,
                 descriptor_count: 3,
             },
         ];
@@ -115,6 +136,16 @@ impl SceneBindings {
                 }]
             })
             .collect();
+        let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = textures
+            .iter()
+            .map(|&(_, view)| {
+                [vk::DescriptorImageInfo {
+                    sampler: lit.expect("textures only when lit").sampler.raw,
+                    image_view: view.raw,
+                    image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                }]
+            })
+            .collect();
         let writes: Vec<vk::WriteDescriptorSet> = resources
             .iter()
             .zip(&infos)
@@ -125,6 +156,13 @@ impl SceneBindings {
                     .descriptor_type(r.1)
                     .buffer_info(info)
             })
+            .chain(textures.iter().zip(&image_infos).map(|(t, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(t.0)
+                    .descriptor_type(sampled)
+                    .image_info(info)
+            }))
             .collect();
         unsafe { device.update_descriptor_sets(&writes, &[]) };
 
@@ -279,7 +317,11 @@ pub(crate) fn step_pipeline(
             } else {
                 &SCENE_VERT_INDIRECT
             },
-            pick_frag(&SCENE_FRAG, &SCENE_FRAG_COUNTING),
+            if plan.lit {
+                pick_frag(&SCENE_LIT_FRAG, &SCENE_LIT_FRAG_COUNTING)
+            } else {
+                pick_frag(&SCENE_FRAG, &SCENE_FRAG_COUNTING)
+            },
         ),
         PipelineKind::Mask => (&MASK_VERT, pick_frag(&MASK_FRAG, &MASK_FRAG_COUNTING)),
         PipelineKind::Coverage => (&COVERAGE_VERT, &COVERAGE_FRAG),
@@ -449,6 +491,12 @@ pub(crate) fn step_pipeline(
                 binding: 0,
                 format: vk::Format::R32G32B32_SFLOAT,
                 offset: 12,
+            },
+            vk::VertexInputAttributeDescription {
+                location: 2,
+                binding: 0,
+                format: vk::Format::R32G32_SFLOAT,
+                offset: 24,
             },
         ];
         let vertex_input = if kind == PipelineKind::Scene {

@@ -5,6 +5,7 @@ use ash::vk;
 use glam::{Mat4, Vec2, Vec4};
 
 use super::culling::FrameCulling;
+use super::materials::MaterialSet;
 use super::mffr::FarComposite;
 use super::output::OutputStage;
 use super::pipelines::{step_pipeline, SceneBindings};
@@ -24,7 +25,7 @@ use crate::plan::{
     CountedStep, FramePlan, PassKind, PassPlan, RenderConfig, Step, TargetLayout,
     COUNTER_SLOTS_PER_STEP, MAX_VIEWS,
 };
-use crate::scene::{Draw, Scene};
+use crate::scene::{Draw, Scene, Shading};
 use crate::view::{reverse_z_projection, Eye, FovTangents};
 
 /// The per-frame uniform block (`Views` in the shaders, std140).
@@ -35,6 +36,22 @@ struct ViewsBlock {
     view_proj: [Mat4; MAX_VIEWS as usize + 1],
     /// xyz: light direction; w: the far pass's near plane (its depth-in-alpha numerator).
     light_dir: Vec4,
+    /// Each view's eye in world space, the MFFR far view's at [`FAR_VIEW_INDEX`].
+    eye_pos: [Vec4; MAX_VIEWS as usize + 1],
+    /// How each view's ray at unit depth moves per pixel right and down (world space): lit
+    /// shading's analytic texture gradients.
+    ray_dx: [Vec4; MAX_VIEWS as usize + 1],
+    ray_dy: [Vec4; MAX_VIEWS as usize + 1],
+}
+
+/// One pixel's step of a view's ray at unit depth, right and down, in world space.
+fn ray_steps(world_from_view: Mat4, fov: FovTangents, pixels: (u32, u32)) -> (Vec4, Vec4) {
+    let right = world_from_view.transform_vector3(glam::Vec3::X);
+    let down = world_from_view.transform_vector3(glam::Vec3::NEG_Y);
+    (
+        (right * (fov.left + fov.right) / pixels.0 as f32).extend(0.0),
+        (down * (fov.up + fov.down) / pixels.1 as f32).extend(0.0),
+    )
 }
 
 /// What one frame cost, measured.
@@ -162,6 +179,8 @@ pub struct Renderer<'g> {
     pub(super) instance_ids: Option<Buffer>,
     images: Vec<Image>,
     pub(super) bindings: SceneBindings,
+    /// A lit scene's textures, materials and lights (after the bindings that refer to them).
+    _materials: Option<MaterialSet>,
     pub(super) scene: SceneBuffers,
     views_block: Buffer,
     pub(super) counter: Option<Buffer>,
@@ -193,7 +212,21 @@ impl<'g> Renderer<'g> {
             )
             .into());
         }
+        if scene.shading() == Shading::Lit && !plan.lit
+            || scene.shading() == Shading::Flat && plan.lit
+        {
+            return Err(crate::vocab::ConfigError::new(
+                "scene",
+                format!("{} shading", scene.shading()),
+                "the shading the plan was made for: plan the frame for this scene",
+            )
+            .into());
+        }
         let scene_buffers = SceneBuffers::upload(gpu, scene)?;
+        let materials = plan
+            .lit
+            .then(|| MaterialSet::new(gpu, plan, scene))
+            .transpose()?;
         let views_block = Buffer::new(
             gpu,
             "views",
@@ -247,6 +280,7 @@ impl<'g> Renderer<'g> {
             counter.as_ref(),
             masks.as_ref(),
             instance_ids.as_ref(),
+            materials.as_ref(),
         )?;
         let images = create_images(gpu, plan)?;
         let output = plan
@@ -322,6 +356,7 @@ impl<'g> Renderer<'g> {
             instance_ids,
             images,
             bindings,
+            _materials: materials,
             scene: scene_buffers,
             views_block,
             counter,
@@ -371,9 +406,18 @@ impl<'g> Renderer<'g> {
         // With MFFR the eye views end at the split.
         let eye_far = plan.mffr.map_or(plan.far, |m| m.split_m);
         let mut view_proj = [Mat4::IDENTITY; MAX_VIEWS as usize + 1];
+        let mut eye_pos = [Vec4::ZERO; MAX_VIEWS as usize + 1];
+        let (mut ray_dx, mut ray_dy) = ([Vec4::ZERO; 5], [Vec4::ZERO; 5]);
+        let view_pixels = plan.foveation.map_or(plan.eye_resolution, |f| f.view);
         for (i, &(world_from_view, fov)) in views.iter().enumerate() {
             view_proj[i] =
                 reverse_z_projection(fov, plan.near, eye_far) * world_from_view.inverse();
+            eye_pos[i] = world_from_view.w_axis;
+            (ray_dx[i], ray_dy[i]) = ray_steps(
+                world_from_view,
+                fov,
+                (view_pixels.width, view_pixels.height),
+            );
         }
         if let Some(masks) = &mut self.masks {
             masks.write(&super::masks::stencil_shapes(plan, fovea.as_ref()));
@@ -389,6 +433,13 @@ impl<'g> Renderer<'g> {
             let far_view_proj =
                 reverse_z_projection(m.far_fov, m.far_near, m.far) * world_from_far.inverse();
             view_proj[FAR_VIEW_INDEX as usize] = far_view_proj;
+            eye_pos[FAR_VIEW_INDEX as usize] = world_from_far.w_axis;
+            let far = FAR_VIEW_INDEX as usize;
+            (ray_dx[far], ray_dy[far]) = ray_steps(
+                world_from_far,
+                m.far_fov,
+                (m.resolution.width, m.resolution.height),
+            );
             light_dir.w = m.far_near;
             if let Some(far) = &mut self.far_composite {
                 far.update(&views, far_view_proj, m.far_near);
@@ -417,6 +468,9 @@ impl<'g> Renderer<'g> {
         self.views_block.write(&[ViewsBlock {
             view_proj,
             light_dir,
+            eye_pos,
+            ray_dx,
+            ray_dy,
         }]);
 
         let device = self.gpu.device();

@@ -66,8 +66,8 @@ impl SceneBuffers {
     }
 }
 
-/// A device-local buffer filled through a staging copy.
-fn upload(
+/// A device-local buffer filled through a staging copy, readable by every shader stage.
+pub(super) fn upload(
     gpu: &Gpu,
     name: &str,
     bytes: &[u8],
@@ -110,7 +110,9 @@ fn upload(
                     vk::AccessFlags::TRANSFER_WRITE,
                 ),
                 (
-                    vk::PipelineStageFlags::VERTEX_INPUT | vk::PipelineStageFlags::VERTEX_SHADER,
+                    vk::PipelineStageFlags::VERTEX_INPUT
+                        | vk::PipelineStageFlags::VERTEX_SHADER
+                        | vk::PipelineStageFlags::FRAGMENT_SHADER,
                     vk::AccessFlags::VERTEX_ATTRIBUTE_READ
                         | vk::AccessFlags::INDEX_READ
                         | vk::AccessFlags::SHADER_READ,

@@ -50,6 +50,7 @@ pub(crate) fn create_images(gpu: &Gpu, plan: &FramePlan) -> Result<Vec<Image>, G
                     height: a.height,
                     layers: a.layers,
                     samples: a.samples,
+                    mip_levels: 1,
                     usage: usage(a),
                 },
             )

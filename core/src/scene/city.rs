@@ -83,5 +83,7 @@ pub fn city_scene() -> Scene {
         ],
         head: look_at_head(Vec3::new(0.0, 1.7, 0.0), Vec3::new(0.0, 2.5, -10.0)),
         light_dir: Vec3::new(-0.5, -1.0, -0.3).normalize(),
+        materials: Vec::new(),
+        lights: Vec::new(),
     }
 }

@@ -89,6 +89,8 @@ pub fn default_scene() -> Scene {
         ],
         head: look_at_head(Vec3::new(0.0, 1.6, 0.0), Vec3::new(0.0, 1.3, -10.0)),
         light_dir: Vec3::new(-0.4, -1.0, -0.5).normalize(),
+        materials: Vec::new(),
+        lights: Vec::new(),
     }
 }
 
@@ -116,5 +118,7 @@ pub fn fill_scene() -> Scene {
         }],
         head: look_at_head(Vec3::new(0.0, 1.6, 0.0), Vec3::new(0.0, 1.6, -10.0)),
         light_dir: Vec3::new(0.0, 0.0, -1.0),
+        materials: Vec::new(),
+        lights: Vec::new(),
     }
 }

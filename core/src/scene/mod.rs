@@ -1,27 +1,34 @@
 //! Scenes: meshes, instances drawn with instanced draws, and the head pose to view them from.
 
+mod atrium;
 mod city;
 mod default_scene;
+mod materials;
 mod shapes;
+pub(crate) mod textures;
 mod thesis;
 
+pub use atrium::atrium_scene;
 pub use city::city_scene;
 pub use default_scene::{default_scene, fill_scene};
+pub use materials::{Material, Pattern, PointLight, Shading, MAX_POINT_LIGHTS};
+pub use textures::{Texture, TEXTURE_SIZE};
 
 /// The scenes the command line offers, by name.
-pub const SCENE_NAMES: [&str; 4] = ["default", "fill", "city", "thesis"];
+pub const SCENE_NAMES: [&str; 5] = ["default", "fill", "city", "thesis", "atrium"];
 
 /// The size at which `--scene thesis` renders the thesis scene (14 × 22 × 14 instances);
 /// `foveate bench --scale` picks others.
 pub const THESIS_PREVIEW_SCALE: f32 = 0.02;
 
-/// A scene by its command-line name.
+/// A scene by its command-line name, shaded as it was built (`atrium` lit, the others flat).
 pub fn named_scene(name: &str) -> Result<Scene, crate::vocab::ConfigError> {
     match name {
         "default" => Ok(default_scene()),
         "fill" => Ok(fill_scene()),
         "city" => Ok(city_scene()),
         "thesis" => Ok(ThesisScene::new(THESIS_PREVIEW_SCALE)?.to_scene()),
+        "atrium" => Ok(atrium_scene()),
         _ => Err(crate::vocab::ConfigError::new(
             "scene",
             name,
@@ -29,7 +36,7 @@ pub fn named_scene(name: &str) -> Result<Scene, crate::vocab::ConfigError> {
         )),
     }
 }
-pub use shapes::{cube, ground_grid, ground_quad, uv_sphere};
+pub use shapes::{cube, cylinder, ground_grid, ground_quad, uv_sphere};
 pub use thesis::{
     entropy, rail_pose, ThesisObject, ThesisScene, RAIL_LOOP_FRAMES, THESIS_COUNTS, THESIS_SPACING,
 };
@@ -38,12 +45,14 @@ use glam::{Mat4, Vec3, Vec4};
 
 use crate::cull::{Aabb, Sphere};
 
-/// A vertex as the scene shaders read it (location 0: position, 1: normal).
+/// A vertex as the scene shaders read it (location 0: position, 1: normal, 2: texture
+/// coordinates).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
+    pub uv: [f32; 2],
 }
 
 /// Indexed triangle geometry.
@@ -73,12 +82,16 @@ impl Mesh {
     }
 }
 
-/// One placed object, laid out as the shaders' `Instance` struct (std430: mat4 + vec4).
+/// One placed object, laid out as the shaders' `Instance` struct (std430: mat4, vec4, uvec4).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Instance {
     pub model: Mat4,
+    /// Flat shading's colour; lit, the tint of its material's base colour.
     pub color: Vec4,
+    /// Index into [`Scene::materials`] (ignored when the scene is flat).
+    pub material: u32,
+    _pad: [u32; 3],
 }
 
 impl Instance {
@@ -86,7 +99,14 @@ impl Instance {
         Self {
             model,
             color: rgb.extend(1.0),
+            material: 0,
+            _pad: [0; 3],
         }
+    }
+
+    /// The same instance with material `material`.
+    pub fn with_material(self, material: u32) -> Self {
+        Self { material, ..self }
     }
 }
 
@@ -114,6 +134,11 @@ pub struct Scene {
     pub head: Mat4,
     /// Direction the light travels (world space, normalised).
     pub light_dir: Vec3,
+    /// Lit materials (PBR metallic-roughness); empty for a flat-shaded scene.
+    pub materials: Vec<Material>,
+    /// Point lights of a lit scene (at most [`materials::MAX_POINT_LIGHTS`]), besides the sun
+    /// along `light_dir` and the ambient sky.
+    pub lights: Vec<PointLight>,
 }
 
 impl Scene {
@@ -125,7 +150,33 @@ impl Scene {
             batches: vec![],
             head: Mat4::IDENTITY,
             light_dir: Vec3::NEG_Y,
+            materials: Vec::new(),
+            lights: Vec::new(),
         }
+    }
+
+    /// How the scene is shaded: lit when it has materials.
+    pub fn shading(&self) -> Shading {
+        if self.materials.is_empty() {
+            Shading::Flat
+        } else {
+            Shading::Lit
+        }
+    }
+
+    /// The scene shaded as asked: flat drops its materials and lights; lit keeps a lit scene's
+    /// and gives a flat one the built-in material palette (each instance's colour tints its
+    /// material) and a light rig.
+    pub fn with_shading(mut self, shading: Shading) -> Scene {
+        match (shading, self.shading()) {
+            (Shading::Flat, _) => {
+                self.materials.clear();
+                self.lights.clear();
+            }
+            (Shading::Lit, Shading::Lit) => {}
+            (Shading::Lit, Shading::Flat) => materials::light_up(&mut self),
+        }
+        self
     }
 
     pub fn instance_count(&self) -> usize {

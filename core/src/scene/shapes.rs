@@ -23,6 +23,7 @@ pub fn cube() -> Mesh {
             vertices.push(Vertex {
                 position: p,
                 normal: n,
+                uv: [su + 0.5, 0.5 - sv],
             });
         }
         indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
@@ -51,6 +52,7 @@ pub fn uv_sphere(segments: u32, rings: u32) -> Mesh {
             vertices.push(Vertex {
                 position: n,
                 normal: n,
+                uv: [s as f32 / segments as f32, r as f32 / rings as f32],
             });
         }
     }
@@ -101,6 +103,7 @@ pub fn ground_grid(half_extent: f32, first_cell: f32) -> Mesh {
             coords.iter().map(move |&x| Vertex {
                 position: [x, 0.0, z],
                 normal,
+                uv: [x, z],
             })
         })
         .collect();
@@ -120,6 +123,63 @@ pub fn ground_grid(half_extent: f32, first_cell: f32) -> Mesh {
     }
 }
 
+/// A closed cylinder of radius 0.5 and height 1 around the Y axis, centred on the origin, with
+/// `segments` sides (smooth normals on the side, flat caps).
+pub fn cylinder(segments: u32) -> Mesh {
+    let segments = segments.max(3);
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    let ring = |s: u32| {
+        let phi = 2.0 * PI * s as f32 / segments as f32;
+        (phi.cos(), -phi.sin())
+    };
+    // The side: two rings, the seam duplicated for its texture coordinates.
+    for s in 0..=segments {
+        let (x, z) = ring(s);
+        for (y, v) in [(-0.5, 1.0), (0.5, 0.0)] {
+            vertices.push(Vertex {
+                position: [0.5 * x, y, 0.5 * z],
+                normal: [x, 0.0, z],
+                uv: [s as f32 / segments as f32, v],
+            });
+        }
+    }
+    for s in 0..segments {
+        let (a, b, c, d) = (2 * s, 2 * s + 1, 2 * s + 2, 2 * s + 3);
+        indices.extend([a, c, d, a, d, b]);
+    }
+    // The caps: a fan around each centre.
+    for (y, ny) in [(0.5f32, 1.0f32), (-0.5, -1.0)] {
+        let centre = vertices.len() as u32;
+        vertices.push(Vertex {
+            position: [0.0, y, 0.0],
+            normal: [0.0, ny, 0.0],
+            uv: [0.5, 0.5],
+        });
+        for s in 0..segments {
+            let (x, z) = ring(s);
+            vertices.push(Vertex {
+                position: [0.5 * x, y, 0.5 * z],
+                normal: [0.0, ny, 0.0],
+                uv: [0.5 + 0.5 * x, 0.5 + 0.5 * z],
+            });
+        }
+        for s in 0..segments {
+            let (a, b) = (centre + 1 + s, centre + 1 + (s + 1) % segments);
+            if ny > 0.0 {
+                indices.extend([centre, a, b]);
+            } else {
+                indices.extend([centre, b, a]);
+            }
+        }
+    }
+    Mesh {
+        name: "cylinder",
+        vertices,
+        indices,
+    }
+}
+
 /// Unit square in the XZ plane facing +Y (for the ground), or any plane once transformed.
 pub fn ground_quad() -> Mesh {
     let n = [0.0, 1.0, 0.0];
@@ -127,6 +187,7 @@ pub fn ground_quad() -> Mesh {
         .map(|(x, z)| Vertex {
             position: [x, 0.0, z],
             normal: n,
+            uv: [x + 0.5, z + 0.5],
         })
         .to_vec();
     Mesh {
@@ -165,6 +226,7 @@ mod tests {
         assert_outward(&uv_sphere(16, 8));
         assert_outward(&ground_quad());
         assert_outward(&ground_grid(10.0, 0.5));
+        assert_outward(&cylinder(24));
     }
 
     #[test]

@@ -143,6 +143,8 @@ impl ThesisScene {
             batches,
             head: rail_pose(0, self.extent()),
             light_dir: Vec3::new(0.3, -1.0, 0.2).normalize(),
+            materials: Vec::new(),
+            lights: Vec::new(),
         }
     }
 
