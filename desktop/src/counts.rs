@@ -13,8 +13,8 @@ const VIEW_NAMES: [&str; 5] = [
 
 /// The counting frame's fragments: the scene's and the whole frame's, then every counted step
 /// per view (`view_pixels`, the pixels of one view of the scene pass, scales the scene draws to
-/// fragments per pixel).
-pub fn print_fragments(counts: &FrameStats, view_pixels: u64) {
+/// fragments per pixel); then each pass's primitives (`pass_names` in plan order).
+pub fn print_fragments(counts: &FrameStats, view_pixels: u64, pass_names: &[&str]) {
     println!(
         "  fragments (a separate counting frame): scene {}, total {} (every pass: masks, composites, probes included)",
         counts.scene_fragments(),
@@ -48,5 +48,16 @@ pub fn print_fragments(counts: &FrameStats, view_pixels: u64) {
                 views.join(", ")
             }
         );
+    }
+    if !counts.pass_primitives.is_empty() {
+        println!(
+            "  primitives per pass (pipeline statistics, summed over views; lavapipe counts each view of a multiview pass):"
+        );
+        for (name, p) in pass_names.iter().zip(&counts.pass_primitives) {
+            println!(
+                "    {name}: {} assembled, {} clipped in, {} rasterised",
+                p.assembled, p.clipped_in, p.rasterised
+            );
+        }
     }
 }

@@ -166,7 +166,8 @@ fn print_result(r: &ModeResult, eye_pixels: u64) {
     for (name, ms) in &r.passes {
         println!("  GPU {name}: {ms:.2} ms");
     }
-    crate::counts::print_fragments(&r.counts, eye_pixels);
+    let names: Vec<&str> = r.passes.iter().map(|(name, _)| *name).collect();
+    crate::counts::print_fragments(&r.counts, eye_pixels, &names);
 }
 
 fn print_comparison(results: &[ModeResult]) {

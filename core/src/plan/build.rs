@@ -178,6 +178,7 @@ pub fn plan(
         passes,
         buffers: Vec::new(),
         timestamp_queries: 0,
+        statistics_queries: 0,
         counted: Vec::new(),
         draw_calls_estimate: 0,
         foveation,
@@ -201,6 +202,9 @@ pub fn plan(
     }
     if config.count_fragments {
         plan_counting(&mut plan);
+        if caps.pipeline_statistics {
+            plan.statistics_queries = plan.passes.len() as u32;
+        }
     }
     if !plan.cull_slots.is_empty() {
         // Near and far sets of one frame, each at most every instance.

@@ -335,6 +335,9 @@ pub struct FramePlan {
     pub buffers: Vec<BufferPlan>,
     /// Timestamp queries per frame (before the frame, after each pass); 0 when timing is off.
     pub timestamp_queries: u32,
+    /// Pipeline-statistics queries per frame, one around each pass: counting frames on a device
+    /// that has them (0 otherwise; timed frames never carry them).
+    pub statistics_queries: u32,
     /// Steps whose fragments a counting frame counts, in recording order; empty unless
     /// fragment counting is on.
     pub counted: Vec<CountedSlot>,

@@ -11,6 +11,8 @@ pub enum Command {
     ResetQueries(u32),
     Timestamp(u32),
     ClearCounters,
+    BeginStatistics(usize),
+    EndStatistics(usize),
     CountersBarrier,
     CountersToHost,
     BeginPass {
@@ -74,8 +76,14 @@ impl Recorder for CommandLog<'_> {
     fn timestamp(&mut self, index: u32) {
         self.commands.push(Command::Timestamp(index));
     }
-    fn clear_counters(&mut self) {
+    fn clear_counters(&mut self, _statistics: u32) {
         self.commands.push(Command::ClearCounters);
+    }
+    fn begin_statistics(&mut self, pass: usize) {
+        self.commands.push(Command::BeginStatistics(pass));
+    }
+    fn end_statistics(&mut self, pass: usize) {
+        self.commands.push(Command::EndStatistics(pass));
     }
     fn counters_barrier(&mut self) {
         self.commands.push(Command::CountersBarrier);

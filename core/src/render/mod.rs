@@ -21,4 +21,6 @@ mod targets;
 pub use crate::plan::SKY;
 pub use command_log::{Command, CommandLog};
 pub use record::{record_frame, FrameDraws, Recorder, Rect};
-pub use renderer::{counting_frame, FrameStats, Renderer, StepFragments, StereoImage};
+pub use renderer::{
+    counting_frame, FrameStats, PassPrimitives, Renderer, StepFragments, StereoImage,
+};

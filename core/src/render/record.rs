@@ -24,8 +24,13 @@ pub trait Recorder {
     fn reset_queries(&mut self, count: u32);
     /// A timestamp after everything recorded so far.
     fn timestamp(&mut self, index: u32);
-    /// Counting frames: zero the fragment counters, visible to the fragment shaders.
-    fn clear_counters(&mut self);
+    /// Counting frames: zero the fragment counters, visible to the fragment shaders, and reset
+    /// `statistics` pipeline-statistics queries.
+    fn clear_counters(&mut self, statistics: u32);
+    /// Counting frames: a pipeline-statistics query around pass `pass` (outside the render
+    /// pass, so a multiview pass's views land in one query).
+    fn begin_statistics(&mut self, pass: usize);
+    fn end_statistics(&mut self, pass: usize);
     /// Counting frames: one pass's counting atomics before the next pass's.
     fn counters_barrier(&mut self);
     /// Counting frames: the counters, visible to the host.
@@ -69,10 +74,14 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
         rec.reset_queries(plan.timestamp_queries);
         rec.timestamp(0);
     }
+    let statistics = plan.statistics_queries > 0;
     if counting {
-        rec.clear_counters();
+        rec.clear_counters(plan.statistics_queries);
     }
     for (index, pass) in plan.passes.iter().enumerate() {
+        if statistics {
+            rec.begin_statistics(index);
+        }
         // One clear value per attachment, in `uses()` order (the render pass's), up to the
         // last one the plan clears: none for a pass that clears nothing.
         let uses: Vec<_> = pass.uses().collect();
@@ -108,6 +117,9 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
             }
         }
         rec.end_pass(index);
+        if statistics {
+            rec.end_statistics(index);
+        }
         if counting {
             rec.counters_barrier();
         }
@@ -198,7 +210,13 @@ impl Recorder for VulkanRecorder<'_> {
         }
     }
 
-    fn clear_counters(&mut self) {
+    fn clear_counters(&mut self, statistics: u32) {
+        if let Some(q) = &self.r.statistics {
+            unsafe {
+                self.device()
+                    .cmd_reset_query_pool(self.cmd, q.raw, 0, statistics)
+            };
+        }
         if let Some(counter) = &self.r.counter {
             unsafe {
                 self.device()
@@ -214,6 +232,25 @@ impl Recorder for VulkanRecorder<'_> {
                     vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
                 ),
             );
+        }
+    }
+
+    fn begin_statistics(&mut self, pass: usize) {
+        if let Some(q) = &self.r.statistics {
+            unsafe {
+                self.device().cmd_begin_query(
+                    self.cmd,
+                    q.raw,
+                    pass as u32,
+                    vk::QueryControlFlags::empty(),
+                )
+            };
+        }
+    }
+
+    fn end_statistics(&mut self, pass: usize) {
+        if let Some(q) = &self.r.statistics {
+            unsafe { self.device().cmd_end_query(self.cmd, q.raw, pass as u32) };
         }
     }
 

@@ -85,7 +85,32 @@ pub struct FrameStats {
     pub triangles: u64,
     /// Of those, the triangles each pass submitted, in plan order.
     pub pass_triangles: Vec<u64>,
+    /// Primitives each pass's pipelines processed, measured by pipeline-statistics queries
+    /// (counting frames on devices that have them; empty otherwise), in plan order.
+    pub pass_primitives: Vec<PassPrimitives>,
 }
+
+/// A pass's primitive work as pipeline-statistics queries measure it, summed over its views.
+/// Lavapipe runs a multiview pass's views one after another and counts each view's primitives;
+/// a tile GPU may count a multiview draw once. Full-view passes count their one triangle per
+/// view.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PassPrimitives {
+    /// Primitives input assembly produced.
+    pub assembled: u64,
+    /// Primitives that reached the clipper.
+    pub clipped_in: u64,
+    /// Primitives the clipper passed on to rasterisation (culled and degenerate ones gone).
+    pub rasterised: u64,
+}
+
+/// The pipeline statistics counting frames query, in the order Vulkan returns them.
+const PRIMITIVE_STATISTICS: vk::QueryPipelineStatisticFlags =
+    vk::QueryPipelineStatisticFlags::from_raw(
+        vk::QueryPipelineStatisticFlags::INPUT_ASSEMBLY_PRIMITIVES.as_raw()
+            | vk::QueryPipelineStatisticFlags::CLIPPING_INVOCATIONS.as_raw()
+            | vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES.as_raw(),
+    );
 
 /// Fragments one step of a pass shaded, measured by the counting frame's atomics.
 #[derive(Clone, Debug, PartialEq)]
@@ -187,6 +212,8 @@ pub struct Renderer<'g> {
     /// Stencil mask shapes (only when a pass has masks), rewritten each frame from the gaze.
     masks: Option<Buffer>,
     pub(super) queries: Option<QueryPool>,
+    /// Pipeline-statistics queries, one per pass (counting frames on devices that have them).
+    pub(super) statistics: Option<QueryPool>,
     readback: Option<Buffer>,
     cmd: vk::CommandBuffer,
     frame_pool: CommandPool,
@@ -341,6 +368,17 @@ impl<'g> Renderer<'g> {
                     .map(|raw| QueryPool::from_raw(&gpu.dev, raw))
             })
             .transpose()?;
+        let statistics = (plan.statistics_queries > 0)
+            .then(|| {
+                let info = vk::QueryPoolCreateInfo::default()
+                    .query_type(vk::QueryType::PIPELINE_STATISTICS)
+                    .query_count(plan.statistics_queries)
+                    .pipeline_statistics(PRIMITIVE_STATISTICS);
+                unsafe { gpu.device().create_query_pool(&info, None) }
+                    .vk("vkCreateQueryPool")
+                    .map(|raw| QueryPool::from_raw(&gpu.dev, raw))
+            })
+            .transpose()?;
         let frame_pool = gpu.command_pool(vk::CommandPoolCreateFlags::TRANSIENT)?;
         let cmd = gpu.allocate_command_buffer(&frame_pool)?;
         Ok(Renderer {
@@ -362,6 +400,7 @@ impl<'g> Renderer<'g> {
             counter,
             masks,
             queries,
+            statistics,
             readback: None,
             cmd,
             frame_pool,
@@ -506,6 +545,7 @@ impl<'g> Renderer<'g> {
         let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;
         let (gpu_ms, gpu_pass_ms) = self.read_gpu_times()?;
         let steps = self.read_fragment_counts();
+        let pass_primitives = self.read_primitives()?;
         let instances_drawn = self
             .plan
             .passes
@@ -542,6 +582,7 @@ impl<'g> Renderer<'g> {
                     .map(|(end, start)| end - start)
                     .collect()
             },
+            pass_primitives,
         };
         if self.counter.is_some() {
             let scene = stats.per_view(CountedStep::Scene);
@@ -573,6 +614,32 @@ impl<'g> Renderer<'g> {
         let ms = |a: u64, b: u64| b.wrapping_sub(a) as f64 * self.gpu.timestamp_period_ns / 1e6;
         let passes = ticks.windows(2).map(|w| ms(w[0], w[1])).collect();
         Ok((Some(ms(ticks[0], ticks[ticks.len() - 1])), passes))
+    }
+
+    /// Each pass's primitive statistics (empty without statistics queries).
+    fn read_primitives(&self) -> Result<Vec<PassPrimitives>, GpuError> {
+        let Some(q) = &self.statistics else {
+            return Ok(Vec::new());
+        };
+        // One [u64; 3] per query: ash derives the query count and stride from the element.
+        let mut values = vec![[0u64; 3]; self.plan.statistics_queries as usize];
+        unsafe {
+            self.gpu.device().get_query_pool_results(
+                q.raw,
+                0,
+                &mut values,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .vk("vkGetQueryPoolResults")?;
+        Ok(values
+            .iter()
+            .map(|v| PassPrimitives {
+                assembled: v[0],
+                clipped_in: v[1],
+                rasterised: v[2],
+            })
+            .collect())
     }
 
     /// Every counted step's per-view counts (empty without fragment counting).
