@@ -5,26 +5,51 @@ use clap::Args;
 use foveate::foveation::{fovea_centre_px, fovea_views, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::{RgbaImage, Stats};
-use foveate::plan::{RadialDensity, RenderConfig, Resolution, StereoMode};
+use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
 use foveate::render::{counting_frame, Renderer, StereoImage};
-use foveate::scene::{named_scene, Scene};
+use foveate::scene::{named_scene, Scene, Shading};
 use foveate::view::Eye;
 use glam::Vec2;
 
 use crate::csv_out::{opt, CsvTable};
+use crate::fovea_table::{self, TableSettings};
 
 #[derive(Args)]
 pub struct CompareArgs {
     /// Screen resolution per eye.
     #[arg(long, default_value_t = 1024)]
     res: u32,
-    /// Scene: default or fill.
+    /// Scene: default, fill, city, thesis or atrium.
     #[arg(long, default_value = "default")]
     scene: String,
-    /// Foveation ratios to compare.
-    #[arg(long, value_delimiter = ',', default_value = "0.7,0.5,0.35")]
-    ratios: Vec<f32>,
-    /// MSAA sample counts to compare.
+    /// Shading: flat or lit (default: the scene's own).
+    #[arg(long)]
+    shading: Option<String>,
+    /// What the frame's last pass writes: lens (pre-distorted, the display's image) or
+    /// undistorted. Accuracy is measured on it.
+    #[arg(long, default_value = "lens")]
+    output: String,
+    /// Fovea layout of the foveated rows: auto, one-pass or two-pass.
+    #[arg(long, default_value = "auto")]
+    fovea_layout: String,
+    /// Foveation ratios to compare (default 0.7,0.5,0.35; with --table 0.35,0.5).
+    #[arg(long, value_delimiter = ',')]
+    ratios: Option<Vec<f32>>,
+    /// The foveation table instead: stereo against each ratio in both fovea layouts, on every
+    /// scene of --scenes, flat and lit, MSAA 4 (the first of --msaa), side by side in one run.
+    #[arg(long)]
+    table: bool,
+    /// Scenes of the table.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "default,fill,city,thesis,atrium"
+    )]
+    scenes: Vec<String>,
+    /// Shadings of the table's scenes.
+    #[arg(long, value_delimiter = ',', default_value = "flat,lit")]
+    shadings: Vec<String>,
+    /// MSAA sample counts to compare (the table uses the last).
     #[arg(long, value_delimiter = ',', default_value = "1,4")]
     msaa: Vec<u32>,
     /// Gaze of both eyes, normalised X,Y in -1..1.
@@ -79,19 +104,26 @@ fn run(gpu: &Gpu, scene: &Scene, config: &RenderConfig, gaze: Vec2, frames: u32)
 }
 
 /// PSNR and SSIM of both eyes over the pixels a region predicate selects (by distance from each
-/// eye's fovea centre in screen pixels).
+/// eye's fovea centre in rendered pixels; through the lens, where each display pixel shows the
+/// rendered image, and display pixels beyond the rendered field in no region).
 fn region_error(
     reference: &StereoImage,
     image: &StereoImage,
     centres: [Vec2; 2],
+    plan: &FramePlan,
     inside: impl Fn(f32) -> bool,
 ) -> (Option<f64>, Option<f64>) {
     let both = |img: &StereoImage| RgbaImage::side_by_side(&img.left, &img.right);
     let (a, b) = (both(reference), both(image));
     let w = reference.left.width;
     let region = |x: u32, y: u32| {
-        let eye = if x < w { 0 } else { 1 };
-        inside(Vec2::new((x % w) as f32 + 0.5, y as f32 + 0.5).distance(centres[eye]))
+        let eye = Eye::BOTH[(x >= w) as usize];
+        let (x, y) = (x % w, y);
+        let at = match &plan.lens {
+            Some(lens) => lens.rendered_px(eye, plan.eyes.fov(eye), plan.eye_resolution, x, y),
+            None => Some(Vec2::new(x as f32 + 0.5, y as f32 + 0.5)),
+        };
+        at.is_some_and(|p| inside(p.distance(centres[eye.index()])))
     };
     (
         a.psnr_where(&b, region).ok().flatten(),
@@ -101,16 +133,22 @@ fn region_error(
 
 pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     anyhow::ensure!(args.frames >= 1, "invalid frames = 0: at least 1");
+    if args.table {
+        return table(options, args);
+    }
+    let ratios = args.ratios.clone().unwrap_or(vec![0.7, 0.5, 0.35]);
     let gaze = crate::gaze_arg::gaze_from(&args.gaze)?;
-    let scene = named_scene(&args.scene)?;
+    let scene = crate::frame_args::scene_from(&args.scene, args.shading.as_deref())?;
     let gpu = Gpu::new(options)?;
     let screen = Resolution::square(args.res);
     let base = RenderConfig {
         resolution: Some(screen),
         stereo: StereoMode::Multiview,
+        output: args.output.parse()?,
+        fovea_layout: args.fovea_layout.parse()?,
         ..RenderConfig::default()
     };
-    let total = 1 + args.msaa.len() * (1 + args.radial_density as usize + args.ratios.len());
+    let total = 1 + args.msaa.len() * (1 + args.radial_density as usize + ratios.len());
     let bar = crate::progress::bar("compare", total as u64);
     let step = |what: &str| {
         bar.set_message(what.to_string());
@@ -178,7 +216,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             let masked = run(&gpu, &scene, &config, gaze, args.frames)?;
             rows.push((name, msaa, None, masked, None));
         }
-        for &ratio in &args.ratios {
+        for &ratio in &ratios {
             step(&format!("foveated {ratio}, MSAA {msaa}"));
             let foveation = FoveationConfig {
                 ratio,
@@ -214,7 +252,8 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         "band dB/SSIM",
         "perif. dB/SSIM"
     );
-    let eyes = foveate::plan(&scene, &base, gpu.caps())?.eyes;
+    let base_plan = foveate::plan(&scene, &base, gpu.caps())?;
+    let eyes = base_plan.eyes;
     for (name, msaa, ratio, r, geometry) in rows {
         // Regions: the fovea circle (less the band), the band, and the rest.
         let (centres, radius, band) = match geometry {
@@ -227,7 +266,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             None => ([Vec2::splat(args.res as f32 / 2.0); 2], 0.0, 0.0),
         };
         let error = |inside: &dyn Fn(f32) -> bool| {
-            region_error(&reference.image, &r.image, centres, inside)
+            region_error(&reference.image, &r.image, centres, &base_plan, inside)
         };
         let regions = [
             error(&|d| d < radius - band),
@@ -277,8 +316,45 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         ])?;
     }
     println!(
-        "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (composition included); PSNR in dB / SSIM per region against the reference, both eyes; stereo rows: the periphery column is the whole image)"
+        "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); PSNR in dB / SSIM per region against the reference, both eyes, on the output image ({}); stereo rows: the periphery column is the whole image)",
+        base.output
     );
     gpu.check_validation()?;
     csv.save(args.csv.as_deref())
+}
+
+/// `compare --table`: the foveation table (see `fovea_table`).
+fn table(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
+    let gpu = Gpu::new(options)?;
+    let mut scenes = Vec::new();
+    for name in &args.scenes {
+        for shading in &args.shadings {
+            scenes.push((name.clone(), shading.parse::<Shading>()?));
+        }
+    }
+    let settings = TableSettings {
+        scenes,
+        ratios: args.ratios.clone().unwrap_or(vec![0.35, 0.5]),
+        resolution: Resolution::square(args.res),
+        msaa: *args.msaa.last().unwrap_or(&4),
+        output: args.output.parse()?,
+        frames: args.frames,
+    };
+    println!(
+        "device: {}; {}x{} per eye, MSAA {}, output {}, gaze centred; {} timed frames per row, rows interleaved",
+        gpu.info().name,
+        args.res,
+        args.res,
+        settings.msaa,
+        settings.output,
+        settings.frames
+    );
+    let rows = fovea_table::measure(&gpu, &settings, &|name, shading| {
+        Ok(named_scene(name)?.with_shading(shading))
+    })?;
+    fovea_table::print(&rows);
+    println!(
+        "(x stereo: frame time to the same scene's stereo row in this run; fragments and primitives from separate counting frames; (auto): the layout `--fovea-layout auto` picks on this device)"
+    );
+    fovea_table::csv(&rows)?.save(args.csv.as_deref())
 }

@@ -26,11 +26,17 @@ pub struct RenderArgs {
     /// the mode's name inserted before the extension).
     #[arg(long, default_value = "frame.png")]
     pub out: PathBuf,
+    /// With `--foveate`: also render the stereo reference (the same frame, foveation off), write
+    /// it below the foveated frame in one PNG and compare the two (time ratio, fragments,
+    /// per-pass times).
+    #[arg(long)]
+    pub reference: bool,
 }
 
-/// What one mode's run measured.
+/// What one run (a stereo mode, or the stereo reference) measured.
 struct ModeResult {
-    mode: StereoMode,
+    /// The stereo mode, or "stereo reference".
+    label: String,
     frame: Stats,
     gpu: Option<Stats>,
     /// Median GPU time per pass, with the pass's name.
@@ -52,10 +58,32 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     let gpu = Gpu::new(options)?;
     let scene = crate::frame_args::scene_from(&args.config.scene, args.config.shading.as_deref())?;
     let modes = args.config.stereo_modes()?;
+    anyhow::ensure!(
+        !args.reference || (args.config.foveate.is_some() && modes.len() == 1),
+        "invalid reference = true: compares a foveated frame (--foveate) in one stereo mode"
+    );
     println!("device: {}", gpu.info().name);
+    // Each run: its label, its configuration, where its image goes.
+    let mut runs: Vec<(String, foveate::RenderConfig, PathBuf)> = Vec::new();
+    if args.reference {
+        let foveated = args.config.config(modes[0])?;
+        let reference = foveate::RenderConfig {
+            foveation: None,
+            views: 2,
+            ..foveated.clone()
+        };
+        runs.push(("stereo reference".into(), reference, args.out.clone()));
+        runs.push((format!("foveated {}", modes[0]), foveated, args.out.clone()));
+    } else {
+        for &mode in &modes {
+            let out = output_path(&args.out, mode, modes.len() > 1);
+            runs.push((mode.name().to_string(), args.config.config(mode)?, out));
+        }
+    }
     let mut results = Vec::new();
-    for &mode in &modes {
-        let plan = foveate::plan(&scene, &args.config.config(mode)?, gpu.caps())?;
+    let mut images = Vec::new();
+    for (label, config, out) in &runs {
+        let plan = foveate::plan(&scene, config, gpu.caps())?;
         println!("{plan}\n");
         let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
         if let Some(g) = &args.config.gaze {
@@ -78,7 +106,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         };
         let mut filter = GazeFilter::new(0.5);
         let mut frames: Vec<FrameStats> = Vec::new();
-        let bar = crate::progress::bar(mode.name(), args.frames as u64);
+        let bar = crate::progress::bar(label, args.frames as u64);
         for i in 0..args.frames {
             if let Some(trace) = &trace {
                 // The latest sample at or before this frame's time (90 Hz).
@@ -96,24 +124,21 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         }
         bar.finish_and_clear();
         let image = renderer.readback()?.side_by_side();
-        let out = output_path(&args.out, mode, modes.len() > 1);
-        image
-            .save_png(&out)
-            .with_context(|| format!("writing {}", out.display()))?;
-        println!(
-            "wrote {} ({}x{}, left eye | right eye)",
-            out.display(),
-            image.width,
-            image.height
-        );
+        images.push(image);
+        if !args.reference {
+            save(
+                images.last().expect("just pushed"),
+                out,
+                "left eye | right eye",
+            )?;
+        }
         gpu.check_validation()?;
-        let config = args.config.config(mode)?;
-        let counts = counting_frame(&gpu, &scene, &config, renderer.gaze(), scene.head)?;
+        let counts = counting_frame(&gpu, &scene, config, renderer.gaze(), scene.head)?;
         gpu.check_validation()?;
         let series = |f: fn(&FrameStats) -> f64| frames.iter().map(f).collect::<Vec<_>>();
         let last = frames.last().expect("at least one frame");
         results.push(ModeResult {
-            mode,
+            label: label.clone(),
             frame: Stats::of(&series(|f| f.frame_ms)).expect("at least one frame"),
             gpu: Stats::of(&frames.iter().filter_map(|f| f.gpu_ms).collect::<Vec<_>>()),
             record: Stats::of(&series(|f| f.cpu_record_ms)).expect("at least one frame"),
@@ -140,9 +165,31 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
             .pixels();
         print_result(results.last().expect("just pushed"), pixels);
     }
+    if args.reference {
+        // The foveated frame above its stereo reference.
+        let both = foveate::metrics::RgbaImage::stacked(&images[1], &images[0]);
+        save(
+            &both,
+            &args.out,
+            "foveated above, stereo reference below; left eye | right eye",
+        )?;
+    }
     if results.len() > 1 {
         print_comparison(&results);
     }
+    Ok(())
+}
+
+fn save(image: &foveate::metrics::RgbaImage, out: &Path, layout: &str) -> Result<()> {
+    image
+        .save_png(out)
+        .with_context(|| format!("writing {}", out.display()))?;
+    println!(
+        "wrote {} ({}x{}, {layout})",
+        out.display(),
+        image.width,
+        image.height
+    );
     Ok(())
 }
 
@@ -161,7 +208,7 @@ fn print_result(r: &ModeResult, eye_pixels: u64) {
         .map_or("n/a".to_string(), |g| format!("{:.2} ms", g.median));
     println!(
         "{}: frame time median {:.2} ms (mean {:.2}, p95 {:.2}, {} frames, no counters); GPU {gpu}; CPU record {:.3} ms; {} draw calls, {} triangles recorded",
-        r.mode, r.frame.median, r.frame.mean, r.frame.p95, r.frame.count, r.record.median, r.draw_calls, r.triangles
+        r.label, r.frame.median, r.frame.mean, r.frame.p95, r.frame.count, r.record.median, r.draw_calls, r.triangles
     );
     for (name, ms) in &r.passes {
         println!("  GPU {name}: {ms:.2} ms");
@@ -173,8 +220,8 @@ fn print_result(r: &ModeResult, eye_pixels: u64) {
 fn print_comparison(results: &[ModeResult]) {
     let base = &results[0];
     println!(
-        "\n{:<11} {:>12} {:>8} {:>12} {:>8} {:>14} {:>8} {:>12} {:>12}",
-        "stereo",
+        "\n{:<20} {:>12} {:>8} {:>12} {:>8} {:>14} {:>8} {:>12} {:>12}",
+        "run",
         "frame ms",
         "ratio",
         "GPU ms",
@@ -187,8 +234,8 @@ fn print_comparison(results: &[ModeResult]) {
     for r in results {
         let gpu = |s: &Option<Stats>| s.map_or(f64::NAN, |g| g.median);
         println!(
-            "{:<11} {:>12.2} {:>8.2} {:>12.2} {:>8.2} {:>14.3} {:>8.2} {:>12} {:>12}",
-            r.mode.name(),
+            "{:<20} {:>12.2} {:>8.2} {:>12.2} {:>8.2} {:>14.3} {:>8.2} {:>12} {:>12}",
+            r.label,
             r.frame.median,
             r.frame.median / base.frame.median,
             gpu(&r.gpu),
@@ -201,6 +248,6 @@ fn print_comparison(results: &[ModeResult]) {
     }
     println!(
         "(ratios to {}, medians from this run; fragments from a separate counting frame)",
-        base.mode
+        base.label
     );
 }

@@ -212,7 +212,7 @@ fn cull_bench_prints_both_tables_and_writes_csv() {
     for r in &rows {
         assert_numeric(r, &["table", "name"]);
     }
-    let _ = std::fs::remove_file(csv);
+    let _ = std::fs::remove_file(&csv);
 }
 
 #[test]
@@ -261,7 +261,7 @@ fn pixels_prints_arms_three_tables_measured_beside_the_formula() {
     for r in &rows {
         assert_numeric(r, &[]);
     }
-    let _ = std::fs::remove_file(csv);
+    let _ = std::fs::remove_file(&csv);
     let text = stdout(&o);
     for needle in [
         "Table 2",
@@ -400,7 +400,49 @@ fn compare_prints_time_and_error_per_region() {
         count("total_fragments") >= count("scene_fragments") + 2 * 64 * 64,
         "{row:?}"
     );
-    let _ = std::fs::remove_file(csv);
+    let _ = std::fs::remove_file(&csv);
+    // The foveation table: stereo, then each ratio in both layouts, ratios to stereo.
+    let o = foveate(&[
+        "compare",
+        "--table",
+        "--res",
+        "48",
+        "--frames",
+        "1",
+        "--scenes",
+        "fill",
+        "--shadings",
+        "flat,lit",
+        "--ratios",
+        "0.5",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = read_csv(&csv, 10);
+    let names: Vec<(&str, &str)> = rows
+        .iter()
+        .map(|r| (r["shading"].as_str(), r["row"].as_str()))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("flat", "stereo"),
+            ("flat", "foveated 0.5 one-pass"),
+            ("flat", "foveated 0.5 two-pass"),
+            ("lit", "stereo"),
+            ("lit", "foveated 0.5 one-pass"),
+            ("lit", "foveated 0.5 two-pass"),
+        ]
+    );
+    assert_eq!(rows[0]["ratio_to_stereo"], "1.0000");
+    assert!(rows.iter().any(|r| r["auto_pick"] == "true"));
+    assert!(
+        rows[2]["gpu_ms_per_pass"].contains("fovea"),
+        "{:?}",
+        rows[2]
+    );
+    let _ = std::fs::remove_file(&csv);
     let o = foveate(&["compare", "--res", "64", "--gaze", "2"]);
     assert!(
         !o.status.success() && stderr(&o).contains("invalid gaze"),
@@ -469,7 +511,7 @@ fn mffr_prices_every_variant_against_stereo() {
     for r in &rows {
         assert_numeric(r, &["variant", "split"]);
     }
-    let _ = std::fs::remove_file(csv);
+    let _ = std::fs::remove_file(&csv);
     let text = stdout(&o);
     for needle in [
         "stereo",
@@ -508,7 +550,7 @@ fn mask_reports_each_profile_measured() {
     for r in &rows {
         assert_numeric(r, &["profile"]);
     }
-    let _ = std::fs::remove_file(csv);
+    let _ = std::fs::remove_file(&csv);
     let text = stdout(&o);
     for needle in ["index", "vive", "rift-cv1", "quest2", "saved/masked"] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
@@ -533,6 +575,10 @@ fn bench_runs_the_whole_matrix_on_a_tiny_scene_and_writes_every_output() {
         "1",
         "--accuracy-rounds",
         "2",
+        "--foveation-res",
+        "32",
+        "--foveation-frames",
+        "1",
         "--out",
         dir.to_str().unwrap(),
         "--json",
@@ -565,6 +611,8 @@ fn bench_runs_the_whole_matrix_on_a_tiny_scene_and_writes_every_output() {
         "ratios.svg",
         "accuracy.png",
         "accuracy.svg",
+        "foveation-table.md",
+        "foveation-table.csv",
     ] {
         let path = dir.join(file);
         assert!(

@@ -121,8 +121,8 @@ fn switched_off_effects_cost_no_object_and_no_byte() {
 }
 
 /// Switched on, each effect adds the objects it needs and the plan shows them — and the
-/// instruments add exactly their one object: the counter buffer (its shader variants replace
-/// the plain ones) or the query pool. Mutation: an effect whose resources are not created,
+/// instruments add exactly their objects: the counter buffer (its shader variants replace the
+/// plain ones) with the pipeline-statistics query pool, or the timestamp query pool. Mutation: an effect whose resources are not created,
 /// or counting that leaves an extra pipeline behind, fails it.
 #[test]
 fn switched_on_effects_add_what_they_need() {
@@ -174,7 +174,16 @@ fn switched_on_effects_add_what_they_need() {
         let c = cost(&gpu, &scene, &p);
         let added = difference(&c.objects, &base.objects);
         match name.as_str() {
-            "fragment counting" => assert_eq!(added, BTreeMap::from([("Buffer", 1)]), "{name}"),
+            // The counter buffer, and the pipeline-statistics queries where the device has them.
+            "fragment counting" => assert_eq!(
+                added,
+                if gpu.caps().pipeline_statistics {
+                    BTreeMap::from([("Buffer", 1), ("QueryPool", 1)])
+                } else {
+                    BTreeMap::from([("Buffer", 1)])
+                },
+                "{name}"
+            ),
             "timestamps" => assert_eq!(added, BTreeMap::from([("QueryPool", 1)]), "{name}"),
             _ => assert!(
                 added.values().any(|&n| n > 0),

@@ -87,6 +87,20 @@ impl RgbaImage {
         out
     }
 
+    /// Places `a` above `b` (same width).
+    pub fn stacked(a: &RgbaImage, b: &RgbaImage) -> RgbaImage {
+        let mut out = RgbaImage::new(a.width.max(b.width), a.height + b.height);
+        for (img, y0) in [(a, 0), (b, a.height)] {
+            for y in 0..img.height {
+                let src = (y * img.width * 4) as usize;
+                let dst = ((y + y0) * out.width * 4) as usize;
+                out.data[dst..dst + (img.width * 4) as usize]
+                    .copy_from_slice(&img.data[src..src + (img.width * 4) as usize]);
+            }
+        }
+        out
+    }
+
     pub fn save_png(&self, path: &Path) -> Result<(), ImageError> {
         let file = File::create(path).map_err(|source| ImageError::Io {
             path: path.into(),

@@ -398,6 +398,28 @@ impl LensOutput {
             display: Eye::BOTH.map(|e| distortion.display_fov(eyes.fov(e))),
         }
     }
+
+    /// Where the centre of display pixel (`x`, `y`) of `eye` shows the rendered image, in
+    /// pixels of a `screen`-sized eye image rendered with field `fov`: what the output stage
+    /// samples there (`None` beyond the rendered field: black on the display). Accuracy
+    /// regions on the output image are found with it.
+    pub fn rendered_px(
+        &self,
+        eye: Eye,
+        fov: FovTangents,
+        screen: Resolution,
+        x: u32,
+        y: u32,
+    ) -> Option<glam::Vec2> {
+        let d = self.display[eye.index()];
+        let (w, h) = (screen.width as f32, screen.height as f32);
+        let (u, v) = ((x as f32 + 0.5) / w, (y as f32 + 0.5) / h);
+        let td = glam::Vec2::new(-d.left + u * (d.left + d.right), d.up - v * (d.up + d.down));
+        let t = self.distortion.eye_from_display(td);
+        let px = (t.x + fov.left) / (fov.left + fov.right) * w;
+        let py = (fov.up - t.y) / (fov.up + fov.down) * h;
+        ((0.0..=w).contains(&px) && (0.0..=h).contains(&py)).then_some(glam::Vec2::new(px, py))
+    }
 }
 
 impl FramePlan {

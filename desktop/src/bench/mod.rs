@@ -15,9 +15,11 @@ use clap::Args;
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::mffr::{MffrConfig, SplitDistance};
-use foveate::plan::{FramePlan, Resolution};
+use foveate::plan::{FramePlan, OutputStage, Resolution};
 use foveate::render::Renderer;
-use foveate::scene::{rail_pose, Instance, ThesisScene, RAIL_LOOP_FRAMES};
+use foveate::scene::{rail_pose, Instance, Shading, ThesisScene, RAIL_LOOP_FRAMES};
+
+use crate::fovea_table::TableSettings;
 
 pub use matrix::{Settings, Toggles};
 use report::{FrameSample, Report, Row};
@@ -75,6 +77,14 @@ pub struct BenchArgs {
     /// Also write the whole report as JSON to this file (`-`: standard output).
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Per-eye resolution of the foveation table (stereo against foveation 0.35 and 0.5 in
+    /// both fovea layouts on every built-in scene, flat and lit, lens output on every row),
+    /// written as foveation-table.md and .csv; 0 skips it.
+    #[arg(long, default_value_t = 1024)]
+    pub foveation_res: u32,
+    /// Timed frames per row of the foveation table.
+    #[arg(long, default_value_t = 3)]
+    pub foveation_frames: u32,
 }
 
 /// Scene scale by name or factor.
@@ -222,7 +232,46 @@ pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
     let report = Report::new(
         &gpu, &settings, scale, &scene, args, interleave, rows, plans, allocated, samples, accuracy,
     );
-    report.write(&args.out, args.csv.as_deref(), args.json.as_deref())
+    report.write(&args.out, args.csv.as_deref(), args.json.as_deref())?;
+    if args.foveation_res > 0 {
+        foveation_table(&gpu, args)?;
+    }
+    Ok(())
+}
+
+/// The foveation table (see `fovea_table`), into the output directory.
+fn foveation_table(gpu: &Gpu, args: &BenchArgs) -> Result<()> {
+    let mut scenes = Vec::new();
+    for name in foveate::scene::SCENE_NAMES {
+        for shading in [Shading::Flat, Shading::Lit] {
+            scenes.push((name.to_string(), shading));
+        }
+    }
+    let settings = TableSettings {
+        scenes,
+        ratios: vec![0.35, 0.5],
+        resolution: Resolution::square(args.foveation_res),
+        msaa: args.msaa,
+        output: OutputStage::Lens,
+        frames: args.foveation_frames,
+    };
+    let rows = crate::fovea_table::measure(gpu, &settings, &|name, shading| {
+        Ok(foveate::scene::named_scene(name)?.with_shading(shading))
+    })?;
+    crate::fovea_table::print(&rows);
+    let md = args.out.join("foveation-table.md");
+    let header = format!(
+        "Foveation table: {} ({}x{} per eye, MSAA {}, lens output on every row, gaze centred, {} timed frames per row, rows interleaved; x stereo = frame time / the same scene's stereo row in this run; fragments and primitives from separate counting frames; (auto) = the layout `--fovea-layout auto` picks on this device).\n\n",
+        gpu.info().name,
+        args.foveation_res,
+        args.foveation_res,
+        args.msaa,
+        args.foveation_frames
+    );
+    std::fs::write(&md, header + &crate::fovea_table::markdown(&rows))
+        .with_context(|| format!("writing {}", md.display()))?;
+    println!("wrote {}", md.display());
+    crate::fovea_table::csv(&rows)?.save(Some(&args.out.join("foveation-table.csv")))
 }
 
 /// The rows measured: the matrix (or the rows `only` names, with the baseline), then two

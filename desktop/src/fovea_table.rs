@@ -1,0 +1,257 @@
+//! The foveation table: stereo against foveation at each ratio in each fovea layout, on every
+//! scene variant asked for, the output stage on for every row — measured side by side in one
+//! run (every row's renderer alive together, frames interleaved round-robin so machine noise
+//! hits all rows alike): frame and per-pass GPU time, fragments and primitives from separate
+//! counting frames, and the ratio to stereo. `compare --table` prints it and the bench records
+//! it.
+
+use std::fmt::Write as _;
+
+use anyhow::{Context, Result};
+use foveate::foveation::FoveationConfig;
+use foveate::gpu::Gpu;
+use foveate::metrics::Stats;
+use foveate::plan::{FoveaLayout, OutputStage, RenderConfig, Resolution};
+use foveate::render::{counting_frame, FrameStats, Renderer};
+use foveate::scene::{Scene, Shading};
+
+use crate::csv_out::CsvTable;
+
+/// What the table measures.
+pub struct TableSettings {
+    /// (scene name, shading) pairs, in order.
+    pub scenes: Vec<(String, Shading)>,
+    pub ratios: Vec<f32>,
+    pub resolution: Resolution,
+    pub msaa: u32,
+    pub output: OutputStage,
+    /// Timed frames per row (after one warm-up frame each).
+    pub frames: u32,
+}
+
+/// One measured row.
+pub struct TableRow {
+    pub scene: String,
+    pub shading: Shading,
+    /// `stereo`, or `foveated R one-pass|two-pass`.
+    pub name: String,
+    /// Whether `auto` would pick this row's layout (foveated rows).
+    pub auto_pick: bool,
+    pub frame_ms: f64,
+    pub ratio: f64,
+    /// (pass name, median GPU ms), in plan order.
+    pub passes: Vec<(&'static str, f64)>,
+    pub scene_fragments: u64,
+    pub total_fragments: u64,
+    /// Primitives rasterised over every pass (pipeline statistics), when the device has them.
+    pub primitives: Option<u64>,
+}
+
+/// A row's configuration: stereo, or foveated at `ratio` in `layout`.
+fn row_config(base: &RenderConfig, foveated: Option<(f32, FoveaLayout)>) -> RenderConfig {
+    match foveated {
+        None => base.clone(),
+        Some((ratio, layout)) => RenderConfig {
+            views: 4,
+            foveation: Some(FoveationConfig {
+                ratio,
+                blend_band_px: -1.0,
+                ..FoveationConfig::default()
+            }),
+            fovea_layout: layout,
+            ..base.clone()
+        },
+    }
+}
+
+/// Measures the table; `load` makes a scene by name.
+pub fn measure(
+    gpu: &Gpu,
+    settings: &TableSettings,
+    load: &dyn Fn(&str, Shading) -> Result<Scene>,
+) -> Result<Vec<TableRow>> {
+    let base = RenderConfig {
+        resolution: Some(settings.resolution),
+        msaa: settings.msaa,
+        output: settings.output,
+        ..RenderConfig::default()
+    };
+    let mut variants: Vec<Option<(f32, FoveaLayout)>> = vec![None];
+    for &ratio in &settings.ratios {
+        for layout in [FoveaLayout::OnePass, FoveaLayout::TwoPass] {
+            variants.push(Some((ratio, layout)));
+        }
+    }
+    let bar = crate::progress::bar(
+        "foveation table",
+        (settings.scenes.len() * variants.len()) as u64,
+    );
+    let mut table = Vec::new();
+    for (name, shading) in &settings.scenes {
+        let scene = load(name, *shading)?;
+        let configs: Vec<RenderConfig> = variants.iter().map(|v| row_config(&base, *v)).collect();
+        let plans = configs
+            .iter()
+            .map(|c| foveate::plan(&scene, c, gpu.caps()).with_context(|| name.clone()))
+            .collect::<Result<Vec<_>>>()?;
+        let mut renderers = plans
+            .iter()
+            .map(|p| Renderer::new(gpu, p, &scene))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut samples: Vec<Vec<FrameStats>> = vec![Vec::new(); renderers.len()];
+        for frame in 0..=settings.frames {
+            for (r, out) in renderers.iter_mut().zip(&mut samples) {
+                let stats = r.render_frame(scene.head)?;
+                if frame > 0 {
+                    out.push(stats);
+                }
+            }
+        }
+        let auto = foveate::plan(
+            &scene,
+            &row_config(&base, Some((0.35, FoveaLayout::Auto))),
+            gpu.caps(),
+        )?
+        .fovea_layout
+        .map(|c| c.layout);
+        let median = |v: Vec<f64>| Stats::of(&v).map_or(f64::NAN, |s| s.median);
+        let mut stereo_ms = f64::NAN;
+        for (i, ((variant, plan), frames)) in variants.iter().zip(&plans).zip(&samples).enumerate()
+        {
+            let frame_ms = median(frames.iter().map(|f| f.frame_ms).collect());
+            if i == 0 {
+                stereo_ms = frame_ms;
+            }
+            let passes = plan
+                .passes
+                .iter()
+                .enumerate()
+                .map(|(k, p)| {
+                    let ms = median(
+                        frames
+                            .iter()
+                            .filter_map(|f| f.gpu_pass_ms.get(k).copied())
+                            .collect(),
+                    );
+                    (p.name, ms)
+                })
+                .collect();
+            let counts =
+                counting_frame(gpu, &scene, &configs[i], [glam::Vec2::ZERO; 2], scene.head)?;
+            table.push(TableRow {
+                scene: name.clone(),
+                shading: *shading,
+                name: match variant {
+                    None => "stereo".to_string(),
+                    Some((ratio, layout)) => format!("foveated {ratio} {layout}"),
+                },
+                auto_pick: variant.is_some_and(|(_, layout)| Some(layout) == auto),
+                frame_ms,
+                ratio: frame_ms / stereo_ms,
+                passes,
+                scene_fragments: counts.scene_fragments(),
+                total_fragments: counts.total_fragments(),
+                primitives: (!counts.pass_primitives.is_empty())
+                    .then(|| counts.pass_primitives.iter().map(|p| p.rasterised).sum()),
+            });
+            bar.inc(1);
+        }
+        drop(renderers);
+        gpu.check_validation()?;
+    }
+    bar.finish_and_clear();
+    Ok(table)
+}
+
+/// The per-pass times of a row, short: "periphery 81.3 + fovea 91.4 + output 24.6".
+fn pass_times(row: &TableRow) -> String {
+    row.passes
+        .iter()
+        .map(|(name, ms)| {
+            let short = name
+                .trim_start_matches("scene (")
+                .split([' ', ')', ','])
+                .next()
+                .unwrap_or(name);
+            format!("{short} {ms:.1}")
+        })
+        .collect::<Vec<_>>()
+        .join(" + ")
+}
+
+/// The table as Markdown (for BENCHMARKS.md and `tables.md`).
+pub fn markdown(rows: &[TableRow]) -> String {
+    let mut s = String::from(
+        "| scene | shading | row | frame ms | × stereo | GPU ms per pass | scene fragments | all fragments | primitives |\n|---|---|---|---:|---:|---|---:|---:|---:|\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {}{} | {:.1} | {:.3} | {} | {} | {} | {} |",
+            r.scene,
+            r.shading,
+            r.name,
+            if r.auto_pick { " (auto)" } else { "" },
+            r.frame_ms,
+            r.ratio,
+            pass_times(r),
+            r.scene_fragments,
+            r.total_fragments,
+            r.primitives.map_or("n/a".to_string(), |p| p.to_string())
+        );
+    }
+    s
+}
+
+/// Prints the table.
+pub fn print(rows: &[TableRow]) {
+    println!(
+        "{:<8} {:<5} {:<28} {:>9} {:>8} {:>12} {:>12} {:>11}  GPU ms per pass",
+        "scene", "shade", "row", "frame ms", "x stereo", "scene frags", "all frags", "primitives"
+    );
+    for r in rows {
+        println!(
+            "{:<8} {:<5} {:<28} {:>9.1} {:>8.3} {:>12} {:>12} {:>11}  {}",
+            r.scene,
+            r.shading.name(),
+            format!("{}{}", r.name, if r.auto_pick { " (auto)" } else { "" }),
+            r.frame_ms,
+            r.ratio,
+            r.scene_fragments,
+            r.total_fragments,
+            r.primitives.map_or("n/a".to_string(), |p| p.to_string()),
+            pass_times(r)
+        );
+    }
+}
+
+/// The table as CSV.
+pub fn csv(rows: &[TableRow]) -> Result<CsvTable> {
+    let mut t = CsvTable::new(&[
+        "scene",
+        "shading",
+        "row",
+        "auto_pick",
+        "frame_ms",
+        "ratio_to_stereo",
+        "gpu_ms_per_pass",
+        "scene_fragments",
+        "total_fragments",
+        "primitives",
+    ])?;
+    for r in rows {
+        t.row(&[
+            &r.scene,
+            &r.shading,
+            &r.name,
+            &r.auto_pick,
+            &format!("{:.3}", r.frame_ms),
+            &format!("{:.4}", r.ratio),
+            &pass_times(r),
+            &r.scene_fragments,
+            &r.total_fragments,
+            &r.primitives.map_or(String::new(), |p| p.to_string()),
+        ])?;
+    }
+    Ok(t)
+}
