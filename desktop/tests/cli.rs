@@ -158,6 +158,22 @@ fn bad_input_is_a_clear_error_not_a_panic() {
         (&["plan", "--hmd", "pimax"][..], "hmd = pimax"),
         (&["plan", "--stereo", "mono"][..], "stereo = mono"),
         (
+            &["plan", "--output", "warped"][..],
+            "output = warped: one of undistorted, lens",
+        ),
+        (
+            &["plan", "--foveate", "0.35", "--fovea-layout", "three"][..],
+            "fovea layout = three: one of auto, one-pass, two-pass",
+        ),
+        (
+            &["plan", "--shading", "pbr"][..],
+            "shading = pbr: one of flat, lit",
+        ),
+        (
+            &["render", "--res", "32", "--reference"][..],
+            "reference = true: compares a foveated frame",
+        ),
+        (
             &["render", "--frames", "0", "--res", "32"][..],
             "frames = 0",
         ),

@@ -151,6 +151,7 @@ struct Blend {
 
 /// The lens model evaluated independently of the shader, in f64: where the eye sees a display
 /// pixel, in pixels of the undistorted eye image.
+#[derive(Clone)]
 struct LensOracle {
     display: [FovTangents; 2],
     fov: [FovTangents; 2],
@@ -304,35 +305,61 @@ fn shifted_one_pixel(image: &StereoImage) -> StereoImage {
 /// Inside the fovea the composed image is the full-resolution reference: after snapping to
 /// whole pixels the fovea view is a 1:1 copy. PSNR ≥ 55 dB and at most 0.1 % of its pixels more
 /// than two levels off (a silhouette at the view border may flip a coverage sample), at the
-/// centre, off-centre and clamped at a corner. Negative control: the same frame compared one
-/// pixel off — what a fovea window one pixel off would compose — fails.
+/// centre, off-centre and clamped at a corner; and through the output stage's lens (against the
+/// reference through the same lens, on the display pixels whose image point the f64 lens oracle
+/// puts inside the fovea) in both fovea layouts, on the default scene and the lit atrium's
+/// textures. Negative control: the same frame compared one pixel off — what a fovea window one
+/// pixel off would compose — fails.
 #[test]
 fn the_fovea_is_the_full_resolution_reference() {
     let gpu = gpu();
-    let scene = default_scene();
     let screen = 256;
-    let reference_config = RenderConfig {
-        resolution: Some(Resolution::square(screen)),
-        msaa: 4,
-        ..RenderConfig::default()
-    };
-    let (reference, _) = foveate_tests::render(&gpu, &scene, &reference_config);
-    let config = foveated_frame(screen, 0.35, 8.0);
+    let (default, atrium) = (default_scene(), atrium_scene());
+    let undistorted = OutputStage::Undistorted;
+    let lens = OutputStage::Lens;
     // Centre, off-centre, and clamped at the bottom-left corner (content there, so a shift
     // shows: the bottom-right corner is uniform ground).
-    for gaze in [Vec2::ZERO, Vec2::new(0.3, -0.25), Vec2::new(-1.0, -1.0)] {
-        let image = render_at(&gpu, &scene, &config, gaze);
+    let off_centre = Vec2::new(0.3, -0.25);
+    let cases = [
+        (undistorted, &default, FoveaLayout::Auto, Vec2::ZERO),
+        (undistorted, &default, FoveaLayout::Auto, off_centre),
+        (
+            undistorted,
+            &default,
+            FoveaLayout::Auto,
+            Vec2::new(-1.0, -1.0),
+        ),
+        (lens, &default, FoveaLayout::OnePass, off_centre),
+        (lens, &default, FoveaLayout::TwoPass, off_centre),
+        (lens, &atrium, FoveaLayout::TwoPass, off_centre),
+    ];
+    for (output, scene, fovea_layout, gaze) in cases {
+        let reference_config = RenderConfig {
+            resolution: Some(Resolution::square(screen)),
+            msaa: 4,
+            output,
+            ..RenderConfig::default()
+        };
+        let (reference, _) = foveate_tests::render(&gpu, scene, &reference_config);
+        let config = RenderConfig {
+            fovea_layout,
+            output,
+            ..foveated_frame(screen, 0.35, 8.0)
+        };
+        let image = render_at(&gpu, scene, &config, gaze);
         let blend = Blend::of(&gpu, &config, gaze);
+        assert_eq!(blend.lens.is_some(), output == lens);
+        let case = format!("{output}, {fovea_layout}, gaze {gaze}");
         let (psnr, off) = fovea_identity(&reference, &image, &blend);
         assert!(
             psnr >= 55.0 && off <= 0.001,
-            "gaze {gaze}: fovea PSNR {psnr:.1} dB, {:.3} % of pixels > 2 levels off",
+            "{case}: fovea PSNR {psnr:.1} dB, {:.3} % of pixels > 2 levels off",
             100.0 * off
         );
         let (psnr, off) = fovea_identity(&shifted_one_pixel(&reference), &image, &blend);
         assert!(
             psnr < 55.0 && off > 0.001,
-            "negative control: a window one pixel off passes ({psnr:.1} dB, {:.3} %)",
+            "{case}: negative control, a window one pixel off, passes ({psnr:.1} dB, {:.3} %)",
             100.0 * off
         );
     }
@@ -390,157 +417,70 @@ fn band_mismatch(
 }
 
 /// The band blends fovea into periphery as the smoothstep model says on every row crossing it,
-/// both eyes: at most 0.5 % of band pixels more than three levels off the model. Negative
-/// controls on the same content: a hard cut (band 0) and a misplaced band (the fovea 8 px
-/// smaller, its band 4 px inward) both fail.
+/// both eyes, undistorted and through the lens (at each display pixel's image point): at most
+/// 0.5 % of band pixels more than three levels off the model. Negative controls on the same
+/// content: a hard cut (band 0) and a misplaced band (the fovea 8 px smaller, its band 4 px
+/// inward) both fail.
 #[test]
 fn the_band_blends_as_the_model_says() {
     let gpu = gpu();
     let scene = default_scene();
     let screen = 256;
-    let (reference, _) = foveate_tests::render(
-        &gpu,
-        &scene,
-        &RenderConfig {
-            resolution: Some(Resolution::square(screen)),
-            msaa: 4,
-            ..RenderConfig::default()
-        },
-    );
-    let gaze = Vec2::new(0.3, -0.25);
-    let config = foveated_frame(screen, 0.35, 12.0);
-    let blend = Blend::of(&gpu, &config, gaze);
-    // The periphery alone where the band lies: the fovea moved to the far corner, no masks.
-    let periphery_only = RenderConfig {
-        foveation: config.foveation.map(|f| FoveationConfig {
-            stencil: false,
-            ..f
-        }),
-        ..config.clone()
-    };
-    let periphery = render_at(&gpu, &scene, &periphery_only, Vec2::new(-1.0, 1.0));
-    let composed = render_at(&gpu, &scene, &config, gaze);
-    let mismatch = band_mismatch(&composed, &reference, &periphery, &blend);
-    assert!(
-        mismatch <= 0.005,
-        "{:.2} % of band pixels off the model",
-        100.0 * mismatch
-    );
-
-    let hard_cut = render_at(&gpu, &scene, &foveated_frame(screen, 0.35, 0.0), gaze);
-    let cut = band_mismatch(&hard_cut, &reference, &periphery, &blend);
-    let misplaced_config = RenderConfig {
-        foveation: config.foveation.map(|f| FoveationConfig {
-            fovea_size: Some((2.0 * blend.radius) as u32 - 8),
-            ..f
-        }),
-        ..config.clone()
-    };
-    let misplaced = render_at(&gpu, &scene, &misplaced_config, gaze);
-    let moved = band_mismatch(&misplaced, &reference, &periphery, &blend);
-    assert!(
-        cut > 0.005 && moved > 0.005,
-        "negative controls pass: hard cut {:.2} %, misplaced band {:.2} %",
-        100.0 * cut,
-        100.0 * moved
-    );
-}
-
-fn through_the_lens(config: RenderConfig) -> RenderConfig {
-    RenderConfig {
-        output: OutputStage::Lens,
-        ..config
-    }
-}
-
-/// Through the output stage's lens the fovea is still the full-resolution reference (seen
-/// through the same lens), in both fovea layouts, flat and on the lit atrium's textures: the
-/// display pixels whose image point lies inside the fovea (band excluded), found by the f64
-/// lens oracle. Negative control: the reference one pixel off fails.
-#[test]
-fn the_fovea_is_the_full_resolution_reference_through_the_lens() {
-    let gpu = gpu();
-    let screen = 256;
-    let reference_config = through_the_lens(RenderConfig {
-        resolution: Some(Resolution::square(screen)),
-        msaa: 4,
-        ..RenderConfig::default()
-    });
-    let gaze = Vec2::new(0.3, -0.25);
-    for (scene, fovea_layout) in [
-        (default_scene(), FoveaLayout::OnePass),
-        (default_scene(), FoveaLayout::TwoPass),
-        (atrium_scene(), FoveaLayout::TwoPass),
-    ] {
-        let (reference, _) = foveate_tests::render(&gpu, &scene, &reference_config);
-        let config = RenderConfig {
-            fovea_layout,
-            ..through_the_lens(foveated_frame(screen, 0.35, 8.0))
-        };
-        let image = render_at(&gpu, &scene, &config, gaze);
+    for output in [OutputStage::Undistorted, OutputStage::Lens] {
+        let with_output = |c: RenderConfig| RenderConfig { output, ..c };
+        let (reference, _) = foveate_tests::render(
+            &gpu,
+            &scene,
+            &with_output(RenderConfig {
+                resolution: Some(Resolution::square(screen)),
+                msaa: 4,
+                ..RenderConfig::default()
+            }),
+        );
+        let gaze = Vec2::new(0.3, -0.25);
+        let config = with_output(foveated_frame(screen, 0.35, 12.0));
         let blend = Blend::of(&gpu, &config, gaze);
-        assert!(blend.lens.is_some());
-        let (psnr, off) = fovea_identity(&reference, &image, &blend);
+        assert_eq!(blend.lens.is_some(), output == OutputStage::Lens);
+        // The periphery alone where the band lies: the fovea moved to the far corner, no masks.
+        let periphery_only = RenderConfig {
+            foveation: config.foveation.map(|f| FoveationConfig {
+                stencil: false,
+                ..f
+            }),
+            ..config.clone()
+        };
+        let periphery = render_at(&gpu, &scene, &periphery_only, Vec2::new(-1.0, 1.0));
+        let composed = render_at(&gpu, &scene, &config, gaze);
+        let mismatch = band_mismatch(&composed, &reference, &periphery, &blend);
         assert!(
-            psnr >= 55.0 && off <= 0.001,
-            "{fovea_layout}: fovea PSNR {psnr:.1} dB, {:.3} % of pixels > 2 levels off",
-            100.0 * off
+            mismatch <= 0.005,
+            "{output}: {:.2} % of band pixels off the model",
+            100.0 * mismatch
         );
-        let (psnr, off) = fovea_identity(&shifted_one_pixel(&reference), &image, &blend);
+
+        let hard_cut = with_output(foveated_frame(screen, 0.35, 0.0));
+        let cut = band_mismatch(
+            &render_at(&gpu, &scene, &hard_cut, gaze),
+            &reference,
+            &periphery,
+            &blend,
+        );
+        let misplaced_config = RenderConfig {
+            foveation: config.foveation.map(|f| FoveationConfig {
+                fovea_size: Some((2.0 * blend.radius) as u32 - 8),
+                ..f
+            }),
+            ..config.clone()
+        };
+        let misplaced = render_at(&gpu, &scene, &misplaced_config, gaze);
+        let moved = band_mismatch(&misplaced, &reference, &periphery, &blend);
         assert!(
-            psnr < 55.0 && off > 0.001,
-            "negative control passes ({psnr:.1} dB, {:.3} %)",
-            100.0 * off
+            cut > 0.005 && moved > 0.005,
+            "{output}: negative controls pass: hard cut {:.2} %, misplaced band {:.2} %",
+            100.0 * cut,
+            100.0 * moved
         );
     }
-}
-
-/// Through the lens the band still blends as the smoothstep model says, at each display
-/// pixel's image point. Negative control: a hard cut fails.
-#[test]
-fn the_band_blends_as_the_model_says_through_the_lens() {
-    let gpu = gpu();
-    let scene = default_scene();
-    let screen = 256;
-    let (reference, _) = foveate_tests::render(
-        &gpu,
-        &scene,
-        &through_the_lens(RenderConfig {
-            resolution: Some(Resolution::square(screen)),
-            msaa: 4,
-            ..RenderConfig::default()
-        }),
-    );
-    let gaze = Vec2::new(0.3, -0.25);
-    let config = through_the_lens(foveated_frame(screen, 0.35, 12.0));
-    let blend = Blend::of(&gpu, &config, gaze);
-    let periphery_only = RenderConfig {
-        foveation: config.foveation.map(|f| FoveationConfig {
-            stencil: false,
-            ..f
-        }),
-        ..config.clone()
-    };
-    let periphery = render_at(&gpu, &scene, &periphery_only, Vec2::new(-1.0, 1.0));
-    let composed = render_at(&gpu, &scene, &config, gaze);
-    let mismatch = band_mismatch(&composed, &reference, &periphery, &blend);
-    assert!(
-        mismatch <= 0.005,
-        "{:.2} % of band pixels off the model",
-        100.0 * mismatch
-    );
-    let hard_cut = render_at(
-        &gpu,
-        &scene,
-        &through_the_lens(foveated_frame(screen, 0.35, 0.0)),
-        gaze,
-    );
-    let cut = band_mismatch(&hard_cut, &reference, &periphery, &blend);
-    assert!(
-        cut > 0.005,
-        "negative control passes: hard cut {:.2} %",
-        100.0 * cut
-    );
 }
 
 /// Fraction of display pixels (both eyes) more than three levels from the undistorted image
@@ -595,7 +535,10 @@ fn the_lens_distorts_as_the_model_says() {
         ..RenderConfig::default()
     };
     let (undistorted, _) = foveate_tests::render(&gpu, &scene, &base);
-    let lens_config = through_the_lens(base);
+    let lens_config = RenderConfig {
+        output: OutputStage::Lens,
+        ..base.clone()
+    };
     let (lens, _) = foveate_tests::render(&gpu, &scene, &lens_config);
     let plan = foveate::plan(&scene, &lens_config, gpu.caps()).unwrap();
     let oracle = LensOracle::of(&plan).expect("planned for the lens");
@@ -628,7 +571,7 @@ fn the_lens_distorts_as_the_model_says() {
         let wrong = LensOracle {
             k1,
             k2,
-            ..oracle_copy(&oracle)
+            ..oracle.clone()
         };
         let m = lens_mismatch(&lens, &undistorted, &wrong);
         assert!(
@@ -636,16 +579,6 @@ fn the_lens_distorts_as_the_model_says() {
             "negative control ({what}) passes: {:.2} %",
             100.0 * m
         );
-    }
-}
-
-fn oracle_copy(o: &LensOracle) -> LensOracle {
-    LensOracle {
-        display: o.display,
-        fov: o.fov,
-        k1: o.k1,
-        k2: o.k2,
-        screen: o.screen,
     }
 }
 

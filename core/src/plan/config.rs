@@ -6,6 +6,7 @@ use crate::cull::Strategy;
 use crate::foveation::FoveationConfig;
 use crate::mffr::MffrConfig;
 use crate::view::{FovTangents, HmdProfile, HMD_PROFILES};
+use crate::vocab::named_enum;
 
 /// foveate's own limit on views in one pass: two eyes, or two eyes × (periphery, fovea).
 pub const MAX_VIEWS: u32 = 4;
@@ -89,27 +90,6 @@ pub enum FoveaLayout {
     TwoPass,
 }
 
-macro_rules! named_enum {
-    ($t:ty, $field:literal, [$($v:expr => $name:literal),+ $(,)?]) => {
-        impl $t {
-            pub fn name(self) -> &'static str {
-                match self { $( v if v == $v => $name, )+ _ => unreachable!() }
-            }
-        }
-        impl fmt::Display for $t {
-            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str(self.name())
-            }
-        }
-        impl FromStr for $t {
-            type Err = ConfigError;
-            fn from_str(s: &str) -> Result<Self, Self::Err> {
-                $( if s == $name { return Ok($v); } )+
-                Err(ConfigError::new($field, s, concat!("one of", $(" ", $name),+)))
-            }
-        }
-    };
-}
 named_enum!(OutputStage, "output", [OutputStage::Undistorted => "undistorted", OutputStage::Lens => "lens"]);
 named_enum!(FoveaLayout, "fovea layout", [
     FoveaLayout::Auto => "auto",

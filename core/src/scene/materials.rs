@@ -3,13 +3,10 @@
 //! ambient sky. Built-in scenes get their textures procedurally at load (`textures`); the
 //! glTF loader will map its materials onto the same model.
 
-use std::fmt;
-use std::str::FromStr;
-
 use glam::Vec3;
 
 use super::Scene;
-use crate::vocab::ConfigError;
+use crate::vocab::named_enum;
 
 /// Point lights a lit frame shades with, at most (`shaders/lighting.glsl`).
 pub const MAX_POINT_LIGHTS: usize = 4;
@@ -24,31 +21,7 @@ pub enum Shading {
     Lit,
 }
 
-impl Shading {
-    pub fn name(self) -> &'static str {
-        match self {
-            Shading::Flat => "flat",
-            Shading::Lit => "lit",
-        }
-    }
-}
-
-impl fmt::Display for Shading {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for Shading {
-    type Err = ConfigError;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "flat" => Ok(Shading::Flat),
-            "lit" => Ok(Shading::Lit),
-            _ => Err(ConfigError::new("shading", s, "one of flat, lit")),
-        }
-    }
-}
+named_enum!(Shading, "shading", [Shading::Flat => "flat", Shading::Lit => "lit"]);
 
 /// The procedural texture set a material is generated with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

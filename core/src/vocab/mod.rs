@@ -5,8 +5,10 @@
 
 mod caps;
 mod error;
+mod named_enum;
 mod resolution;
 
 pub use caps::{DeviceCaps, DriverQuirks};
 pub use error::ConfigError;
+pub(crate) use named_enum::named_enum;
 pub use resolution::Resolution;
