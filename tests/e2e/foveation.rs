@@ -584,8 +584,9 @@ fn the_lens_distorts_as_the_model_says() {
 
 /// The fovea views draw only what their superfrustum keeps, and no pixel changes: in each
 /// layout the fovea-culled frame equals the unculled one, and the two layouts give the same
-/// image. The culled frames draw fewer instances (the cull does cull). Mutation: the
-/// superfrustum built from one eye's fovea only drops the other fovea's instances and fails.
+/// image. The culled frames draw fewer instances (two-pass) or rasterise fewer primitives
+/// (one-pass: the tags work). Mutation: the superfrustum built from one eye's fovea only drops
+/// the other fovea's instances and fails; tags ignored by the shader fail the primitive count.
 #[test]
 fn fovea_culling_changes_no_pixel_in_either_layout() {
     let gpu = gpu();
@@ -607,11 +608,15 @@ fn fovea_culling_changes_no_pixel_in_either_layout() {
         let stats = renderer.render_frame(scene.head).unwrap();
         let image = renderer.readback().unwrap();
         drop(renderer);
+        // Primitives the scene pass rasterised, from a counting frame of the same gaze.
+        let counts =
+            foveate::render::counting_frame(&gpu, &scene, &config, [gaze; 2], scene.head).unwrap();
+        let rasterised = counts.pass_primitives.first().map(|p| p.rasterised);
         foveate_tests::assert_validation_clean(&gpu);
-        (image, stats)
+        (image, stats, rasterised)
     };
-    let (two_pass, culled_stats) = frame(FoveaLayout::TwoPass, true);
-    let (two_pass_all, all_stats) = frame(FoveaLayout::TwoPass, false);
+    let (two_pass, culled_stats, _) = frame(FoveaLayout::TwoPass, true);
+    let (two_pass_all, all_stats, _) = frame(FoveaLayout::TwoPass, false);
     assert_eq!(
         culled_stats.instances_drawn.len(),
         2,
@@ -627,12 +632,20 @@ fn fovea_culling_changes_no_pixel_in_either_layout() {
         two_pass == two_pass_all,
         "two-pass: fovea culling changed pixels"
     );
-    let (one_pass, _) = frame(FoveaLayout::OnePass, true);
-    let (one_pass_all, _) = frame(FoveaLayout::OnePass, false);
+    let (one_pass, _, tagged) = frame(FoveaLayout::OnePass, true);
+    let (one_pass_all, _, untagged) = frame(FoveaLayout::OnePass, false);
     assert!(
         one_pass == one_pass_all,
         "one-pass: fovea culling changed pixels"
     );
+    // One pass draws the same instances either way; the tags drop primitives from the fovea
+    // views (measured where the device has pipeline statistics).
+    if let (Some(tagged), Some(untagged)) = (tagged, untagged) {
+        assert!(
+            tagged < untagged,
+            "one-pass: fovea tags drop no primitive ({tagged} vs {untagged})"
+        );
+    }
     let diff = one_pass.left.psnr(&two_pass.left).unwrap();
     assert!(
         one_pass == two_pass,
