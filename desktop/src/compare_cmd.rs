@@ -2,8 +2,9 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use foveate::foveation::{fovea_centre_px, fovea_views, FoveationConfig};
+use foveate::foveation::{fovea_centre_px, fovea_views, gaze_tangent, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::flip;
 use foveate::metrics::{RgbaImage, Stats};
 use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
 use foveate::render::{counting_frame, Renderer, StereoImage};
@@ -190,6 +191,8 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         "ssim_fovea",
         "ssim_band",
         "ssim_periphery",
+        "flip_mean",
+        "eccentric_flip_p99",
     ])?;
     let mut rows = Vec::new();
     for &msaa in &args.msaa {
@@ -242,7 +245,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     }
     bar.finish_and_clear();
     println!(
-        "\n{:<24} {:>10} {:>7} {:>12} {:>12} {:>15} {:>15} {:>15}",
+        "\n{:<24} {:>10} {:>7} {:>12} {:>12} {:>15} {:>15} {:>15} {:>9} {:>9}",
         "configuration",
         "frame ms",
         "ratio",
@@ -250,7 +253,9 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         "total frags",
         "fovea dB/SSIM",
         "band dB/SSIM",
-        "perif. dB/SSIM"
+        "perif. dB/SSIM",
+        "FLIP",
+        "eFLIP p99"
     );
     let base_plan = foveate::plan(&scene, &base, gpu.caps())?;
     let eyes = base_plan.eyes;
@@ -288,8 +293,9 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             .map(|(p, s)| format!("{} / {}", psnr(*p), ssim(*s)))
             .collect();
         let ratio_to_reference = r.frame_ms / reference.frame_ms;
+        let (flip_mean, eflip_p99) = flip_errors(&reference.image, &r.image, &base_plan, gaze)?;
         println!(
-            "{:<24} {:>10.2} {:>7.3} {:>12} {:>12} {:>15} {:>15} {:>15}",
+            "{:<24} {:>10.2} {:>7.3} {:>12} {:>12} {:>15} {:>15} {:>15} {:>9.4} {:>9.4}",
             name,
             r.frame_ms,
             ratio_to_reference,
@@ -297,7 +303,9 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             r.total_fragments,
             cells[0],
             cells[1],
-            cells[2]
+            cells[2],
+            flip_mean,
+            eflip_p99
         );
         csv.row(&[
             &name,
@@ -313,14 +321,58 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             &opt(regions[0].1, 4),
             &opt(regions[1].1, 4),
             &opt(regions[2].1, 4),
+            &format!("{flip_mean:.5}"),
+            &format!("{eflip_p99:.5}"),
         ])?;
     }
     println!(
-        "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); PSNR in dB / SSIM per region against the reference, both eyes, on the output image ({}); stereo rows: the periphery column is the whole image)",
+        "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); PSNR in dB / SSIM per region against the reference, both eyes, on the output image ({}); stereo rows: the periphery column is the whole image; FLIP: mean at the display's pixels per degree; eFLIP p99: the eccentricity-aware FLIP's 99th percentile for the eye at the gaze, see metrics::flip)",
         base.output
     );
     gpu.check_validation()?;
     csv.save(args.csv.as_deref())
+}
+
+/// FLIP over both eyes' output images (mean, at the display's ppd at the lens axis) and the
+/// eccentricity-aware FLIP's 99th percentile (`metrics::flip`), with the eye looking at `gaze`;
+/// display pixels beyond the rendered field are left out.
+fn flip_errors(
+    reference: &StereoImage,
+    image: &StereoImage,
+    plan: &FramePlan,
+    gaze: Vec2,
+) -> Result<(f64, f64)> {
+    let (mut plain, mut eccentric) = (Vec::new(), Vec::new());
+    for eye in Eye::BOTH {
+        let fov = plan.eyes.fov(eye);
+        let screen = plan.eye_resolution;
+        let field = plan.lens.map_or(fov, |l| l.display[eye.index()]);
+        let ppd = flip::pixels_per_degree((field.left + field.right) as f64, screen.width);
+        let g = gaze_tangent(fov, gaze);
+        let gaze_dir = glam::DVec3::new(g.x as f64, g.y as f64, -1.0).normalize();
+        let tangent = |x: u32, y: u32| -> Option<glam::DVec3> {
+            let p = match &plan.lens {
+                Some(lens) => lens.rendered_px(eye, fov, screen, x, y)?,
+                None => Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
+            };
+            let tx = -fov.left + p.x / screen.width as f32 * (fov.left + fov.right);
+            let ty = fov.up - p.y / screen.height as f32 * (fov.up + fov.down);
+            Some(glam::DVec3::new(tx as f64, ty as f64, -1.0).normalize())
+        };
+        let eccentricity =
+            |x: u32, y: u32| tangent(x, y).map(|d| d.angle_between(gaze_dir).to_degrees());
+        let (a, b) = (reference.eye(eye), image.eye(eye));
+        let inside = |x: u32, y: u32| tangent(x, y).is_some();
+        plain.extend(flip::select(&flip::flip_map(a, b, ppd)?, a.width, &inside));
+        eccentric.extend(flip::select(
+            &flip::eccentric_flip_map(a, b, ppd, &eccentricity)?,
+            a.width,
+            &inside,
+        ));
+    }
+    let summary = |v: &[f32]| flip::ErrorSummary::of(v).map_or(f64::NAN, |s| s.mean);
+    let p99 = |v: &[f32]| flip::ErrorSummary::of(v).map_or(f64::NAN, |s| s.p99);
+    Ok((summary(&plain), p99(&eccentric)))
 }
 
 /// `compare --table`: the foveation table (see `fovea_table`).

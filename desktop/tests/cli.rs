@@ -392,11 +392,20 @@ fn compare_prints_time_and_error_per_region() {
     ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }
-    let rows = read_csv(&csv, 13);
+    let rows = read_csv(&csv, 15);
     let row = rows
         .iter()
         .find(|r| r["config"] == "foveated 0.5, MSAA 4")
         .expect("foveated row");
+    // FLIP beside PSNR/SSIM: 0 for the reference's own twin, above 0 for the foveated frame.
+    let stereo4 = rows
+        .iter()
+        .find(|r| r["config"] == "stereo, MSAA 4")
+        .expect("stereo row");
+    let flip =
+        |r: &std::collections::HashMap<String, String>, k: &str| -> f64 { r[k].parse().unwrap() };
+    assert_eq!(flip(stereo4, "flip_mean"), 0.0, "{stereo4:?}");
+    assert!(flip(row, "flip_mean") > 0.0 && flip(row, "eccentric_flip_p99") > 0.0);
     // Radial density masking is priced like every other approximation.
     let masked = rows
         .iter()

@@ -1,5 +1,8 @@
-//! Measurements: images and their comparison, timing statistics.
+//! Measurements: images and their comparison (PSNR, SSIM; FLIP and an eccentricity-aware FLIP
+//! with the `flip` feature), timing statistics.
 
+#[cfg(feature = "flip")]
+pub mod flip;
 mod image;
 mod timing;
 
