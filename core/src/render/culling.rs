@@ -75,17 +75,27 @@ impl FrameCulling {
         fovea: Option<&[FovTangents; 2]>,
         draws: &[Draw],
     ) {
-        let h = &self.hierarchy;
+        let FrameCulling {
+            hierarchy: h,
+            draw_of,
+            lens_regions,
+            draw_distance,
+            near_reach,
+            buckets,
+            in_fovea,
+            ids,
+            sets,
+        } = self;
+        let draw_distance = *draw_distance;
         let centre = world_from_head.transform_point3(Vec3::ZERO);
         let strategy = plan.culling.map_or(Strategy::PerEye, |c| c.strategy);
-        let draw_distance = self.draw_distance;
         let view = |distance| CullView {
             eyes: &plan.eyes,
             world_from_head,
             near: plan.near,
             draw_distance: distance,
             frame,
-            lens_regions: &self.lens_regions,
+            lens_regions,
         };
         // Both eyes' frusta once a frame, when a slot culls per eye.
         let frusta = plan
@@ -93,10 +103,6 @@ impl FrameCulling {
             .iter()
             .any(|s| matches!(s, DrawSet::VisibleToEye(_)))
             .then(|| StereoFrusta::new(&plan.eyes, world_from_head, plan.near, draw_distance));
-        let eye = |e: Eye| {
-            let frusta = frusta.as_ref().expect("computed for per-eye slots");
-            h.cull(&frusta.eyes[e.index()], centre, draw_distance)
-        };
         // The superfrustum around both fovea frusta (the fovea windows as the eyes' fields).
         let fovea_cull = || {
             let fovea = fovea.expect("fovea sets are planned with foveation");
@@ -108,66 +114,63 @@ impl FrameCulling {
             let sf = Superfrustum::new(&eyes, world_from_head, plan.near, draw_distance);
             h.cull(&sf.frustum, centre, draw_distance)
         };
-        let as_ids = |r: crate::cull::CullResult| -> Vec<u32> {
-            r.visible.indices().map(|i| h.ids[i as usize]).collect()
-        };
-        let mut results: Vec<Vec<u32>> = Vec::with_capacity(plan.cull_slots.len());
-        for set in &plan.cull_slots {
-            let ids = match set {
-                DrawSet::Visible | DrawSet::All => as_ids(strategy.cull(h, &view(draw_distance))),
-                DrawSet::VisibleToEye(e) => as_ids(eye(*e)),
-                DrawSet::NearField => as_ids(strategy.cull(
-                    h,
-                    &view(self.near_reach.expect("a near field is planned with MFFR")),
-                )),
-                DrawSet::FarField => as_ids(h.cull(
-                    far.expect("a far field is planned with MFFR"),
-                    centre,
-                    draw_distance,
-                )),
-                DrawSet::Fovea => as_ids(fovea_cull()),
+        ids.clear();
+        for (set, draw_set) in sets.iter_mut().zip(&plan.cull_slots) {
+            // What the slot draws (`None`: every instance), and whether ids carry fovea tags.
+            let (kept, tagged) = match draw_set {
+                DrawSet::Visible | DrawSet::All => {
+                    (Some(strategy.cull(h, &view(draw_distance))), false)
+                }
+                DrawSet::VisibleToEye(e) => {
+                    let frusta = frusta.as_ref().expect("computed for per-eye slots");
+                    (
+                        Some(h.cull(&frusta.eyes[e.index()], centre, draw_distance)),
+                        false,
+                    )
+                }
+                DrawSet::NearField => {
+                    let reach = near_reach.expect("a near field is planned with MFFR");
+                    (Some(strategy.cull(h, &view(reach))), false)
+                }
+                DrawSet::FarField => {
+                    let far = far.expect("a far field is planned with MFFR");
+                    (Some(h.cull(far, centre, draw_distance)), false)
+                }
+                DrawSet::Fovea => (Some(fovea_cull()), false),
                 DrawSet::FoveaTagged => {
-                    self.in_fovea.clear();
-                    self.in_fovea.resize(self.draw_of.len(), false);
-                    for id in as_ids(fovea_cull()) {
-                        self.in_fovea[id as usize] = true;
+                    in_fovea.clear();
+                    in_fovea.resize(draw_of.len(), false);
+                    for i in fovea_cull().visible.indices() {
+                        in_fovea[h.ids[i as usize] as usize] = true;
                     }
-                    let periphery = match plan.culling {
-                        Some(_) => as_ids(strategy.cull(h, &view(draw_distance))),
-                        None => (0..self.draw_of.len() as u32).collect(),
-                    };
-                    periphery
-                        .into_iter()
-                        .map(|id| {
-                            if self.in_fovea[id as usize] {
-                                id | FOVEA_TAG
-                            } else {
-                                id
-                            }
-                        })
-                        .collect()
+                    let periphery = plan.culling.map(|_| strategy.cull(h, &view(draw_distance)));
+                    (periphery, true)
                 }
             };
-            results.push(ids);
-        }
-        self.ids.clear();
-        for (set, result) in self.sets.iter_mut().zip(&results) {
-            set.clear();
-            self.buckets.iter_mut().for_each(Vec::clear);
-            for &id in result {
-                let instance = (id & !FOVEA_TAG) as usize;
-                self.buckets[self.draw_of[instance] as usize].push(id);
+            buckets.iter_mut().for_each(Vec::clear);
+            let mut keep = |id: u32| {
+                let tag = if tagged && in_fovea[id as usize] {
+                    FOVEA_TAG
+                } else {
+                    0
+                };
+                buckets[draw_of[id as usize] as usize].push(id | tag);
+            };
+            match &kept {
+                Some(r) => r.visible.indices().for_each(|i| keep(h.ids[i as usize])),
+                None => (0..draw_of.len() as u32).for_each(keep),
             }
-            for (bucket, draw) in self.buckets.iter().zip(draws) {
+            set.clear();
+            for (bucket, draw) in buckets.iter().zip(draws) {
                 if bucket.is_empty() {
                     continue;
                 }
                 set.push(Draw {
                     mesh: draw.mesh,
-                    first_instance: self.ids.len() as u32,
+                    first_instance: ids.len() as u32,
                     instance_count: bucket.len() as u32,
                 });
-                self.ids.extend_from_slice(bucket);
+                ids.extend_from_slice(bucket);
             }
         }
     }

@@ -72,17 +72,13 @@ impl MaterialSet {
                 |t| &t.orm,
             ),
         ];
-        let mut images = Vec::with_capacity(3);
-        for (name, format, pick) in kinds {
+        let [base, normal, orm] = kinds.map(|(name, format, pick)| {
             let layers: Vec<&Texture> = scene.materials.iter().map(|m| pick(of(m))).collect();
-            images.push(upload_array(gpu, name, format, &layers)?);
-        }
-        let images: [Image; 3] = images.try_into().map_err(|_| GpuError::NoDevice)?;
-        let views = [
-            images[0].view(0, images[0].layers, true)?,
-            images[1].view(0, images[1].layers, true)?,
-            images[2].view(0, images[2].layers, true)?,
-        ];
+            upload_array(gpu, name, format, &layers)
+        });
+        let images = [base?, normal?, orm?];
+        let view = |image: &Image| image.view(0, image.layers, true);
+        let views = [view(&images[0])?, view(&images[1])?, view(&images[2])?];
         let anisotropy = plan.anisotropy;
         let info = vk::SamplerCreateInfo::default()
             .mag_filter(vk::Filter::LINEAR)
@@ -202,55 +198,62 @@ fn upload_array(
         }
     }
     let range = image.range(0, image.layers);
-    let transition = |old, new, src_access, dst_access| {
-        vk::ImageMemoryBarrier::default()
-            .old_layout(old)
-            .new_layout(new)
-            .src_access_mask(src_access)
-            .dst_access_mask(dst_access)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(image.raw)
-            .subresource_range(range)
-    };
+    // A layout transition of every level and layer, from `src` (stage, access, layout) to `dst`.
     let device = gpu.device();
-    gpu.one_shot(|cmd| unsafe {
-        // SAFETY: the image and staging buffer outlive one_shot's wait.
-        device.cmd_pipeline_barrier(
-            cmd,
+    let transition =
+        |cmd,
+         src: (vk::PipelineStageFlags, vk::AccessFlags, vk::ImageLayout),
+         dst: (vk::PipelineStageFlags, vk::AccessFlags, vk::ImageLayout)| {
+            let barrier = vk::ImageMemoryBarrier::default()
+                .old_layout(src.2)
+                .new_layout(dst.2)
+                .src_access_mask(src.1)
+                .dst_access_mask(dst.1)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .image(image.raw)
+                .subresource_range(range);
+            // SAFETY: recorded into one_shot's command buffer; the image outlives its wait.
+            unsafe {
+                device.cmd_pipeline_barrier(
+                    cmd,
+                    src.0,
+                    dst.0,
+                    vk::DependencyFlags::empty(),
+                    &[],
+                    &[],
+                    &[barrier],
+                )
+            };
+        };
+    let transfer_dst = (
+        vk::PipelineStageFlags::TRANSFER,
+        vk::AccessFlags::TRANSFER_WRITE,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+    );
+    gpu.one_shot(|cmd| {
+        let undefined = (
             vk::PipelineStageFlags::TOP_OF_PIPE,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::DependencyFlags::empty(),
-            &[],
-            &[],
-            &[transition(
-                vk::ImageLayout::UNDEFINED,
+            vk::AccessFlags::empty(),
+            vk::ImageLayout::UNDEFINED,
+        );
+        transition(cmd, undefined, transfer_dst);
+        // SAFETY: the image and staging buffer outlive one_shot's wait.
+        unsafe {
+            device.cmd_copy_buffer_to_image(
+                cmd,
+                staging.raw,
+                image.raw,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                vk::AccessFlags::empty(),
-                vk::AccessFlags::TRANSFER_WRITE,
-            )],
-        );
-        device.cmd_copy_buffer_to_image(
-            cmd,
-            staging.raw,
-            image.raw,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            &regions,
-        );
-        device.cmd_pipeline_barrier(
-            cmd,
-            vk::PipelineStageFlags::TRANSFER,
+                &regions,
+            )
+        };
+        let sampled = (
             vk::PipelineStageFlags::FRAGMENT_SHADER,
-            vk::DependencyFlags::empty(),
-            &[],
-            &[],
-            &[transition(
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                vk::AccessFlags::TRANSFER_WRITE,
-                vk::AccessFlags::SHADER_READ,
-            )],
+            vk::AccessFlags::SHADER_READ,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         );
+        transition(cmd, transfer_dst, sampled);
     })?;
     Ok(image)
 }
