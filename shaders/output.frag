@@ -14,6 +14,8 @@
 layout(constant_id = 30) const bool LENS = false;
 layout(constant_id = 31) const uint SOURCE = 0;
 layout(constant_id = 32) const uint FOVEA_LAYER = 2;
+// Sharpen the upscaled periphery (strength in params.w).
+layout(constant_id = 33) const bool SHARPEN = false;
 
 layout(set = 0, binding = 0) uniform sampler2DArray images;
 layout(set = 0, binding = 3) uniform sampler2DArray second;
@@ -27,7 +29,7 @@ layout(std140, set = 0, binding = 1) uniform Output {
     vec4 periphery[2]; // the rendered field: tangents left, right, up, down per eye
     vec4 fovea[2];     // the fovea views' tangents
     vec4 display[2];   // the display's field as the lens model places it (LENS)
-    vec4 params;       // fovea diameter (screen px), band (px), debug tint (0/1), unused
+    vec4 params;       // fovea diameter (screen px), band (px), debug tint (0/1), sharpening
     vec4 screen;       // width, height (px); lens k1, k2
 } c;
 
@@ -45,6 +47,28 @@ vec3 eye_image(uint eye, vec2 uv) {
         return texture(second, vec3(uv, 0.0)).rgb;
     }
     return texture(images, vec3(uv, SOURCE == 2u ? 0.0 : float(eye))).rgb;
+}
+
+// The periphery at `uv`, upscaled bilinearly and, with SHARPEN, sharpened contrast-adaptively:
+// AMD FidelityFX CAS's filter (Lottes 2019) on the cross of bilinear taps one periphery texel
+// apart. Its negative lobe shrinks where the neighbourhood already spans the range (strong
+// edges) and grows where contrast is low, so it restores what bilinear upscaling softens
+// without the halos a fixed unsharp mask rings with; five taps, one pass, no extra image.
+vec3 periphery(uint eye, vec2 uv) {
+    vec3 centre = texture(images, vec3(uv, float(eye))).rgb;
+    if (!SHARPEN) {
+        return centre;
+    }
+    vec2 texel = 1.0 / vec2(textureSize(images, 0).xy);
+    vec3 n = texture(images, vec3(uv - vec2(0.0, texel.y), float(eye))).rgb;
+    vec3 s = texture(images, vec3(uv + vec2(0.0, texel.y), float(eye))).rgb;
+    vec3 w = texture(images, vec3(uv - vec2(texel.x, 0.0), float(eye))).rgb;
+    vec3 e = texture(images, vec3(uv + vec2(texel.x, 0.0), float(eye))).rgb;
+    vec3 lo = min(min(min(n, s), min(w, e)), centre);
+    vec3 hi = max(max(max(n, s), max(w, e)), centre);
+    vec3 amp = sqrt(clamp(min(lo, 1.0 - hi) / max(hi, vec3(1e-5)), 0.0, 1.0));
+    vec3 lobe = amp * (-1.0 / mix(8.0, 5.0, c.params.w));
+    return clamp((centre + (n + s + w + e) * lobe) / (1.0 + 4.0 * lobe), 0.0, 1.0);
 }
 
 void main() {
@@ -80,7 +104,7 @@ void main() {
         float w = band > 0.0 ? 1.0 - smoothstep(radius - band, radius, dist) : float(dist < radius);
         // Fetch only what contributes: most pixels are periphery only, a few fovea only.
         if (w < 1.0) {
-            color += (1.0 - w) * texture(images, vec3(uv, float(eye))).rgb;
+            color += (1.0 - w) * periphery(eye, uv);
         }
         if (w > 0.0) {
             color += w * texture(second, vec3(fovea_uv, float(FOVEA_LAYER + eye))).rgb;

@@ -35,8 +35,12 @@ enum Command {
     /// Arm's foveation pixel tables 2-4, every cell measured on the GPU beside the formula.
     Pixels(crate::pixels_cmd::PixelsArgs),
     /// What accuracy costs: a full-quality stereo reference against foveation ratios x MSAA,
-    /// frame time beside PSNR per region (fovea, band, periphery) and SSIM.
+    /// blend bands and periphery sharpening: frame time beside PSNR and SSIM per region, FLIP and
+    /// the eccentricity-aware FLIP; `--recommend` picks within an error budget.
     Compare(crate::compare_cmd::CompareArgs),
+    /// Temporal stability: flicker of each approximation beyond the reference's own change,
+    /// along a saccade trace and with the head walking.
+    Flicker(crate::flicker_cmd::FlickerArgs),
     /// Monoscopic far-field rendering: every variant at a list of splits against a stereo
     /// reference, frame time beside image error, disparity bound and seam check.
     Mffr(crate::mffr_cmd::MffrArgs),
@@ -75,6 +79,7 @@ impl Cli {
             Command::CullBench(args) => crate::cull_cmd::cull_bench(args),
             Command::Pixels(args) => crate::pixels_cmd::pixels(&self.gpu_options(), args),
             Command::Compare(args) => crate::compare_cmd::compare(&self.gpu_options(), args),
+            Command::Flicker(args) => crate::flicker_cmd::flicker(&self.gpu_options(), args),
             Command::Mffr(args) => crate::mffr_cmd::mffr(&self.gpu_options(), args),
             Command::Mask(args) => crate::mask_cmd::mask(&self.gpu_options(), args),
             Command::Bench(args) => crate::bench::bench(&self.gpu_options(), args),

@@ -1,12 +1,12 @@
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
-use foveate::foveation::{fovea_centre_px, fovea_views, gaze_tangent, FoveationConfig};
+use foveate::foveation::{FoveationConfig, FoveationGeometry};
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::metrics::flip;
-use foveate::metrics::{RgbaImage, Stats};
-use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
+use foveate::metrics::perceptual::{frame_accuracy, heat_map, FrameAccuracy};
+use foveate::metrics::{ErrorSummary, EyePixels, RgbaImage, Stats};
+use foveate::plan::{RadialDensity, RenderConfig, Resolution, StereoMode};
 use foveate::render::{counting_frame, Renderer, StereoImage};
 use foveate::scene::{named_scene, Scene, Shading};
 use foveate::view::Eye;
@@ -64,6 +64,21 @@ pub struct CompareArgs {
     /// Blend band in screen pixels (default: an eighth of the fovea).
     #[arg(long)]
     blend_band: Option<f32>,
+    /// Also compare each ratio with these blend band widths (screen pixels), one row each.
+    #[arg(long, value_delimiter = ',')]
+    bands: Vec<f32>,
+    /// Also compare each ratio with the periphery sharpened at these strengths (0..1], one row
+    /// each.
+    #[arg(long, value_delimiter = ',')]
+    sharpen: Vec<f32>,
+    /// Name the cheapest configuration measured whose eccentricity-aware FLIP (99th
+    /// percentile) stays within this budget.
+    #[arg(long)]
+    recommend: Option<f64>,
+    /// Write each configuration's eccentricity-aware FLIP map (both eyes, gaze ringed) as a PNG
+    /// into this folder.
+    #[arg(long)]
+    heatmaps: Option<PathBuf>,
     /// Also price radial density masking (its default radii) at each MSAA count.
     #[arg(long)]
     radial_density: bool,
@@ -82,6 +97,8 @@ struct Run {
     scene_fragments: u64,
     total_fragments: u64,
     image: StereoImage,
+    /// Foveation as the frame's plan resolved it.
+    foveation: Option<FoveationGeometry>,
 }
 
 fn run(gpu: &Gpu, scene: &Scene, config: &RenderConfig, gaze: Vec2, frames: u32) -> Result<Run> {
@@ -101,46 +118,32 @@ fn run(gpu: &Gpu, scene: &Scene, config: &RenderConfig, gaze: Vec2, frames: u32)
         scene_fragments: counts.scene_fragments(),
         total_fragments: counts.total_fragments(),
         image: renderer.readback()?,
+        foveation: plan.foveation,
     })
 }
 
-/// PSNR and SSIM of both eyes over the pixels a region predicate selects (by distance from each
-/// eye's fovea centre in rendered pixels; through the lens, where each display pixel shows the
-/// rendered image, and display pixels beyond the rendered field in no region).
-fn region_error(
-    reference: &StereoImage,
-    image: &StereoImage,
-    centres: [Vec2; 2],
-    plan: &FramePlan,
-    inside: impl Fn(f32) -> bool,
-) -> (Option<f64>, Option<f64>) {
-    let both = |img: &StereoImage| RgbaImage::side_by_side(&img.left, &img.right);
-    let (a, b) = (both(reference), both(image));
-    let w = reference.left.width;
-    let region = |x: u32, y: u32| {
-        let eye = Eye::BOTH[(x >= w) as usize];
-        let (x, y) = (x % w, y);
-        let at = match &plan.lens {
-            Some(lens) => lens.rendered_px(eye, plan.eyes.fov(eye), plan.eye_resolution, x, y),
-            None => Some(Vec2::new(x as f32 + 0.5, y as f32 + 0.5)),
-        };
-        at.is_some_and(|p| inside(p.distance(centres[eye.index()])))
-    };
-    (
-        a.psnr_where(&b, region).ok().flatten(),
-        a.ssim_where(&b, region).ok().flatten(),
-    )
+/// One measured configuration of `compare`.
+struct Row {
+    name: String,
+    msaa: u32,
+    foveation: Option<FoveationGeometry>,
+    run: Run,
 }
 
 pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     anyhow::ensure!(args.frames >= 1, "invalid frames = 0: at least 1");
+    if let Some(budget) = args.recommend {
+        anyhow::ensure!(
+            budget.is_finite() && budget > 0.0,
+            "invalid recommend = {budget}: a FLIP budget above 0 (FLIP runs 0..1)"
+        );
+    }
     if args.table {
         return table(options, args);
     }
     let ratios = args.ratios.clone().unwrap_or(vec![0.7, 0.5, 0.35]);
     let gaze = crate::gaze_arg::gaze_from(&args.gaze)?;
     let scene = crate::frame_args::scene_from(&args.scene, args.shading.as_deref())?;
-    let gpu = Gpu::new(options)?;
     let screen = Resolution::square(args.res);
     let base = RenderConfig {
         resolution: Some(screen),
@@ -149,8 +152,38 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         fovea_layout: args.fovea_layout.parse()?,
         ..RenderConfig::default()
     };
-    let total = 1 + args.msaa.len() * (1 + args.radial_density as usize + ratios.len());
-    let bar = crate::progress::bar("compare", total as u64);
+    // Every foveated variant, checked before anything renders.
+    let default_band = args.blend_band.unwrap_or(-1.0);
+    let mut variants = Vec::new();
+    for &ratio in &ratios {
+        let with = |blend_band_px, periphery_sharpen| FoveationConfig {
+            ratio,
+            blend_band_px,
+            periphery_sharpen,
+            ..Default::default()
+        };
+        variants.push((format!("foveated {ratio}"), with(default_band, 0.0)));
+        for &band in &args.bands {
+            variants.push((format!("foveated {ratio}, band {band}"), with(band, 0.0)));
+        }
+        for &sharpen in &args.sharpen {
+            anyhow::ensure!(
+                sharpen > 0.0,
+                "invalid sharpen = {sharpen}: 0 < sharpen ≤ 1 (leave it out for none)"
+            );
+            let name = format!("foveated {ratio}, sharpen {sharpen}");
+            variants.push((name, with(default_band, sharpen)));
+        }
+    }
+    for (_, f) in &variants {
+        f.geometry(screen)?;
+    }
+    if let Some(dir) = &args.heatmaps {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let gpu = Gpu::new(options)?;
+    let per_msaa = 1 + args.radial_density as usize + variants.len();
+    let bar = crate::progress::bar("compare", (1 + args.msaa.len() * per_msaa) as u64);
     let step = |what: &str| {
         bar.set_message(what.to_string());
         bar.inc(1);
@@ -177,10 +210,151 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         "reference: stereo multiview, MSAA 4: {:.2} ms, {} scene fragments, {} in all passes",
         reference.frame_ms, reference.scene_fragments, reference.total_fragments
     );
+    let mut rows = Vec::new();
+    for &msaa in &args.msaa {
+        let mut measure = |name: String, config: RenderConfig| -> Result<()> {
+            step(&name);
+            let run = run(
+                &gpu,
+                &scene,
+                &RenderConfig { msaa, ..config },
+                gaze,
+                args.frames,
+            )?;
+            rows.push(Row {
+                name,
+                msaa,
+                foveation: run.foveation,
+                run,
+            });
+            Ok(())
+        };
+        measure(format!("stereo, MSAA {msaa}"), base.clone())?;
+        if args.radial_density {
+            let config = RenderConfig {
+                radial_density: Some(RadialDensity::default()),
+                ..base.clone()
+            };
+            measure(format!("radial density, MSAA {msaa}"), config)?;
+        }
+        for (name, foveation) in &variants {
+            let config = RenderConfig {
+                views: 4,
+                foveation: Some(*foveation),
+                ..base.clone()
+            };
+            measure(format!("{name}, MSAA {msaa}"), config)?;
+        }
+    }
+    bar.finish_and_clear();
+    let base_plan = foveate::plan(&scene, &base, gpu.caps())?;
+    let bar = crate::progress::bar("FLIP", rows.len() as u64);
+    let mut measured = Vec::new();
+    for row in &rows {
+        bar.set_message(row.name.clone());
+        let pixels = Eye::BOTH.map(|e| EyePixels::new(&base_plan, e, gaze, row.foveation.as_ref()));
+        let accuracy = frame_accuracy(reference.image.eyes(), row.run.image.eyes(), &pixels)?;
+        if let Some(dir) = &args.heatmaps {
+            let maps = &accuracy.perceptual.maps;
+            let picture = RgbaImage::side_by_side(
+                &heat_map(&maps[0], &pixels[0]),
+                &heat_map(&maps[1], &pixels[1]),
+            );
+            let path = dir.join(format!("{}.png", slug(&row.name)));
+            picture.save_png(&path)?;
+        }
+        measured.push(accuracy);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    print_rows(&rows, &measured, reference.frame_ms);
+    println!(
+        "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); on the output image ({}), both eyes, pixels the lens hides left out: PSNR in dB / SSIM per region against the reference (stereo rows: all periphery); FLIP: mean at the display's pixels per degree; eFLIP: the eccentricity-aware FLIP for the eye at the gaze (metrics::flip), mean and 99th percentile, then p99 per region)",
+        base.output
+    );
+    if let Some(dir) = &args.heatmaps {
+        println!("wrote {} heat maps into {}", rows.len(), dir.display());
+    }
+    if let Some(budget) = args.recommend {
+        let candidates: Vec<Candidate> = rows
+            .iter()
+            .zip(&measured)
+            .map(|(r, m)| Candidate {
+                name: &r.name,
+                frame_ms: r.run.frame_ms,
+                eccentric_p99: m.perceptual.eccentric.map_or(0.0, |e| e.p99),
+            })
+            .collect();
+        match recommend(&candidates, budget) {
+            Some(c) => println!(
+                "recommended within eFLIP p99 ≤ {budget}: {} — {:.2} ms ({:.3}x the reference), eFLIP p99 {:.4}",
+                c.name,
+                c.frame_ms,
+                c.frame_ms / reference.frame_ms,
+                c.eccentric_p99
+            ),
+            None => println!("no configuration measured stays within eFLIP p99 ≤ {budget}"),
+        }
+    }
+    gpu.check_validation()?;
+    csv(&rows, &measured, reference.frame_ms)?.save(args.csv.as_deref())
+}
+
+fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
+    println!(
+        "\n{:<34} {:>9} {:>6} {:>11} {:>11} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
+        "configuration",
+        "frame ms",
+        "ratio",
+        "scene frags",
+        "total frags",
+        "fovea dB/SSIM",
+        "band dB/SSIM",
+        "perif. dB/SSIM",
+        "FLIP",
+        "eFLIP",
+        "p99",
+        "p99 fov/band/perif"
+    );
+    for (row, m) in rows.iter().zip(measured) {
+        let psnr = |p: Option<f64>| match p {
+            None => "-".to_string(),
+            Some(v) if v.is_infinite() => "inf".into(),
+            Some(v) => format!("{v:.1}"),
+        };
+        let ssim = |s: Option<f64>| s.map_or("-".to_string(), |v| format!("{v:.3}"));
+        let cells: Vec<String> = (0..3)
+            .map(|i| format!("{} / {}", psnr(m.region_psnr[i]), ssim(m.region_ssim[i])))
+            .collect();
+        let e = &m.perceptual;
+        let mean =
+            |s: Option<ErrorSummary>| s.map_or("-".to_string(), |s| format!("{:.4}", s.mean));
+        let p99 = |s: Option<ErrorSummary>| s.map_or("-".to_string(), |s| format!("{:.3}", s.p99));
+        println!(
+            "{:<34} {:>9.2} {:>6.3} {:>11} {:>11} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
+            row.name,
+            row.run.frame_ms,
+            row.run.frame_ms / reference_ms,
+            row.run.scene_fragments,
+            row.run.total_fragments,
+            cells[0],
+            cells[1],
+            cells[2],
+            mean(e.flip),
+            mean(e.eccentric),
+            p99(e.eccentric),
+            e.regions.map(p99).join("/"),
+        );
+    }
+}
+
+fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<CsvTable> {
     let mut csv = CsvTable::new(&[
         "config",
         "msaa",
         "ratio",
+        "blend_band_px",
+        "sharpen",
         "frame_ms",
         "time_ratio",
         "scene_fragments",
@@ -192,187 +366,74 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         "ssim_band",
         "ssim_periphery",
         "flip_mean",
+        "eccentric_flip_mean",
+        "eccentric_flip_p95",
         "eccentric_flip_p99",
+        "eccentric_flip_p99_fovea",
+        "eccentric_flip_p99_band",
+        "eccentric_flip_p99_periphery",
     ])?;
-    let mut rows = Vec::new();
-    for &msaa in &args.msaa {
-        step(&format!("stereo, MSAA {msaa}"));
-        let stereo = run(
-            &gpu,
-            &scene,
-            &RenderConfig {
-                msaa,
-                ..base.clone()
-            },
-            gaze,
-            args.frames,
-        )?;
-        rows.push((format!("stereo, MSAA {msaa}"), msaa, None, stereo, None));
-        if args.radial_density {
-            let name = format!("radial density, MSAA {msaa}");
-            step(&name);
-            let config = RenderConfig {
-                msaa,
-                radial_density: Some(RadialDensity::default()),
-                ..base.clone()
-            };
-            let masked = run(&gpu, &scene, &config, gaze, args.frames)?;
-            rows.push((name, msaa, None, masked, None));
-        }
-        for &ratio in &ratios {
-            step(&format!("foveated {ratio}, MSAA {msaa}"));
-            let foveation = FoveationConfig {
-                ratio,
-                blend_band_px: args.blend_band.unwrap_or(-1.0),
-                ..Default::default()
-            };
-            let geometry = foveation.geometry(screen)?;
-            let config = RenderConfig {
-                msaa,
-                views: 4,
-                foveation: Some(foveation),
-                ..base.clone()
-            };
-            let foveated = run(&gpu, &scene, &config, gaze, args.frames)?;
-            rows.push((
-                format!("foveated {ratio}, MSAA {msaa}"),
-                msaa,
-                Some(ratio),
-                foveated,
-                Some(geometry),
-            ));
-        }
-    }
-    bar.finish_and_clear();
-    println!(
-        "\n{:<24} {:>10} {:>7} {:>12} {:>12} {:>15} {:>15} {:>15} {:>9} {:>9}",
-        "configuration",
-        "frame ms",
-        "ratio",
-        "scene frags",
-        "total frags",
-        "fovea dB/SSIM",
-        "band dB/SSIM",
-        "perif. dB/SSIM",
-        "FLIP",
-        "eFLIP p99"
-    );
-    let base_plan = foveate::plan(&scene, &base, gpu.caps())?;
-    let eyes = base_plan.eyes;
-    for (name, msaa, ratio, r, geometry) in rows {
-        // Regions: the fovea circle (less the band), the band, and the rest.
-        let (centres, radius, band) = match geometry {
-            Some(g) => {
-                let fovea = fovea_views(&eyes, g.ratio, [gaze; 2], (args.res, args.res));
-                let centres = Eye::BOTH
-                    .map(|e| fovea_centre_px(eyes.fov(e), fovea[e.index()], (args.res, args.res)));
-                (centres, g.fovea_screen_px / 2.0, g.blend_band_px)
-            }
-            None => ([Vec2::splat(args.res as f32 / 2.0); 2], 0.0, 0.0),
-        };
-        let error = |inside: &dyn Fn(f32) -> bool| {
-            region_error(&reference.image, &r.image, centres, &base_plan, inside)
-        };
-        let regions = [
-            error(&|d| d < radius - band),
-            error(&|d| d >= radius - band && d <= radius),
-            error(&|d| d > radius),
-        ];
-        let psnr = |p: Option<f64>| {
-            p.map_or("-".to_string(), |v| {
-                if v.is_infinite() {
-                    "inf".into()
-                } else {
-                    format!("{v:.1}")
-                }
-            })
-        };
-        let ssim = |s: Option<f64>| s.map_or("-".to_string(), |v| format!("{v:.3}"));
-        let cells: Vec<String> = regions
-            .iter()
-            .map(|(p, s)| format!("{} / {}", psnr(*p), ssim(*s)))
-            .collect();
-        let ratio_to_reference = r.frame_ms / reference.frame_ms;
-        let (flip_mean, eflip_p99) = flip_errors(&reference.image, &r.image, &base_plan, gaze)?;
-        println!(
-            "{:<24} {:>10.2} {:>7.3} {:>12} {:>12} {:>15} {:>15} {:>15} {:>9.4} {:>9.4}",
-            name,
-            r.frame_ms,
-            ratio_to_reference,
-            r.scene_fragments,
-            r.total_fragments,
-            cells[0],
-            cells[1],
-            cells[2],
-            flip_mean,
-            eflip_p99
-        );
+    for (row, m) in rows.iter().zip(measured) {
+        let f = row.foveation;
+        let e = &m.perceptual;
+        let p99 = |s: Option<ErrorSummary>| opt(s.map(|s| s.p99), 5);
         csv.row(&[
-            &name,
-            &msaa,
-            &ratio.map_or(String::new(), |v: f32| v.to_string()),
-            &format!("{:.3}", r.frame_ms),
-            &format!("{ratio_to_reference:.4}"),
-            &r.scene_fragments,
-            &r.total_fragments,
-            &opt(regions[0].0, 4),
-            &opt(regions[1].0, 4),
-            &opt(regions[2].0, 4),
-            &opt(regions[0].1, 4),
-            &opt(regions[1].1, 4),
-            &opt(regions[2].1, 4),
-            &format!("{flip_mean:.5}"),
-            &format!("{eflip_p99:.5}"),
+            &row.name,
+            &row.msaa,
+            &opt(f.map(|f| f.ratio as f64), 4),
+            &opt(f.map(|f| f.blend_band_px as f64), 1),
+            &opt(f.map(|f| f.periphery_sharpen as f64), 2),
+            &format!("{:.3}", row.run.frame_ms),
+            &format!("{:.4}", row.run.frame_ms / reference_ms),
+            &row.run.scene_fragments,
+            &row.run.total_fragments,
+            &opt(m.region_psnr[0], 4),
+            &opt(m.region_psnr[1], 4),
+            &opt(m.region_psnr[2], 4),
+            &opt(m.region_ssim[0], 4),
+            &opt(m.region_ssim[1], 4),
+            &opt(m.region_ssim[2], 4),
+            &opt(e.flip.map(|s| s.mean), 5),
+            &opt(e.eccentric.map(|s| s.mean), 5),
+            &opt(e.eccentric.map(|s| s.p95), 5),
+            &p99(e.eccentric),
+            &p99(e.regions[0]),
+            &p99(e.regions[1]),
+            &p99(e.regions[2]),
         ])?;
     }
-    println!(
-        "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); PSNR in dB / SSIM per region against the reference, both eyes, on the output image ({}); stereo rows: the periphery column is the whole image; FLIP: mean at the display's pixels per degree; eFLIP p99: the eccentricity-aware FLIP's 99th percentile for the eye at the gaze, see metrics::flip)",
-        base.output
-    );
-    gpu.check_validation()?;
-    csv.save(args.csv.as_deref())
+    Ok(csv)
 }
 
-/// FLIP over both eyes' output images (mean, at the display's ppd at the lens axis) and the
-/// eccentricity-aware FLIP's 99th percentile (`metrics::flip`), with the eye looking at `gaze`;
-/// display pixels beyond the rendered field are left out.
-fn flip_errors(
-    reference: &StereoImage,
-    image: &StereoImage,
-    plan: &FramePlan,
-    gaze: Vec2,
-) -> Result<(f64, f64)> {
-    let (mut plain, mut eccentric) = (Vec::new(), Vec::new());
-    for eye in Eye::BOTH {
-        let fov = plan.eyes.fov(eye);
-        let screen = plan.eye_resolution;
-        let field = plan.lens.map_or(fov, |l| l.display[eye.index()]);
-        let ppd = flip::pixels_per_degree((field.left + field.right) as f64, screen.width);
-        let g = gaze_tangent(fov, gaze);
-        let gaze_dir = glam::DVec3::new(g.x as f64, g.y as f64, -1.0).normalize();
-        let tangent = |x: u32, y: u32| -> Option<glam::DVec3> {
-            let p = match &plan.lens {
-                Some(lens) => lens.rendered_px(eye, fov, screen, x, y)?,
-                None => Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
-            };
-            let tx = -fov.left + p.x / screen.width as f32 * (fov.left + fov.right);
-            let ty = fov.up - p.y / screen.height as f32 * (fov.up + fov.down);
-            Some(glam::DVec3::new(tx as f64, ty as f64, -1.0).normalize())
-        };
-        let eccentricity =
-            |x: u32, y: u32| tangent(x, y).map(|d| d.angle_between(gaze_dir).to_degrees());
-        let (a, b) = (reference.eye(eye), image.eye(eye));
-        let inside = |x: u32, y: u32| tangent(x, y).is_some();
-        plain.extend(flip::select(&flip::flip_map(a, b, ppd)?, a.width, &inside));
-        eccentric.extend(flip::select(
-            &flip::eccentric_flip_map(a, b, ppd, &eccentricity)?,
-            a.width,
-            &inside,
-        ));
+/// A measured configuration `--recommend` chooses among.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Candidate<'a> {
+    pub name: &'a str,
+    pub frame_ms: f64,
+    pub eccentric_p99: f64,
+}
+
+/// The cheapest candidate whose eccentricity-aware FLIP p99 is within `budget` (the first of
+/// equally cheap ones); `None` if none is.
+pub fn recommend<'a>(candidates: &[Candidate<'a>], budget: f64) -> Option<Candidate<'a>> {
+    candidates
+        .iter()
+        .filter(|c| c.eccentric_p99 <= budget && c.frame_ms.is_finite())
+        .min_by(|a, b| a.frame_ms.total_cmp(&b.frame_ms))
+        .copied()
+}
+
+/// A file name for a configuration: lower case, runs of anything else as one '-'.
+fn slug(name: &str) -> String {
+    let mut out = String::new();
+    for c in name.chars() {
+        if c.is_ascii_alphanumeric() || c == '.' {
+            out.push(c.to_ascii_lowercase());
+        } else if !out.ends_with('-') {
+            out.push('-');
+        }
     }
-    let summary = |v: &[f32]| flip::ErrorSummary::of(v).map_or(f64::NAN, |s| s.mean);
-    let p99 = |v: &[f32]| flip::ErrorSummary::of(v).map_or(f64::NAN, |s| s.p99);
-    Ok((summary(&plain), p99(&eccentric)))
+    out.trim_matches('-').to_string()
 }
 
 /// `compare --table`: the foveation table (see `fovea_table`).
@@ -409,4 +470,40 @@ fn table(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         "(x stereo: frame time to the same scene's stereo row in this run; fragments and primitives from separate counting frames; (auto): the layout `--fovea-layout auto` picks on this device)"
     );
     fovea_table::csv(&rows)?.save(args.csv.as_deref())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn recommend_picks_the_cheapest_within_budget() {
+        let c = |name, frame_ms, eccentric_p99| Candidate {
+            name,
+            frame_ms,
+            eccentric_p99,
+        };
+        let table = [
+            c("reference", 100.0, 0.0),
+            c("stereo, MSAA 1", 60.0, 0.30),
+            c("foveated 0.5", 70.0, 0.12),
+            c("foveated 0.35", 50.0, 0.25),
+            c("foveated 0.25", 40.0, 0.41),
+        ];
+        let pick = |budget| recommend(&table, budget).map(|c| c.name);
+        assert_eq!(pick(0.26), Some("foveated 0.35"));
+        assert_eq!(pick(0.25), Some("foveated 0.35"), "the budget is inclusive");
+        assert_eq!(pick(0.2), Some("foveated 0.5"));
+        assert_eq!(pick(0.5), Some("foveated 0.25"));
+        assert_eq!(pick(0.05), Some("reference"));
+        assert_eq!(recommend(&table[1..], 0.05), None);
+    }
+
+    #[test]
+    fn slugs_are_file_names() {
+        assert_eq!(
+            slug("foveated 0.35, sharpen 0.5, MSAA 4"),
+            "foveated-0.35-sharpen-0.5-msaa-4"
+        );
+    }
 }

@@ -45,6 +45,10 @@ pub struct ConfigArgs {
     /// fovea's diameter.
     #[arg(long)]
     pub blend_band: Option<f32>,
+    /// Sharpen the upscaled periphery in the output pass (contrast-adaptive, AMD CAS's filter):
+    /// strength 0 (off) to 1.
+    #[arg(long)]
+    pub sharpen: Option<f32>,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -120,6 +124,7 @@ impl ConfigArgs {
             blend_band_px: self.blend_band.unwrap_or(-1.0),
             debug_tint: self.tint,
             cull_fovea: !self.no_fovea_cull,
+            periphery_sharpen: self.sharpen.unwrap_or(0.0),
         });
         let mffr = self
             .mffr

@@ -7,6 +7,7 @@ mod compare_cmd;
 mod counts;
 mod csv_out;
 mod cull_cmd;
+mod flicker_cmd;
 mod fovea_table;
 mod frame_args;
 mod gaze_arg;

@@ -3,9 +3,12 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::perceptual::frame_accuracy;
+use foveate::metrics::EyePixels;
 use foveate::plan::{RenderConfig, Resolution};
 use foveate::scene::named_scene;
-use foveate::view::HMD_PROFILES;
+use foveate::view::{Eye, HMD_PROFILES};
+use glam::Vec2;
 
 use crate::csv_out::CsvTable;
 use crate::side_by_side::measure_group;
@@ -45,7 +48,7 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
         args.frames
     );
     println!(
-        "\n{:<10} {:>10} {:>9} {:>9} {:>10} {:>10} {:>8} {:>13} {:>12}",
+        "\n{:<10} {:>10} {:>9} {:>9} {:>10} {:>10} {:>8} {:>13} {:>12} {:>9}",
         "profile",
         "published",
         "analytic",
@@ -54,7 +57,8 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
         "on ms",
         "saved",
         "saved/masked",
-        "visible PSNR"
+        "visible PSNR",
+        "eFLIP p99"
     );
     let mut csv = CsvTable::new(&[
         "profile",
@@ -66,6 +70,7 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
         "saved",
         "saved_over_masked",
         "visible_psnr",
+        "visible_eccentric_flip_p99",
     ])?;
     for profile in HMD_PROFILES {
         let off = RenderConfig {
@@ -84,17 +89,15 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
         let m = measure_group(&gpu, &scene, &[off, on], args.frames, profile.name)?;
         let saved = 1.0 - m[1].frame_ms / m[0].frame_ms;
         // The mask may cost no accuracy where the lens shows the image.
-        let visible = |x: u32, y: u32| lens[0].contains_pixel(x, y, args.res, args.res);
-        let psnr = m[1]
-            .image
-            .left
-            .psnr_where(&m[0].image.left, visible)?
-            .unwrap_or(f64::NAN);
+        let pixels = Eye::BOTH.map(|e| EyePixels::new(&plan, e, Vec2::ZERO, None));
+        let accuracy = frame_accuracy(m[0].image.eyes(), m[1].image.eyes(), &pixels)?;
+        let psnr = accuracy.psnr.unwrap_or(f64::NAN);
+        let eflip = accuracy.perceptual.eccentric.map_or(f64::NAN, |s| s.p99);
         let published = profile
             .hidden_area_fraction
             .map_or("-".to_string(), |f| format!("{:.1} %", 100.0 * f));
         println!(
-            "{:<10} {:>10} {:>7.1} % {:>7.1} % {:>10.2} {:>10.2} {:>6.1} % {:>13.2} {:>12}",
+            "{:<10} {:>10} {:>7.1} % {:>7.1} % {:>10.2} {:>10.2} {:>6.1} % {:>13.2} {:>12} {:>9.4}",
             profile.name,
             published,
             100.0 * analytic,
@@ -107,7 +110,8 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
                 "inf".to_string()
             } else {
                 format!("{psnr:.1}")
-            }
+            },
+            eflip
         );
         csv.row(&[
             &profile.name,
@@ -121,9 +125,10 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
             &format!("{saved:.5}"),
             &format!("{:.4}", saved / hidden),
             &psnr,
+            &format!("{eflip:.5}"),
         ])?;
     }
-    println!("(published: the hidden-area mesh's area where the headset's is on record, else the circular fallback; measured: the coverage probe; saved: frame time saved by the mask, visible PSNR: the left eye's pixels wholly inside the lens region against the unmasked frame — inf: the mask costs no accuracy)");
+    println!("(published: the hidden-area mesh's area where the headset's is on record, else the circular fallback; measured: the coverage probe; saved: frame time saved by the mask, visible PSNR and eFLIP p99 (the eccentricity-aware FLIP's 99th percentile, gaze ahead): both eyes' pixels the lens shows against the unmasked frame — inf and 0: the mask costs no accuracy)");
     gpu.check_validation()?;
     csv.save(args.csv.as_deref())
 }

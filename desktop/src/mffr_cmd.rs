@@ -3,11 +3,14 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::metrics::RgbaImage;
+use foveate::metrics::perceptual::frame_accuracy;
+use foveate::metrics::{EyePixels, RgbaImage};
 use foveate::mffr::{MffrConfig, MffrVariant, SplitDistance};
 use foveate::plan::{RenderConfig, Resolution};
 use foveate::render::SKY;
 use foveate::scene::named_scene;
+use foveate::view::Eye;
+use glam::Vec2;
 
 use crate::csv_out::CsvTable;
 use crate::side_by_side::measure_group;
@@ -86,7 +89,7 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         args.frames
     );
     println!(
-        "\n{:<14} {:>9} {:>7} {:>9} {:>6} {:>8} {:>8} {:>10} {:>10} {:>10} {:>6} {:>6} {:>7} {:>8} {:>7}",
+        "\n{:<14} {:>9} {:>7} {:>9} {:>6} {:>8} {:>8} {:>10} {:>10} {:>10} {:>6} {:>6} {:>7} {:>7} {:>7} {:>8} {:>7}",
         "variant",
         "split",
         "disp px",
@@ -99,6 +102,8 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         "all frags",
         "PSNR",
         "SSIM",
+        "FLIP",
+        "eFLIP",
         "bound",
         "matched",
         "sky px"
@@ -117,6 +122,8 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         "total_fragments",
         "psnr",
         "ssim",
+        "flip_mean",
+        "eccentric_flip_p99",
         "bound_px",
         "matched_within_bound",
         "sky_through_px",
@@ -156,8 +163,15 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
                 None if i == 0 => ("stereo", f32::NAN, f32::NAN, 0.0),
                 None => ("(no far field)", f32::NAN, f32::NAN, 0.0),
             };
-            let psnr = image.psnr(&reference_both)?;
-            let ssim = image.ssim(&reference_both)?;
+            let pixels = Eye::BOTH.map(|e| EyePixels::new(&plans[0], e, Vec2::ZERO, None));
+            let accuracy = frame_accuracy(reference.image.eyes(), m.image.eyes(), &pixels)?;
+            let psnr = accuracy.psnr.unwrap_or(f64::NAN);
+            let ssim = accuracy.ssim.unwrap_or(f64::NAN);
+            let e = &accuracy.perceptual;
+            let (flip, eflip) = (
+                e.flip.map_or(f64::NAN, |s| s.mean),
+                e.eccentric.map_or(f64::NAN, |s| s.p99),
+            );
             let radius = bound.ceil() as u32;
             let matched = m
                 .image
@@ -176,7 +190,7 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
             };
             let ratio = m.frame_ms / reference.frame_ms;
             println!(
-                "{:<14} {:>9} {:>7.2} {:>9.2} {:>6.3} {:>8.2} {:>8.2} {:>10} {:>10} {:>10} {:>6} {:>6.4} {:>7.2} {:>7.2}% {:>7}",
+                "{:<14} {:>9} {:>7.2} {:>9.2} {:>6.3} {:>8.2} {:>8.2} {:>10} {:>10} {:>10} {:>6} {:>6.4} {:>7.4} {:>7.3} {:>7.2} {:>7.2}% {:>7}",
                 name,
                 if i == 0 { "-".to_string() } else { format!("{split_m:.1}m") },
                 disparity,
@@ -189,6 +203,8 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
                 m.total_fragments,
                 if psnr.is_infinite() { "inf".to_string() } else { format!("{psnr:.1}") },
                 ssim,
+                flip,
+                eflip,
                 bound,
                 100.0 * matched,
                 cracks
@@ -207,6 +223,8 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
                 &m.total_fragments,
                 &format!("{psnr:.3}"),
                 &format!("{ssim:.5}"),
+                &format!("{flip:.5}"),
+                &format!("{eflip:.5}"),
                 &bound,
                 &format!("{matched:.5}"),
                 &cracks,
@@ -214,7 +232,7 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         }
         println!();
     }
-    println!("(ratio: frame time to the stereo row of the same split, measured in the same rounds; PSNR/SSIM: both eyes against that stereo reference; bound: the disparity error the variant allows at the split, in eye pixels; matched: pixels equal to a reference pixel at most `bound` away along the row; sky px: pixels showing sky where the reference does not — a crack at the split would show here, as do silhouettes moved by up to `bound`)");
+    println!("(ratio: frame time to the stereo row of the same split, measured in the same rounds; PSNR/SSIM, FLIP (mean) and eFLIP (the eccentricity-aware FLIP's 99th percentile, gaze ahead): both eyes against that stereo reference, over the pixels the lens shows; bound: the disparity error the variant allows at the split, in eye pixels; matched: pixels equal to a reference pixel at most `bound` away along the row; sky px: pixels showing sky where the reference does not — a crack at the split would show here, as do silhouettes moved by up to `bound`)");
     gpu.check_validation()?;
     csv.save(args.csv.as_deref())
 }

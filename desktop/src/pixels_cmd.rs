@@ -124,8 +124,7 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
                 stencil,
                 fovea_size,
                 blend_band_px: args.blend_band,
-                debug_tint: false,
-                cull_fovea: true,
+                ..Default::default()
             };
             let config = RenderConfig {
                 views: 4,

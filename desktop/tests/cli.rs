@@ -366,6 +366,7 @@ fn render_foveated_with_gaze_tint_and_the_fill_scene() {
 #[test]
 fn compare_prints_time_and_error_per_region() {
     let csv = std::env::temp_dir().join(format!("foveate-compare-{}.csv", std::process::id()));
+    let heatmaps = std::env::temp_dir().join(format!("foveate-heat-{}", std::process::id()));
     let o = foveate(&[
         "compare",
         "--res",
@@ -379,6 +380,14 @@ fn compare_prints_time_and_error_per_region() {
         "--gaze",
         "-0.2,0.1",
         "--radial-density",
+        "--sharpen",
+        "1",
+        "--bands",
+        "0",
+        "--recommend",
+        "0.5",
+        "--heatmaps",
+        heatmaps.to_str().unwrap(),
         "--csv",
         csv.to_str().unwrap(),
     ]);
@@ -387,12 +396,24 @@ fn compare_prints_time_and_error_per_region() {
     for needle in [
         "reference: stereo multiview, MSAA 4",
         "foveated 0.5, MSAA 4",
+        "foveated 0.5, sharpen 1, MSAA 4",
+        "foveated 0.5, band 0, MSAA 4",
         "fovea dB/SSIM",
         "perif. dB/SSIM",
+        "p99 fov/band/perif",
+        "recommended within eFLIP p99 ≤ 0.5: ",
     ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }
-    let rows = read_csv(&csv, 15);
+    let heat = foveate::metrics::RgbaImage::load_png(&heatmaps.join("foveated-0.5-msaa-4.png"))
+        .expect("a heat map per row");
+    assert_eq!(
+        (heat.width, heat.height),
+        (128, 64),
+        "both eyes side by side"
+    );
+    let _ = std::fs::remove_dir_all(&heatmaps);
+    let rows = read_csv(&csv, 22);
     let row = rows
         .iter()
         .find(|r| r["config"] == "foveated 0.5, MSAA 4")
@@ -531,7 +552,7 @@ fn mffr_prices_every_variant_against_stereo() {
         csv.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let rows = read_csv(&csv, 16);
+    let rows = read_csv(&csv, 18);
     assert_eq!(rows.len(), 2 * 5, "stereo and four variants per split");
     for r in &rows {
         assert_numeric(r, &["variant", "split"]);
@@ -570,7 +591,7 @@ fn mask_reports_each_profile_measured() {
         csv.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let rows = read_csv(&csv, 9);
+    let rows = read_csv(&csv, 10);
     assert_eq!(rows.len(), 4, "one row per profile");
     for r in &rows {
         assert_numeric(r, &["profile"]);
@@ -648,7 +669,7 @@ fn bench_runs_the_whole_matrix_on_a_tiny_scene_and_writes_every_output() {
     // 24 matrix rows and 2 zero-cost rows, 2 frames each, every frame's pixels counted.
     let frames = read_csv(&dir.join("frames.csv"), 11);
     assert_eq!(frames.len(), 26 * 2);
-    for (file, columns) in [("frames.csv", 11), ("summary.csv", 20), ("accuracy.csv", 6)] {
+    for (file, columns) in [("frames.csv", 11), ("summary.csv", 20), ("accuracy.csv", 9)] {
         for r in read_csv(&dir.join(file), columns) {
             assert_numeric(&r, &["config", "family", "approximation"]);
         }
@@ -728,4 +749,47 @@ fn bench_rejects_a_bad_scale_naming_the_field() {
     let o = foveate(&["bench", "--scale", "2"]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("scale"), "{}", stderr(&o));
+}
+
+#[test]
+fn flicker_measures_each_approximation_along_both_motions() {
+    let csv = std::env::temp_dir().join(format!("foveate-flicker-{}.csv", std::process::id()));
+    let o = foveate(&[
+        "flicker",
+        "--scene",
+        "default",
+        "--res",
+        "48",
+        "--frames",
+        "4",
+        "--ratios",
+        "0.5",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = read_csv(&csv, 8);
+    // Two motions × (stereo MSAA 1, foveated 0.5), three changes each.
+    assert_eq!(rows.len(), 4, "{rows:?}");
+    for r in &rows {
+        assert_numeric(r, &["motion", "config"]);
+        assert_eq!(r["changes"], "3");
+    }
+    let at = |motion: &str, config: &str| -> f64 {
+        let r = rows
+            .iter()
+            .find(|r| r["motion"] == motion && r["config"] == config)
+            .unwrap();
+        r["flicker_mean"].parse().unwrap()
+    };
+    // The stereo frame does not depend on the gaze: with the head still it cannot flicker.
+    assert_eq!(at("saccades", "stereo, MSAA 1"), 0.0);
+    assert!(at("saccades", "foveated 0.5, MSAA 4") > 0.0);
+    let _ = std::fs::remove_file(&csv);
+    let o = foveate(&["flicker", "--frames", "1"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("frames = 1"),
+        "{}",
+        stderr(&o)
+    );
 }

@@ -8,6 +8,7 @@ mod foveation;
 mod fragment_counter;
 mod golden;
 mod mffr;
+mod perception;
 mod quirks;
 mod radial_density;
 mod shaders;

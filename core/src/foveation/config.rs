@@ -21,6 +21,9 @@ pub struct FoveationConfig {
     /// The fovea views draw only the instances their frusta see (a superfrustum around both
     /// fovea frusta, culled per frame); off, they draw what the periphery draws.
     pub cull_fovea: bool,
+    /// Contrast-adaptive sharpening of the upscaled periphery in the output pass (0 = off, up
+    /// to 1 = strongest); see `shaders/output.frag`.
+    pub periphery_sharpen: f32,
 }
 
 impl Default for FoveationConfig {
@@ -33,6 +36,7 @@ impl Default for FoveationConfig {
             blend_band_px: 0.0,
             debug_tint: false,
             cull_fovea: true,
+            periphery_sharpen: 0.0,
         }
     }
 }
@@ -55,6 +59,7 @@ pub struct FoveationGeometry {
     pub blend_band_px: f32,
     pub debug_tint: bool,
     pub cull_fovea: bool,
+    pub periphery_sharpen: f32,
 }
 
 impl FoveationConfig {
@@ -110,6 +115,13 @@ impl FoveationConfig {
                 ),
             ));
         }
+        if !(0.0..=1.0).contains(&self.periphery_sharpen) {
+            return Err(ConfigError::new(
+                "periphery_sharpen",
+                self.periphery_sharpen,
+                "0 (off) ≤ sharpen ≤ 1",
+            ));
+        }
         // Fovea-view pixels per screen pixel, and periphery pixels per screen pixel.
         let fovea_scale = view.width as f32 / window_px;
         let periphery_scale = view.width as f32 / screen.width as f32;
@@ -123,6 +135,7 @@ impl FoveationConfig {
             blend_band_px: band,
             debug_tint: self.debug_tint,
             cull_fovea: self.cull_fovea,
+            periphery_sharpen: self.periphery_sharpen,
         })
     }
 }

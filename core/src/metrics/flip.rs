@@ -15,6 +15,8 @@
 //! spread a local error thinly over more pixels: its peak falls but its sum need not, so judge
 //! local errors by percentiles and peaks, and read means with that in mind.
 
+use rayon::prelude::*;
+
 use super::{ImageError, RgbaImage};
 
 /// Guenter et al. 2012's foveal minimum angle of resolution (arcmin) and the slope we use
@@ -24,13 +26,6 @@ pub const MAR_SLOPE_ARCMIN_PER_DEG: f64 = 1.32;
 
 /// The ppd multipliers FLIP is evaluated at for the eccentricity-aware figure.
 const LEVELS: [f64; 7] = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0];
-
-/// Pixels per degree at the centre of a view `pixels` wide whose field spans `tangent_width`
-/// (left + right tangents): one pixel spans `atan(tangent_width / pixels)` there, so
-/// `ppd = 1 / degrees(atan(tangent_width / pixels))`.
-pub fn pixels_per_degree(tangent_width: f64, pixels: u32) -> f64 {
-    1.0 / (tangent_width / pixels as f64).atan().to_degrees()
-}
 
 /// FLIP's per-pixel error (0 = no visible difference … 1) between `reference` and `test` viewed
 /// at `ppd` pixels per degree; alpha is ignored.
@@ -52,53 +47,34 @@ pub fn flip_map(reference: &RgbaImage, test: &RgbaImage, ppd: f64) -> Result<Vec
     Ok(nv_flip::flip(rgb(reference), rgb(test), ppd as f32).to_vec())
 }
 
-/// What an error map says: its mean and upper percentiles over the pixels it covers.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ErrorSummary {
-    pub mean: f64,
-    pub p95: f64,
-    pub p99: f64,
-    pub pixels: usize,
-}
-
-impl ErrorSummary {
-    /// `None` for no pixels.
-    pub fn of(values: &[f32]) -> Option<ErrorSummary> {
-        if values.is_empty() {
-            return None;
-        }
-        let mut v: Vec<f32> = values.to_vec();
-        v.sort_by(f32::total_cmp);
-        let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize] as f64;
-        Some(ErrorSummary {
-            mean: v.iter().map(|&x| x as f64).sum::<f64>() / v.len() as f64,
-            p95: at(0.95),
-            p99: at(0.99),
-            pixels: v.len(),
-        })
-    }
-}
-
 /// How much coarser than at the gaze the eye resolves at `eccentricity_deg`: `MAR(e) / ω₀`.
 pub fn acuity_scale(eccentricity_deg: f64) -> f64 {
     (MAR0_ARCMIN + MAR_SLOPE_ARCMIN_PER_DEG * eccentricity_deg.max(0.0)) / MAR0_ARCMIN
 }
 
-/// The eccentricity-aware FLIP map: each pixel's FLIP at the ppd the eye has there (see the
-/// module's model), for display `ppd` at the gaze. `eccentricity(x, y)` is the pixel's angle
-/// from the gaze in degrees, `None` to leave it out (say, hidden by the lens): such pixels map to
-/// `NaN`.
+/// FLIP at the display's ppd, and the eccentricity-aware FLIP map: each pixel's FLIP at the ppd
+/// the eye has there (see the module's model), for display `ppd` at the gaze.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlipMaps {
+    pub plain: Vec<f32>,
+    pub eccentric: Vec<f32>,
+}
+
+/// Both FLIP maps of `test` against `reference`. `eccentricity(x, y)` is the pixel's angle from
+/// the gaze in degrees, `None` to leave it out (say, hidden by the lens): such pixels map to
+/// `NaN` in both maps. The levels run in parallel.
 pub fn eccentric_flip_map(
     reference: &RgbaImage,
     test: &RgbaImage,
     ppd: f64,
-    eccentricity: &dyn Fn(u32, u32) -> Option<f64>,
-) -> Result<Vec<f32>, ImageError> {
+    eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
+) -> Result<FlipMaps, ImageError> {
     let maps = LEVELS
-        .iter()
+        .par_iter()
         .map(|k| flip_map(reference, test, ppd * k))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut out = vec![f32::NAN; maps[0].len()];
+    let mut plain = vec![f32::NAN; maps[0].len()];
+    let mut eccentric = plain.clone();
     for y in 0..reference.height {
         for x in 0..reference.width {
             let Some(e) = eccentricity(x, y) else {
@@ -109,19 +85,11 @@ pub fn eccentric_flip_map(
             let i = (t.floor() as usize).min(LEVELS.len() - 2);
             let f = (t - i as f64) as f32;
             let k = (y * reference.width + x) as usize;
-            out[k] = maps[i][k] * (1.0 - f) + maps[i + 1][k] * f;
+            plain[k] = maps[0][k];
+            eccentric[k] = maps[i][k] * (1.0 - f) + maps[i + 1][k] * f;
         }
     }
-    Ok(out)
-}
-
-/// The finite values of a map where `keep(x, y)` holds.
-pub fn select(map: &[f32], width: u32, keep: &dyn Fn(u32, u32) -> bool) -> Vec<f32> {
-    map.iter()
-        .enumerate()
-        .filter(|&(i, v)| v.is_finite() && keep(i as u32 % width, i as u32 / width))
-        .map(|(_, &v)| v)
-        .collect()
+    Ok(FlipMaps { plain, eccentric })
 }
 
 #[cfg(test)]
@@ -171,6 +139,8 @@ mod tests {
         out
     }
 
+    use crate::metrics::ErrorSummary;
+
     fn mean(map: &[f32]) -> f64 {
         ErrorSummary::of(map).unwrap().mean
     }
@@ -217,7 +187,7 @@ mod tests {
         let score = |at, eccentric: bool| {
             let t = with_spot(at);
             let map = if eccentric {
-                eccentric_flip_map(&img, &t, 30.0, &ecc).unwrap()
+                eccentric_flip_map(&img, &t, 30.0, &ecc).unwrap().eccentric
             } else {
                 flip_map(&img, &t, 30.0).unwrap()
             };
@@ -236,13 +206,5 @@ mod tests {
             "plain FLIP: {near:.3} vs {far:.3}"
         );
         assert_eq!(acuity_scale(0.0), 1.0);
-    }
-
-    #[test]
-    fn centre_ppd_follows_the_field_and_the_pixels() {
-        // 90° across 1000 pixels: tan 45° on each side.
-        let ppd = pixels_per_degree(2.0, 1000);
-        assert!((ppd - 1.0 / (0.002f64).atan().to_degrees()).abs() < 1e-9);
-        assert!((ppd - 8.73).abs() < 0.01, "{ppd}");
     }
 }

@@ -129,6 +129,7 @@ pub fn plan(
             } else {
                 2
             },
+            sharpen: foveation.is_some_and(|f| f.periphery_sharpen > 0.0),
         }),
         _ if !lens => None,
         _ if radial_density.is_some() => Some(OutputSource::Layered),

@@ -82,8 +82,9 @@ pub enum OutputSource {
     /// Eye `e` is the `e`-th sampled image.
     PerEye,
     /// A foveated frame: eye `e`'s periphery is layer `e` of the first sampled image, its fovea
-    /// layer `fovea_layer + e` of the last (the same image for the one-pass layout).
-    Foveated { fovea_layer: u32 },
+    /// layer `fovea_layer + e` of the last (the same image for the one-pass layout); with
+    /// `sharpen`, the periphery is sharpened as it is upscaled.
+    Foveated { fovea_layer: u32, sharpen: bool },
 }
 
 impl OutputSource {
@@ -239,7 +240,9 @@ impl fmt::Display for Step {
             Step::Output(o) => format!(
                 "output ({}{})",
                 match o.source {
-                    OutputSource::Foveated { .. } => "fovea over periphery",
+                    OutputSource::Foveated { sharpen: false, .. } => "fovea over periphery",
+                    OutputSource::Foveated { sharpen: true, .. } =>
+                        "fovea over sharpened periphery",
                     _ => "eye images",
                 },
                 if o.lens {

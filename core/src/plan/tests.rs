@@ -1033,7 +1033,10 @@ fn the_fovea_layouts_plan_their_passes_and_draw_sets() {
         two.passes[2].steps[0],
         Step::Output(OutputStep {
             lens: false,
-            source: OutputSource::Foveated { fovea_layer: 0 }
+            source: OutputSource::Foveated {
+                fovea_layer: 0,
+                sharpen: false
+            }
         })
     );
     let one = planned(&foveated(true));

@@ -53,7 +53,7 @@ impl OutputStage {
                     g.fovea_screen_px,
                     g.blend_band_px,
                     g.debug_tint as u32 as f32,
-                    0.0,
+                    g.periphery_sharpen,
                 )
             }),
             screen: Vec4::new(

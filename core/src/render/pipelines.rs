@@ -347,7 +347,8 @@ pub(crate) fn step_pipeline(
     // clip scale, 2 depth shift (the far composite), 3 depth into alpha (the far pass), 4 the
     // step's first counter slot (counting frames), 5 the pass's first view, 6 fovea tags (the
     // one-pass fovea layout), 10–21 radial density's view size, radii and lens ellipses
-    // (`shaders/radial_density.glsl`), 30–32 the output stage's lens, source and fovea layer.
+    // (`shaders/radial_density.glsl`), 30–33 the output stage's lens, source, fovea layer and
+    // periphery sharpening.
     // Every stage gets the ones it declares.
     let far_pass = pass.kind == PassKind::FarField;
     let depth_shift = plan
@@ -373,14 +374,18 @@ pub(crate) fn step_pipeline(
         ),
     ];
     if let Step::Output(o) = step {
-        let fovea_layer = match o.source {
-            OutputSource::Foveated { fovea_layer } => fovea_layer,
-            _ => 0,
+        let (fovea_layer, sharpen) = match o.source {
+            OutputSource::Foveated {
+                fovea_layer,
+                sharpen,
+            } => (fovea_layer, sharpen),
+            _ => (0, false),
         };
         constants.extend([
             (30, (o.lens as u32).to_le_bytes()),
             (31, o.source.code().to_le_bytes()),
             (32, fovea_layer.to_le_bytes()),
+            (33, (sharpen as u32).to_le_bytes()),
         ]);
     }
     if let Some(r) = &plan.radial_density {
@@ -418,7 +423,7 @@ pub(crate) fn step_pipeline(
         PipelineKind::Mask => (&[1, 5], &[4, 5]),
         PipelineKind::Coverage => (&[1], &[4, 5]),
         PipelineKind::FarComposite => (&[1], &[0, 2, 4, 5]),
-        PipelineKind::Output => (&[1], &[4, 30, 31, 32]),
+        PipelineKind::Output => (&[1], &[4, 30, 31, 32, 33]),
         PipelineKind::RadialMask | PipelineKind::Reconstruct => (&[1], &radial_and_counter),
     };
     let (vert_entries, frag_entries) = (pick(vert_ids), pick(frag_ids));

@@ -178,6 +178,11 @@ impl StereoImage {
         }
     }
 
+    /// Left, right.
+    pub fn eyes(&self) -> [&RgbaImage; 2] {
+        [&self.left, &self.right]
+    }
+
     pub fn side_by_side(&self) -> RgbaImage {
         RgbaImage::side_by_side(&self.left, &self.right)
     }

@@ -4,6 +4,7 @@ mod atrium;
 mod city;
 mod default_scene;
 mod materials;
+mod motion;
 mod shapes;
 pub(crate) mod textures;
 mod thesis;
@@ -12,6 +13,7 @@ pub use atrium::atrium_scene;
 pub use city::city_scene;
 pub use default_scene::{default_scene, fill_scene};
 pub use materials::{Material, Pattern, PointLight, Shading, MAX_POINT_LIGHTS};
+pub use motion::{walking_pose, TURN_DEG_S, WALK_SPEED_M_S};
 pub use textures::{Texture, TEXTURE_SIZE};
 
 /// The scenes the command line offers, by name.

@@ -1,7 +1,8 @@
 //! What accuracy costs in time, across every approximation foveate has (DESIGN rule 2): each
 //! one rendered at the same rails pose beside a full-quality reference (multiview, 4× MSAA,
 //! per-eye culling, nothing approximated), in interleaved rounds; error over the pixels the
-//! lens shows, time as the ratio to the reference measured in the same rounds.
+//! lens shows (PSNR, SSIM, FLIP and the eccentricity-aware FLIP for the eye looking ahead), time
+//! as the ratio to the reference measured in the same rounds.
 
 use std::fmt::Write as _;
 
@@ -9,12 +10,13 @@ use anyhow::Result;
 use foveate::cull::Strategy;
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::Gpu;
-use foveate::metrics::RgbaImage;
+use foveate::metrics::perceptual::frame_accuracy;
+use foveate::metrics::EyePixels;
 use foveate::mffr::MffrConfig;
 use foveate::plan::{CullConfig, RadialDensity, RenderConfig};
 use foveate::scene::Scene;
-use foveate::view::{Eye, LensRegion};
-use glam::Mat4;
+use foveate::view::Eye;
+use glam::{Mat4, Vec2};
 use serde::Serialize;
 
 use super::{BenchArgs, Settings, Toggles};
@@ -33,6 +35,11 @@ pub struct AccuracyPoint {
     /// PSNR over the lens-visible pixels of both eyes; `None`: identical to the reference.
     pub psnr_db: Option<f64>,
     pub ssim: f64,
+    /// FLIP's mean at the display's ppd, and the eccentricity-aware FLIP's mean and 99th
+    /// percentile (`metrics::flip`), gaze ahead.
+    pub flip_mean: f64,
+    pub eccentric_flip_mean: f64,
+    pub eccentric_flip_p99: f64,
 }
 
 /// The approximations swept, each as a change to the reference configuration.
@@ -46,6 +53,12 @@ fn points(
         f(&mut c);
         c
     };
+    let foveated = |foveation: FoveationConfig| {
+        with(&|c| {
+            c.foveation = Some(foveation);
+            c.views = 4;
+        })
+    };
     for ratio in [0.25, 0.35, 0.5, 0.7] {
         let foveation = FoveationConfig {
             ratio,
@@ -54,10 +67,38 @@ fn points(
         out.push((
             "foveation",
             format!("foveation {ratio}"),
-            with(&|c| {
-                c.foveation = Some(foveation);
-                c.views = 4;
-            }),
+            foveated(foveation),
+        ));
+    }
+    // The periphery's quality options, each priced at 0.35.
+    let at_035 = FoveationConfig {
+        ratio: 0.35,
+        ..settings.foveation
+    };
+    // No band, and a wide one: a quarter of the fovea's diameter (twice the default).
+    let fovea_px = at_035
+        .geometry(settings.resolution)
+        .map_or(0.0, |g| g.fovea_screen_px);
+    for band in [0.0, (fovea_px / 4.0).floor()] {
+        let foveation = FoveationConfig {
+            blend_band_px: band,
+            ..at_035
+        };
+        out.push((
+            "blend band",
+            format!("foveation 0.35, band {band} px"),
+            foveated(foveation),
+        ));
+    }
+    for sharpen in [0.5, 1.0] {
+        let foveation = FoveationConfig {
+            periphery_sharpen: sharpen,
+            ..at_035
+        };
+        out.push((
+            "sharpening",
+            format!("foveation 0.35, sharpen {sharpen}"),
+            foveated(foveation),
         ));
     }
     out.push(("MSAA", "MSAA 1x".into(), with(&|c| c.msaa = 1)));
@@ -142,73 +183,49 @@ pub fn sweep(
         "accuracy sweep",
     )?;
     let plan = foveate::plan(&scene, &reference, gpu.caps())?;
-    let lens = Eye::BOTH.map(|e| plan.hmd.lens_region(plan.eyes.fov(e)));
+    let pixels = Eye::BOTH.map(|e| EyePixels::new(&plan, e, Vec2::ZERO, None));
     let base = &measured[0];
-    points
+    let bar = crate::progress::bar("accuracy: FLIP", points.len() as u64);
+    let out = points
         .into_iter()
         .zip(&measured[1..])
         .map(|((family, name, _), m)| {
-            let (psnr, ssim) = error(
-                &lens,
-                &m.image.left,
-                &base.image.left,
-                &m.image.right,
-                &base.image.right,
-            )?;
+            bar.set_message(name.clone());
+            let a = frame_accuracy(base.image.eyes(), m.image.eyes(), &pixels)?;
+            bar.inc(1);
+            let e = &a.perceptual;
             Ok(AccuracyPoint {
                 family,
                 name,
                 frame_ms: m.frame_ms,
                 ratio: m.frame_ms / base.frame_ms,
-                psnr_db: psnr.is_finite().then_some(psnr),
-                ssim,
+                psnr_db: a.psnr.filter(|p| p.is_finite()),
+                ssim: a.ssim.unwrap_or(1.0),
+                flip_mean: e.flip.map_or(0.0, |s| s.mean),
+                eccentric_flip_mean: e.eccentric.map_or(0.0, |s| s.mean),
+                eccentric_flip_p99: e.eccentric.map_or(0.0, |s| s.p99),
             })
         })
-        .collect()
-}
-
-/// PSNR and SSIM of both eyes over the pixels wholly inside each eye's lens region.
-fn error(
-    lens: &[LensRegion; 2],
-    left: &RgbaImage,
-    left_ref: &RgbaImage,
-    right: &RgbaImage,
-    right_ref: &RgbaImage,
-) -> Result<(f64, f64)> {
-    let (w, h) = (left.width, left.height);
-    let mut psnr = Vec::new();
-    let mut ssim = Vec::new();
-    for (eye, (a, b)) in [(left, left_ref), (right, right_ref)]
-        .into_iter()
-        .enumerate()
-    {
-        let visible = |x, y| lens[eye].contains_pixel(x, y, w, h);
-        // SSIM's 8-pixel windows, by their centre: only those wholly inside the lens region.
-        let window = |x: u32, y: u32| {
-            [(0, 0), (8, 0), (0, 8), (8, 8)]
-                .iter()
-                .all(|&(dx, dy)| visible((x + dx).saturating_sub(4), (y + dy).saturating_sub(4)))
-        };
-        psnr.push(a.psnr_where(b, visible)?.unwrap_or(f64::INFINITY));
-        ssim.push(a.ssim_where(b, window)?.unwrap_or(1.0));
-    }
-    // Mean squared error of both eyes together, back to dB.
-    let mse: f64 = psnr.iter().map(|p| 10f64.powf(-p / 10.0)).sum::<f64>() / 2.0;
-    Ok((-10.0 * mse.log10(), (ssim[0] + ssim[1]) / 2.0))
+        .collect();
+    bar.finish_and_clear();
+    out
 }
 
 pub fn table(points: &[AccuracyPoint]) -> String {
-    let mut t = String::from("## What accuracy costs in time\n\nEach approximation at one rails pose against the full-quality reference (multiview, 4x MSAA, per-eye culling), measured in interleaved rounds; PSNR and SSIM over the pixels the lens shows, both eyes.\n\n| family | approximation | frame ms | time vs reference | PSNR dB | SSIM |\n|---|---|---|---|---|---|\n");
+    let mut t = String::from("## What accuracy costs in time\n\nEach approximation at one rails pose against the full-quality reference (multiview, 4x MSAA, per-eye culling), measured in interleaved rounds; over the pixels the lens shows, both eyes: PSNR, SSIM, FLIP (mean, at the display's ppd) and the eccentricity-aware FLIP (mean and 99th percentile, the eye looking ahead; see README, \"Eccentricity-aware FLIP\").\n\n| family | approximation | frame ms | time vs reference | PSNR dB | SSIM | FLIP | eFLIP | eFLIP p99 |\n|---|---|---|---|---|---|---|---|---|\n");
     for p in points {
         let _ = writeln!(
             t,
-            "| {} | {} | {:.2} | {:.3} | {} | {:.4} |",
+            "| {} | {} | {:.2} | {:.3} | {} | {:.4} | {:.4} | {:.4} | {:.3} |",
             p.family,
             p.name,
             p.frame_ms,
             p.ratio,
             p.psnr_db.map_or("identical".into(), |d| format!("{d:.1}")),
-            p.ssim
+            p.ssim,
+            p.flip_mean,
+            p.eccentric_flip_mean,
+            p.eccentric_flip_p99
         );
     }
     t
@@ -222,6 +239,9 @@ pub fn csv(points: &[AccuracyPoint]) -> Result<String> {
         "ratio",
         "psnr_db",
         "ssim",
+        "flip_mean",
+        "eccentric_flip_mean",
+        "eccentric_flip_p99",
     ])?;
     for p in points {
         csv.row(&[
@@ -231,6 +251,9 @@ pub fn csv(points: &[AccuracyPoint]) -> Result<String> {
             &format!("{:.4}", p.ratio),
             &p.psnr_db.map_or("inf".into(), |d| format!("{d:.3}")),
             &format!("{:.5}", p.ssim),
+            &format!("{:.5}", p.flip_mean),
+            &format!("{:.5}", p.eccentric_flip_mean),
+            &format!("{:.5}", p.eccentric_flip_p99),
         ])?;
     }
     csv.into_string()

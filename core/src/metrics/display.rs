@@ -1,0 +1,212 @@
+//! Where each pixel of an eye's output image looks: the rendered pixel it shows, its angle from
+//! the gaze and its foveation region, or hidden by the lens. Every error measure on output
+//! images (PSNR/SSIM per region, FLIP, flicker) selects its pixels through this one map.
+
+use glam::{DVec3, Vec2};
+
+use crate::foveation::{fovea_centre_px, fovea_views, gaze_tangent, FoveationGeometry};
+use crate::plan::FramePlan;
+use crate::view::Eye;
+
+/// A foveated frame's regions on the screen: the fovea (inside the circle, less the band), the
+/// blend band, and the periphery beyond. A frame without foveation is all periphery.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Region {
+    Fovea,
+    Band,
+    Periphery,
+}
+
+impl Region {
+    pub const ALL: [Region; 3] = [Region::Fovea, Region::Band, Region::Periphery];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Region::Fovea => "fovea",
+            Region::Band => "band",
+            Region::Periphery => "periphery",
+        }
+    }
+}
+
+/// One visible display pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DisplayPixel {
+    /// Degrees between the pixel's direction and the gaze.
+    pub eccentricity_deg: f64,
+    pub region: Region,
+}
+
+/// Every display pixel of one eye's output image, row by row; `None` where the lens hides it:
+/// beyond the rendered field (black on the display) or outside the headset's lens region.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EyePixels {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Option<DisplayPixel>>,
+    /// Display pixels per degree at the lens axis: `1 / degrees(atan(field width / pixels))`
+    /// (`flip::pixels_per_degree`), the field being the display's (the lens's) when distorted.
+    pub ppd: f64,
+}
+
+impl EyePixels {
+    /// The map for `eye` of a frame planned as `plan` (its lens and output resolution), the eye
+    /// looking at `gaze` (normalised, as `set_gaze`); regions from `foveation` when the frame
+    /// is foveated.
+    pub fn new(
+        plan: &FramePlan,
+        eye: Eye,
+        gaze: Vec2,
+        foveation: Option<&FoveationGeometry>,
+    ) -> EyePixels {
+        let fov = plan.eyes.fov(eye);
+        let screen = plan.eye_resolution;
+        let (w, h) = (screen.width, screen.height);
+        let field = plan.lens.map_or(fov, |l| l.display[eye.index()]);
+        let lens_region = plan.hmd.lens_region(fov);
+        let g = gaze_tangent(fov, gaze);
+        let gaze_dir = DVec3::new(g.x as f64, g.y as f64, -1.0).normalize();
+        // The fovea circle is centred on the fovea window, which stays inside the periphery.
+        let fovea = foveation.map(|f| {
+            let views = fovea_views(&plan.eyes, f.ratio, [gaze; 2], (w, h));
+            let centre = fovea_centre_px(fov, views[eye.index()], (w, h));
+            (centre, f.fovea_screen_px / 2.0, f.blend_band_px)
+        });
+        let pixel = |x: u32, y: u32| -> Option<DisplayPixel> {
+            let p = match &plan.lens {
+                Some(lens) => lens.rendered_px(eye, fov, screen, x, y)?,
+                None => Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
+            };
+            let t = Vec2::new(
+                -fov.left + p.x / w as f32 * (fov.left + fov.right),
+                fov.up - p.y / h as f32 * (fov.up + fov.down),
+            );
+            if !lens_region.contains(t) {
+                return None;
+            }
+            let dir = DVec3::new(t.x as f64, t.y as f64, -1.0).normalize();
+            let region = match fovea {
+                Some((centre, radius, band)) => {
+                    let d = p.distance(centre);
+                    if d < radius - band {
+                        Region::Fovea
+                    } else if d <= radius {
+                        Region::Band
+                    } else {
+                        Region::Periphery
+                    }
+                }
+                None => Region::Periphery,
+            };
+            Some(DisplayPixel {
+                eccentricity_deg: dir.angle_between(gaze_dir).to_degrees(),
+                region,
+            })
+        };
+        EyePixels {
+            width: w,
+            height: h,
+            pixels: (0..h)
+                .flat_map(|y| (0..w).map(move |x| (x, y)))
+                .map(|(x, y)| pixel(x, y))
+                .collect(),
+            ppd: pixels_per_degree((field.left + field.right) as f64, w),
+        }
+    }
+
+    pub fn at(&self, x: u32, y: u32) -> Option<DisplayPixel> {
+        self.pixels[(y * self.width + x) as usize]
+    }
+
+    /// The visible pixel nearest the gaze (where a picture marks it), if any is visible.
+    pub fn gaze_px(&self) -> Option<(u32, u32)> {
+        self.pixels
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| p.map(|p| (i, p.eccentricity_deg)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| (i as u32 % self.width, i as u32 / self.width))
+    }
+
+    /// The finite values of a per-pixel `map` of this eye, at visible pixels `keep` accepts.
+    pub fn select(&self, map: &[f32], keep: impl Fn(DisplayPixel) -> bool) -> Vec<f32> {
+        map.iter()
+            .zip(&self.pixels)
+            .filter_map(|(&v, p)| p.filter(|&p| v.is_finite() && keep(p)).map(|_| v))
+            .collect()
+    }
+}
+
+/// Pixels per degree at the centre of a view `pixels` wide whose field spans `tangent_width`
+/// (left + right tangents): one pixel spans `atan(tangent_width / pixels)` there, so
+/// `ppd = 1 / degrees(atan(tangent_width / pixels))`.
+pub fn pixels_per_degree(tangent_width: f64, pixels: u32) -> f64 {
+    1.0 / (tangent_width / pixels as f64).atan().to_degrees()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    use crate::foveation::FoveationConfig;
+    use crate::plan::{plan, DeviceCaps, OutputStage, RenderConfig, Resolution};
+    use crate::scene::default_scene;
+
+    fn eye_pixels(output: OutputStage, gaze: Vec2) -> EyePixels {
+        let screen = Resolution::square(64);
+        let foveation = FoveationConfig {
+            ratio: 0.5,
+            blend_band_px: 4.0,
+            ..Default::default()
+        };
+        let config = RenderConfig {
+            resolution: Some(screen),
+            output,
+            ..RenderConfig::default()
+        };
+        let plan = plan(&default_scene(), &config, &DeviceCaps::generic()).unwrap();
+        let geometry = foveation.geometry(screen).unwrap();
+        EyePixels::new(&plan, Eye::Left, gaze, Some(&geometry))
+    }
+
+    /// The regions nest around the gaze, the lens hides the corners, and eccentricity grows
+    /// away from the gaze. Mutation: a band test with `<` for `<=` or the region centred on
+    /// the image instead of the gaze fails it.
+    #[test]
+    fn regions_follow_the_gaze_and_the_lens_hides_the_corners() {
+        for output in [OutputStage::Undistorted, OutputStage::Lens] {
+            let gaze = Vec2::new(0.3, -0.2);
+            let p = eye_pixels(output, gaze);
+            assert!(p.at(0, 0).is_none(), "{output}: a corner is hidden");
+            let (gx, gy) = p.gaze_px().unwrap();
+            let at_gaze = p.at(gx, gy).unwrap();
+            assert_eq!(at_gaze.region, Region::Fovea, "{output}");
+            assert!(at_gaze.eccentricity_deg < 2.0, "{output}: {at_gaze:?}");
+            assert!(
+                gx > 32 && gy > 32,
+                "{output}: gaze right and down: {gx},{gy}"
+            );
+            let count = |r| p.pixels.iter().flatten().filter(|d| d.region == r).count();
+            assert!(
+                count(Region::Fovea) > 0 && count(Region::Band) > 0,
+                "{output}"
+            );
+            assert!(count(Region::Periphery) > count(Region::Fovea), "{output}");
+            // Farther along the row from the gaze, farther from it in angle.
+            let left = p.at(gx - 20, gy).unwrap().eccentricity_deg;
+            let nearer = p.at(gx - 10, gy).unwrap().eccentricity_deg;
+            assert!(
+                left > nearer && nearer > at_gaze.eccentricity_deg,
+                "{output}"
+            );
+        }
+    }
+
+    #[test]
+    fn centre_ppd_follows_the_field_and_the_pixels() {
+        // 90° across 1000 pixels: tan 45° on each side.
+        let ppd = pixels_per_degree(2.0, 1000);
+        assert!((ppd - 1.0 / (0.002f64).atan().to_degrees()).abs() < 1e-9);
+        assert!((ppd - 8.73).abs() < 0.01, "{ppd}");
+    }
+}

@@ -1,0 +1,145 @@
+//! What a viewer sees of an approximation in a stereo frame's output images, over the pixels
+//! the lens shows, whole and per foveation region: PSNR and SSIM, FLIP at the display's pixels
+//! per degree and the eccentricity-aware FLIP (`flip`); and the eccentricity-aware map as a
+//! picture. Every command that reports an error reports these.
+
+use super::display::{EyePixels, Region};
+use super::flip::eccentric_flip_map;
+use super::{ErrorSummary, ImageError, RgbaImage};
+
+/// Every error figure of one frame against its reference, both eyes together.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameAccuracy {
+    /// PSNR (dB; infinite: identical) and SSIM over every visible pixel (SSIM: every window
+    /// whose centre is visible).
+    pub psnr: Option<f64>,
+    pub ssim: Option<f64>,
+    /// The same per region, in `Region::ALL`'s order (`None`: the region is empty).
+    pub region_psnr: [Option<f64>; 3],
+    pub region_ssim: [Option<f64>; 3],
+    pub perceptual: PerceptualError,
+}
+
+/// Every error figure of `image` against `reference` (left eye, right eye).
+pub fn frame_accuracy(
+    reference: [&RgbaImage; 2],
+    image: [&RgbaImage; 2],
+    pixels: &[EyePixels; 2],
+) -> Result<FrameAccuracy, ImageError> {
+    let (a, b) = (
+        RgbaImage::side_by_side(reference[0], reference[1]),
+        RgbaImage::side_by_side(image[0], image[1]),
+    );
+    let w = pixels[0].width;
+    let at = |x: u32, y: u32| pixels[(x >= w) as usize].at(x % w, y);
+    let psnr = |keep: &dyn Fn(Region) -> bool| {
+        a.psnr_where(&b, |x, y| at(x, y).is_some_and(|p| keep(p.region)))
+    };
+    let ssim = |keep: &dyn Fn(Region) -> bool| {
+        a.ssim_where(&b, |x, y| at(x, y).is_some_and(|p| keep(p.region)))
+    };
+    Ok(FrameAccuracy {
+        psnr: psnr(&|_| true)?,
+        ssim: ssim(&|_| true)?,
+        region_psnr: [
+            psnr(&|r| r == Region::Fovea)?,
+            psnr(&|r| r == Region::Band)?,
+            psnr(&|r| r == Region::Periphery)?,
+        ],
+        region_ssim: [
+            ssim(&|r| r == Region::Fovea)?,
+            ssim(&|r| r == Region::Band)?,
+            ssim(&|r| r == Region::Periphery)?,
+        ],
+        perceptual: perceptual_error(reference, image, pixels)?,
+    })
+}
+
+/// FLIP figures of one frame, both eyes together.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PerceptualError {
+    /// FLIP at the display's ppd, every pixel judged as if the eye looked at it.
+    pub flip: Option<ErrorSummary>,
+    /// The eccentricity-aware FLIP, for the eye at the gaze.
+    pub eccentric: Option<ErrorSummary>,
+    /// The eccentricity-aware FLIP per region, in `Region::ALL`'s order.
+    pub regions: [Option<ErrorSummary>; 3],
+    /// Each eye's eccentricity-aware map (`NaN` where the lens hides the pixel).
+    pub maps: [Vec<f32>; 2],
+}
+
+/// FLIP figures of `image` against `reference` (left eye, right eye), pixels as `pixels` maps
+/// them.
+pub fn perceptual_error(
+    reference: [&RgbaImage; 2],
+    image: [&RgbaImage; 2],
+    pixels: &[EyePixels; 2],
+) -> Result<PerceptualError, ImageError> {
+    let (mut plain, mut eccentric) = (Vec::new(), Vec::new());
+    let mut regions: [Vec<f32>; 3] = Default::default();
+    let mut maps: [Vec<f32>; 2] = Default::default();
+    for eye in 0..2 {
+        let p = &pixels[eye];
+        let eccentricity = |x: u32, y: u32| p.at(x, y).map(|d| d.eccentricity_deg);
+        let m = eccentric_flip_map(reference[eye], image[eye], p.ppd, &eccentricity)?;
+        plain.extend(p.select(&m.plain, |_| true));
+        eccentric.extend(p.select(&m.eccentric, |_| true));
+        for (values, region) in regions.iter_mut().zip(Region::ALL) {
+            values.extend(p.select(&m.eccentric, |d| d.region == region));
+        }
+        maps[eye] = m.eccentric;
+    }
+    Ok(PerceptualError {
+        flip: ErrorSummary::of(&plain),
+        eccentric: ErrorSummary::of(&eccentric),
+        regions: regions.map(|v| ErrorSummary::of(&v)),
+        maps,
+    })
+}
+
+/// An error map as a picture: FLIP's magma scale from 0 (black) to 1 (pale yellow), pixels the
+/// lens hides grey, and the gaze (the visible pixel nearest it) ringed in cyan.
+pub fn heat_map(map: &[f32], pixels: &EyePixels) -> RgbaImage {
+    const HIDDEN: [u8; 4] = [80, 80, 80, 255];
+    let mut img = RgbaImage::new(pixels.width, pixels.height);
+    for y in 0..pixels.height {
+        for x in 0..pixels.width {
+            let v = map[(y * pixels.width + x) as usize];
+            let c = if v.is_finite() && pixels.at(x, y).is_some() {
+                magma(v.clamp(0.0, 1.0))
+            } else {
+                HIDDEN
+            };
+            img.set_pixel(x, y, c);
+        }
+    }
+    if let Some((gx, gy)) = pixels.gaze_px() {
+        let r = (pixels.width.min(pixels.height) as f32 / 48.0).max(4.0);
+        for y in 0..pixels.height {
+            for x in 0..pixels.width {
+                let d = ((x as f32 - gx as f32).powi(2) + (y as f32 - gy as f32).powi(2)).sqrt();
+                let cross = (x == gx || y == gy) && d < r * 0.6;
+                if (d - r).abs() < 1.0 || cross {
+                    img.set_pixel(x, y, [0, 255, 255, 255]);
+                }
+            }
+        }
+    }
+    img
+}
+
+/// Matplotlib's magma at five stops (FLIP's own heat-map scale), linearly between them.
+fn magma(v: f32) -> [u8; 4] {
+    const STOPS: [[f32; 3]; 5] = [
+        [0.0, 0.0, 4.0],
+        [81.0, 18.0, 124.0],
+        [183.0, 55.0, 121.0],
+        [252.0, 137.0, 97.0],
+        [252.0, 253.0, 191.0],
+    ];
+    let t = v * (STOPS.len() - 1) as f32;
+    let i = (t.floor() as usize).min(STOPS.len() - 2);
+    let f = t - i as f32;
+    let c = |k: usize| (STOPS[i][k] + (STOPS[i + 1][k] - STOPS[i][k]) * f).round() as u8;
+    [c(0), c(1), c(2), 255]
+}
