@@ -38,7 +38,8 @@ pub struct DisplayPixel {
 }
 
 /// Every display pixel of one eye's output image, row by row; `None` where the lens hides it:
-/// beyond the rendered field (black on the display) or outside the headset's lens region.
+/// beyond the rendered field (black on the display) or where the rendered pixel it shows is not
+/// wholly inside the headset's lens region.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EyePixels {
     pub width: u32,
@@ -81,7 +82,10 @@ impl EyePixels {
                 -fov.left + p.x / w as f32 * (fov.left + fov.right),
                 fov.up - p.y / h as f32 * (fov.up + fov.down),
             );
-            if !lens_region.contains(t) {
+            // Only rendered pixels wholly inside the lens region: the HMD mask's edge may
+            // darken a pixel it partly covers (MSAA), where the lens barely shows it anyway.
+            let (rx, ry) = (p.x.floor() as u32, p.y.floor() as u32);
+            if !lens_region.contains_pixel(rx.min(w - 1), ry.min(h - 1), w, h) {
                 return None;
             }
             let dir = DVec3::new(t.x as f64, t.y as f64, -1.0).normalize();

@@ -11,7 +11,7 @@ use super::{ErrorSummary, ImageError, RgbaImage};
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameAccuracy {
     /// PSNR (dB; infinite: identical) and SSIM over every visible pixel (SSIM: every window
-    /// whose centre is visible).
+    /// wholly visible).
     pub psnr: Option<f64>,
     pub ssim: Option<f64>,
     /// The same per region, in `Region::ALL`'s order (`None`: the region is empty).
@@ -35,8 +35,17 @@ pub fn frame_accuracy(
     let psnr = |keep: &dyn Fn(Region) -> bool| {
         a.psnr_where(&b, |x, y| at(x, y).is_some_and(|p| keep(p.region)))
     };
+    // SSIM's 8-pixel windows (given by their centre): the centre in the region, and the whole
+    // window visible.
+    let window_visible = |x: u32, y: u32| {
+        [(0, 0), (7, 0), (0, 7), (7, 7)]
+            .iter()
+            .all(|&(dx, dy)| at((x + dx).saturating_sub(4), (y + dy).saturating_sub(4)).is_some())
+    };
     let ssim = |keep: &dyn Fn(Region) -> bool| {
-        a.ssim_where(&b, |x, y| at(x, y).is_some_and(|p| keep(p.region)))
+        a.ssim_where(&b, |x, y| {
+            at(x, y).is_some_and(|p| keep(p.region)) && window_visible(x, y)
+        })
     };
     Ok(FrameAccuracy {
         psnr: psnr(&|_| true)?,
@@ -81,7 +90,8 @@ pub fn perceptual_error(
     for eye in 0..2 {
         let p = &pixels[eye];
         let eccentricity = |x: u32, y: u32| p.at(x, y).map(|d| d.eccentricity_deg);
-        let m = eccentric_flip_map(reference[eye], image[eye], p.ppd, &eccentricity)?;
+        let test = hidden_as_reference(reference[eye], image[eye], p)?;
+        let m = eccentric_flip_map(reference[eye], &test, p.ppd, &eccentricity)?;
         plain.extend(p.select(&m.plain, |_| true));
         eccentric.extend(p.select(&m.eccentric, |_| true));
         for (values, region) in regions.iter_mut().zip(Region::ALL) {
@@ -95,6 +105,29 @@ pub fn perceptual_error(
         regions: regions.map(|v| ErrorSummary::of(&v)),
         maps,
     })
+}
+
+/// `image` with the pixels the lens hides taken from `reference`: FLIP's filters (wider at the
+/// coarser levels) would otherwise carry a difference no one sees — say, what the HMD mask left
+/// black — into the visible pixels around it.
+fn hidden_as_reference(
+    reference: &RgbaImage,
+    image: &RgbaImage,
+    pixels: &EyePixels,
+) -> Result<RgbaImage, ImageError> {
+    if (reference.width, reference.height) != (image.width, image.height) {
+        return Err(ImageError::SizeMismatch {
+            a: (reference.width, reference.height),
+            b: (image.width, image.height),
+        });
+    }
+    let mut out = image.clone();
+    for (i, p) in pixels.pixels.iter().enumerate() {
+        if p.is_none() {
+            out.data[4 * i..4 * i + 4].copy_from_slice(&reference.data[4 * i..4 * i + 4]);
+        }
+    }
+    Ok(out)
 }
 
 /// An error map as a picture: FLIP's magma scale from 0 (black) to 1 (pale yellow), pixels the
