@@ -6,7 +6,7 @@ use foveate::foveation::{FoveationConfig, FoveationGeometry};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::perceptual::{frame_accuracy, heat_map, FrameAccuracy};
 use foveate::metrics::{ErrorSummary, EyePixels, RgbaImage, Stats};
-use foveate::plan::{RadialDensity, RenderConfig, Resolution, StereoMode};
+use foveate::plan::{RadialDensity, RenderConfig, Resolution};
 use foveate::render::{counting_frame, Renderer, StereoImage};
 use foveate::scene::{named_scene, Scene, Shading};
 use foveate::view::Eye;
@@ -145,13 +145,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     let gaze = crate::gaze_arg::gaze_from(&args.gaze)?;
     let scene = crate::frame_args::scene_from(&args.scene, args.shading.as_deref())?;
     let screen = Resolution::square(args.res);
-    let base = RenderConfig {
-        resolution: Some(screen),
-        stereo: StereoMode::Multiview,
-        output: args.output.parse()?,
-        fovea_layout: args.fovea_layout.parse()?,
-        ..RenderConfig::default()
-    };
+    let base = crate::frame_args::comparison_base(args.res, &args.output, &args.fovea_layout)?;
     // Every foveated variant, checked before anything renders.
     let default_band = args.blend_band.unwrap_or(-1.0);
     let mut variants = Vec::new();

@@ -12,7 +12,7 @@ use foveate::foveation::{simulated_trace, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::temporal::{Flicker, FlickerSummary};
 use foveate::metrics::{ErrorSummary, EyePixels};
-use foveate::plan::{RenderConfig, Resolution, StereoMode};
+use foveate::plan::{RenderConfig, Resolution};
 use foveate::render::Renderer;
 use foveate::scene::walking_pose;
 use foveate::view::Eye;
@@ -34,6 +34,9 @@ pub struct FlickerArgs {
     /// What the frame's last pass writes: lens or undistorted.
     #[arg(long, default_value = "lens")]
     output: String,
+    /// Fovea layout of the foveated rows: auto, one-pass or two-pass.
+    #[arg(long, default_value = "auto")]
+    fovea_layout: String,
     /// Foveation ratios to measure (MSAA 4).
     #[arg(long, value_delimiter = ',', default_value = "0.35,0.5")]
     ratios: Vec<f32>,
@@ -68,12 +71,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     );
     let scene = crate::frame_args::scene_from(&args.scene, args.shading.as_deref())?;
     let screen = Resolution::square(args.res);
-    let base = RenderConfig {
-        resolution: Some(screen),
-        stereo: StereoMode::Multiview,
-        output: args.output.parse()?,
-        ..RenderConfig::default()
-    };
+    let base = crate::frame_args::comparison_base(args.res, &args.output, &args.fovea_layout)?;
     let mut configs = vec![(
         "stereo, MSAA 1".to_string(),
         RenderConfig {

@@ -109,6 +109,18 @@ pub fn scene_from(name: &str, shading: Option<&str>) -> Result<Scene> {
     })
 }
 
+/// The multiview stereo frame the comparing commands (`compare`, `flicker`) measure against
+/// and vary: `res`² per eye, the named output stage and fovea layout.
+pub fn comparison_base(res: u32, output: &str, fovea_layout: &str) -> Result<RenderConfig> {
+    Ok(RenderConfig {
+        resolution: Some(Resolution::square(res)),
+        stereo: StereoMode::Multiview,
+        output: output.parse()?,
+        fovea_layout: fovea_layout.parse()?,
+        ..RenderConfig::default()
+    })
+}
+
 impl ConfigArgs {
     /// The config for one stereo mode (`stereo` may be `all`; the caller picks the mode).
     pub fn config(&self, stereo: StereoMode) -> Result<RenderConfig> {

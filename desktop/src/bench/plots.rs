@@ -337,3 +337,37 @@ fn pareto_frontier(points: &[AccuracyPoint]) -> Vec<(f64, f64)> {
     });
     frontier
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The frontier keeps the points nothing beats on both time and error, fastest first.
+    /// Mutation: keeping points by `<=`, or by PSNR's "higher is better", fails it.
+    #[test]
+    fn the_pareto_frontier_keeps_only_unbeaten_points() {
+        let point = |ratio, eccentric_flip_p99| AccuracyPoint {
+            family: "test",
+            name: String::new(),
+            frame_ms: ratio * 100.0,
+            ratio,
+            psnr_db: None,
+            ssim: 1.0,
+            flip_mean: 0.0,
+            eccentric_flip_mean: 0.0,
+            eccentric_flip_p99,
+        };
+        let points = [
+            point(1.0, 0.0),
+            point(0.4, 0.3),
+            point(0.6, 0.1),
+            point(0.7, 0.2),
+            point(0.5, 0.3),
+            point(0.3, 0.5),
+        ];
+        assert_eq!(
+            pareto_frontier(&points),
+            vec![(0.3, 0.5), (0.4, 0.3), (0.6, 0.1), (1.0, 0.0)]
+        );
+    }
+}
