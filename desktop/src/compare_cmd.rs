@@ -4,6 +4,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use foveate::foveation::{FoveationConfig, FoveationGeometry};
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::{frame_accuracy, heat_map, FrameAccuracy};
 use foveate::metrics::{ErrorSummary, EyePixels, RgbaImage, Stats};
 use foveate::plan::{RadialDensity, RenderConfig, Resolution};
@@ -75,6 +76,10 @@ pub struct CompareArgs {
     /// percentile) stays within this budget.
     #[arg(long)]
     recommend: Option<f64>,
+    /// The eccentricity-aware FLIP's acuity falloff: arcmin of minimum angle of resolution per
+    /// degree of eccentricity (Guenter et al. 2012 measured 1.32–1.65).
+    #[arg(long, default_value_t = Acuity::default().slope_arcmin_per_deg)]
+    mar_slope: f64,
     /// Write each configuration's eccentricity-aware FLIP map (both eyes, gaze ringed) as a PNG
     /// into this folder.
     #[arg(long)]
@@ -138,6 +143,15 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             "invalid recommend = {budget}: a FLIP budget above 0 (FLIP runs 0..1)"
         );
     }
+    anyhow::ensure!(
+        args.mar_slope.is_finite() && args.mar_slope > 0.0 && args.mar_slope <= 10.0,
+        "invalid mar-slope = {}: 0 < slope ≤ 10 arcmin per degree (Guenter et al.: 1.32–1.65)",
+        args.mar_slope
+    );
+    let acuity = Acuity {
+        slope_arcmin_per_deg: args.mar_slope,
+        ..Acuity::default()
+    };
     if args.table {
         return table(options, args);
     }
@@ -194,11 +208,13 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         args.frames,
     )?;
     println!(
-        "device: {}; scene {}, {}x{} per eye, gaze {gaze}",
+        "device: {}; scene {}, {}x{} per eye, gaze {gaze}; eFLIP: MAR = {}′ + {}′/° · eccentricity",
         gpu.info().name,
         args.scene,
         args.res,
-        args.res
+        args.res,
+        acuity.mar0_arcmin,
+        acuity.slope_arcmin_per_deg
     );
     println!(
         "reference: stereo multiview, MSAA 4: {:.2} ms, {} scene fragments, {} in all passes",
@@ -247,7 +263,12 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     for row in &rows {
         bar.set_message(row.name.clone());
         let pixels = Eye::BOTH.map(|e| EyePixels::new(&base_plan, e, gaze, row.foveation.as_ref()));
-        let accuracy = frame_accuracy(reference.image.eyes(), row.run.image.eyes(), &pixels)?;
+        let accuracy = frame_accuracy(
+            reference.image.eyes(),
+            row.run.image.eyes(),
+            &pixels,
+            acuity,
+        )?;
         if let Some(dir) = &args.heatmaps {
             let maps = &accuracy.perceptual.maps;
             let picture = RgbaImage::side_by_side(

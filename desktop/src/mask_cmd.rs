@@ -3,6 +3,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::frame_accuracy;
 use foveate::metrics::EyePixels;
 use foveate::plan::{RenderConfig, Resolution};
@@ -90,7 +91,12 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
         let saved = 1.0 - m[1].frame_ms / m[0].frame_ms;
         // The mask may cost no accuracy where the lens shows the image.
         let pixels = Eye::BOTH.map(|e| EyePixels::new(&plan, e, Vec2::ZERO, None));
-        let accuracy = frame_accuracy(m[0].image.eyes(), m[1].image.eyes(), &pixels)?;
+        let accuracy = frame_accuracy(
+            m[0].image.eyes(),
+            m[1].image.eyes(),
+            &pixels,
+            Acuity::default(),
+        )?;
         let psnr = accuracy.psnr.unwrap_or(f64::NAN);
         let eflip = accuracy.perceptual.eccentric.map_or(f64::NAN, |s| s.p99);
         let published = profile

@@ -3,6 +3,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::frame_accuracy;
 use foveate::metrics::{EyePixels, RgbaImage};
 use foveate::mffr::{MffrConfig, MffrVariant, SplitDistance};
@@ -164,7 +165,12 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
                 None => ("(no far field)", f32::NAN, f32::NAN, 0.0),
             };
             let pixels = Eye::BOTH.map(|e| EyePixels::new(&plans[0], e, Vec2::ZERO, None));
-            let accuracy = frame_accuracy(reference.image.eyes(), m.image.eyes(), &pixels)?;
+            let accuracy = frame_accuracy(
+                reference.image.eyes(),
+                m.image.eyes(),
+                &pixels,
+                Acuity::default(),
+            )?;
             let psnr = accuracy.psnr.unwrap_or(f64::NAN);
             let ssim = accuracy.ssim.unwrap_or(f64::NAN);
             let e = &accuracy.perceptual;

@@ -5,8 +5,8 @@
 //! FLIP's viewing condition is its pixels per degree (ppd): the more pixels a degree holds, the
 //! finer a difference must be to escape the eye. Away from the gaze the eye resolves less: its
 //! minimum angle of resolution grows linearly with eccentricity, `MAR(e) = ω₀ + m·e` (Guenter et
-//! al. 2012, "Foveated 3D graphics": ω₀ = 1/48° = 1.25 arcmin, slopes m of 0.022–0.034, i.e.
-//! 1.32–2.04 arcmin per degree; we use the lowest, 1.32, the most demanding). A pixel at
+//! al. 2012, "Foveated 3D graphics": ω₀ = 1/48° = 1.25 arcmin; their user study gives slopes m
+//! of 1.32–1.65 arcmin per degree; we default to the lower, more demanding 1.32). A pixel at
 //! eccentricity e is therefore judged as if the display had `ppd · MAR(e) / ω₀` pixels per degree.
 //! FLIP is evaluated at ppd × 1, 2, 4, … 64 and each pixel takes its value from the two levels
 //! around its own effective ppd, interpolated in log ppd. Limits: the model is isotropic (no
@@ -19,10 +19,31 @@ use rayon::prelude::*;
 
 use super::{ImageError, RgbaImage};
 
-/// Guenter et al. 2012's foveal minimum angle of resolution (arcmin) and the slope we use
-/// (arcmin per degree of eccentricity).
-pub const MAR0_ARCMIN: f64 = 1.25;
-pub const MAR_SLOPE_ARCMIN_PER_DEG: f64 = 1.32;
+/// The eye's acuity falloff: its minimum angle of resolution `MAR(e) = mar0 + slope · e`
+/// (arcmin, eccentricity e in degrees).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Acuity {
+    pub mar0_arcmin: f64,
+    pub slope_arcmin_per_deg: f64,
+}
+
+impl Default for Acuity {
+    /// Guenter et al. 2012: ω₀ = 1.25′, and the more demanding end of their 1.32–1.65′ per
+    /// degree.
+    fn default() -> Self {
+        Acuity {
+            mar0_arcmin: 1.25,
+            slope_arcmin_per_deg: 1.32,
+        }
+    }
+}
+
+impl Acuity {
+    /// How much coarser than at the gaze the eye resolves at `eccentricity_deg`: `MAR(e) / ω₀`.
+    pub fn scale(&self, eccentricity_deg: f64) -> f64 {
+        1.0 + self.slope_arcmin_per_deg * eccentricity_deg.max(0.0) / self.mar0_arcmin
+    }
+}
 
 /// The ppd multipliers FLIP is evaluated at for the eccentricity-aware figure.
 const LEVELS: [f64; 7] = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0];
@@ -47,11 +68,6 @@ pub fn flip_map(reference: &RgbaImage, test: &RgbaImage, ppd: f64) -> Result<Vec
     Ok(nv_flip::flip(rgb(reference), rgb(test), ppd as f32).to_vec())
 }
 
-/// How much coarser than at the gaze the eye resolves at `eccentricity_deg`: `MAR(e) / ω₀`.
-pub fn acuity_scale(eccentricity_deg: f64) -> f64 {
-    (MAR0_ARCMIN + MAR_SLOPE_ARCMIN_PER_DEG * eccentricity_deg.max(0.0)) / MAR0_ARCMIN
-}
-
 /// FLIP at the display's ppd, and the eccentricity-aware FLIP map: each pixel's FLIP at the ppd
 /// the eye has there (see the module's model), for display `ppd` at the gaze.
 #[derive(Clone, Debug, PartialEq)]
@@ -60,13 +76,15 @@ pub struct FlipMaps {
     pub eccentric: Vec<f32>,
 }
 
-/// Both FLIP maps of `test` against `reference`. `eccentricity(x, y)` is the pixel's angle from
+/// Both FLIP maps of `test` against `reference`, for an eye of `acuity`. `eccentricity(x, y)` is
+/// the pixel's angle from
 /// the gaze in degrees, `None` to leave it out (say, hidden by the lens): such pixels map to
 /// `NaN` in both maps. The levels run in parallel.
 pub fn eccentric_flip_map(
     reference: &RgbaImage,
     test: &RgbaImage,
     ppd: f64,
+    acuity: Acuity,
     eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
 ) -> Result<FlipMaps, ImageError> {
     let maps = LEVELS
@@ -81,7 +99,7 @@ pub fn eccentric_flip_map(
                 continue;
             };
             // Position among the levels in log2 ppd: LEVELS[i] = 2^i.
-            let t = acuity_scale(e).log2().clamp(0.0, (LEVELS.len() - 1) as f64);
+            let t = acuity.scale(e).log2().clamp(0.0, (LEVELS.len() - 1) as f64);
             let i = (t.floor() as usize).min(LEVELS.len() - 2);
             let f = (t - i as f64) as f32;
             let k = (y * reference.width + x) as usize;
@@ -187,7 +205,9 @@ mod tests {
         let score = |at, eccentric: bool| {
             let t = with_spot(at);
             let map = if eccentric {
-                eccentric_flip_map(&img, &t, 30.0, &ecc).unwrap().eccentric
+                eccentric_flip_map(&img, &t, 30.0, Acuity::default(), &ecc)
+                    .unwrap()
+                    .eccentric
             } else {
                 flip_map(&img, &t, 30.0).unwrap()
             };
@@ -205,6 +225,7 @@ mod tests {
             (near - far).abs() < 0.2 * near,
             "plain FLIP: {near:.3} vs {far:.3}"
         );
-        assert_eq!(acuity_scale(0.0), 1.0);
+        assert_eq!(Acuity::default().scale(0.0), 1.0);
+        assert!((Acuity::default().scale(30.0) - (1.25 + 1.32 * 30.0) / 1.25).abs() < 1e-12);
     }
 }

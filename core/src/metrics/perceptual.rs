@@ -4,7 +4,7 @@
 //! picture. Every command that reports an error reports these.
 
 use super::display::{EyePixels, Region};
-use super::flip::eccentric_flip_map;
+use super::flip::{eccentric_flip_map, Acuity};
 use super::{ErrorSummary, ImageError, RgbaImage};
 
 /// Every error figure of one frame against its reference, both eyes together.
@@ -20,11 +20,13 @@ pub struct FrameAccuracy {
     pub perceptual: PerceptualError,
 }
 
-/// Every error figure of `image` against `reference` (left eye, right eye).
+/// Every error figure of `image` against `reference` (left eye, right eye), the
+/// eccentricity-aware one for an eye of `acuity`.
 pub fn frame_accuracy(
     reference: [&RgbaImage; 2],
     image: [&RgbaImage; 2],
     pixels: &[EyePixels; 2],
+    acuity: Acuity,
 ) -> Result<FrameAccuracy, ImageError> {
     let (a, b) = (
         RgbaImage::side_by_side(reference[0], reference[1]),
@@ -60,7 +62,7 @@ pub fn frame_accuracy(
             ssim(&|r| r == Region::Band)?,
             ssim(&|r| r == Region::Periphery)?,
         ],
-        perceptual: perceptual_error(reference, image, pixels)?,
+        perceptual: perceptual_error(reference, image, pixels, acuity)?,
     })
 }
 
@@ -78,11 +80,12 @@ pub struct PerceptualError {
 }
 
 /// FLIP figures of `image` against `reference` (left eye, right eye), pixels as `pixels` maps
-/// them.
+/// them, the eccentricity-aware one for an eye of `acuity`.
 pub fn perceptual_error(
     reference: [&RgbaImage; 2],
     image: [&RgbaImage; 2],
     pixels: &[EyePixels; 2],
+    acuity: Acuity,
 ) -> Result<PerceptualError, ImageError> {
     let (mut plain, mut eccentric) = (Vec::new(), Vec::new());
     let mut regions: [Vec<f32>; 3] = Default::default();
@@ -91,7 +94,7 @@ pub fn perceptual_error(
         let p = &pixels[eye];
         let eccentricity = |x: u32, y: u32| p.at(x, y).map(|d| d.eccentricity_deg);
         let test = hidden_as_reference(reference[eye], image[eye], p)?;
-        let m = eccentric_flip_map(reference[eye], &test, p.ppd, &eccentricity)?;
+        let m = eccentric_flip_map(reference[eye], &test, p.ppd, acuity, &eccentricity)?;
         plain.extend(p.select(&m.plain, |_| true));
         eccentric.extend(p.select(&m.eccentric, |_| true));
         for (values, region) in regions.iter_mut().zip(Region::ALL) {

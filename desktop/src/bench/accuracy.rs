@@ -10,6 +10,7 @@ use anyhow::Result;
 use foveate::cull::Strategy;
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::Gpu;
+use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::frame_accuracy;
 use foveate::metrics::EyePixels;
 use foveate::mffr::MffrConfig;
@@ -191,7 +192,12 @@ pub fn sweep(
         .zip(&measured[1..])
         .map(|((family, name, _), m)| {
             bar.set_message(name.clone());
-            let a = frame_accuracy(base.image.eyes(), m.image.eyes(), &pixels)?;
+            let a = frame_accuracy(
+                base.image.eyes(),
+                m.image.eyes(),
+                &pixels,
+                Acuity::default(),
+            )?;
             bar.inc(1);
             let e = &a.perceptual;
             Ok(AccuracyPoint {
