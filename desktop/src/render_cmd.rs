@@ -4,9 +4,13 @@ use anyhow::{Context, Result};
 use clap::Args;
 use foveate::foveation::{parse_gaze_csv, simulated_trace, GazeFilter};
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::metrics::Stats;
+use foveate::metrics::flip::Acuity;
+use foveate::metrics::perceptual::{frame_accuracy, FrameAccuracy};
+use foveate::metrics::{ErrorSummary, EyePixels, Stats};
 use foveate::render::{counting_frame, FrameStats, Renderer};
+use foveate::view::Eye;
 use foveate::StereoMode;
+use glam::Vec2;
 
 use crate::frame_args::ConfigArgs;
 
@@ -81,6 +85,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         }
     }
     let mut results = Vec::new();
+    // Each run's image, plan and final gaze, for the reference's comparison.
     let mut images = Vec::new();
     for (label, config, out) in &runs {
         let plan = foveate::plan(&scene, config, gpu.caps())?;
@@ -123,15 +128,11 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
             bar.inc(1);
         }
         bar.finish_and_clear();
-        let image = renderer.readback()?.side_by_side();
-        images.push(image);
+        let image = renderer.readback()?;
         if !args.reference {
-            save(
-                images.last().expect("just pushed"),
-                out,
-                "left eye | right eye",
-            )?;
+            save(&image.side_by_side(), out, "left eye | right eye")?;
         }
+        images.push((image, plan.clone(), renderer.gaze()[0]));
         gpu.check_validation()?;
         let counts = counting_frame(&gpu, &scene, config, renderer.gaze(), scene.head)?;
         gpu.check_validation()?;
@@ -167,12 +168,31 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     }
     if args.reference {
         // The foveated frame above its stereo reference.
-        let both = foveate::metrics::RgbaImage::stacked(&images[1], &images[0]);
+        let ((reference, reference_plan, _), (foveated, plan, gaze)) = (&images[0], &images[1]);
+        let both = foveate::metrics::RgbaImage::stacked(
+            &foveated.side_by_side(),
+            &reference.side_by_side(),
+        );
         save(
             &both,
             &args.out,
             "foveated above, stereo reference below; left eye | right eye",
         )?;
+        if args.config.tint {
+            println!(
+                "\naccuracy against the reference: not measured on a tinted frame (leave out --tint)"
+            );
+        } else {
+            let pixels = Eye::BOTH
+                .map(|e| EyePixels::new(reference_plan, e, *gaze, plan.foveation.as_ref()));
+            let a = frame_accuracy(
+                reference.eyes(),
+                foveated.eyes(),
+                &pixels,
+                Acuity::default(),
+            )?;
+            print_accuracy(&a, *gaze);
+        }
     }
     if results.len() > 1 {
         print_comparison(&results);
@@ -249,5 +269,28 @@ fn print_comparison(results: &[ModeResult]) {
     println!(
         "(ratios to {}, medians from this run; fragments from a separate counting frame)",
         base.label
+    );
+}
+
+/// What foveation costs in accuracy, against the stereo reference (`--reference`).
+fn print_accuracy(a: &FrameAccuracy, gaze: Vec2) {
+    let db = |p: Option<f64>| match p {
+        None => "-".to_string(),
+        Some(v) if v.is_infinite() => "identical".into(),
+        Some(v) => format!("{v:.1} dB"),
+    };
+    let e = &a.perceptual;
+    let p99 = |s: Option<ErrorSummary>| s.map_or("-".to_string(), |s| format!("{:.3}", s.p99));
+    println!(
+        "\naccuracy against the reference (output image, lens-visible pixels, gaze {gaze}):\n  PSNR fovea {}, band {}, periphery {}\n  FLIP mean {}; eccentricity-aware FLIP mean {}, p99 {} (fovea {}, band {}, periphery {})",
+        db(a.region_psnr[0]),
+        db(a.region_psnr[1]),
+        db(a.region_psnr[2]),
+        e.flip.map_or("-".to_string(), |s| format!("{:.4}", s.mean)),
+        e.eccentric.map_or("-".to_string(), |s| format!("{:.4}", s.mean)),
+        p99(e.eccentric),
+        p99(e.regions[0]),
+        p99(e.regions[1]),
+        p99(e.regions[2]),
     );
 }

@@ -181,6 +181,24 @@ fn bad_input_is_a_clear_error_not_a_panic() {
             &["render", "--res", "32", "--out", "/nonexistent-dir/f.png"][..],
             "writing /nonexistent-dir/f.png",
         ),
+        (
+            &["plan", "--foveate", "0.35", "--sharpen", "1.5"][..],
+            "periphery_sharpen = 1.5: 0 (off) ≤ sharpen ≤ 1",
+        ),
+        (
+            &["compare", "--res", "32", "--sharpen", "0"][..],
+            "sharpen = 0: 0 < sharpen ≤ 1",
+        ),
+        (
+            &["compare", "--res", "32", "--sharpen", "2"][..],
+            "periphery_sharpen = 2",
+        ),
+        (&["compare", "--recommend=-1"][..], "recommend = -1"),
+        (&["compare", "--mar-slope", "0"][..], "mar-slope = 0"),
+        (
+            &["compare", "--res", "32", "--bands", "40"][..],
+            "blend_band = 40",
+        ),
     ] {
         let o = foveate(args);
         assert!(!o.status.success(), "{args:?} should fail");
@@ -792,4 +810,33 @@ fn flicker_measures_each_approximation_along_both_motions() {
         "{}",
         stderr(&o)
     );
+}
+
+#[test]
+fn render_reference_stacks_both_frames_and_prices_the_foveated_one() {
+    let out = std::env::temp_dir().join(format!("foveate-ref-{}.png", std::process::id()));
+    let o = foveate(&[
+        "render",
+        "--foveate",
+        "0.5",
+        "--reference",
+        "--res",
+        "48",
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for needle in [
+        "accuracy against the reference (output image, lens-visible pixels",
+        "PSNR fovea",
+        "eccentricity-aware FLIP mean",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+    let image = foveate::metrics::RgbaImage::load_png(&out).unwrap();
+    assert_eq!((image.width, image.height), (96, 96));
+    let _ = std::fs::remove_file(&out);
 }
