@@ -10,7 +10,6 @@ use foveate::metrics::{ErrorSummary, EyePixels, RgbaImage, Stats};
 use foveate::plan::{RadialDensity, RenderConfig, Resolution};
 use foveate::render::{counting_frame, Renderer, StereoImage};
 use foveate::scene::{named_scene, Scene, Shading};
-use foveate::view::Eye;
 use glam::Vec2;
 
 use crate::csv_out::{opt, CsvTable};
@@ -262,7 +261,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     let mut measured = Vec::new();
     for row in &rows {
         bar.set_message(row.name.clone());
-        let pixels = Eye::BOTH.map(|e| EyePixels::new(&base_plan, e, gaze, row.foveation.as_ref()));
+        let pixels = EyePixels::both(&base_plan, gaze, row.foveation.as_ref());
         let accuracy = frame_accuracy(
             reference.image.eyes(),
             row.run.image.eyes(),

@@ -15,7 +15,6 @@ use foveate::metrics::{ErrorSummary, EyePixels};
 use foveate::plan::{RenderConfig, Resolution};
 use foveate::render::Renderer;
 use foveate::scene::walking_pose;
-use foveate::view::Eye;
 use glam::{Mat4, Vec2};
 
 use crate::csv_out::{opt, CsvTable};
@@ -159,8 +158,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
             }
             for (i, meter) in meters.iter_mut().enumerate() {
                 let plan = &plans[i + 1];
-                let pixels =
-                    Eye::BOTH.map(|e| EyePixels::new(plan, e, gaze, plan.foveation.as_ref()));
+                let pixels = EyePixels::both(plan, gaze, plan.foveation.as_ref());
                 meter.push(images[0].eyes(), images[i + 1].eyes(), &pixels)?;
             }
             bar.inc(1);

@@ -8,7 +8,7 @@ use foveate::metrics::perceptual::frame_accuracy;
 use foveate::metrics::EyePixels;
 use foveate::plan::{RenderConfig, Resolution};
 use foveate::scene::named_scene;
-use foveate::view::{Eye, HMD_PROFILES};
+use foveate::view::HMD_PROFILES;
 use glam::Vec2;
 
 use crate::csv_out::CsvTable;
@@ -90,7 +90,7 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
         let m = measure_group(&gpu, &scene, &[off, on], args.frames, profile.name)?;
         let saved = 1.0 - m[1].frame_ms / m[0].frame_ms;
         // The mask may cost no accuracy where the lens shows the image.
-        let pixels = Eye::BOTH.map(|e| EyePixels::new(&plan, e, Vec2::ZERO, None));
+        let pixels = EyePixels::both(&plan, Vec2::ZERO, None);
         let accuracy = frame_accuracy(
             m[0].image.eyes(),
             m[1].image.eyes(),

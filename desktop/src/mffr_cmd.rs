@@ -10,7 +10,6 @@ use foveate::mffr::{MffrConfig, MffrVariant, SplitDistance};
 use foveate::plan::{RenderConfig, Resolution};
 use foveate::render::SKY;
 use foveate::scene::named_scene;
-use foveate::view::Eye;
 use glam::Vec2;
 
 use crate::csv_out::CsvTable;
@@ -150,6 +149,7 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
             &format!("split {split}"),
         )?;
         let reference = &measured[0];
+        let pixels = EyePixels::both(&plans[0], Vec2::ZERO, None);
         let reference_both = reference.image.side_by_side();
         for (i, (plan, m)) in plans.iter().zip(&measured).enumerate() {
             let image = m.image.side_by_side();
@@ -164,7 +164,6 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
                 None if i == 0 => ("stereo", f32::NAN, f32::NAN, 0.0),
                 None => ("(no far field)", f32::NAN, f32::NAN, 0.0),
             };
-            let pixels = Eye::BOTH.map(|e| EyePixels::new(&plans[0], e, Vec2::ZERO, None));
             let accuracy = frame_accuracy(
                 reference.image.eyes(),
                 m.image.eyes(),

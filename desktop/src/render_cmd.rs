@@ -8,7 +8,6 @@ use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::{frame_accuracy, FrameAccuracy};
 use foveate::metrics::{ErrorSummary, EyePixels, Stats};
 use foveate::render::{counting_frame, FrameStats, Renderer};
-use foveate::view::Eye;
 use foveate::StereoMode;
 use glam::Vec2;
 
@@ -183,8 +182,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
                 "\naccuracy against the reference: not measured on a tinted frame (leave out --tint)"
             );
         } else {
-            let pixels = Eye::BOTH
-                .map(|e| EyePixels::new(reference_plan, e, *gaze, plan.foveation.as_ref()));
+            let pixels = EyePixels::both(reference_plan, *gaze, plan.foveation.as_ref());
             let a = frame_accuracy(
                 reference.eyes(),
                 foveated.eyes(),

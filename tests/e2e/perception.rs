@@ -7,7 +7,6 @@ use foveate::metrics::{EyePixels, Region};
 use foveate::plan::{FramePlan, RenderConfig, Resolution, StereoMode};
 use foveate::render::{Renderer, StereoImage};
 use foveate::scene::{default_scene, walking_pose, Scene};
-use foveate::view::Eye;
 use foveate_tests::{assert_validation_clean, gpu};
 use glam::{Mat4, Vec2};
 
@@ -74,7 +73,7 @@ fn flicker_is_zero_when_nothing_moves() {
         );
         let mut f = Flicker::default();
         for (i, &(_, gaze)) in motion.iter().enumerate() {
-            let pixels = Eye::BOTH.map(|e| EyePixels::new(&plan, e, gaze, plan.foveation.as_ref()));
+            let pixels = EyePixels::both(&plan, gaze, plan.foveation.as_ref());
             f.push(r[i].eyes(), t[i].eyes(), &pixels).unwrap();
         }
         f.summary().all.unwrap()
@@ -103,7 +102,7 @@ fn sharpening_touches_the_periphery_only() {
     };
     let (plan, plain) = render(0.0);
     let (_, sharp) = render(1.0);
-    let pixels = Eye::BOTH.map(|e| EyePixels::new(&plan, e, Vec2::ZERO, plan.foveation.as_ref()));
+    let pixels = EyePixels::both(&plan, Vec2::ZERO, plan.foveation.as_ref());
     let mut changed = [0usize; 3];
     for (eye, p) in pixels.iter().enumerate() {
         for y in 0..p.height {

@@ -118,6 +118,15 @@ impl EyePixels {
         }
     }
 
+    /// Both eyes' maps (left, right), both eyes looking at `gaze`.
+    pub fn both(
+        plan: &FramePlan,
+        gaze: Vec2,
+        foveation: Option<&FoveationGeometry>,
+    ) -> [EyePixels; 2] {
+        Eye::BOTH.map(|e| EyePixels::new(plan, e, gaze, foveation))
+    }
+
     pub fn at(&self, x: u32, y: u32) -> Option<DisplayPixel> {
         self.pixels[(y * self.width + x) as usize]
     }

@@ -52,18 +52,22 @@ pub fn frame_accuracy(
     Ok(FrameAccuracy {
         psnr: psnr(&|_| true)?,
         ssim: ssim(&|_| true)?,
-        region_psnr: [
-            psnr(&|r| r == Region::Fovea)?,
-            psnr(&|r| r == Region::Band)?,
-            psnr(&|r| r == Region::Periphery)?,
-        ],
-        region_ssim: [
-            ssim(&|r| r == Region::Fovea)?,
-            ssim(&|r| r == Region::Band)?,
-            ssim(&|r| r == Region::Periphery)?,
-        ],
+        region_psnr: per_region(&psnr)?,
+        region_ssim: per_region(&ssim)?,
         perceptual: perceptual_error(reference, image, pixels, acuity)?,
     })
+}
+
+/// A figure over the pixels of some regions, measured once per region.
+type RegionMeasure<'a> = dyn Fn(&dyn Fn(Region) -> bool) -> Result<Option<f64>, ImageError> + 'a;
+
+/// `measure` of each region alone, in `Region::ALL`'s order.
+fn per_region(measure: &RegionMeasure) -> Result<[Option<f64>; 3], ImageError> {
+    let mut out = [None; 3];
+    for (value, region) in out.iter_mut().zip(Region::ALL) {
+        *value = measure(&|r| r == region)?;
+    }
+    Ok(out)
 }
 
 /// FLIP figures of one frame, both eyes together.

@@ -16,7 +16,6 @@ use foveate::metrics::EyePixels;
 use foveate::mffr::MffrConfig;
 use foveate::plan::{CullConfig, RadialDensity, RenderConfig};
 use foveate::scene::Scene;
-use foveate::view::Eye;
 use glam::{Mat4, Vec2};
 use serde::Serialize;
 
@@ -184,7 +183,7 @@ pub fn sweep(
         "accuracy sweep",
     )?;
     let plan = foveate::plan(&scene, &reference, gpu.caps())?;
-    let pixels = Eye::BOTH.map(|e| EyePixels::new(&plan, e, Vec2::ZERO, None));
+    let pixels = EyePixels::both(&plan, Vec2::ZERO, None);
     let base = &measured[0];
     let bar = crate::progress::bar("accuracy: FLIP", points.len() as u64);
     let out = points
