@@ -21,6 +21,8 @@ mod side_by_side;
 use clap::Parser;
 
 fn main() -> std::process::ExitCode {
+    // Diagnostics through `log`: warnings by default, more with RUST_LOG (e.g. RUST_LOG=info).
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = cli::Cli::parse();
     match cli.run() {
         Ok(()) => std::process::ExitCode::SUCCESS,

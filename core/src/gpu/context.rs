@@ -59,6 +59,7 @@ unsafe extern "system" fn debug_callback(
         let text = unsafe { data.message_as_c_str() }
             .map(|m| m.to_string_lossy().into_owned())
             .unwrap_or_default();
+        log::warn!("validation [{severity:?}]: {text}");
         if let Ok(mut messages) = log.messages.lock() {
             messages.push(format!("[{severity:?}] {text}"));
         }
@@ -335,6 +336,13 @@ impl Gpu {
             pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
             quirks: DriverQuirks::for_driver_id(driver_props.driver_id.as_raw()),
         };
+        log::info!(
+            "device: {} ({:?}, driver {:?}); quirks: {:?}",
+            chosen.info.name,
+            props.device_type,
+            driver_props.driver_id,
+            caps.quirks
+        );
         let dev = Arc::new(DeviceOwner {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             device,
@@ -481,10 +489,25 @@ fn create_pipeline_cache(
     props: &vk::PhysicalDeviceProperties,
     path: Option<&std::path::Path>,
 ) -> Result<PipelineCache, GpuError> {
-    let data = path
-        .and_then(|p| std::fs::read(p).ok())
-        .filter(|d| pipeline_cache_matches(d, props))
-        .unwrap_or_default();
+    let read = path.and_then(|p| std::fs::read(p).ok());
+    let data = match (path, read) {
+        (Some(p), Some(d)) if pipeline_cache_matches(&d, props) => {
+            log::info!("pipeline cache: {} bytes from {}", d.len(), p.display());
+            d
+        }
+        (Some(p), Some(_)) => {
+            log::info!(
+                "pipeline cache: {} was written for another device or driver; starting empty",
+                p.display()
+            );
+            Vec::new()
+        }
+        (Some(p), None) => {
+            log::debug!("pipeline cache: none at {} yet", p.display());
+            Vec::new()
+        }
+        (None, _) => Vec::new(),
+    };
     let info = vk::PipelineCacheCreateInfo::default().initial_data(&data);
     // SAFETY: the data's header was checked against this device.
     let raw =

@@ -1,29 +1,17 @@
-use std::fs::File;
-use std::io::{BufReader, BufWriter};
 use std::path::{Path, PathBuf};
 
 /// Why an image could not be read or written.
 #[derive(Debug, thiserror::Error)]
 pub enum ImageError {
-    #[error("cannot open {path}: {source}")]
-    Io {
+    #[error("cannot read image {path}: {source}")]
+    Read {
         path: PathBuf,
-        source: std::io::Error,
+        source: image::ImageError,
     },
-    #[error("cannot decode PNG {path}: {source}")]
-    Decode {
+    #[error("cannot write PNG {path}: {source}")]
+    Write {
         path: PathBuf,
-        source: png::DecodingError,
-    },
-    #[error("cannot encode PNG {path}: {source}")]
-    Encode {
-        path: PathBuf,
-        source: png::EncodingError,
-    },
-    #[error("{path} is {found:?}; only 8-bit RGBA PNGs are read")]
-    UnsupportedPng {
-        path: PathBuf,
-        found: (png::ColorType, png::BitDepth),
+        source: image::ImageError,
     },
     #[error("images differ in size: {a:?} vs {b:?}")]
     SizeMismatch { a: (u32, u32), b: (u32, u32) },
@@ -35,6 +23,16 @@ pub struct RgbaImage {
     pub width: u32,
     pub height: u32,
     pub data: Vec<u8>,
+}
+
+impl From<image::RgbaImage> for RgbaImage {
+    fn from(img: image::RgbaImage) -> Self {
+        RgbaImage {
+            width: img.width(),
+            height: img.height(),
+            data: img.into_raw(),
+        }
+    }
 }
 
 impl RgbaImage {
@@ -101,51 +99,29 @@ impl RgbaImage {
         out
     }
 
+    /// Writes an 8-bit RGBA PNG.
     pub fn save_png(&self, path: &Path) -> Result<(), ImageError> {
-        let file = File::create(path).map_err(|source| ImageError::Io {
+        image::save_buffer_with_format(
+            path,
+            &self.data,
+            self.width,
+            self.height,
+            image::ExtendedColorType::Rgba8,
+            image::ImageFormat::Png,
+        )
+        .map_err(|source| ImageError::Write {
             path: path.into(),
             source,
-        })?;
-        let mut encoder = png::Encoder::new(BufWriter::new(file), self.width, self.height);
-        encoder.set_color(png::ColorType::Rgba);
-        encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        let encode = |source| ImageError::Encode {
-            path: path.into(),
-            source,
-        };
-        let mut writer = encoder.write_header().map_err(encode)?;
-        writer.write_image_data(&self.data).map_err(encode)?;
-        writer.finish().map_err(encode)
+        })
     }
 
+    /// Reads an image (PNG or JPEG, any channel layout or depth), converted to 8-bit RGBA.
     pub fn load_png(path: &Path) -> Result<RgbaImage, ImageError> {
-        let file = File::open(path).map_err(|source| ImageError::Io {
+        let img = image::open(path).map_err(|source| ImageError::Read {
             path: path.into(),
             source,
         })?;
-        let decode = |source| ImageError::Decode {
-            path: path.into(),
-            source,
-        };
-        let mut reader = png::Decoder::new(BufReader::new(file))
-            .read_info()
-            .map_err(decode)?;
-        let (color, depth) = reader.output_color_type();
-        if color != png::ColorType::Rgba || depth != png::BitDepth::Eight {
-            return Err(ImageError::UnsupportedPng {
-                path: path.into(),
-                found: (color, depth),
-            });
-        }
-        let mut data = vec![0; reader.output_buffer_size().unwrap_or(0)];
-        let info = reader.next_frame(&mut data).map_err(decode)?;
-        data.truncate(info.buffer_size());
-        Ok(RgbaImage {
-            width: info.width,
-            height: info.height,
-            data,
-        })
+        Ok(RgbaImage::from(img.to_rgba8()))
     }
 
     fn check_size(&self, other: &RgbaImage) -> Result<(), ImageError> {

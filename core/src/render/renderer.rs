@@ -386,6 +386,14 @@ impl<'g> Renderer<'g> {
             .transpose()?;
         let frame_pool = gpu.command_pool(vk::CommandPoolCreateFlags::TRANSIENT)?;
         let cmd = gpu.allocate_command_buffer(&frame_pool)?;
+        log::debug!(
+            "renderer: {} passes, {} attachments, {} instances in {} draws, {} shading",
+            plan.passes.len(),
+            plan.attachments.len(),
+            scene.instance_count(),
+            scene.batches.len(),
+            scene.shading()
+        );
         Ok(Renderer {
             gpu,
             plan: plan.clone(),
