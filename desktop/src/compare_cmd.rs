@@ -14,6 +14,7 @@ use glam::Vec2;
 
 use crate::csv_out::{opt, CsvTable};
 use crate::fovea_table::{self, TableSettings};
+use crate::frame_args::ComparedFrame;
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -23,16 +24,8 @@ pub struct CompareArgs {
     /// Scene: default, fill, city, thesis or atrium.
     #[arg(long, default_value = "default")]
     scene: String,
-    /// Shading: flat or lit (default: the scene's own).
-    #[arg(long)]
-    shading: Option<String>,
-    /// What the frame's last pass writes: lens (pre-distorted, the display's image) or
-    /// undistorted. Accuracy is measured on it.
-    #[arg(long, default_value = "lens")]
-    output: String,
-    /// Fovea layout of the foveated rows: auto, one-pass or two-pass.
-    #[arg(long, default_value = "auto")]
-    fovea_layout: String,
+    #[command(flatten)]
+    frame: ComparedFrame,
     /// Foveation ratios to compare (default 0.7,0.5,0.35; with --table 0.35,0.5).
     #[arg(long, value_delimiter = ',')]
     ratios: Option<Vec<f32>>,
@@ -130,7 +123,6 @@ fn run(gpu: &Gpu, scene: &Scene, config: &RenderConfig, gaze: Vec2, frames: u32)
 struct Row {
     name: String,
     msaa: u32,
-    foveation: Option<FoveationGeometry>,
     run: Run,
 }
 
@@ -156,9 +148,9 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     }
     let ratios = args.ratios.clone().unwrap_or(vec![0.7, 0.5, 0.35]);
     let gaze = crate::gaze_arg::gaze_from(&args.gaze)?;
-    let scene = crate::frame_args::scene_from(&args.scene, args.shading.as_deref())?;
+    let scene = args.frame.scene(&args.scene)?;
     let screen = Resolution::square(args.res);
-    let base = crate::frame_args::comparison_base(args.res, &args.output, &args.fovea_layout)?;
+    let base = args.frame.base(args.res)?;
     // Every foveated variant, checked before anything renders.
     let default_band = args.blend_band.unwrap_or(-1.0);
     let mut variants = Vec::new();
@@ -230,12 +222,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
                 gaze,
                 args.frames,
             )?;
-            rows.push(Row {
-                name,
-                msaa,
-                foveation: run.foveation,
-                run,
-            });
+            rows.push(Row { name, msaa, run });
             Ok(())
         };
         measure(format!("stereo, MSAA {msaa}"), base.clone())?;
@@ -261,7 +248,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     let mut measured = Vec::new();
     for row in &rows {
         bar.set_message(row.name.clone());
-        let pixels = EyePixels::both(&base_plan, gaze, row.foveation.as_ref());
+        let pixels = EyePixels::both(&base_plan, gaze, row.run.foveation.as_ref());
         let accuracy = frame_accuracy(
             reference.image.eyes(),
             row.run.image.eyes(),
@@ -388,7 +375,7 @@ fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<Cs
         "eccentric_flip_p99_periphery",
     ])?;
     for (row, m) in rows.iter().zip(measured) {
-        let f = row.foveation;
+        let f = row.run.foveation;
         let e = &m.perceptual;
         let p99 = |s: Option<ErrorSummary>| opt(s.map(|s| s.p99), 5);
         csv.row(&[
@@ -464,7 +451,7 @@ fn table(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         ratios: args.ratios.clone().unwrap_or(vec![0.35, 0.5]),
         resolution: Resolution::square(args.res),
         msaa: *args.msaa.last().unwrap_or(&4),
-        output: args.output.parse()?,
+        output: args.frame.output.parse()?,
         frames: args.frames,
     };
     println!(

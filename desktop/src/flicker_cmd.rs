@@ -18,6 +18,7 @@ use foveate::scene::walking_pose;
 use glam::{Mat4, Vec2};
 
 use crate::csv_out::{opt, CsvTable};
+use crate::frame_args::ComparedFrame;
 
 #[derive(Args)]
 pub struct FlickerArgs {
@@ -27,15 +28,8 @@ pub struct FlickerArgs {
     /// Scene: default, fill, city, thesis or atrium.
     #[arg(long, default_value = "atrium")]
     scene: String,
-    /// Shading: flat or lit (default: the scene's own).
-    #[arg(long)]
-    shading: Option<String>,
-    /// What the frame's last pass writes: lens or undistorted.
-    #[arg(long, default_value = "lens")]
-    output: String,
-    /// Fovea layout of the foveated rows: auto, one-pass or two-pass.
-    #[arg(long, default_value = "auto")]
-    fovea_layout: String,
+    #[command(flatten)]
+    frame: ComparedFrame,
     /// Foveation ratios to measure (MSAA 4).
     #[arg(long, value_delimiter = ',', default_value = "0.35,0.5")]
     ratios: Vec<f32>,
@@ -68,9 +62,9 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         "invalid frames = {}: at least 2 (flicker is a change between frames)",
         args.frames
     );
-    let scene = crate::frame_args::scene_from(&args.scene, args.shading.as_deref())?;
+    let scene = args.frame.scene(&args.scene)?;
     let screen = Resolution::square(args.res);
-    let base = crate::frame_args::comparison_base(args.res, &args.output, &args.fovea_layout)?;
+    let base = args.frame.base(args.res)?;
     let mut configs = vec![(
         "stereo, MSAA 1".to_string(),
         RenderConfig {
@@ -148,6 +142,8 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
             .map(|p| Renderer::new(&gpu, p, &scene))
             .collect::<Result<Vec<_>, _>>()?;
         let mut meters: Vec<Flicker> = configs.iter().map(|_| Flicker::default()).collect();
+        // Each configuration's pixel map, made anew only when the gaze moves.
+        let mut maps: Vec<Option<(Vec2, [EyePixels; 2])>> = configs.iter().map(|_| None).collect();
         for &(pose, gaze) in &motion.frames {
             // Frames of every configuration interleaved, the reference first.
             let mut images = Vec::new();
@@ -156,10 +152,13 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
                 renderer.render_frame(pose)?;
                 images.push(renderer.readback()?);
             }
-            for (i, meter) in meters.iter_mut().enumerate() {
+            for (i, (meter, map)) in meters.iter_mut().zip(&mut maps).enumerate() {
                 let plan = &plans[i + 1];
-                let pixels = EyePixels::both(plan, gaze, plan.foveation.as_ref());
-                meter.push(images[0].eyes(), images[i + 1].eyes(), &pixels)?;
+                if map.as_ref().is_none_or(|(at, _)| *at != gaze) {
+                    *map = Some((gaze, EyePixels::both(plan, gaze, plan.foveation.as_ref())));
+                }
+                let (_, pixels) = map.as_ref().expect("just made");
+                meter.push(images[0].eyes(), images[i + 1].eyes(), pixels)?;
             }
             bar.inc(1);
         }

@@ -109,16 +109,38 @@ pub fn scene_from(name: &str, shading: Option<&str>) -> Result<Scene> {
     })
 }
 
-/// The multiview stereo frame the comparing commands (`compare`, `flicker`) measure against
-/// and vary: `res`² per eye, the named output stage and fovea layout.
-pub fn comparison_base(res: u32, output: &str, fovea_layout: &str) -> Result<RenderConfig> {
-    Ok(RenderConfig {
-        resolution: Some(Resolution::square(res)),
-        stereo: StereoMode::Multiview,
-        output: output.parse()?,
-        fovea_layout: fovea_layout.parse()?,
-        ..RenderConfig::default()
-    })
+/// The frame the comparing commands (`compare`, `flicker`) measure against and vary; the
+/// scene and resolution are each command's, with defaults of its own.
+#[derive(Args, Clone)]
+pub struct ComparedFrame {
+    /// Shading: flat or lit (default: the scene's own).
+    #[arg(long)]
+    pub shading: Option<String>,
+    /// What the frame's last pass writes: lens (pre-distorted, the display's image) or
+    /// undistorted. Errors are measured on it.
+    #[arg(long, default_value = "lens")]
+    pub output: String,
+    /// Fovea layout of the foveated rows: auto, one-pass or two-pass.
+    #[arg(long, default_value = "auto")]
+    pub fovea_layout: String,
+}
+
+impl ComparedFrame {
+    /// The built-in scene `name`, shaded as asked.
+    pub fn scene(&self, name: &str) -> Result<Scene> {
+        scene_from(name, self.shading.as_deref())
+    }
+
+    /// The multiview stereo frame at `res`² per eye.
+    pub fn base(&self, res: u32) -> Result<RenderConfig> {
+        Ok(RenderConfig {
+            resolution: Some(Resolution::square(res)),
+            stereo: StereoMode::Multiview,
+            output: self.output.parse()?,
+            fovea_layout: self.fovea_layout.parse()?,
+            ..RenderConfig::default()
+        })
+    }
 }
 
 impl ConfigArgs {

@@ -51,12 +51,7 @@ const LEVELS: [f64; 7] = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0];
 /// FLIP's per-pixel error (0 = no visible difference … 1) between `reference` and `test` viewed
 /// at `ppd` pixels per degree; alpha is ignored.
 pub fn flip_map(reference: &RgbaImage, test: &RgbaImage, ppd: f64) -> Result<Vec<f32>, ImageError> {
-    if (reference.width, reference.height) != (test.width, test.height) {
-        return Err(ImageError::SizeMismatch {
-            a: (reference.width, reference.height),
-            b: (test.width, test.height),
-        });
-    }
+    reference.check_size(test)?;
     let rgb = |img: &RgbaImage| {
         let data: Vec<u8> = img
             .data
@@ -77,9 +72,8 @@ pub struct FlipMaps {
 }
 
 /// Both FLIP maps of `test` against `reference`, for an eye of `acuity`. `eccentricity(x, y)` is
-/// the pixel's angle from
-/// the gaze in degrees, `None` to leave it out (say, hidden by the lens): such pixels map to
-/// `NaN` in both maps. The levels run in parallel.
+/// the pixel's angle from the gaze in degrees, `None` to leave it out (say, hidden by the lens):
+/// such pixels map to `NaN` in both maps. The levels run in parallel.
 pub fn eccentric_flip_map(
     reference: &RgbaImage,
     test: &RgbaImage,
@@ -113,6 +107,7 @@ pub fn eccentric_flip_map(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::metrics::ErrorSummary;
 
     /// A textured test image: stripes and a gradient, so blur and noise show.
     fn pattern(w: u32, h: u32) -> RgbaImage {
@@ -156,8 +151,6 @@ mod tests {
         }
         out
     }
-
-    use crate::metrics::ErrorSummary;
 
     fn mean(map: &[f32]) -> f64 {
         ErrorSummary::of(map).unwrap().mean

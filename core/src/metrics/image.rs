@@ -124,7 +124,8 @@ impl RgbaImage {
         Ok(RgbaImage::from(img.to_rgba8()))
     }
 
-    fn check_size(&self, other: &RgbaImage) -> Result<(), ImageError> {
+    /// `SizeMismatch` unless `other` has this image's size.
+    pub fn check_size(&self, other: &RgbaImage) -> Result<(), ImageError> {
         if (self.width, self.height) != (other.width, other.height) {
             return Err(ImageError::SizeMismatch {
                 a: (self.width, self.height),
@@ -135,7 +136,7 @@ impl RgbaImage {
     }
 
     /// Rec. 709 luma of every pixel in 0..1 (on the stored sRGB values, as SSIM is defined).
-    fn luma(&self) -> Vec<f64> {
+    pub(crate) fn luma(&self) -> Vec<f64> {
         self.data
             .chunks_exact(4)
             .map(|p| (0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64) / 255.0)

@@ -122,12 +122,7 @@ fn hidden_as_reference(
     image: &RgbaImage,
     pixels: &EyePixels,
 ) -> Result<RgbaImage, ImageError> {
-    if (reference.width, reference.height) != (image.width, image.height) {
-        return Err(ImageError::SizeMismatch {
-            a: (reference.width, reference.height),
-            b: (image.width, image.height),
-        });
-    }
+    reference.check_size(image)?;
     let mut out = image.clone();
     for (i, p) in pixels.pixels.iter().enumerate() {
         if p.is_none() {

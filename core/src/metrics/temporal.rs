@@ -1,7 +1,8 @@
 //! Temporal stability: how much more an approximated output changes from frame to frame than
 //! the full-quality reference does over the same frames — flicker, crawling edges and popping
-//! as the fovea follows the gaze or the head moves. Per pixel, on luma (Rec. 709 weights on the
-//! 8-bit values, 0..1): `max(0, |ΔT| − |ΔR|)`, T the approximation and R the reference, both
+//! as the fovea follows the gaze or the head moves. Per pixel, on luma (`RgbaImage::luma`:
+//! Rec. 709 weights on the 8-bit values, 0..1): `max(0, |ΔT| − |ΔR|)`, T the approximation and
+//! R the reference, both
 //! differenced against their previous frame. Change the reference also shows (motion) is not
 //! counted; neither is change the approximation lacks. Not discounted by eccentricity: the
 //! periphery is, if anything, more sensitive to flicker than the fovea.
@@ -12,7 +13,7 @@ use super::{ErrorSummary, ImageError, RgbaImage};
 /// Frames of an approximation and its reference, in order, reduced to their excess change.
 #[derive(Default)]
 pub struct Flicker {
-    previous: Option<[[Vec<f32>; 2]; 2]>,
+    previous: Option<[[Vec<f64>; 2]; 2]>,
     all: Vec<f32>,
     regions: [Vec<f32>; 3],
     frames: usize,
@@ -39,21 +40,20 @@ impl Flicker {
     ) -> Result<(), ImageError> {
         for eye in 0..2 {
             let (r, t) = (reference[eye], image[eye]);
-            if (r.width, r.height) != (t.width, t.height)
-                || (r.width, r.height) != (pixels[eye].width, pixels[eye].height)
-            {
+            r.check_size(t)?;
+            if (r.width, r.height) != (pixels[eye].width, pixels[eye].height) {
                 return Err(ImageError::SizeMismatch {
                     a: (r.width, r.height),
-                    b: (t.width, t.height),
+                    b: (pixels[eye].width, pixels[eye].height),
                 });
             }
         }
-        let current = [0, 1].map(|eye| [luma(reference[eye]), luma(image[eye])]);
+        let current = [0, 1].map(|eye| [reference[eye].luma(), image[eye].luma()]);
         if let Some(previous) = &self.previous {
             for eye in 0..2 {
                 let ([r0, t0], [r1, t1]) = (&previous[eye], &current[eye]);
                 let excess: Vec<f32> = (0..r1.len())
-                    .map(|i| ((t1[i] - t0[i]).abs() - (r1[i] - r0[i]).abs()).max(0.0))
+                    .map(|i| ((t1[i] - t0[i]).abs() - (r1[i] - r0[i]).abs()).max(0.0) as f32)
                     .collect();
                 self.all.extend(pixels[eye].select(&excess, |_| true));
                 for (values, region) in self.regions.iter_mut().zip(Region::ALL) {
@@ -73,13 +73,6 @@ impl Flicker {
             changes: self.frames.saturating_sub(1),
         }
     }
-}
-
-fn luma(img: &RgbaImage) -> Vec<f32> {
-    img.data
-        .chunks_exact(4)
-        .map(|p| (0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32) / 255.0)
-        .collect()
 }
 
 #[cfg(test)]
