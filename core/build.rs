@@ -24,6 +24,16 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
         "scene_lit_counting.frag.spv",
         &["LIT", "COUNT_FRAGMENTS"],
     ),
+    (
+        "scene.frag",
+        "scene_masked.frag.spv",
+        &["LIT", "ALPHA_MASK"],
+    ),
+    (
+        "scene.frag",
+        "scene_masked_counting.frag.spv",
+        &["LIT", "ALPHA_MASK", "COUNT_FRAGMENTS"],
+    ),
     ("mask.vert", "mask.vert.spv", &[]),
     ("mask.frag", "mask.frag.spv", &[]),
     ("mask.frag", "mask_counting.frag.spv", &["COUNT_FRAGMENTS"]),

@@ -9,7 +9,8 @@ layout(set = 0, binding = 7) uniform sampler2DArray orm_tex;
 
 struct Material {
     vec4 base_color; // rgb factor
-    vec4 params;     // metallic, roughness, world-space repeats per metre (0: mesh UVs), unused
+    vec4 params;     // metallic, roughness, world-space repeats per metre (0: mesh UVs),
+                     // alpha cutoff over the alpha factor (alpha-masked builds only)
 };
 layout(std430, set = 0, binding = 8) readonly buffer Materials {
     Material materials[];
@@ -31,9 +32,12 @@ const float PI = 3.14159265359;
 // axis-aligned, and its texture gradients are analytic: the pixel's footprint on the surface's
 // plane from the view's ray and per-pixel ray steps (`dp_ray`), with no screen-space
 // derivative — lavapipe's derivatives are garbage along triangle edges (the coarsest mip shows
-// as a bright seam). Mesh UVs take frame and gradients from screen-space derivatives.
-mat3 surface_frame(vec3 n, vec3 world, vec2 mesh_uv, float repeats, vec3 ray, float depth,
-                   vec3 ray_dx, vec3 ray_dy, out vec2 uv, out vec2 duv_dx, out vec2 duv_dy) {
+// as a bright seam). Mesh UVs take gradients from screen-space derivatives, and their frame
+// from the vertex tangent (`tangent.w`: the bitangent's sign; 0: none) or, without one, from
+// derivatives too.
+mat3 surface_frame(vec3 n, vec4 tangent, vec3 world, vec2 mesh_uv, float repeats, vec3 ray,
+                   float depth, vec3 ray_dx, vec3 ray_dy, out vec2 uv, out vec2 duv_dx,
+                   out vec2 duv_dy) {
     if (repeats > 0.0) {
         vec3 a = abs(n);
         vec3 s = sign(n);
@@ -64,6 +68,11 @@ mat3 surface_frame(vec3 n, vec3 world, vec2 mesh_uv, float repeats, vec3 ray, fl
     uv = mesh_uv;
     duv_dx = dFdx(uv);
     duv_dy = dFdy(uv);
+    if (tangent.w != 0.0) {
+        vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
+        t *= inversesqrt(max(dot(t, t), 1e-20));
+        return mat3(t, cross(n, t) * sign(tangent.w), n);
+    }
     vec3 dp1 = dFdx(world);
     vec3 dp2 = dFdy(world);
     vec2 duv1 = dFdx(uv);
@@ -99,19 +108,19 @@ vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 light, vec3 albedo, float metallic, float
 }
 
 // `eye`: the view's eye; `depth`: the fragment's view depth; `ray_dx`, `ray_dy`: how the view
-// ray at unit depth moves per pixel (world space).
-vec3 shade_lit(vec3 n, vec3 world, vec2 mesh_uv, uint material, vec3 tint, vec3 eye,
-               float depth, vec3 ray_dx, vec3 ray_dy, vec3 sun_dir) {
+// ray at unit depth moves per pixel (world space). Alpha: the base colour texture's.
+vec4 shade_lit(vec3 n, vec4 tangent, vec3 world, vec2 mesh_uv, uint material, vec3 tint,
+               vec3 eye, float depth, vec3 ray_dx, vec3 ray_dy, vec3 sun_dir) {
     Material m = materials[material];
     float layer = float(material);
     vec2 uv;
     vec2 gx;
     vec2 gy;
     vec3 ray = (world - eye) / depth;
-    mat3 frame = surface_frame(n, world, mesh_uv, m.params.z, ray, depth, ray_dx, ray_dy, uv, gx,
-                               gy);
-    vec3 albedo =
-        textureGrad(base_color_tex, vec3(uv, layer), gx, gy).rgb * m.base_color.rgb * tint;
+    mat3 frame = surface_frame(n, tangent, world, mesh_uv, m.params.z, ray, depth, ray_dx,
+                               ray_dy, uv, gx, gy);
+    vec4 base = textureGrad(base_color_tex, vec3(uv, layer), gx, gy);
+    vec3 albedo = base.rgb * m.base_color.rgb * tint;
     vec3 orm = textureGrad(orm_tex, vec3(uv, layer), gx, gy).rgb;
     vec3 bump = textureGrad(normal_tex, vec3(uv, layer), gx, gy).xyz * 2.0 - 1.0;
     vec3 normal = normalize(frame * bump);
@@ -133,5 +142,5 @@ vec3 shade_lit(vec3 n, vec3 world, vec2 mesh_uv, uint material, vec3 tint, vec3 
     vec3 sky = mix(lighting.ground_color.rgb, lighting.sky_color.rgb, 0.5 + 0.5 * normal.y);
     color += sky * albedo * (1.0 - 0.7 * metallic) * orm.r;
     // A gentle shoulder instead of hard clipping at 1.
-    return color / (1.0 + 0.15 * max(max(color.r, color.g), color.b));
+    return vec4(color / (1.0 + 0.15 * max(max(color.r, color.g), color.b)), base.a);
 }

@@ -1,8 +1,12 @@
 #version 450
 
 // Early tests make the counter below count only fragments that survive depth (and later
-// stencil) testing: the fragments actually shaded.
+// stencil) testing: the fragments actually shaded. A scene with alpha-masked materials
+// (glTF's MASK) discards, and a discarded fragment must not write depth, so its build tests
+// late; its counter then also counts fragments that later fail the depth test.
+#ifndef ALPHA_MASK
 layout(early_fragment_tests) in;
+#endif
 
 // The MFFR far pass writes near / depth into alpha (sky, cleared to 0, is infinitely far), so
 // the depth-shift composite can reproject by depth without a second attachment.
@@ -23,6 +27,7 @@ layout(location = 3) in float in_depth;
 layout(location = 4) in vec3 in_world;
 layout(location = 5) in vec2 in_uv;
 layout(location = 6) flat in uint in_material;
+layout(location = 7) in vec4 in_tangent;
 
 layout(location = 0) out vec4 out_color;
 
@@ -37,9 +42,15 @@ layout(location = 0) out vec4 out_color;
 void main() {
     vec3 n = normalize(in_normal);
 #ifdef LIT
-    vec3 shaded = shade_lit(n, in_world, in_uv, in_material, in_color,
-                            views.eye_pos[in_view].xyz, in_depth, views.ray_dx[in_view].xyz,
-                            views.ray_dy[in_view].xyz, views.light_dir.xyz);
+    vec4 lit = shade_lit(n, in_tangent, in_world, in_uv, in_material, in_color,
+                         views.eye_pos[in_view].xyz, in_depth, views.ray_dx[in_view].xyz,
+                         views.ray_dy[in_view].xyz, views.light_dir.xyz);
+#ifdef ALPHA_MASK
+    if (lit.a < materials[in_material].params.w) {
+        discard;
+    }
+#endif
+    vec3 shaded = lit.rgb;
 #else
     float diffuse = max(dot(n, -views.light_dir.xyz), 0.0);
     float sky = 0.5 + 0.5 * n.y;

@@ -49,6 +49,7 @@ layout(push_constant) uniform Push {
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_uv;
+layout(location = 3) in vec4 in_tangent;
 
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_color;
@@ -57,6 +58,7 @@ layout(location = 3) out float out_depth;
 layout(location = 4) out vec3 out_world;
 layout(location = 5) out vec2 out_uv;
 layout(location = 6) flat out uint out_material;
+layout(location = 7) out vec4 out_tangent;
 
 out gl_PerVertex {
     vec4 gl_Position;
@@ -91,6 +93,7 @@ void main() {
         out_world = vec3(0.0);
         out_uv = vec2(0.0);
         out_material = 0u;
+        out_tangent = vec4(0.0);
         return;
     }
 #endif
@@ -116,4 +119,5 @@ void main() {
     out_world = world.xyz;
     out_uv = in_uv;
     out_material = inst.material.x;
+    out_tangent = vec4(mat3(inst.model) * in_tangent.xyz, in_tangent.w);
 }

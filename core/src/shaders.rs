@@ -24,6 +24,9 @@ pub const SCENE_FRAG_COUNTING: ShaderBinary = spirv!("scene_counting.frag.spv");
 /// The scene fragment shader for lit materials (`shaders/lit.glsl`), plain and counting.
 pub const SCENE_LIT_FRAG: ShaderBinary = spirv!("scene_lit.frag.spv");
 pub const SCENE_LIT_FRAG_COUNTING: ShaderBinary = spirv!("scene_lit_counting.frag.spv");
+/// Lit, for scenes with alpha-masked materials: discards below the cutoff, tests depth late.
+pub const SCENE_MASKED_FRAG: ShaderBinary = spirv!("scene_masked.frag.spv");
+pub const SCENE_MASKED_FRAG_COUNTING: ShaderBinary = spirv!("scene_masked_counting.frag.spv");
 
 /// Stencil mask fans, one shape per view.
 pub const MASK_VERT: ShaderBinary = spirv!("mask.vert.spv");
@@ -59,6 +62,8 @@ pub const ALL: &[ShaderBinary] = &[
     SCENE_FRAG_COUNTING,
     SCENE_LIT_FRAG,
     SCENE_LIT_FRAG_COUNTING,
+    SCENE_MASKED_FRAG,
+    SCENE_MASKED_FRAG_COUNTING,
     MASK_VERT,
     MASK_FRAG,
     MASK_FRAG_COUNTING,

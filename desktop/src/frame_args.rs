@@ -7,6 +7,8 @@ use foveate::foveation::FoveationConfig;
 use foveate::mffr::MffrConfig;
 use foveate::plan::{RadialDensity, RenderConfig, Resolution, StereoMode};
 use foveate::scene::{named_scene, Scene, Shading};
+use foveate::view::look_at_head;
+use glam::Vec3;
 
 /// Frame configuration shared by `render` and `plan`.
 #[derive(Args, Clone)]
@@ -91,19 +93,64 @@ pub struct ConfigArgs {
     pub radial_outer: Option<f32>,
     /// Scene: `default` (cubes and spheres, near and far), `fill` (24 full-view walls drawn
     /// back to front: a fill-bound frame), `city` (blocks from 28 m to 400 m: far-heavy),
-    /// `thesis` (the thesis' object grid) or `atrium` (an arcaded courtyard, lit).
+    /// `thesis` (the thesis' object grid), `atrium` (an arcaded courtyard, lit), or a glTF 2.0
+    /// file (`.gltf` or `.glb`, lit).
     #[arg(long, default_value = "default")]
     pub scene: String,
-    /// Shading: `flat` (vertex colour, one light) or `lit` (PBR materials with procedural
-    /// textures and lights); default: the scene's own (`atrium` lit, the others flat).
+    /// Shading: `flat` (vertex colour, one light) or `lit` (PBR materials with textures and
+    /// lights); default: the scene's own (`atrium` and files lit, the others flat).
     #[arg(long)]
     pub shading: Option<String>,
+    #[command(flatten)]
+    pub head: HeadArgs,
 }
 
-/// A built-in scene by name, shaded as asked (or as it was built).
-pub fn scene_from(name: &str, shading: Option<&str>) -> Result<Scene> {
+/// Where the head is: the scene's own pose (a file's first camera, or framing its bounds)
+/// unless given.
+#[derive(Args, Clone, Default)]
+pub struct HeadArgs {
+    /// Head position in the scene, metres: X,Y,Z (looking along -z unless --look-at).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub head: Option<Vec<f32>>,
+    /// The point the head looks at: X,Y,Z (from --head, or from the scene's head position).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub look_at: Option<Vec<f32>>,
+}
+
+impl HeadArgs {
+    /// `scene` with its head moved as asked.
+    pub fn apply(&self, mut scene: Scene) -> Result<Scene> {
+        let point = |name: &str, v: &Option<Vec<f32>>| -> Result<Option<Vec3>> {
+            match v.as_deref() {
+                None => Ok(None),
+                Some(&[x, y, z]) if [x, y, z].iter().all(|c| c.is_finite()) => {
+                    Ok(Some(Vec3::new(x, y, z)))
+                }
+                Some(v) => anyhow::bail!("invalid {name} = {v:?}: three finite numbers X,Y,Z"),
+            }
+        };
+        let eye = point("head", &self.head)?;
+        let target = point("look-at", &self.look_at)?;
+        if eye.is_none() && target.is_none() {
+            return Ok(scene);
+        }
+        let eye = eye.unwrap_or_else(|| scene.head.transform_point3(Vec3::ZERO));
+        let target = target.unwrap_or(eye - Vec3::Z);
+        let forward = target - eye;
+        anyhow::ensure!(
+            forward.length() > 1e-6 && forward.normalize().cross(Vec3::Y).length() > 1e-4,
+            "invalid look-at = {target}: a point away from the head {eye} and not straight above or below it"
+        );
+        scene.head = look_at_head(eye, target);
+        Ok(scene)
+    }
+}
+
+/// A built-in scene or glTF file by name, shaded as asked (or as it was built), the head
+/// where asked.
+pub fn scene_from(name: &str, shading: Option<&str>, head: &HeadArgs) -> Result<Scene> {
     let scene = named_scene(name)?;
-    Ok(match shading {
+    head.apply(match shading {
         Some(s) => scene.with_shading(s.parse::<Shading>()?),
         None => scene,
     })
@@ -123,12 +170,14 @@ pub struct ComparedFrame {
     /// Fovea layout of the foveated rows: auto, one-pass or two-pass.
     #[arg(long, default_value = "auto")]
     pub fovea_layout: String,
+    #[command(flatten)]
+    pub head: HeadArgs,
 }
 
 impl ComparedFrame {
-    /// The built-in scene `name`, shaded as asked.
+    /// The scene `name`, shaded and its head placed as asked.
     pub fn scene(&self, name: &str) -> Result<Scene> {
-        scene_from(name, self.shading.as_deref())
+        scene_from(name, self.shading.as_deref(), &self.head)
     }
 
     /// The multiview stereo frame at `res`² per eye.

@@ -39,6 +39,7 @@ fn scene(instances: Vec<Instance>) -> Scene {
         light_dir: Vec3::new(0.0, 0.0, -1.0),
         materials: Vec::new(),
         lights: Vec::new(),
+        reach: None,
     }
 }
 
@@ -208,7 +209,7 @@ fn at_pixel(p: (f64, f64), depth: f32) -> Vec3 {
 /// One mesh of triangles given in pixel coordinates, each wound to face the viewer.
 fn pixel_triangles(triangles: &[[(f64, f64); 3]]) -> Scene {
     let mut mesh = Mesh {
-        name: "pixel triangles",
+        name: "pixel triangles".into(),
         vertices: Vec::new(),
         indices: Vec::new(),
     };
@@ -222,6 +223,7 @@ fn pixel_triangles(triangles: &[[(f64, f64); 3]]) -> Scene {
                 position: at_pixel(t[i], 2.0).to_array(),
                 normal: [0.0, 0.0, 1.0],
                 uv: [0.0, 0.0],
+                tangent: [0.0; 4],
             });
         }
     }
@@ -235,6 +237,7 @@ fn pixel_triangles(triangles: &[[(f64, f64); 3]]) -> Scene {
         light_dir: Vec3::new(0.0, 0.0, -1.0),
         materials: Vec::new(),
         lights: Vec::new(),
+        reach: None,
     }
 }
 

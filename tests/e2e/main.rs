@@ -6,6 +6,7 @@ mod config_errors;
 mod culling;
 mod foveation;
 mod fragment_counter;
+mod gltf;
 mod golden;
 mod mffr;
 mod perception;

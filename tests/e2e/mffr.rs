@@ -99,6 +99,7 @@ fn no_seam_at_the_split() {
         light_dir: Vec3::NEG_Y,
         materials: Vec::new(),
         lights: Vec::new(),
+        reach: None,
     };
     for cant in [0.0, 10.0] {
         for order in [MffrOrder::NearFirst, MffrOrder::FarFirst] {

@@ -22,6 +22,7 @@ fn wide_wall() -> Scene {
         light_dir: -Vec3::Y,
         materials: Vec::new(),
         lights: Vec::new(),
+        reach: None,
     }
 }
 

@@ -86,6 +86,7 @@ fn eyes_see_the_expected_disparity() {
         light_dir: Vec3::new(0.0, 0.0, -1.0),
         materials: Vec::new(),
         lights: Vec::new(),
+        reach: None,
     };
     let tan = 1.0;
     let config = RenderConfig {

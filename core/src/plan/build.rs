@@ -173,7 +173,7 @@ pub fn plan(
         views: config.views,
         samples: config.msaa,
         near: config.near,
-        far: config.far,
+        far: scene.reach.map_or(config.far, |r| config.far.max(r)),
         layout,
         attachments,
         passes,
@@ -191,6 +191,7 @@ pub fn plan(
         scene_instances: scene.instance_count(),
         fovea_layout,
         lit: scene.shading() == Shading::Lit,
+        alpha_mask: scene.materials.iter().any(|m| m.alpha_cutoff.is_some()),
         anisotropy: (caps.max_anisotropy >= 2.0 && !caps.quirks.anisotropic_filtering_is_slow)
             .then(|| caps.max_anisotropy.min(8.0)),
         lens: lens.then(|| LensOutput::new(hmd.distortion, &eyes)),

@@ -366,6 +366,9 @@ pub struct FramePlan {
     /// The scene has lit materials: its pipelines shade PBR with textures and lights, and its
     /// renderer makes the textures (a flat scene's makes none).
     pub lit: bool,
+    /// Some lit material is alpha-masked: the scene's fragment shader discards and tests depth
+    /// late (only such a scene pays for that).
+    pub alpha_mask: bool,
     /// How lit materials are sampled: anisotropically up to this many samples, or trilinearly
     /// (`None`: the device lacks it, or a quirk makes it too slow).
     pub anisotropy: Option<f32>,

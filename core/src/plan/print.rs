@@ -77,6 +77,12 @@ impl fmt::Display for FramePlan {
                 f,
                 "  shading: lit PBR materials (base colour, normal, occlusion-roughness-metallic textures with full mips, {filter}), sun, point lights and sky"
             )?;
+            if self.alpha_mask {
+                writeln!(
+                    f,
+                    "  alpha-masked materials: the scene shader discards below the cutoff and tests depth late"
+                )?;
+            }
         }
         if let Some(l) = &self.lens {
             let d = l.display[0];

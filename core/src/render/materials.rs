@@ -13,7 +13,7 @@ use crate::gpu::{
     VkResultExt,
 };
 use crate::plan::FramePlan;
-use crate::scene::{textures::generate, textures::MaterialTextures, Scene, Texture};
+use crate::scene::{textures::generate, MaterialTextures, Pattern, Scene, Surface, Texture};
 
 /// One material as `Materials` in `shaders/lit.glsl` reads it (std430).
 #[repr(C)]
@@ -48,19 +48,33 @@ pub(crate) struct MaterialSet {
 }
 
 impl MaterialSet {
-    /// Generates the scene's textures (each pattern once, in parallel) and uploads them with
-    /// the material factors and the scene's lights.
+    /// Generates the scene's procedural textures (each pattern once, in parallel) and uploads
+    /// them and its decoded ones with the material factors and the scene's lights.
     pub fn new(gpu: &Gpu, plan: &FramePlan, scene: &Scene) -> Result<Self, GpuError> {
-        let mut patterns: Vec<_> = scene.materials.iter().map(|m| m.pattern).collect();
+        let mut patterns: Vec<Pattern> = scene
+            .materials
+            .iter()
+            .filter_map(|m| match m.surface {
+                Surface::Pattern(p) => Some(p),
+                Surface::Images(_) => None,
+            })
+            .collect();
         patterns.sort_by_key(|p| *p as u32);
         patterns.dedup();
         let generated: Vec<MaterialTextures> = patterns.par_iter().map(|&p| generate(p)).collect();
-        let of = |m: &crate::scene::Material| {
-            &generated[patterns
-                .iter()
-                .position(|&p| p == m.pattern)
-                .expect("generated")]
-        };
+        let textures: Vec<&MaterialTextures> = scene
+            .materials
+            .iter()
+            .map(|m| match &m.surface {
+                Surface::Pattern(pattern) => {
+                    &generated[patterns
+                        .iter()
+                        .position(|p| p == pattern)
+                        .expect("generated")]
+                }
+                Surface::Images(textures) => &**textures,
+            })
+            .collect();
         let kinds: [(&str, vk::Format, PickTexture); 3] = [
             ("base colour textures", vk::Format::R8G8B8A8_SRGB, |t| {
                 &t.base
@@ -73,7 +87,7 @@ impl MaterialSet {
             ),
         ];
         let [base, normal, orm] = kinds.map(|(name, format, pick)| {
-            let layers: Vec<&Texture> = scene.materials.iter().map(|m| pick(of(m))).collect();
+            let layers: Vec<&Texture> = textures.iter().map(|t| pick(t)).collect();
             upload_array(gpu, name, format, &layers)
         });
         let images = [base?, normal?, orm?];
@@ -100,7 +114,12 @@ impl MaterialSet {
             .iter()
             .map(|m| MaterialBlock {
                 base_color: m.base_color.extend(1.0),
-                params: Vec4::new(m.metallic, m.roughness, m.world_uv_scale, 0.0),
+                params: Vec4::new(
+                    m.metallic,
+                    m.roughness,
+                    m.world_uv_scale,
+                    m.alpha_cutoff.unwrap_or(0.0),
+                ),
             })
             .collect();
         let materials = upload(

@@ -20,7 +20,8 @@ use crate::shaders::{
     FAR_COMPOSITE_FRAG_COUNTING, MASK_FRAG, MASK_FRAG_COUNTING, MASK_VERT, OUTPUT_FRAG,
     OUTPUT_FRAG_COUNTING, RADIAL_MASK_FRAG, RADIAL_MASK_FRAG_COUNTING, RECONSTRUCT_FRAG,
     RECONSTRUCT_FRAG_COUNTING, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_LIT_FRAG,
-    SCENE_LIT_FRAG_COUNTING, SCENE_VERT, SCENE_VERT_INDIRECT,
+    SCENE_LIT_FRAG_COUNTING, SCENE_MASKED_FRAG, SCENE_MASKED_FRAG_COUNTING, SCENE_VERT,
+    SCENE_VERT_INDIRECT,
 };
 
 const ENTRY: &CStr = c"main";
@@ -317,7 +318,9 @@ pub(crate) fn step_pipeline(
             } else {
                 &SCENE_VERT_INDIRECT
             },
-            if plan.lit {
+            if plan.alpha_mask {
+                pick_frag(&SCENE_MASKED_FRAG, &SCENE_MASKED_FRAG_COUNTING)
+            } else if plan.lit {
                 pick_frag(&SCENE_LIT_FRAG, &SCENE_LIT_FRAG_COUNTING)
             } else {
                 pick_frag(&SCENE_FRAG, &SCENE_FRAG_COUNTING)
@@ -502,6 +505,12 @@ pub(crate) fn step_pipeline(
                 binding: 0,
                 format: vk::Format::R32G32_SFLOAT,
                 offset: 24,
+            },
+            vk::VertexInputAttributeDescription {
+                location: 3,
+                binding: 0,
+                format: vk::Format::R32G32B32A32_SFLOAT,
+                offset: 32,
             },
         ];
         let vertex_input = if kind == PipelineKind::Scene {

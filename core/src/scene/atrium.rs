@@ -4,9 +4,11 @@
 //! columns, a bench at arm's length) and far detail (the end wall 25 m away), every surface
 //! textured with high-frequency detail and lit by the sun, four warm lights and the sky.
 
+use std::borrow::Cow;
+
 use glam::{Mat4, Quat, Vec3};
 
-use super::materials::{Material, Pattern, PointLight};
+use super::materials::{Material, Pattern, PointLight, Surface};
 use super::{cube, cylinder, ground_grid, uv_sphere, DrawBatch, Instance, Scene};
 use crate::view::look_at_head;
 
@@ -20,12 +22,13 @@ const WOOD: u32 = 6;
 
 fn materials() -> Vec<Material> {
     let m = |name, pattern, base_color: Vec3, metallic, roughness, world_uv_scale| Material {
-        name,
-        pattern,
+        name: Cow::Borrowed(name),
+        surface: Surface::Pattern(pattern),
         base_color,
         metallic,
         roughness,
         world_uv_scale,
+        alpha_cutoff: None,
     };
     vec![
         m("marble floor", Pattern::Marble, Vec3::ONE, 0.0, 1.0, 0.5),
@@ -332,6 +335,7 @@ pub fn atrium_scene() -> Scene {
                 range: 9.0,
             })
             .to_vec(),
+        reach: None,
     }
 }
 

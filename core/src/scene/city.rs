@@ -85,5 +85,6 @@ pub fn city_scene() -> Scene {
         light_dir: Vec3::new(-0.5, -1.0, -0.3).normalize(),
         materials: Vec::new(),
         lights: Vec::new(),
+        reach: None,
     }
 }

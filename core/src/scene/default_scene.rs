@@ -91,6 +91,7 @@ pub fn default_scene() -> Scene {
         light_dir: Vec3::new(-0.4, -1.0, -0.5).normalize(),
         materials: Vec::new(),
         lights: Vec::new(),
+        reach: None,
     }
 }
 
@@ -120,5 +121,6 @@ pub fn fill_scene() -> Scene {
         light_dir: Vec3::new(0.0, 0.0, -1.0),
         materials: Vec::new(),
         lights: Vec::new(),
+        reach: None,
     }
 }

@@ -1,11 +1,14 @@
 //! Materials: flat shading (an instance colour, one light) or lit PBR metallic-roughness with
 //! base colour, normal and occlusion-roughness-metallic textures, a sun, point lights and an
-//! ambient sky. Built-in scenes get their textures procedurally at load (`textures`); the
-//! glTF loader will map its materials onto the same model.
+//! ambient sky. Built-in scenes get their textures procedurally at load (`textures`); glTF
+//! files map their materials onto the same model (`gltf_file`).
+
+use std::borrow::Cow;
+use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::Scene;
+use super::{MaterialTextures, Scene};
 use crate::vocab::named_enum;
 
 /// Point lights a lit frame shades with, at most (`shaders/lighting.glsl`).
@@ -40,11 +43,20 @@ pub enum Pattern {
     Plaster,
 }
 
+/// Where a material's textures come from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Surface {
+    /// Generated at load (the built-in scenes).
+    Pattern(Pattern),
+    /// Decoded from a scene file, already at the texture arrays' size with their mip chains.
+    Images(Arc<MaterialTextures>),
+}
+
 /// A PBR metallic-roughness material.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Material {
-    pub name: &'static str,
-    pub pattern: Pattern,
+    pub name: Cow<'static, str>,
+    pub surface: Surface,
     /// Multiplies the base colour texture (as does each instance's colour).
     pub base_color: Vec3,
     /// Multiply the texture's metallic and roughness.
@@ -53,6 +65,9 @@ pub struct Material {
     /// Texture repeats per metre with world-space box mapping (each face textured along its
     /// dominant axis, so scaled boxes tile evenly); 0 uses the mesh's texture coordinates.
     pub world_uv_scale: f32,
+    /// An alpha mask: fragments whose base colour texture's alpha falls below this are
+    /// discarded (the glTF loader folds the material's alpha factor in); `None` is opaque.
+    pub alpha_cutoff: Option<f32>,
 }
 
 /// A point light: position, colour times intensity, and the range where it fades to nothing.
@@ -67,36 +82,40 @@ pub struct PointLight {
 /// by its index, tinted by its own colour.
 pub(super) const PALETTE: [Material; 4] = [
     Material {
-        name: "plaster",
-        pattern: Pattern::Plaster,
+        name: Cow::Borrowed("plaster"),
+        surface: Surface::Pattern(Pattern::Plaster),
         base_color: Vec3::ONE,
         metallic: 0.0,
         roughness: 1.0,
         world_uv_scale: 1.0,
+        alpha_cutoff: None,
     },
     Material {
-        name: "stone",
-        pattern: Pattern::Stone,
+        name: Cow::Borrowed("stone"),
+        surface: Surface::Pattern(Pattern::Stone),
         base_color: Vec3::ONE,
         metallic: 0.0,
         roughness: 1.0,
         world_uv_scale: 0.5,
+        alpha_cutoff: None,
     },
     Material {
-        name: "bronze",
-        pattern: Pattern::Bronze,
+        name: Cow::Borrowed("bronze"),
+        surface: Surface::Pattern(Pattern::Bronze),
         base_color: Vec3::ONE,
         metallic: 1.0,
         roughness: 1.0,
         world_uv_scale: 1.0,
+        alpha_cutoff: None,
     },
     Material {
-        name: "wood",
-        pattern: Pattern::Wood,
+        name: Cow::Borrowed("wood"),
+        surface: Surface::Pattern(Pattern::Wood),
         base_color: Vec3::ONE,
         metallic: 0.0,
         roughness: 1.0,
         world_uv_scale: 1.0,
+        alpha_cutoff: None,
     },
 ];
 

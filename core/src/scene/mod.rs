@@ -3,6 +3,7 @@
 mod atrium;
 mod city;
 mod default_scene;
+mod gltf_file;
 mod materials;
 mod motion;
 mod shapes;
@@ -12,9 +13,10 @@ mod thesis;
 pub use atrium::atrium_scene;
 pub use city::city_scene;
 pub use default_scene::{default_scene, fill_scene};
-pub use materials::{Material, Pattern, PointLight, Shading, MAX_POINT_LIGHTS};
+pub use gltf_file::{gltf_from_slice, is_scene_file, load_gltf, SceneFileError};
+pub use materials::{Material, Pattern, PointLight, Shading, Surface, MAX_POINT_LIGHTS};
 pub use motion::{walking_pose, TURN_DEG_S, WALK_SPEED_M_S};
-pub use textures::{Texture, TEXTURE_SIZE};
+pub use textures::{MaterialTextures, Texture, TEXTURE_SIZE};
 
 /// The scenes the command line offers, by name.
 pub const SCENE_NAMES: [&str; 5] = ["default", "fill", "city", "thesis", "atrium"];
@@ -23,20 +25,36 @@ pub const SCENE_NAMES: [&str; 5] = ["default", "fill", "city", "thesis", "atrium
 /// `foveate bench --scale` picks others.
 pub const THESIS_PREVIEW_SCALE: f32 = 0.02;
 
-/// A scene by its command-line name, shaded as it was built (`atrium` lit, the others flat).
-pub fn named_scene(name: &str) -> Result<Scene, crate::vocab::ConfigError> {
-    match name {
-        "default" => Ok(default_scene()),
-        "fill" => Ok(fill_scene()),
-        "city" => Ok(city_scene()),
-        "thesis" => Ok(ThesisScene::new(THESIS_PREVIEW_SCALE)?.to_scene()),
-        "atrium" => Ok(atrium_scene()),
-        _ => Err(crate::vocab::ConfigError::new(
-            "scene",
-            name,
-            format!("one of {}", SCENE_NAMES.join(", ")),
-        )),
+/// Why `--scene` named no scene.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error(transparent)]
+    Name(#[from] crate::vocab::ConfigError),
+    #[error(transparent)]
+    File(#[from] SceneFileError),
+}
+
+/// A scene by its command-line name, shaded as it was built (`atrium` and glTF files lit, the
+/// others flat): a built-in scene, or a path ending in `.gltf` or `.glb`.
+pub fn named_scene(name: &str) -> Result<Scene, SceneError> {
+    if is_scene_file(name) {
+        return Ok(load_gltf(std::path::Path::new(name))?);
     }
+    Ok(match name {
+        "default" => default_scene(),
+        "fill" => fill_scene(),
+        "city" => city_scene(),
+        "thesis" => ThesisScene::new(THESIS_PREVIEW_SCALE)?.to_scene(),
+        "atrium" => atrium_scene(),
+        _ => {
+            return Err(crate::vocab::ConfigError::new(
+                "scene",
+                name,
+                format!("one of {}, or a .gltf or .glb file", SCENE_NAMES.join(", ")),
+            )
+            .into())
+        }
+    })
 }
 pub use shapes::{cube, cylinder, ground_grid, ground_quad, uv_sphere};
 pub use thesis::{
@@ -48,19 +66,22 @@ use glam::{Mat4, Vec3, Vec4};
 use crate::cull::{Aabb, Sphere};
 
 /// A vertex as the scene shaders read it (location 0: position, 1: normal, 2: texture
-/// coordinates).
+/// coordinates, 3: tangent).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
     pub uv: [f32; 2],
+    /// xyz along +u, w the bitangent's sign (glTF's convention); all zero: no tangent, and a
+    /// normal map takes its frame from screen-space derivatives (the built-in shapes).
+    pub tangent: [f32; 4],
 }
 
 /// Indexed triangle geometry.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mesh {
-    pub name: &'static str,
+    pub name: String,
     pub vertices: Vec<Vertex>,
     pub indices: Vec<u32>,
 }
@@ -141,6 +162,10 @@ pub struct Scene {
     /// Point lights of a lit scene (at most [`materials::MAX_POINT_LIGHTS`]), besides the sun
     /// along `light_dir` and the ambient sky.
     pub lights: Vec<PointLight>,
+    /// How far the far plane must reach to show all of the scene, when the default far plane
+    /// might not (a file's scene, in whatever units it was made); `None` for the built-in
+    /// scenes, which fit it.
+    pub reach: Option<f32>,
 }
 
 impl Scene {
@@ -154,6 +179,7 @@ impl Scene {
             light_dir: Vec3::NEG_Y,
             materials: Vec::new(),
             lights: Vec::new(),
+            reach: None,
         }
     }
 

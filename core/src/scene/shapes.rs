@@ -24,12 +24,13 @@ pub fn cube() -> Mesh {
                 position: p,
                 normal: n,
                 uv: [su + 0.5, 0.5 - sv],
+                tangent: [0.0; 4],
             });
         }
         indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
     }
     Mesh {
-        name: "cube",
+        name: "cube".into(),
         vertices,
         indices,
     }
@@ -53,6 +54,7 @@ pub fn uv_sphere(segments: u32, rings: u32) -> Mesh {
                 position: n,
                 normal: n,
                 uv: [s as f32 / segments as f32, r as f32 / rings as f32],
+                tangent: [0.0; 4],
             });
         }
     }
@@ -72,7 +74,7 @@ pub fn uv_sphere(segments: u32, rings: u32) -> Mesh {
         }
     }
     Mesh {
-        name: "sphere",
+        name: "sphere".into(),
         vertices,
         indices,
     }
@@ -104,6 +106,7 @@ pub fn ground_grid(half_extent: f32, first_cell: f32) -> Mesh {
                 position: [x, 0.0, z],
                 normal,
                 uv: [x, z],
+                tangent: [0.0; 4],
             })
         })
         .collect();
@@ -117,7 +120,7 @@ pub fn ground_grid(half_extent: f32, first_cell: f32) -> Mesh {
         }
     }
     Mesh {
-        name: "ground",
+        name: "ground".into(),
         vertices,
         indices,
     }
@@ -141,6 +144,7 @@ pub fn cylinder(segments: u32) -> Mesh {
                 position: [0.5 * x, y, 0.5 * z],
                 normal: [x, 0.0, z],
                 uv: [s as f32 / segments as f32, v],
+                tangent: [0.0; 4],
             });
         }
     }
@@ -155,6 +159,7 @@ pub fn cylinder(segments: u32) -> Mesh {
             position: [0.0, y, 0.0],
             normal: [0.0, ny, 0.0],
             uv: [0.5, 0.5],
+            tangent: [0.0; 4],
         });
         for s in 0..segments {
             let (x, z) = ring(s);
@@ -162,6 +167,7 @@ pub fn cylinder(segments: u32) -> Mesh {
                 position: [0.5 * x, y, 0.5 * z],
                 normal: [0.0, ny, 0.0],
                 uv: [0.5 + 0.5 * x, 0.5 + 0.5 * z],
+                tangent: [0.0; 4],
             });
         }
         for s in 0..segments {
@@ -174,7 +180,7 @@ pub fn cylinder(segments: u32) -> Mesh {
         }
     }
     Mesh {
-        name: "cylinder",
+        name: "cylinder".into(),
         vertices,
         indices,
     }
@@ -188,10 +194,11 @@ pub fn ground_quad() -> Mesh {
             position: [x, 0.0, z],
             normal: n,
             uv: [x + 0.5, z + 0.5],
+            tangent: [0.0; 4],
         })
         .to_vec();
     Mesh {
-        name: "ground",
+        name: "ground".into(),
         vertices,
         indices: vec![0, 1, 2, 0, 2, 3],
     }

@@ -27,6 +27,28 @@ pub struct MaterialTextures {
     pub orm: Texture,
 }
 
+impl MaterialTextures {
+    /// A material's textures from level-0 images of [`TEXTURE_SIZE`]² RGBA8 texels each (base
+    /// colour sRGB, normal, occlusion-roughness-metallic), mip chains generated.
+    pub fn new(base: Vec<u8>, normal: Vec<u8>, orm: Vec<u8>) -> Result<Self, String> {
+        let n = TEXTURE_SIZE;
+        let expected = (4 * n * n) as usize;
+        for (name, image) in [("base", &base), ("normal", &normal), ("orm", &orm)] {
+            if image.len() != expected {
+                return Err(format!(
+                    "{name} texture has {} bytes, not {n}² RGBA8 ({expected})",
+                    image.len()
+                ));
+            }
+        }
+        Ok(MaterialTextures {
+            base: with_mips(n, base, Channel::Srgb),
+            normal: with_mips(n, normal, Channel::Normal),
+            orm: with_mips(n, orm, Channel::Linear),
+        })
+    }
+}
+
 /// What a pattern says at one point of its tile.
 struct Sample {
     color: Vec3,
@@ -285,7 +307,12 @@ fn with_mips(size: u32, level0: Vec<u8>, channel: Channel) -> Texture {
                     Channel::Linear => rgb.map(unorm8),
                 };
                 next.extend(out);
-                next.push(255);
+                // Alpha (an alpha mask's coverage) averages linearly.
+                let alpha: u32 = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                    .map(|(dx, dy)| texel(dx, dy, 3) as u32)
+                    .iter()
+                    .sum();
+                next.push(((alpha + 2) / 4) as u8);
             }
         }
         levels.push(next);

@@ -145,6 +145,7 @@ impl ThesisScene {
             light_dir: Vec3::new(0.3, -1.0, 0.2).normalize(),
             materials: Vec::new(),
             lights: Vec::new(),
+            reach: None,
         }
     }
 
