@@ -28,6 +28,9 @@ enum Command {
     Render(RenderArgs),
     /// Print the frame plan: passes, attachments, load/store ops, transient images, bytes.
     Plan(ConfigArgs),
+    /// The frame in a window: eyes side by side, the mouse as the gaze, keys toggle foveation
+    /// and the other effects, frame and GPU times and fragments in the title once a second.
+    View(crate::view_cmd::ViewArgs),
     /// List Vulkan devices with what foveate cares about.
     Devices,
     /// Culling benchmarks: Hale's intersection tables, and stereo strategies on the thesis scene.
@@ -60,6 +63,7 @@ impl Cli {
             validation: self.validation || env.validation,
             device: self.device.clone().or(env.device),
             pipeline_cache: pipeline_cache_path(),
+            display: None,
         }
     }
 
@@ -80,6 +84,7 @@ impl Cli {
                 Ok(())
             }
             Command::Render(args) => crate::render_cmd::render(&self.gpu_options(), args),
+            Command::View(args) => crate::view_cmd::view(&self.gpu_options(), args),
             Command::CullBench(args) => crate::cull_cmd::cull_bench(args),
             Command::Pixels(args) => crate::pixels_cmd::pixels(&self.gpu_options(), args),
             Command::Compare(args) => crate::compare_cmd::compare(&self.gpu_options(), args),

@@ -17,6 +17,8 @@ mod pixels_cmd;
 mod progress;
 mod render_cmd;
 mod side_by_side;
+mod view_cmd;
+mod view_keys;
 
 use clap::Parser;
 

@@ -57,6 +57,7 @@ fn the_pipeline_cache_persists_between_runs() {
         validation: true,
         device: std::env::var("FOVEATE_DEVICE").ok(),
         pipeline_cache: Some(path.clone()),
+        display: None,
     };
     let scene = default_scene();
     let config = RenderConfig {

@@ -309,5 +309,8 @@ fn assimp_test_models_render_or_are_refused_clearly() {
         ASSIMP_MODELS.len(),
         "every listed model is there"
     );
-    assert_eq!(rendered, ASSIMP_MODELS.iter().filter(|(_, e)| e.is_none()).count());
+    assert_eq!(
+        rendered,
+        ASSIMP_MODELS.iter().filter(|(_, e)| e.is_none()).count()
+    );
 }

@@ -14,6 +14,7 @@ pub fn gpu() -> Gpu {
         validation: true,
         device: std::env::var("FOVEATE_DEVICE").ok(),
         pipeline_cache: None,
+        display: None,
     };
     Gpu::new(&options).expect("a Vulkan device with VK_LAYER_KHRONOS_validation (see README)")
 }

@@ -21,6 +21,9 @@ pub struct GpuOptions {
     /// Where the pipeline cache persists between runs (`Gpu::save_pipeline_cache` writes it);
     /// `None` keeps it in memory for this run only.
     pub pipeline_cache: Option<std::path::PathBuf>,
+    /// Present to windows of this display: the instance gets its surface extensions and the
+    /// device `VK_KHR_swapchain` (see [`super::Swapchain`]). `None`: headless.
+    pub display: Option<raw_window_handle::RawDisplayHandle>,
 }
 
 impl GpuOptions {
@@ -33,6 +36,7 @@ impl GpuOptions {
                 .ok()
                 .filter(|d| !d.is_empty()),
             pipeline_cache: None,
+            display: None,
         }
     }
 }
@@ -75,7 +79,7 @@ struct Messenger {
 
 /// Owns the instance and the debug messenger.
 pub(crate) struct InstanceOwner {
-    _entry: ash::Entry,
+    pub(crate) entry: ash::Entry,
     pub(crate) instance: ash::Instance,
     messenger: Option<Messenger>,
 }
@@ -111,6 +115,12 @@ impl InstanceOwner {
             layers.push(VALIDATION_LAYER.as_ptr());
             extensions.push(ash::ext::debug_utils::NAME.as_ptr());
         }
+        if let Some(display) = options.display {
+            extensions.extend_from_slice(
+                ash_window::enumerate_required_extensions(display)
+                    .vk("vkEnumerateInstanceExtensionProperties (surface)")?,
+            );
+        }
         let app_name = CString::new("foveate").expect("no NUL in literal");
         let app = vk::ApplicationInfo::default()
             .application_name(&app_name)
@@ -141,13 +151,13 @@ impl InstanceOwner {
         // SAFETY: the create info only points at locals that outlive the call.
         let instance = unsafe { entry.create_instance(&info, None) }.vk("vkCreateInstance")?;
         let mut owner = InstanceOwner {
-            _entry: entry,
+            entry,
             instance,
             messenger: None,
         };
         if options.validation {
             let log = Box::<ValidationLog>::default();
-            let loader = ash::ext::debug_utils::Instance::new(&owner._entry, &owner.instance);
+            let loader = ash::ext::debug_utils::Instance::new(&owner.entry, &owner.instance);
             let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
                 .message_severity(
                     vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
@@ -174,7 +184,7 @@ impl InstanceOwner {
 pub(crate) struct DeviceOwner {
     pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
     pub(crate) device: ash::Device,
-    instance: Arc<InstanceOwner>,
+    pub(crate) instance: Arc<InstanceOwner>,
     /// Vulkan objects alive now, by kind: what a renderer creates is counted, not assumed.
     live: Mutex<BTreeMap<&'static str, i64>>,
 }
@@ -278,9 +288,25 @@ impl Gpu {
         let queues = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
+        let mut device_extensions = Vec::new();
+        if options.display.is_some() {
+            let offered = unsafe { vk_instance.enumerate_device_extension_properties(physical) }
+                .vk("vkEnumerateDeviceExtensionProperties")?;
+            if !offered
+                .iter()
+                .any(|e| e.extension_name_as_c_str() == Ok(ash::khr::swapchain::NAME))
+            {
+                return Err(GpuError::NoPresentation(format!(
+                    "{} does not offer VK_KHR_swapchain",
+                    chosen.info.name
+                )));
+            }
+            device_extensions.push(ash::khr::swapchain::NAME.as_ptr());
+        }
         let info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_features(&features)
+            .enabled_extension_names(&device_extensions)
             .push_next(&mut multiview);
         // SAFETY: the create info points at locals that outlive the call.
         let device =

@@ -24,6 +24,8 @@ pub enum GpuError {
     Config(#[from] ConfigError),
     #[error("pipeline cache {path}: {error}")]
     PipelineCache { path: String, error: String },
+    #[error("cannot present to the window: {0}")]
+    NoPresentation(String),
     #[error("readback asked for before any frame was rendered")]
     NoFrameRendered,
     #[error("Vulkan validation reported {} message(s):\n{}", .0.len(), .0.join("\n"))]

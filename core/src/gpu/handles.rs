@@ -57,6 +57,7 @@ owned_handle!(
     destroy_command_pool
 );
 owned_handle!(Fence, vk::Fence, destroy_fence);
+owned_handle!(Semaphore, vk::Semaphore, destroy_semaphore);
 owned_handle!(QueryPool, vk::QueryPool, destroy_query_pool);
 owned_handle!(PipelineCache, vk::PipelineCache, destroy_pipeline_cache);
 owned_handle!(ImageView, vk::ImageView, destroy_image_view);

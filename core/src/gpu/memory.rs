@@ -61,6 +61,14 @@ impl Buffer {
             .expect("buffer was allocated in host-visible memory")
     }
 
+    /// The mapped bytes of a host-visible buffer, to read.
+    pub fn mapped_slice(&self) -> &[u8] {
+        self.allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .expect("buffer was allocated in host-visible memory")
+    }
+
     /// Copies plain-old-data values into a host-visible buffer.
     pub fn write<T: Copy>(&mut self, values: &[T]) {
         let bytes = pod_bytes(values);

@@ -1,5 +1,6 @@
 //! Vulkan through `ash`: the context (instance, device, queue, validation), memory through
-//! `gpu-allocator`, and RAII wrappers so each Vulkan object is owned by exactly one Rust value.
+//! `gpu-allocator`, RAII wrappers so each Vulkan object is owned by exactly one Rust value, and
+//! presentation to a window's swapchain.
 
 mod cache;
 mod context;
@@ -7,15 +8,17 @@ mod error;
 mod handles;
 mod memory;
 mod submit;
+mod swapchain;
 
 pub use context::{DeviceInfo, Gpu, GpuOptions};
 pub use error::{GpuError, VkResultExt};
 pub use handles::{
     CommandPool, DescriptorPool, DescriptorSetLayout, Fence, Framebuffer, ImageView, Pipeline,
-    PipelineCache, PipelineLayout, QueryPool, RenderPass, Sampler, ShaderModule,
+    PipelineCache, PipelineLayout, QueryPool, RenderPass, Sampler, Semaphore, ShaderModule,
 };
 pub(crate) use memory::pod_bytes;
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
+pub use swapchain::{BlitSource, Presented, Swapchain};
 
 pub(crate) use cache::{hash_word, name_word, Description, ObjectCache};
 pub(crate) use context::DeviceOwner;

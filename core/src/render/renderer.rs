@@ -16,13 +16,13 @@ use super::targets::{compile_pass, create_images, CompiledPass};
 use crate::cull::Frustum;
 use crate::foveation::fovea_views;
 use crate::gpu::{
-    Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, Pipeline, QueryPool,
-    VkResultExt,
+    BlitSource, Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, Pipeline,
+    QueryPool, VkResultExt,
 };
 use crate::metrics::RgbaImage;
 use crate::mffr::FAR_VIEW_INDEX;
 use crate::plan::{
-    CountedStep, FramePlan, PassKind, PassPlan, RenderConfig, Step, TargetLayout,
+    AttachmentId, CountedStep, FramePlan, PassKind, PassPlan, RenderConfig, Step, TargetLayout,
     COUNTER_SLOTS_PER_STEP, MAX_VIEWS,
 };
 use crate::scene::{Draw, Scene, Shading};
@@ -758,6 +758,32 @@ impl<'g> Renderer<'g> {
                     right: both.crop(w / 2, 0, w / 2, h),
                 }
             }
+        })
+    }
+
+    /// The last frame's eye images where they lie (left, right) for a swapchain to show
+    /// ([`crate::gpu::Swapchain::present`]); the outputs stay in `TRANSFER_SRC_OPTIMAL`.
+    pub fn present_sources(&self) -> Result<[BlitSource; 2], GpuError> {
+        if self.frames_rendered == 0 {
+            return Err(GpuError::NoFrameRendered);
+        }
+        let outputs = self.plan.outputs();
+        let first = &self.plan.attachments[outputs[0]];
+        let source = |id: AttachmentId, layer, x, width| BlitSource {
+            image: self.images[id].raw,
+            layer,
+            x,
+            width,
+            height: first.height,
+        };
+        let w = first.width;
+        Ok(match self.plan.output_layout() {
+            TargetLayout::Layered => [source(outputs[0], 0, 0, w), source(outputs[0], 1, 0, w)],
+            TargetLayout::PerEye => [source(outputs[0], 0, 0, w), source(outputs[1], 0, 0, w)],
+            TargetLayout::SideBySide => [
+                source(outputs[0], 0, 0, w / 2),
+                source(outputs[0], 0, w / 2, w / 2),
+            ],
         })
     }
 

@@ -1,0 +1,390 @@
+//! `foveate view`: the frame in a window (winit; X11 or Wayland), presented through a Vulkan
+//! swapchain (`foveate::gpu::Swapchain`, shared with the Android demo): the output stage's eye
+//! images side by side, the mouse as the gaze, keys for the settings (`view_keys`), frame and
+//! GPU times and fragments once a second in the title bar and on stdout.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+use clap::Args;
+use foveate::gpu::{Gpu, GpuOptions, Presented, Swapchain};
+use foveate::metrics::RgbaImage;
+use foveate::render::{FrameStats, Renderer};
+use foveate::scene::Scene;
+use glam::Vec2;
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, NamedKey};
+use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use winit::window::{Window, WindowId};
+
+use crate::frame_args::{scene_from, ConfigArgs};
+use crate::view_keys::{KeyAction, ViewSettings, KEYS};
+
+#[derive(Args)]
+pub struct ViewArgs {
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Exit after presenting this many frames (default: run until closed).
+    #[arg(long)]
+    pub frames: Option<u64>,
+    /// On exit, save the last presented image (read back from the swapchain) to this PNG.
+    #[arg(long)]
+    pub save: Option<PathBuf>,
+    /// Window size in pixels, WxH (default: the two eyes side by side, at most 1600 wide).
+    #[arg(long)]
+    pub window: Option<String>,
+}
+
+pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
+    anyhow::ensure!(
+        args.frames != Some(0),
+        "invalid frames = 0: at least 1 (or leave it out to run until closed)"
+    );
+    if args.config.stereo == "all" {
+        anyhow::bail!("invalid stereo = all: the viewer shows one stereo mode (s cycles them)");
+    }
+    let scene = scene_from(
+        &args.config.scene,
+        args.config.shading.as_deref(),
+        &args.config.head,
+    )?;
+    let settings = ViewSettings::new(
+        args.config.config(args.config.stereo.parse()?)?,
+        scene.shading(),
+    );
+    let event_loop = EventLoop::new().context(
+        "cannot open a window: no display (set DISPLAY or WAYLAND_DISPLAY, or run under xvfb-run)",
+    )?;
+    let display = event_loop.display_handle()?.as_raw();
+    let gpu = Gpu::new(&GpuOptions {
+        display: Some(display),
+        ..options.clone()
+    })?;
+    let window_size = match &args.window {
+        Some(s) => parse_size(s)?,
+        None => None,
+    };
+    println!("device: {}", gpu.info().name);
+    println!(
+        "keys: {}; the mouse moves the gaze",
+        KEYS.iter()
+            .map(|(k, what)| format!("{k} {what}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let mut viewer = Viewer {
+        gpu: &gpu,
+        scene,
+        settings,
+        window_size,
+        frames_wanted: args.frames,
+        save: args.save.clone(),
+        swapchain: None,
+        window: None,
+        frame: None,
+        gaze: Vec2::ZERO,
+        presented: 0,
+        second: Second::new(),
+        capture: None,
+        finishing: false,
+        error: None,
+    };
+    event_loop.set_control_flow(ControlFlow::Poll);
+    event_loop.run_app(&mut viewer)?;
+    if let Some(e) = viewer.error.take() {
+        return Err(e);
+    }
+    drop(viewer.frame.take());
+    drop(viewer.swapchain.take());
+    if let (Some(path), Some(image)) = (&args.save, &viewer.capture) {
+        image.save_png(path)?;
+        println!(
+            "saved {} ({}x{}, the last presented image)",
+            path.display(),
+            image.width,
+            image.height
+        );
+    }
+    println!("presented {} frames", viewer.presented);
+    gpu.check_validation()?;
+    Ok(())
+}
+
+fn parse_size(s: &str) -> Result<Option<(u32, u32)>> {
+    let parsed = s
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)));
+    match parsed {
+        Some((w, h)) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => Ok(Some((w, h))),
+        _ => anyhow::bail!("invalid window = {s:?}: WxH, each 1 to 16384 pixels"),
+    }
+}
+
+/// The renderers of the current settings: the timed one the window shows, and one with
+/// counters for the once-a-second fragment count (timed frames carry no counters).
+struct Frame<'g> {
+    timed: Renderer<'g>,
+    counting: Renderer<'g>,
+    pass_names: Vec<&'static str>,
+    scene: Scene,
+}
+
+/// Frame times over the current second.
+struct Second {
+    start: Instant,
+    frame_ms: Vec<f64>,
+    gpu_pass_ms: Vec<Vec<f64>>,
+}
+
+impl Second {
+    fn new() -> Self {
+        Second {
+            start: Instant::now(),
+            frame_ms: Vec::new(),
+            gpu_pass_ms: Vec::new(),
+        }
+    }
+}
+
+struct Viewer<'g> {
+    gpu: &'g Gpu,
+    /// The scene as loaded; each shading is derived from it.
+    scene: Scene,
+    settings: ViewSettings,
+    window_size: Option<(u32, u32)>,
+    frames_wanted: Option<u64>,
+    save: Option<PathBuf>,
+    // Dropped in this order: renderers, swapchain, then the window it presents to.
+    frame: Option<Frame<'g>>,
+    swapchain: Option<Swapchain>,
+    window: Option<Window>,
+    gaze: Vec2,
+    presented: u64,
+    second: Second,
+    capture: Option<RgbaImage>,
+    /// Quitting: one more frame is presented (and captured with --save), then the loop ends.
+    finishing: bool,
+    error: Option<anyhow::Error>,
+}
+
+impl<'g> Viewer<'g> {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, e: anyhow::Error) {
+        self.error = Some(e);
+        event_loop.exit();
+    }
+
+    /// The renderers for the current settings, made when missing.
+    fn frame(&mut self) -> Result<&mut Frame<'g>> {
+        if self.frame.is_none() {
+            let scene = self.scene.clone().with_shading(self.settings.shading);
+            let config = &self.settings.config;
+            let plan = foveate::plan(&scene, config, self.gpu.caps())?;
+            let counting_plan = foveate::plan(&scene, &config.counting(), self.gpu.caps())?;
+            let pass_names = plan.passes.iter().map(|p| p.name).collect();
+            self.frame = Some(Frame {
+                timed: Renderer::new(self.gpu, &plan, &scene)?,
+                counting: Renderer::new(self.gpu, &counting_plan, &scene)?,
+                pass_names,
+                scene,
+            });
+        }
+        Ok(self.frame.as_mut().expect("made above"))
+    }
+
+    fn key(&mut self, key: char, event_loop: &ActiveEventLoop) {
+        let before = self.settings.clone();
+        match self.settings.key(key) {
+            KeyAction::Quit => self.finishing = true,
+            KeyAction::Ignored => {}
+            KeyAction::Changed(what) => {
+                self.frame = None;
+                // A combination the planner refuses is reported and undone.
+                if let Err(e) = self.frame() {
+                    println!("{what}: refused ({e:#}); back to the previous settings");
+                    self.settings = before;
+                    self.frame = None;
+                } else {
+                    println!("{what}");
+                }
+                self.second = Second::new();
+                if let Some(w) = &self.window {
+                    w.request_redraw();
+                }
+            }
+        }
+        let _ = event_loop;
+    }
+
+    fn draw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let gaze = [self.gaze; 2];
+        let capture = self.save.is_some()
+            && (self.finishing || self.frames_wanted == Some(self.presented + 1));
+        let started = Instant::now();
+        let gpu = self.gpu;
+        let frame = self.frame()?;
+        frame.timed.set_gaze(gaze);
+        let stats = frame.timed.render_frame(frame.scene.head)?;
+        let sources = frame.timed.present_sources()?;
+        let swapchain = self.swapchain.as_mut().expect("a window has a swapchain");
+        if let Presented::Shown(image) = swapchain.present(gpu, &sources, capture)? {
+            self.presented += 1;
+            if image.is_some() {
+                self.capture = image;
+            }
+            self.second
+                .frame_ms
+                .push(started.elapsed().as_secs_f64() * 1e3);
+            self.second.gpu_pass_ms.push(stats.gpu_pass_ms.clone());
+        }
+        if self.second.start.elapsed() >= Duration::from_secs(1) {
+            self.report()?;
+        }
+        let done = self.frames_wanted.is_some_and(|n| self.presented >= n);
+        if done || (self.finishing && (self.save.is_none() || self.capture.is_some())) {
+            event_loop.exit();
+        }
+        Ok(())
+    }
+
+    /// Once a second: median frame time, GPU time per pass and a counting frame's fragments,
+    /// in the title bar and on stdout.
+    fn report(&mut self) -> Result<()> {
+        let second = std::mem::replace(&mut self.second, Second::new());
+        if second.frame_ms.is_empty() {
+            return Ok(());
+        }
+        let gaze = [self.gaze; 2];
+        let summary = self.settings.summary();
+        let frame = self.frame()?;
+        frame.counting.set_gaze(gaze);
+        let counted: FrameStats = frame.counting.render_frame(frame.scene.head)?;
+        let fragments: u64 =
+            counted.fragments.iter().sum::<u64>() + counted.far_fragments.unwrap_or(0);
+        let mut frame_ms = second.frame_ms.clone();
+        frame_ms.sort_by(f64::total_cmp);
+        let median = frame_ms[frame_ms.len() / 2];
+        let passes = second.gpu_pass_ms.last().cloned().unwrap_or_default();
+        let gpu: f64 = passes.iter().sum();
+        let per_pass = frame
+            .pass_names
+            .iter()
+            .zip(&passes)
+            .map(|(n, ms)| format!("{n} {ms:.1}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let line = format!(
+            "{median:.1} ms/frame ({} frames), GPU {gpu:.1} ms [{per_pass}], {:.2} M scene fragments — {summary}",
+            second.frame_ms.len(),
+            fragments as f64 / 1e6
+        );
+        println!("view: {line}");
+        if let Some(w) = &self.window {
+            w.set_title(&format!("foveate view — {line}"));
+        }
+        Ok(())
+    }
+
+    fn open_window(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let config = &self.settings.config;
+        let eye = config
+            .resolution
+            .map(|r| (r.width, r.height))
+            .unwrap_or((1024, 1024));
+        let (w, h) = self.window_size.unwrap_or_else(|| {
+            let scale = (1600.0 / (2 * eye.0) as f64).min(1.0);
+            (
+                ((2 * eye.0) as f64 * scale) as u32,
+                (eye.1 as f64 * scale) as u32,
+            )
+        });
+        let window = event_loop.create_window(
+            Window::default_attributes()
+                .with_title("foveate view")
+                .with_inner_size(PhysicalSize::new(w, h)),
+        )?;
+        let size = window.inner_size();
+        // SAFETY: the window lives in `self.window`, which drops after `self.swapchain`.
+        let swapchain = unsafe {
+            Swapchain::new(
+                self.gpu,
+                window.display_handle()?.as_raw(),
+                window.window_handle()?.as_raw(),
+                (size.width, size.height),
+            )
+        }?;
+        self.swapchain = Some(swapchain);
+        self.window = Some(window);
+        Ok(())
+    }
+}
+
+impl ApplicationHandler for Viewer<'_> {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_none() {
+            if let Err(e) = self.open_window(event_loop) {
+                self.fail(event_loop, e);
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested => {
+                self.finishing = true;
+                if self.save.is_none() {
+                    event_loop.exit();
+                }
+            }
+            WindowEvent::Resized(size) => {
+                if let Some(s) = &mut self.swapchain {
+                    s.resize((size.width, size.height));
+                }
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if let Some((_, g)) = self
+                    .swapchain
+                    .as_ref()
+                    .and_then(|s| s.locate(position.x, position.y))
+                {
+                    self.gaze = Vec2::from(g);
+                }
+            }
+            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
+                match event.logical_key {
+                    Key::Named(NamedKey::Escape) => self.key('q', event_loop),
+                    Key::Character(s) => {
+                        if let Some(c) = s.chars().next() {
+                            self.key(c.to_ascii_lowercase(), event_loop);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            WindowEvent::RedrawRequested => {
+                let minimised =
+                    self.window
+                        .as_ref()
+                        .is_some_and(|w| w.is_minimized() == Some(true))
+                        || self.window.as_ref().is_some_and(|w| {
+                            w.inner_size().width == 0 || w.inner_size().height == 0
+                        });
+                if !minimised {
+                    if let Err(e) = self.draw(event_loop) {
+                        self.fail(event_loop, e);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(w) = &self.window {
+            w.request_redraw();
+        }
+    }
+}
