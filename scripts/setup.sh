@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Installs what foveate needs on Debian/Ubuntu, once: the Vulkan loader, lavapipe (CPU Vulkan),
 # the Khronos validation layer, glslc and spirv-tools; for the tests, assimp's glTF test models
-# (files nobody here wrote), Xvfb and xwd (the viewer seen as a person would); checks for a
+# (files nobody here wrote), Xvfb, xwd and xdotool (the viewer seen as a person would); checks for a
 # Rust toolchain.
 # Idempotent and quiet when everything is already there.
 set -euo pipefail
 
 packages=(libvulkan1 mesa-vulkan-drivers vulkan-validationlayers glslc spirv-tools
-          assimp-testmodels xvfb x11-apps)
+          assimp-testmodels xvfb x11-apps xdotool)
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,242 @@
+//! `foveate view` as a person sees it: under Xvfb with lavapipe, the window is resized mid-run,
+//! the mouse moves the gaze, the window's pixels are grabbed with `xwd` and compared with the
+//! image the viewer says it presented and with `foveate render` of the same frame offscreen.
+//! Validation is on throughout (the viewer fails on any message).
+
+use std::io::{BufRead, BufReader, Read};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::thread::sleep;
+use std::time::{Duration, Instant};
+
+use image::RgbaImage;
+
+/// A virtual X server on a free display, killed when dropped.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Xvfb {
+    fn start() -> Xvfb {
+        let mut child = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "640x480x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb (apt xvfb; scripts/setup.sh installs it)");
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        let display = format!(":{}", line.trim());
+        Xvfb { child, display }
+    }
+
+    fn run(&self, program: &str, args: &[&str]) -> String {
+        let out = Command::new("timeout")
+            .arg("60")
+            .arg(program)
+            .args(args)
+            .env("DISPLAY", &self.display)
+            .output()
+            .unwrap_or_else(|e| panic!("{program}: {e} (apt xdotool x11-apps)"));
+        assert!(
+            out.status.success(),
+            "{program} {args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// An `xwd` dump (X11 window dump, ZPixmap, 24/32 bits per pixel) as RGBA.
+fn parse_xwd(bytes: &[u8]) -> RgbaImage {
+    let field = |i: usize| u32::from_be_bytes(bytes[4 * i..4 * i + 4].try_into().unwrap());
+    let (header_size, width, height) = (field(0) as usize, field(4), field(5));
+    let (byte_order, bits_per_pixel, bytes_per_line) = (field(7), field(11), field(12) as usize);
+    let (red_mask, green_mask, blue_mask) = (field(14), field(15), field(16));
+    // ncolors: the colour entries (12 bytes each) written between header and pixels.
+    let colormap_entries = field(19) as usize;
+    assert_eq!(field(2), 2, "ZPixmap");
+    assert_eq!(bits_per_pixel, 32, "32 bits per pixel");
+    let pixels = &bytes[header_size + 12 * colormap_entries..];
+    let channel = |p: u32, mask: u32| ((p & mask) >> mask.trailing_zeros()) as u8;
+    let mut image = RgbaImage::new(width, height);
+    for y in 0..height {
+        for x in 0..width {
+            let at = y as usize * bytes_per_line + 4 * x as usize;
+            let raw: [u8; 4] = pixels[at..at + 4].try_into().unwrap();
+            let p = if byte_order == 0 {
+                u32::from_le_bytes(raw)
+            } else {
+                u32::from_be_bytes(raw)
+            };
+            image.put_pixel(
+                x,
+                y,
+                image::Rgba([
+                    channel(p, red_mask),
+                    channel(p, green_mask),
+                    channel(p, blue_mask),
+                    255,
+                ]),
+            );
+        }
+    }
+    image
+}
+
+/// Largest difference of any channel (alpha aside) between two images of one size.
+fn max_difference(a: &RgbaImage, b: &RgbaImage) -> u8 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    a.pixels()
+        .zip(b.pixels())
+        .flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c])))
+        .max()
+        .unwrap_or(0)
+}
+
+const FRAME: &[&str] = &["--res", "64", "--foveate", "0.35", "--tint", "--msaa", "1"];
+
+/// The viewer, resized and with the mouse moved, shows exactly what it says it presented, and
+/// that is the offscreen render of the same configuration at the gaze under the mouse.
+/// Mutations: the blit's eyes swapped, off by a pixel or scaled (the final window is 1:1), or
+/// the mouse-to-gaze map off, each fails a comparison; a validation message fails the run.
+#[test]
+fn the_window_shows_the_offscreen_frame_at_the_mouse_gaze() {
+    let dir = std::env::temp_dir().join(format!("foveate-view-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let saved = dir.join("presented.png");
+    let x = Xvfb::start();
+    let mut args = vec!["--validation", "view"];
+    args.extend(FRAME);
+    args.extend([
+        "--window",
+        "128x64",
+        "--frames",
+        "100000",
+        "--save",
+        saved.to_str().unwrap(),
+    ]);
+    let mut viewer = Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .args(&args)
+        .env("DISPLAY", &x.display)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let window = x.run("xdotool", &["search", "--sync", "--name", "foveate view"]);
+    let window = window
+        .lines()
+        .next()
+        .expect("the viewer's window")
+        .to_string();
+    // Mid-run: the mouse over the right eye, a resize that scales the eyes, and back to 1:1.
+    sleep(Duration::from_millis(500));
+    x.run("xdotool", &["mousemove", "--window", &window, "100", "40"]);
+    x.run("xdotool", &["windowsize", &window, "300", "200"]);
+    sleep(Duration::from_millis(800));
+    x.run("xdotool", &["windowsize", &window, "128", "64"]);
+    sleep(Duration::from_millis(800));
+    // The gaze (0.5, 0.5): three quarters across the left eye, a quarter down.
+    x.run("xdotool", &["mousemove", "--window", &window, "48", "16"]);
+    sleep(Duration::from_millis(1500));
+    let dump = Command::new("xwd")
+        .args(["-silent", "-id", &window])
+        .env("DISPLAY", &x.display)
+        .output()
+        .expect("xwd (apt x11-apps)");
+    assert!(dump.status.success(), "xwd failed");
+    // Real key events (XTEST) go to the focused window; there is no window manager to focus it.
+    x.run("xdotool", &["windowfocus", "--sync", &window]);
+    x.run("xdotool", &["key", "q"]);
+    let started = Instant::now();
+    let status = loop {
+        if let Some(status) = viewer.try_wait().unwrap() {
+            break status;
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(60),
+            "the viewer did not quit"
+        );
+        sleep(Duration::from_millis(50));
+    };
+    let mut out = String::new();
+    viewer
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut out)
+        .unwrap();
+    let mut err = String::new();
+    viewer
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert!(status.success(), "viewer failed:\n{out}\n{err}");
+    assert!(out.contains("saved "), "{out}");
+
+    let grabbed = parse_xwd(&dump.stdout);
+    let presented = image::open(&saved).unwrap().into_rgba8();
+    assert_eq!(grabbed.dimensions(), (128, 64));
+    assert_eq!(
+        max_difference(&grabbed, &presented),
+        0,
+        "the window shows what the viewer presented"
+    );
+
+    let reference = dir.join("offscreen.png");
+    let mut render = vec!["--validation", "render"];
+    render.extend(FRAME);
+    render.extend(["--gaze", "0.5,0.5", "--frames", "1", "--out"]);
+    render.push(reference.to_str().unwrap());
+    let rendered = Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .args(&render)
+        .output()
+        .unwrap();
+    assert!(
+        rendered.status.success(),
+        "{}",
+        String::from_utf8_lossy(&rendered.stderr)
+    );
+    let offscreen = image::open(&reference).unwrap().into_rgba8();
+    assert_eq!(
+        max_difference(&grabbed, &offscreen),
+        0,
+        "the window shows the offscreen frame at the gaze under the mouse"
+    );
+    // The gaze reached the frame: the same frame at the centre gaze differs.
+    let centre = dir.join("centre.png");
+    let mut render = vec!["--validation", "render"];
+    render.extend(FRAME);
+    render.extend(["--frames", "1", "--out", centre.to_str().unwrap()]);
+    assert!(Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .args(&render)
+        .status()
+        .unwrap()
+        .success());
+    let centred = image::open(&centre).unwrap().into_rgba8();
+    assert!(
+        max_difference(&grabbed, &centred) > 50,
+        "the mouse moved the gaze"
+    );
+    std::fs::remove_dir_all(Path::new(&dir)).unwrap();
+}
