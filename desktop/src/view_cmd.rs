@@ -47,6 +47,10 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
     if args.config.stereo == "all" {
         anyhow::bail!("invalid stereo = all: the viewer shows one stereo mode (s cycles them)");
     }
+    let window_size = match &args.window {
+        Some(s) => parse_size(s)?,
+        None => None,
+    };
     let scene = scene_from(
         &args.config.scene,
         args.config.shading.as_deref(),
@@ -64,10 +68,6 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
         display: Some(display),
         ..options.clone()
     })?;
-    let window_size = match &args.window {
-        Some(s) => parse_size(s)?,
-        None => None,
-    };
     println!("device: {}", gpu.info().name);
     println!(
         "keys: {}; the mouse moves the gaze",

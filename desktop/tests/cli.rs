@@ -199,6 +199,21 @@ fn bad_input_is_a_clear_error_not_a_panic() {
             &["compare", "--res", "32", "--bands", "40"][..],
             "blend_band = 40",
         ),
+        (
+            &["render", "--res", "32", "--scene", "/nonexistent/scene.glb"][..],
+            "scene file /nonexistent/scene.glb: cannot read it",
+        ),
+        (
+            &["plan", "--scene", "pyramid"][..],
+            "scene = pyramid: one of default, fill, city, thesis, atrium, or a .gltf or .glb file",
+        ),
+        (&["plan", "--head", "1,nan,2"][..], "head = [1.0, NaN, 2.0]"),
+        (
+            &["plan", "--head", "0,1,0", "--look-at", "0,5,0"][..],
+            "look-at = [0, 5, 0]: a point away from the head",
+        ),
+        (&["view", "--frames", "0"][..], "frames = 0"),
+        (&["view", "--window", "0x10"][..], "window = \"0x10\""),
     ] {
         let o = foveate(args);
         assert!(!o.status.success(), "{args:?} should fail");

@@ -112,6 +112,25 @@ fn max_difference(a: &RgbaImage, b: &RgbaImage) -> u8 {
         .unwrap_or(0)
 }
 
+/// `foveate render` of [`FRAME`] with `extra` options, one frame, written to and read from
+/// `path`.
+fn render_offscreen(path: &Path, extra: &[&str]) -> RgbaImage {
+    let mut args = vec!["--validation", "render"];
+    args.extend(FRAME);
+    args.extend(extra);
+    args.extend(["--frames", "1", "--out", path.to_str().unwrap()]);
+    let out = Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .args(&args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    image::open(path).unwrap().into_rgba8()
+}
+
 const FRAME: &[&str] = &["--res", "64", "--foveate", "0.35", "--tint", "--msaa", "1"];
 
 /// The viewer, resized and with the mouse moved, shows exactly what it says it presented, and
@@ -203,37 +222,14 @@ fn the_window_shows_the_offscreen_frame_at_the_mouse_gaze() {
         "the window shows what the viewer presented"
     );
 
-    let reference = dir.join("offscreen.png");
-    let mut render = vec!["--validation", "render"];
-    render.extend(FRAME);
-    render.extend(["--gaze", "0.5,0.5", "--frames", "1", "--out"]);
-    render.push(reference.to_str().unwrap());
-    let rendered = Command::new(env!("CARGO_BIN_EXE_foveate"))
-        .args(&render)
-        .output()
-        .unwrap();
-    assert!(
-        rendered.status.success(),
-        "{}",
-        String::from_utf8_lossy(&rendered.stderr)
-    );
-    let offscreen = image::open(&reference).unwrap().into_rgba8();
+    let offscreen = render_offscreen(&dir.join("offscreen.png"), &["--gaze", "0.5,0.5"]);
     assert_eq!(
         max_difference(&grabbed, &offscreen),
         0,
         "the window shows the offscreen frame at the gaze under the mouse"
     );
     // The gaze reached the frame: the same frame at the centre gaze differs.
-    let centre = dir.join("centre.png");
-    let mut render = vec!["--validation", "render"];
-    render.extend(FRAME);
-    render.extend(["--frames", "1", "--out", centre.to_str().unwrap()]);
-    assert!(Command::new(env!("CARGO_BIN_EXE_foveate"))
-        .args(&render)
-        .status()
-        .unwrap()
-        .success());
-    let centred = image::open(&centre).unwrap().into_rgba8();
+    let centred = render_offscreen(&dir.join("centre.png"), &[]);
     assert!(
         max_difference(&grabbed, &centred) > 50,
         "the mouse moved the gaze"

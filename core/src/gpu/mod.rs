@@ -22,3 +22,4 @@ pub use swapchain::{BlitSource, Presented, Swapchain};
 
 pub(crate) use cache::{hash_word, name_word, Description, ObjectCache};
 pub(crate) use context::DeviceOwner;
+pub(crate) use submit::{transition_image, ImageState};

@@ -69,3 +69,40 @@ impl Gpu {
         }
     }
 }
+
+/// One side of an image layout transition: the stage, its accesses, and the layout.
+pub(crate) type ImageState = (vk::PipelineStageFlags, vk::AccessFlags, vk::ImageLayout);
+
+/// Records a transition of `range` of `image` from `src` to `dst` into `cmd`.
+///
+/// # Safety
+/// `cmd` is recording, and `image` outlives its execution.
+pub(crate) unsafe fn transition_image(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    range: vk::ImageSubresourceRange,
+    src: ImageState,
+    dst: ImageState,
+) {
+    let barrier = vk::ImageMemoryBarrier::default()
+        .old_layout(src.2)
+        .new_layout(dst.2)
+        .src_access_mask(src.1)
+        .dst_access_mask(dst.1)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image)
+        .subresource_range(range);
+    unsafe {
+        device.cmd_pipeline_barrier(
+            cmd,
+            src.0,
+            dst.0,
+            vk::DependencyFlags::empty(),
+            &[],
+            &[],
+            &[barrier],
+        )
+    };
+}

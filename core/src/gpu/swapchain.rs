@@ -9,7 +9,8 @@ use ash::vk;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
 use super::{
-    Buffer, CommandPool, DeviceOwner, Fence, Gpu, GpuError, MemoryLocation, Semaphore, VkResultExt,
+    transition_image, Buffer, CommandPool, DeviceOwner, Fence, Gpu, GpuError, MemoryLocation,
+    Semaphore, VkResultExt,
 };
 use crate::metrics::RgbaImage;
 
@@ -375,31 +376,19 @@ impl Swapchain {
             base_array_layer: 0,
             layer_count: 1,
         };
+        // SAFETY: recorded into this swapchain's command buffer, between begin and end.
         let barrier = |from: vk::ImageLayout,
                        to: vk::ImageLayout,
                        src: (vk::PipelineStageFlags, vk::AccessFlags),
-                       dst: (vk::PipelineStageFlags, vk::AccessFlags)| {
-            let b = vk::ImageMemoryBarrier::default()
-                .old_layout(from)
-                .new_layout(to)
-                .src_access_mask(src.1)
-                .dst_access_mask(dst.1)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .image(image)
-                .subresource_range(range);
-            // SAFETY: recorded into this swapchain's command buffer, between begin and end.
-            unsafe {
-                device.cmd_pipeline_barrier(
-                    cmd,
-                    src.0,
-                    dst.0,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[],
-                    &[b],
-                )
-            };
+                       dst: (vk::PipelineStageFlags, vk::AccessFlags)| unsafe {
+            transition_image(
+                device,
+                cmd,
+                image,
+                range,
+                (src.0, src.1, from),
+                (dst.0, dst.1, to),
+            )
         };
         let transfer_write = (
             vk::PipelineStageFlags::TRANSFER,

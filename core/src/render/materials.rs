@@ -9,8 +9,8 @@ use rayon::prelude::*;
 
 use super::scene_buffers::upload;
 use crate::gpu::{
-    pod_bytes, Buffer, Gpu, GpuError, Image, ImageDesc, ImageView, MemoryLocation, Sampler,
-    VkResultExt,
+    pod_bytes, transition_image, Buffer, Gpu, GpuError, Image, ImageDesc, ImageState, ImageView,
+    MemoryLocation, Sampler, VkResultExt,
 };
 use crate::plan::FramePlan;
 use crate::scene::{textures::generate, MaterialTextures, Pattern, Scene, Surface, Texture};
@@ -217,34 +217,11 @@ fn upload_array(
         }
     }
     let range = image.range(0, image.layers);
-    // A layout transition of every level and layer, from `src` (stage, access, layout) to `dst`.
     let device = gpu.device();
-    let transition =
-        |cmd,
-         src: (vk::PipelineStageFlags, vk::AccessFlags, vk::ImageLayout),
-         dst: (vk::PipelineStageFlags, vk::AccessFlags, vk::ImageLayout)| {
-            let barrier = vk::ImageMemoryBarrier::default()
-                .old_layout(src.2)
-                .new_layout(dst.2)
-                .src_access_mask(src.1)
-                .dst_access_mask(dst.1)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .image(image.raw)
-                .subresource_range(range);
-            // SAFETY: recorded into one_shot's command buffer; the image outlives its wait.
-            unsafe {
-                device.cmd_pipeline_barrier(
-                    cmd,
-                    src.0,
-                    dst.0,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[],
-                    &[barrier],
-                )
-            };
-        };
+    // SAFETY: recorded into one_shot's command buffer; the image outlives its wait.
+    let transition = |cmd, src: ImageState, dst: ImageState| unsafe {
+        transition_image(device, cmd, image.raw, range, src, dst)
+    };
     let transfer_dst = (
         vk::PipelineStageFlags::TRANSFER,
         vk::AccessFlags::TRANSFER_WRITE,
