@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions, Presented, Swapchain};
-use foveate::metrics::RgbaImage;
+use foveate::metrics::{RgbaImage, Stats};
 use foveate::render::{FrameStats, Renderer};
 use foveate::scene::Scene;
 use glam::Vec2;
@@ -195,7 +195,7 @@ impl<'g> Viewer<'g> {
         Ok(self.frame.as_mut().expect("made above"))
     }
 
-    fn key(&mut self, key: char, event_loop: &ActiveEventLoop) {
+    fn key(&mut self, key: char) {
         let before = self.settings.clone();
         match self.settings.key(key) {
             KeyAction::Quit => self.finishing = true,
@@ -216,7 +216,6 @@ impl<'g> Viewer<'g> {
                 }
             }
         }
-        let _ = event_loop;
     }
 
     fn draw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
@@ -238,7 +237,7 @@ impl<'g> Viewer<'g> {
             self.second
                 .frame_ms
                 .push(started.elapsed().as_secs_f64() * 1e3);
-            self.second.gpu_pass_ms.push(stats.gpu_pass_ms.clone());
+            self.second.gpu_pass_ms.push(stats.gpu_pass_ms);
         }
         if self.second.start.elapsed() >= Duration::from_secs(1) {
             self.report()?;
@@ -250,8 +249,8 @@ impl<'g> Viewer<'g> {
         Ok(())
     }
 
-    /// Once a second: median frame time, GPU time per pass and a counting frame's fragments,
-    /// in the title bar and on stdout.
+    /// Once a second: median frame time, median GPU time per pass (summed: GPU) and a counting
+    /// frame's fragments, in the title bar and on stdout.
     fn report(&mut self) -> Result<()> {
         let second = std::mem::replace(&mut self.second, Second::new());
         if second.frame_ms.is_empty() {
@@ -264,10 +263,20 @@ impl<'g> Viewer<'g> {
         let counted: FrameStats = frame.counting.render_frame(frame.scene.head)?;
         let fragments: u64 =
             counted.fragments.iter().sum::<u64>() + counted.far_fragments.unwrap_or(0);
-        let mut frame_ms = second.frame_ms.clone();
-        frame_ms.sort_by(f64::total_cmp);
-        let median = frame_ms[frame_ms.len() / 2];
-        let passes = second.gpu_pass_ms.last().cloned().unwrap_or_default();
+        let median = |v: &[f64]| Stats::of(v).map_or(0.0, |s| s.median);
+        let frame_ms = median(&second.frame_ms);
+        // Each pass's median over the second's frames (a frame planned without timestamps
+        // has none).
+        let passes: Vec<f64> = (0..frame.pass_names.len())
+            .map(|i| {
+                let times: Vec<f64> = second
+                    .gpu_pass_ms
+                    .iter()
+                    .filter_map(|frame| frame.get(i).copied())
+                    .collect();
+                median(&times)
+            })
+            .collect();
         let gpu: f64 = passes.iter().sum();
         let per_pass = frame
             .pass_names
@@ -277,7 +286,7 @@ impl<'g> Viewer<'g> {
             .collect::<Vec<_>>()
             .join(", ");
         let line = format!(
-            "{median:.1} ms/frame ({} frames), GPU {gpu:.1} ms [{per_pass}], {:.2} M scene fragments — {summary}",
+            "{frame_ms:.1} ms/frame ({} frames), GPU {gpu:.1} ms [{per_pass}], {:.2} M scene fragments — {summary}",
             second.frame_ms.len(),
             fragments as f64 / 1e6
         );
@@ -355,23 +364,20 @@ impl ApplicationHandler for Viewer<'_> {
             }
             WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
                 match event.logical_key {
-                    Key::Named(NamedKey::Escape) => self.key('q', event_loop),
+                    Key::Named(NamedKey::Escape) => self.key('q'),
                     Key::Character(s) => {
                         if let Some(c) = s.chars().next() {
-                            self.key(c.to_ascii_lowercase(), event_loop);
+                            self.key(c.to_ascii_lowercase());
                         }
                     }
                     _ => {}
                 }
             }
             WindowEvent::RedrawRequested => {
-                let minimised =
-                    self.window
-                        .as_ref()
-                        .is_some_and(|w| w.is_minimized() == Some(true))
-                        || self.window.as_ref().is_some_and(|w| {
-                            w.inner_size().width == 0 || w.inner_size().height == 0
-                        });
+                let minimised = self.window.as_ref().is_some_and(|w| {
+                    let size = w.inner_size();
+                    w.is_minimized() == Some(true) || size.width == 0 || size.height == 0
+                });
                 if !minimised {
                     if let Err(e) = self.draw(event_loop) {
                         self.fail(event_loop, e);

@@ -19,6 +19,7 @@ use glam::{Mat4, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
+use super::textures::unorm8;
 use super::TEXTURE_SIZE;
 use super::{DrawBatch, Instance, Material, MaterialTextures, Mesh, Scene, Surface, Vertex};
 use crate::cull::Aabb;
@@ -68,8 +69,9 @@ pub fn gltf_from_slice(bytes: &[u8], base: Option<&Path>) -> Result<Scene, Strin
         ));
     }
     dangling_accessors(unchecked.as_json())?;
-    let gltf::Gltf { document, blob } =
-        gltf::Gltf::from_slice(bytes).map_err(|e| format!("not valid glTF 2.0: {e}"))?;
+    let gltf::Gltf { document, blob } = unchecked;
+    let document = gltf::Document::from_json(document.into_json())
+        .map_err(|e| format!("not valid glTF 2.0: {e}"))?;
     let buffers = document
         .buffers()
         .map(|b| load_buffer(&b, base, blob.as_deref()))
@@ -664,10 +666,6 @@ impl Loader<'_> {
         self.images.insert(image.index(), texels.clone());
         Ok(texels)
     }
-}
-
-fn unorm8(v: f32) -> u8 {
-    (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 
 fn finite_or_zero<const N: usize>(v: [f32; N]) -> [f32; N] {

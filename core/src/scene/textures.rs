@@ -41,11 +41,17 @@ impl MaterialTextures {
                 ));
             }
         }
-        Ok(MaterialTextures {
+        Ok(Self::with_mips(base, normal, orm))
+    }
+
+    /// `new` for images known to be the right size.
+    fn with_mips(base: Vec<u8>, normal: Vec<u8>, orm: Vec<u8>) -> Self {
+        let n = TEXTURE_SIZE;
+        MaterialTextures {
             base: with_mips(n, base, Channel::Srgb),
             normal: with_mips(n, normal, Channel::Normal),
             orm: with_mips(n, orm, Channel::Linear),
-        })
+        }
     }
 }
 
@@ -86,11 +92,7 @@ pub fn generate(pattern: Pattern) -> MaterialTextures {
             orm.extend([s.occlusion, s.roughness, s.metallic, 1.0].map(unorm8));
         }
     }
-    MaterialTextures {
-        base: with_mips(n, base, Channel::Srgb),
-        normal: with_mips(n, normal, Channel::Normal),
-        orm: with_mips(n, orm, Channel::Linear),
-    }
+    MaterialTextures::with_mips(base, normal, orm)
 }
 
 fn sample(pattern: Pattern, uv: Vec2) -> Sample {
@@ -241,7 +243,7 @@ fn fbm(uv: Vec2, period: u32, octaves: u32, seed: u32) -> f32 {
     sum / total
 }
 
-fn unorm8(v: f32) -> u8 {
+pub(super) fn unorm8(v: f32) -> u8 {
     (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 
