@@ -78,7 +78,7 @@ fi
 step "building foveate-android with $("${cargo_cmd[@]}" --version) (${build_std[*]:-prebuilt std})"
 linker_args="-Clink-arg=--target=$target$api -Clink-arg=-fuse-ld=lld -Clink-arg=--sysroot=$sysroot"
 CARGO_TARGET_AARCH64_LINUX_ANDROID_LINKER=$clang \
-CARGO_TARGET_AARCH64_LINUX_ANDROID_RUSTFLAGS="-Cpanic=abort $linker_args" \
+CARGO_TARGET_AARCH64_LINUX_ANDROID_RUSTFLAGS="-Cpanic=abort -Dwarnings $linker_args" \
     "${cargo_cmd[@]}" build -p foveate-android --profile "$profile" --target $target \
     "${build_std[@]}" --target-dir "$out/cargo"
 [ "$profile" = dev ] && profile_dir=debug || profile_dir=$profile

@@ -1,41 +1,101 @@
-//! Not compiled on the host (no Android toolchain here): keep it a thin layer over host-tested
-//! core calls.
+//! Android only, and thin: the logger, the GPU for Android's display, and `android-activity`'s
+//! events turned into the host-tested [`App`]'s. Built by `scripts/apk.sh`; never run here.
 
-use android_activity::{AndroidApp, MainEvent, PollEvent};
+use std::time::Duration;
+
+use android_activity::input::{InputEvent, MotionAction};
+use android_activity::{AndroidApp, InputStatus, MainEvent, PollEvent};
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::plan::RenderConfig;
-use foveate::render::Renderer;
-use foveate::scene::default_scene;
+use ndk::native_window::NativeWindow;
+use raw_window_handle::{AndroidDisplayHandle, RawDisplayHandle};
+
+use crate::app::{App, DemoError, Event};
+use crate::vulkan::{demo_config, demo_scene, VulkanBackend};
 
 #[no_mangle]
-fn android_main(app: AndroidApp) {
+fn android_main(android: AndroidApp) {
     android_logger::init_once(
-        android_logger::Config::default().with_max_level(log::LevelFilter::Info),
+        android_logger::Config::default()
+            .with_max_level(log::LevelFilter::Info)
+            .with_tag("foveate"),
     );
-    if let Err(e) = run(&app) {
+    // Panics abort: say why in the log first (stderr goes nowhere on Android).
+    std::panic::set_hook(Box::new(|info| log::error!("{info}")));
+    if let Err(e) = run(&android) {
         log::error!("foveate: {e}");
     }
 }
 
-fn run(app: &AndroidApp) -> Result<(), Box<dyn std::error::Error>> {
-    let gpu = Gpu::new(&GpuOptions::default())?;
-    let scene = default_scene();
-    let config = RenderConfig {
-        msaa: 4,
-        ..RenderConfig::default()
-    };
-    let plan = foveate::plan(&scene, &config, gpu.caps())?;
-    log::info!("{plan}");
-    let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
-    let mut quit = false;
-    while !quit {
-        app.poll_events(Some(std::time::Duration::ZERO), |event| {
-            if let PollEvent::Main(MainEvent::Destroy) = event {
-                quit = true;
+fn run(android: &AndroidApp) -> Result<(), DemoError> {
+    let display = RawDisplayHandle::Android(AndroidDisplayHandle::new());
+    let gpu = Gpu::new(&GpuOptions {
+        display: Some(display),
+        pipeline_cache: android
+            .internal_data_path()
+            .map(|p| p.join("pipeline-cache.bin")),
+        ..GpuOptions::default()
+    })?;
+    log::info!("{}", gpu.info().name);
+    let backend = VulkanBackend::<NativeWindow>::new(&gpu, display, demo_scene(), demo_config())?;
+    let mut app = App::new(backend);
+    loop {
+        let timeout = app.wants_frames().then_some(Duration::ZERO);
+        let mut handled: Result<(), DemoError> = Ok(());
+        // Handled inside the callback: a terminated window goes back to Android when it returns.
+        android.poll_events(timeout, |event| {
+            if let PollEvent::Main(event) = event {
+                if let (Some(event), Ok(())) = (translate(android, event), &handled) {
+                    handled = app.handle(event);
+                }
             }
         });
-        let stats = renderer.render_frame(scene.head)?;
-        log::info!("frame {:.2} ms, GPU {:?} ms", stats.frame_ms, stats.gpu_ms);
+        handled?;
+        for (x, y) in touches(android) {
+            app.handle(Event::Touch(x, y))?;
+        }
+        if !app.frame()? {
+            break;
+        }
     }
+    drop(app);
+    gpu.save_pipeline_cache()?;
     Ok(())
+}
+
+fn translate(android: &AndroidApp, event: MainEvent) -> Option<Event<NativeWindow>> {
+    let size = |w: &NativeWindow| (w.width().max(0) as u32, w.height().max(0) as u32);
+    Some(match event {
+        MainEvent::Resume { .. } => Event::Resume,
+        MainEvent::Pause => Event::Pause,
+        MainEvent::InitWindow { .. } => {
+            let window = android.native_window()?;
+            let size = size(&window);
+            Event::WindowCreated(window, size)
+        }
+        MainEvent::WindowResized { .. } | MainEvent::ConfigChanged { .. } => {
+            Event::WindowResized(size(&android.native_window()?))
+        }
+        MainEvent::TerminateWindow { .. } => Event::WindowDestroyed,
+        MainEvent::LowMemory => Event::LowMemory,
+        MainEvent::Destroy => Event::Destroy,
+        _ => return None,
+    })
+}
+
+/// Where a finger went down or moved since the last turn, in window pixels.
+fn touches(android: &AndroidApp) -> Vec<(f64, f64)> {
+    let mut touches = Vec::new();
+    if let Ok(mut events) = android.input_events_iter() {
+        while events.next(|event| match event {
+            InputEvent::MotionEvent(m)
+                if matches!(m.action(), MotionAction::Down | MotionAction::Move) =>
+            {
+                let p = m.pointer_at_index(0);
+                touches.push((p.x() as f64, p.y() as f64));
+                InputStatus::Handled
+            }
+            _ => InputStatus::Unhandled,
+        }) {}
+    }
+    touches
 }

@@ -4,12 +4,12 @@
 //! GPU times and fragments once a second in the title bar and on stdout.
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions, Presented, Swapchain};
-use foveate::metrics::{RgbaImage, Stats};
+use foveate::metrics::{PerSecond, RgbaImage};
 use foveate::render::{FrameStats, Renderer};
 use foveate::scene::Scene;
 use glam::Vec2;
@@ -88,7 +88,7 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
         frame: None,
         gaze: Vec2::ZERO,
         presented: 0,
-        second: Second::new(),
+        second: PerSecond::default(),
         capture: None,
         finishing: false,
         error: None,
@@ -133,23 +133,6 @@ struct Frame<'g> {
     scene: Scene,
 }
 
-/// Frame times over the current second.
-struct Second {
-    start: Instant,
-    frame_ms: Vec<f64>,
-    gpu_pass_ms: Vec<Vec<f64>>,
-}
-
-impl Second {
-    fn new() -> Self {
-        Second {
-            start: Instant::now(),
-            frame_ms: Vec::new(),
-            gpu_pass_ms: Vec::new(),
-        }
-    }
-}
-
 struct Viewer<'g> {
     gpu: &'g Gpu,
     /// The scene as loaded; each shading is derived from it.
@@ -164,7 +147,7 @@ struct Viewer<'g> {
     window: Option<Window>,
     gaze: Vec2,
     presented: u64,
-    second: Second,
+    second: PerSecond,
     capture: Option<RgbaImage>,
     /// Quitting: one more frame is presented (and captured with --save), then the loop ends.
     finishing: bool,
@@ -210,7 +193,7 @@ impl<'g> Viewer<'g> {
                 } else {
                     println!("{what}");
                 }
-                self.second = Second::new();
+                self.second = PerSecond::default();
                 if let Some(w) = &self.window {
                     w.request_redraw();
                 }
@@ -229,17 +212,19 @@ impl<'g> Viewer<'g> {
         let stats = frame.timed.render_frame(frame.scene.head)?;
         let sources = frame.timed.present_sources()?;
         let swapchain = self.swapchain.as_mut().expect("a window has a swapchain");
-        if let Presented::Shown(image) = swapchain.present(gpu, &sources, capture)? {
-            self.presented += 1;
-            if image.is_some() {
-                self.capture = image;
+        match swapchain.present(gpu, &sources, capture)? {
+            Presented::Shown(image) => {
+                self.presented += 1;
+                if image.is_some() {
+                    self.capture = image;
+                }
+                self.second
+                    .push(started.elapsed().as_secs_f64() * 1e3, stats.gpu_pass_ms);
             }
-            self.second
-                .frame_ms
-                .push(started.elapsed().as_secs_f64() * 1e3);
-            self.second.gpu_pass_ms.push(stats.gpu_pass_ms);
+            Presented::Skipped => {}
+            Presented::Lost => anyhow::bail!("the window's surface is gone"),
         }
-        if self.second.start.elapsed() >= Duration::from_secs(1) {
+        if self.second.due() {
             self.report()?;
         }
         let done = self.frames_wanted.is_some_and(|n| self.presented >= n);
@@ -252,10 +237,9 @@ impl<'g> Viewer<'g> {
     /// Once a second: median frame time, median GPU time per pass (summed: GPU) and a counting
     /// frame's fragments, in the title bar and on stdout.
     fn report(&mut self) -> Result<()> {
-        let second = std::mem::replace(&mut self.second, Second::new());
-        if second.frame_ms.is_empty() {
+        let Some(second) = self.second.take() else {
             return Ok(());
-        }
+        };
         let gaze = [self.gaze; 2];
         let summary = self.settings.summary();
         let frame = self.frame()?;
@@ -263,31 +247,9 @@ impl<'g> Viewer<'g> {
         let counted: FrameStats = frame.counting.render_frame(frame.scene.head)?;
         let fragments: u64 =
             counted.fragments.iter().sum::<u64>() + counted.far_fragments.unwrap_or(0);
-        let median = |v: &[f64]| Stats::of(v).map_or(0.0, |s| s.median);
-        let frame_ms = median(&second.frame_ms);
-        // Each pass's median over the second's frames (a frame planned without timestamps
-        // has none).
-        let passes: Vec<f64> = (0..frame.pass_names.len())
-            .map(|i| {
-                let times: Vec<f64> = second
-                    .gpu_pass_ms
-                    .iter()
-                    .filter_map(|frame| frame.get(i).copied())
-                    .collect();
-                median(&times)
-            })
-            .collect();
-        let gpu: f64 = passes.iter().sum();
-        let per_pass = frame
-            .pass_names
-            .iter()
-            .zip(&passes)
-            .map(|(n, ms)| format!("{n} {ms:.1}"))
-            .collect::<Vec<_>>()
-            .join(", ");
         let line = format!(
-            "{frame_ms:.1} ms/frame ({} frames), GPU {gpu:.1} ms [{per_pass}], {:.2} M scene fragments — {summary}",
-            second.frame_ms.len(),
+            "{}, {:.2} M scene fragments — {summary}",
+            second.describe(&frame.pass_names),
             fragments as f64 / 1e6
         );
         println!("view: {line}");

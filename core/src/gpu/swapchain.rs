@@ -33,6 +33,9 @@ pub enum Presented {
     /// Nothing shown: the window is minimised, or the swapchain was out of date and has been
     /// remade (present again).
     Skipped,
+    /// Nothing shown: the window is gone (`VK_ERROR_SURFACE_LOST_KHR`; Android takes an app's
+    /// window away when it likes). Drop this swapchain; a new window needs a new one.
+    Lost,
 }
 
 /// A window's surface and swapchain, with what one present needs.
@@ -255,6 +258,24 @@ impl Swapchain {
     /// Shows `sources` side by side, scaled to fit the window and centred on black; `capture`
     /// reads the presented image back.
     pub fn present(
+        &mut self,
+        gpu: &Gpu,
+        sources: &[BlitSource],
+        capture: bool,
+    ) -> Result<Presented, GpuError> {
+        match self.try_present(gpu, sources, capture) {
+            Err(GpuError::Vk {
+                call,
+                result: vk::Result::ERROR_SURFACE_LOST_KHR,
+            }) => {
+                log::info!("swapchain: {call} says the window is gone");
+                Ok(Presented::Lost)
+            }
+            presented => presented,
+        }
+    }
+
+    fn try_present(
         &mut self,
         gpu: &Gpu,
         sources: &[BlitSource],

@@ -6,6 +6,7 @@ pub mod display;
 #[cfg(feature = "flip")]
 pub mod flip;
 mod image;
+mod per_second;
 #[cfg(feature = "flip")]
 pub mod perceptual;
 mod summary;
@@ -14,5 +15,6 @@ mod timing;
 
 pub use display::{EyePixels, Region};
 pub use image::{ImageError, RgbaImage};
+pub use per_second::{PerSecond, SecondSummary};
 pub use summary::ErrorSummary;
 pub use timing::Stats;
