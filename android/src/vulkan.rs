@@ -24,6 +24,7 @@ pub fn demo_config() -> RenderConfig {
             blend_band_px: -1.0,
             ..FoveationConfig::default()
         }),
+        views: 4,
         hmd_mask: true,
         output: OutputStage::Lens,
         ..RenderConfig::default()

@@ -3,67 +3,14 @@
 //! image the viewer says it presented and with `foveate render` of the same frame offscreen.
 //! Validation is on throughout (the viewer fails on any message).
 
-use std::io::{BufRead, BufReader, Read};
+use std::io::Read;
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::thread::sleep;
 use std::time::{Duration, Instant};
 
+use foveate_tests::Xvfb;
 use image::RgbaImage;
-
-/// A virtual X server on a free display, killed when dropped.
-struct Xvfb {
-    child: Child,
-    display: String,
-}
-
-impl Xvfb {
-    fn start() -> Xvfb {
-        let mut child = Command::new("Xvfb")
-            .args([
-                "-displayfd",
-                "1",
-                "-screen",
-                "0",
-                "640x480x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("Xvfb (apt xvfb; scripts/setup.sh installs it)");
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().unwrap())
-            .read_line(&mut line)
-            .unwrap();
-        let display = format!(":{}", line.trim());
-        Xvfb { child, display }
-    }
-
-    fn run(&self, program: &str, args: &[&str]) -> String {
-        let out = Command::new("timeout")
-            .arg("60")
-            .arg(program)
-            .args(args)
-            .env("DISPLAY", &self.display)
-            .output()
-            .unwrap_or_else(|e| panic!("{program}: {e} (apt xdotool x11-apps)"));
-        assert!(
-            out.status.success(),
-            "{program} {args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stdout).into_owned()
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
 
 /// An `xwd` dump (X11 window dump, ZPixmap, 24/32 bits per pixel) as RGBA.
 fn parse_xwd(bytes: &[u8]) -> RgbaImage {

@@ -1,6 +1,8 @@
 //! Helpers for the end-to-end tests: a validated GPU, one-call rendering, golden images.
 
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
 
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::RgbaImage;
@@ -10,11 +12,16 @@ use foveate::scene::Scene;
 
 /// The test GPU: validation always on (`FOVEATE_DEVICE` may pick the device).
 pub fn gpu() -> Gpu {
+    gpu_with(None)
+}
+
+/// The test GPU, able to present to windows of `display` when given.
+pub fn gpu_with(display: Option<raw_window_handle::RawDisplayHandle>) -> Gpu {
     let options = GpuOptions {
         validation: true,
         device: std::env::var("FOVEATE_DEVICE").ok(),
         pipeline_cache: None,
-        display: None,
+        display,
     };
     Gpu::new(&options).expect("a Vulkan device with VK_LAYER_KHRONOS_validation (see README)")
 }
@@ -108,4 +115,59 @@ pub fn centroid_of_non_background(
         }
     }
     (n > 0).then(|| (sx / n as f64, sy / n as f64))
+}
+
+/// A virtual X server on a free display, killed when dropped.
+pub struct Xvfb {
+    child: Child,
+    pub display: String,
+}
+
+impl Xvfb {
+    pub fn start() -> Xvfb {
+        let mut child = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "640x480x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb (apt xvfb; scripts/setup.sh installs it)");
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        let display = format!(":{}", line.trim());
+        Xvfb { child, display }
+    }
+
+    /// Runs `program` against this display (60 s at most), its stdout; fails the test if it fails.
+    pub fn run(&self, program: &str, args: &[&str]) -> String {
+        let out = Command::new("timeout")
+            .arg("60")
+            .arg(program)
+            .args(args)
+            .env("DISPLAY", &self.display)
+            .output()
+            .unwrap_or_else(|e| panic!("{program}: {e} (apt xdotool x11-apps)"));
+        assert!(
+            out.status.success(),
+            "{program} {args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
 }
