@@ -44,6 +44,12 @@ fn run(android: &AndroidApp) -> Result<(), DemoError> {
         // Handled inside the callback: a terminated window goes back to Android when it returns.
         android.poll_events(timeout, |event| {
             if let PollEvent::Main(event) = event {
+                // Android may end a paused app without a word: keep the compiled pipelines now.
+                if matches!(event, MainEvent::Pause) {
+                    if let Err(e) = gpu.save_pipeline_cache() {
+                        log::warn!("pipeline cache not saved: {e}");
+                    }
+                }
                 if let (Some(event), Ok(())) = (translate(android, event), &handled) {
                     handled = app.handle(event);
                 }
