@@ -10,7 +10,7 @@ use foveate::gpu::{Gpu, Presented, Swapchain};
 use foveate::plan::OutputStage;
 use foveate::render::Renderer;
 use foveate::scene::{default_scene, Scene, Shading};
-use foveate::RenderConfig;
+use foveate::{FramePlan, RenderConfig};
 use glam::Vec2;
 use raw_window_handle::{HasWindowHandle, RawDisplayHandle};
 
@@ -41,16 +41,15 @@ pub struct VulkanBackend<'g, W> {
     gpu: &'g Gpu,
     display: RawDisplayHandle,
     scene: Scene,
-    config: RenderConfig,
+    plan: FramePlan,
     renderer: Option<Renderer<'g>>,
-    pass_names: Vec<&'static str>,
     swapchain: Option<Swapchain>,
     window: PhantomData<W>,
 }
 
 impl<'g, W> VulkanBackend<'g, W> {
-    /// A backend for `config`; the plan is checked now, so a refused configuration fails here
-    /// rather than at the first frame. `gpu` must have been opened for `display`.
+    /// A backend for `config`, planned now (a refused configuration fails here rather than at
+    /// the first frame); the renderers are made from that plan when a frame needs them. `gpu` must have been opened for `display`.
     pub fn new(
         gpu: &'g Gpu,
         display: RawDisplayHandle,
@@ -62,9 +61,8 @@ impl<'g, W> VulkanBackend<'g, W> {
         Ok(VulkanBackend {
             gpu,
             display,
-            pass_names: plan.passes.iter().map(|p| p.name).collect(),
             scene,
-            config,
+            plan,
             renderer: None,
             swapchain: None,
             window: PhantomData,
@@ -85,8 +83,7 @@ impl<'g, W> VulkanBackend<'g, W> {
 
     fn renderer(&mut self) -> Result<&mut Renderer<'g>, DemoError> {
         if self.renderer.is_none() {
-            let plan = foveate::plan(&self.scene, &self.config, self.gpu.caps())?;
-            self.renderer = Some(Renderer::new(self.gpu, &plan, &self.scene)?);
+            self.renderer = Some(Renderer::new(self.gpu, &self.plan, &self.scene)?);
         }
         Ok(self.renderer.as_mut().expect("made above"))
     }
@@ -143,6 +140,6 @@ impl<W: HasWindowHandle> Backend for VulkanBackend<'_, W> {
     }
 
     fn pass_names(&self) -> Vec<&'static str> {
-        self.pass_names.clone()
+        self.plan.passes.iter().map(|p| p.name).collect()
     }
 }
