@@ -101,17 +101,19 @@ mod tests {
     fn medians_per_pass_over_the_frames_that_timed_it() {
         let mut s = PerSecond::default();
         assert_eq!(s.take(), None, "no frame, no summary");
+        // Medians differ from means here, and the last frame timed only its first pass.
         s.push(10.0, vec![4.0, 5.0]);
-        s.push(30.0, vec![6.0, 7.0]);
-        s.push(20.0, vec![5.0]);
+        s.push(50.0, vec![9.0, 7.0]);
+        s.push(20.0, vec![5.0, 30.0]);
+        s.push(30.0, vec![6.0]);
         let summary = s.take().expect("frames");
-        assert_eq!(summary.frames, 3);
-        assert_eq!(summary.frame_ms, 20.0);
-        assert_eq!(summary.gpu_pass_ms, vec![5.0, 6.0]);
-        assert_eq!(summary.gpu_ms(), 11.0);
+        assert_eq!(summary.frames, 4);
+        assert_eq!(summary.frame_ms, 25.0);
+        assert_eq!(summary.gpu_pass_ms, vec![5.5, 7.0]);
+        assert_eq!(summary.gpu_ms(), 12.5);
         assert_eq!(
             summary.describe(&["periphery", "fovea"]),
-            "20.0 ms/frame (3 frames), GPU 11.0 ms [periphery 5.0, fovea 6.0]"
+            "25.0 ms/frame (4 frames), GPU 12.5 ms [periphery 5.5, fovea 7.0]"
         );
         assert_eq!(s.take(), None, "taking starts a new second");
         assert!(!s.due());
