@@ -115,6 +115,20 @@ fn devices() -> Result<()> {
             yes(d.fragment_shading_rate),
             yes(d.lazily_allocated_memory)
         );
+        let applying: Vec<_> = d
+            .quirks
+            .listing()
+            .into_iter()
+            .filter(|(_, applies, _)| *applies)
+            .collect();
+        if applying.is_empty() {
+            println!("    driver quirks: none known");
+        } else {
+            println!("    driver quirks (and what foveate does about them):");
+            for (name, _, workaround) in applying {
+                println!("      {name}: {workaround}");
+            }
+        }
         if let Some(why) = d.unusable {
             println!("    unusable by foveate: {why}");
         }

@@ -49,14 +49,14 @@ pub fn print_fragments(counts: &FrameStats, view_pixels: u64, pass_names: &[&str
             }
         );
     }
-    if !counts.pass_primitives.is_empty() {
+    if !counts.pass_statistics.is_empty() {
         println!(
-            "  primitives per pass (pipeline statistics, summed over views; lavapipe counts each view of a multiview pass):"
+            "  per pass (pipeline statistics, summed over views; lavapipe counts each view of a multiview pass):"
         );
-        for (name, p) in pass_names.iter().zip(&counts.pass_primitives) {
+        for (name, p) in pass_names.iter().zip(&counts.pass_statistics) {
             println!(
-                "    {name}: {} assembled, {} clipped in, {} rasterised",
-                p.assembled, p.clipped_in, p.rasterised
+                "    {name}: {} primitives assembled, {} clipped in, {} rasterised; {} fragment shader invocations",
+                p.assembled, p.clipped_in, p.rasterised, p.fragment_invocations
             );
         }
     }

@@ -151,8 +151,8 @@ pub fn measure(
                 passes,
                 scene_fragments: counts.scene_fragments(),
                 total_fragments: counts.total_fragments(),
-                primitives: (!counts.pass_primitives.is_empty())
-                    .then(|| counts.pass_primitives.iter().map(|p| p.rasterised).sum()),
+                primitives: (!counts.pass_statistics.is_empty())
+                    .then(|| counts.pass_statistics.iter().map(|p| p.rasterised).sum()),
             });
             bar.inc(1);
         }

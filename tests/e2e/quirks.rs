@@ -1,7 +1,9 @@
+use ash::vk;
+use foveate::gpu::{Gpu, Image, ImageDesc};
 use foveate::plan::{RenderConfig, Resolution, StereoMode};
 use foveate::scene::{ground_quad, DrawBatch, Instance, Scene};
 use foveate::view::look_at_head;
-use foveate_tests::{gpu, render_plan};
+use foveate_tests::{assert_validation_clean, gpu, render_plan};
 use glam::{Mat4, Quat, Vec3};
 
 /// A wall in front of the viewer, wider than the view: every triangle crosses the viewport's
@@ -123,5 +125,269 @@ fn layered_two_pass_and_the_resolve_quirk() {
             "{}: the right eye's resolve lands elsewhere; add the quirk",
             gpu.info().driver
         );
+    }
+}
+
+/// What one query recorded *outside* a render pass, right after a multiview pass of `views`
+/// views, writes: how many consecutive slots of its pool become available. The spec gives such
+/// a query one slot (only a query inside a multiview pass spans the views); lavapipe from Mesa
+/// 23 on keeps the ended pass's view mask and writes one slot per view, past the end of a pool
+/// sized by the spec — the crash of issue 28. Raw Vulkan, nothing of foveate's renderer, so
+/// this is the driver's behaviour alone: the pool has spare slots, so the extra writes land
+/// inside it and can be counted.
+fn slots_written_after_multiview(gpu: &Gpu, views: u32, query: vk::QueryType) -> u32 {
+    const SLOTS: u32 = 8;
+    let device = gpu.device();
+    let image = Image::new(
+        gpu,
+        &ImageDesc {
+            name: "multiview probe",
+            format: vk::Format::R8G8B8A8_UNORM,
+            width: 4,
+            height: 4,
+            layers: views,
+            samples: 1,
+            mip_levels: 1,
+            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT,
+        },
+    )
+    .unwrap();
+    let view = image.view(0, views, true).unwrap();
+    let attachment = [vk::AttachmentDescription::default()
+        .format(vk::Format::R8G8B8A8_UNORM)
+        .samples(vk::SampleCountFlags::TYPE_1)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .initial_layout(vk::ImageLayout::UNDEFINED)
+        .final_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)];
+    let colour = [vk::AttachmentReference::default()
+        .attachment(0)
+        .layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)];
+    let subpass = [vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .color_attachments(&colour)];
+    let masks = [(1u32 << views) - 1];
+    let mut multiview = vk::RenderPassMultiviewCreateInfo::default()
+        .view_masks(&masks)
+        .correlation_masks(&masks);
+    let info = vk::RenderPassCreateInfo::default()
+        .attachments(&attachment)
+        .subpasses(&subpass)
+        .push_next(&mut multiview);
+    // SAFETY (this function): every handle is created here, used by one waited submission and
+    // destroyed before returning.
+    let render_pass = unsafe { device.create_render_pass(&info, None) }.unwrap();
+    let views_raw = [view.raw];
+    let fb_info = vk::FramebufferCreateInfo::default()
+        .render_pass(render_pass)
+        .attachments(&views_raw)
+        .width(4)
+        .height(4)
+        .layers(1);
+    let framebuffer = unsafe { device.create_framebuffer(&fb_info, None) }.unwrap();
+    let mut pool_info = vk::QueryPoolCreateInfo::default()
+        .query_type(query)
+        .query_count(SLOTS);
+    if query == vk::QueryType::PIPELINE_STATISTICS {
+        pool_info = pool_info
+            .pipeline_statistics(vk::QueryPipelineStatisticFlags::INPUT_ASSEMBLY_PRIMITIVES);
+    }
+    let pool = unsafe { device.create_query_pool(&pool_info, None) }.unwrap();
+    gpu.one_shot(|cmd| unsafe {
+        device.cmd_reset_query_pool(cmd, pool, 0, SLOTS);
+        let clear = [vk::ClearValue::default()];
+        let begin = vk::RenderPassBeginInfo::default()
+            .render_pass(render_pass)
+            .framebuffer(framebuffer)
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent: vk::Extent2D {
+                    width: 4,
+                    height: 4,
+                },
+            })
+            .clear_values(&clear);
+        device.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
+        device.cmd_end_render_pass(cmd);
+        // Slot 0, outside any render pass: one slot by the spec.
+        if query == vk::QueryType::TIMESTAMP {
+            device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, pool, 0);
+        } else {
+            device.cmd_begin_query(cmd, pool, 0, vk::QueryControlFlags::empty());
+            device.cmd_end_query(cmd, pool, 0);
+        }
+    })
+    .unwrap();
+    let available = (0..SLOTS)
+        .filter(|&slot| {
+            let mut result = [[0u64; 2]];
+            // NOT_READY (an unwritten slot) still fills the availability word.
+            let _ = unsafe {
+                device.get_query_pool_results(
+                    pool,
+                    slot,
+                    &mut result,
+                    vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WITH_AVAILABILITY,
+                )
+            };
+            result[0][1] != 0
+        })
+        .count() as u32;
+    unsafe {
+        device.destroy_query_pool(pool, None);
+        device.destroy_framebuffer(framebuffer, None);
+        device.destroy_render_pass(render_pass, None);
+    }
+    drop(view);
+    assert_validation_clean(gpu);
+    available
+}
+
+/// Issue 28's crash, reproduced without foveate's renderer and priced exactly: after a
+/// multiview pass, a timestamp or a pipeline-statistics query recorded outside any pass writes
+/// one slot on a driver without `queries_after_multiview_span_views`, one per view on one with
+/// it (lavapipe 25.0.7: a pool sized for one slot per query is overrun and the driver's worker
+/// thread segfaults). The quirk table must agree with what this driver does; mutation: the
+/// quirk keyed to the wrong Mesa versions fails it on one of the two CI drivers.
+#[test]
+fn queries_after_a_multiview_pass_write_what_the_quirk_says() {
+    let gpu = gpu();
+    let quirk = gpu.caps().quirks.queries_after_multiview_span_views;
+    for query in [vk::QueryType::TIMESTAMP, vk::QueryType::PIPELINE_STATISTICS] {
+        for views in [2, 4] {
+            let written = slots_written_after_multiview(&gpu, views, query);
+            let expected = if quirk { views } else { 1 };
+            assert_eq!(
+                written,
+                expected,
+                "{}: a {query:?} after a {views}-view pass wrote {written} slots (quirk {})",
+                gpu.info().driver,
+                if quirk { "on" } else { "off" }
+            );
+        }
+    }
+}
+
+/// `multiview_runs_views_serially` is measured, not assumed: a driver that replays a multiview
+/// pass per view assembles each primitive once per view (pipeline statistics), one that
+/// broadcasts assembles it once. Mutation: the quirk off for lavapipe fails it.
+#[test]
+fn multiview_replays_each_view_as_the_quirk_says() {
+    let gpu = gpu();
+    let scene = foveate::scene::default_scene();
+    let assembled = |stereo| {
+        let config = RenderConfig {
+            stereo,
+            msaa: 1,
+            resolution: Some(Resolution::square(32)),
+            count_fragments: true,
+            ..RenderConfig::default()
+        };
+        let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
+        let (_, stats) = render_plan(&gpu, &scene, &plan, 1);
+        stats.pass_statistics[0].assembled
+    };
+    // Two-pass: its first pass is the left eye's, every triangle once.
+    let (multiview, one_view) = (
+        assembled(StereoMode::Multiview),
+        assembled(StereoMode::TwoPass),
+    );
+    let expected = if gpu.caps().quirks.multiview_runs_views_serially {
+        2
+    } else {
+        1
+    };
+    assert_eq!(
+        multiview,
+        expected * one_view,
+        "{}: a 2-view pass assembled {multiview} primitives, one view {one_view}",
+        gpu.info().driver
+    );
+}
+
+/// `anisotropic_filtering_is_slow` is measured, not assumed: a lit atrium frame sampled 8×
+/// anisotropically against the same frame trilinear (medians of three after a warm-up, in one
+/// run). Lavapipe 22.3 takes about 20× as long at this size, 25.0 no longer; the bounds leave
+/// a wide margin for a busy machine. Mutation: the quirk's release bound moved fails it on
+/// one of the two CI drivers.
+#[test]
+fn anisotropic_filtering_costs_what_the_quirk_says() {
+    let gpu = gpu();
+    let atrium = foveate::scene::atrium_scene();
+    let config = RenderConfig {
+        msaa: 1,
+        resolution: Some(Resolution::square(48)),
+        ..RenderConfig::default()
+    };
+    let frame_ms = |slow| {
+        let mut caps = gpu.caps().clone();
+        caps.quirks.anisotropic_filtering_is_slow = slow;
+        let plan = foveate::plan(&atrium, &config, &caps).unwrap();
+        assert_eq!(plan.anisotropy.is_some(), !slow, "the plan reads the quirk");
+        let mut renderer = foveate::render::Renderer::new(&gpu, &plan, &atrium).unwrap();
+        let mut times: Vec<f64> = (0..4)
+            .map(|_| renderer.render_frame(atrium.head).unwrap().frame_ms)
+            .skip(1)
+            .collect();
+        times.sort_by(f64::total_cmp);
+        times[1]
+    };
+    let (trilinear, anisotropic) = (frame_ms(true), frame_ms(false));
+    assert_validation_clean(&gpu);
+    let ratio = anisotropic / trilinear;
+    let driver = &gpu.info().driver;
+    if gpu.caps().quirks.anisotropic_filtering_is_slow {
+        assert!(
+            ratio > 5.0,
+            "{driver}: anisotropic {anisotropic:.1} ms against trilinear {trilinear:.1} ms; drop the quirk"
+        );
+    } else {
+        assert!(
+            ratio < 2.5,
+            "{driver}: anisotropic {anisotropic:.1} ms against trilinear {trilinear:.1} ms; add the quirk"
+        );
+    }
+}
+
+/// The driver's `FRAGMENT_SHADER_INVOCATIONS` statistic, which counting frames report beside
+/// the exact atomic counts, never claims fewer invocations than the pixels the pass shaded
+/// (lavapipe 22.3 counts raster blocks: 5–6× on the atrium; 25.0 is exact at 1× MSAA and
+/// about 1.45× at 4×). Mutation: the statistic read from the wrong slot of the query (one of
+/// the primitive counts) fails it on the fill scene's full-view walls.
+#[test]
+fn fragment_invocation_statistic_never_undercounts_the_pixels_shaded() {
+    let gpu = gpu();
+    let runs = [
+        (foveate::scene::atrium_scene(), 1, StereoMode::Multiview),
+        (foveate::scene::atrium_scene(), 4, StereoMode::TwoPass),
+        (foveate::scene::fill_scene(), 1, StereoMode::Multiview),
+    ];
+    for (scene, msaa, stereo) in runs {
+        let config = RenderConfig {
+            stereo,
+            msaa,
+            resolution: Some(Resolution::square(96)),
+            count_fragments: true,
+            ..RenderConfig::default()
+        };
+        let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
+        let (_, stats) = render_plan(&gpu, &scene, &plan, 1);
+        for (pass, statistic) in plan.passes.iter().zip(&stats.pass_statistics) {
+            let shaded: u64 = stats
+                .steps
+                .iter()
+                .filter(|s| s.pass == pass.name)
+                .flat_map(|s| s.views)
+                .sum();
+            let ratio = statistic.fragment_invocations as f64 / shaded as f64;
+            eprintln!("{msaa}x {}: statistic / exact = {ratio:.3}", pass.name);
+            assert!(
+                shaded > 0 && statistic.fragment_invocations >= shaded,
+                "{}: {} counted {} invocations for {shaded} shaded pixels",
+                gpu.info().driver,
+                pass.name,
+                statistic.fragment_invocations
+            );
+        }
     }
 }

@@ -230,6 +230,8 @@ pub struct DeviceInfo {
     pub fragment_density_map: bool,
     pub fragment_shading_rate: bool,
     pub lazily_allocated_memory: bool,
+    /// What its driver gets wrong, from the driver's ID and version.
+    pub quirks: DriverQuirks,
     /// Why foveate cannot use it, if it cannot.
     pub unusable: Option<String>,
 }
@@ -333,9 +335,6 @@ impl Gpu {
             unsafe { vk_instance.get_physical_device_queue_family_properties(physical) };
         let timestamps = props.limits.timestamp_compute_and_graphics == vk::TRUE
             || family_props[queue_family as usize].timestamp_valid_bits > 0;
-        let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
-        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver_props);
-        unsafe { vk_instance.get_physical_device_properties2(physical, &mut props2) };
         let caps = DeviceCaps {
             device_name: chosen.info.name.clone(),
             max_multiview_views: chosen.info.max_multiview_views,
@@ -360,13 +359,13 @@ impl Gpu {
                 0.0
             },
             pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
-            quirks: DriverQuirks::for_driver_id(driver_props.driver_id.as_raw()),
+            quirks: chosen.info.quirks.clone(),
         };
         log::info!(
-            "device: {} ({:?}, driver {:?}); quirks: {:?}",
+            "device: {} ({:?}, driver {}); quirks: {:?}",
             chosen.info.name,
             props.device_type,
-            driver_props.driver_id,
+            chosen.info.driver,
             caps.quirks
         );
         let dev = Arc::new(DeviceOwner {
@@ -622,6 +621,7 @@ fn candidates(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError> {
             .driver_info_as_c_str()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
+        let driver_line = format!("{driver_name} {driver_info}").trim().to_string();
         let info = DeviceInfo {
             index,
             name,
@@ -634,7 +634,8 @@ fn candidates(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError> {
                 vk::api_version_minor(api),
                 vk::api_version_patch(api)
             ),
-            driver: format!("{driver_name} {driver_info}").trim().to_string(),
+            quirks: DriverQuirks::for_driver(driver.driver_id.as_raw(), &driver_info),
+            driver: driver_line,
             max_multiview_views: if multiview {
                 multiview_props.max_multiview_view_count
             } else {

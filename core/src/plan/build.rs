@@ -180,6 +180,7 @@ pub fn plan(
         buffers: Vec::new(),
         timestamp_queries: 0,
         statistics_queries: 0,
+        query_spare_slots: 0,
         counted: Vec::new(),
         draw_calls_estimate: 0,
         foveation,
@@ -207,6 +208,11 @@ pub fn plan(
         if caps.pipeline_statistics {
             plan.statistics_queries = plan.passes.len() as u32;
         }
+    }
+    let queries = plan.timestamp_queries + plan.statistics_queries;
+    if caps.quirks.queries_after_multiview_span_views && queries > 0 {
+        let most_views = plan.passes.iter().map(|p| p.view_mask.count_ones());
+        plan.query_spare_slots = most_views.max().unwrap_or(1).saturating_sub(1);
     }
     if !plan.cull_slots.is_empty() {
         // Near and far sets of one frame, each at most every instance.

@@ -338,6 +338,11 @@ pub struct FramePlan {
     /// Pipeline-statistics queries per frame, one around each pass: counting frames on a device
     /// that has them (0 otherwise; timed frames never carry them).
     pub statistics_queries: u32,
+    /// Slots each query pool has past the queries it is read for, where the driver writes a
+    /// query recorded after a multiview pass into one slot per view
+    /// ([`DriverQuirks::queries_after_multiview_span_views`](super::DriverQuirks)): the most
+    /// views of any pass, less one. 0 elsewhere, and when no query is made.
+    pub query_spare_slots: u32,
     /// Steps whose fragments a counting frame counts, in recording order; empty unless
     /// fragment counting is on.
     pub counted: Vec<CountedSlot>,
@@ -426,6 +431,25 @@ impl LensOutput {
 }
 
 impl FramePlan {
+    /// Slots of the timestamp query pool: the timestamps read, then the spare slots (0 when
+    /// timing is off).
+    pub fn timestamp_pool_slots(&self) -> u32 {
+        self.pool_slots(self.timestamp_queries)
+    }
+
+    /// Slots of the pipeline-statistics query pool (0 when no pass is counted that way).
+    pub fn statistics_pool_slots(&self) -> u32 {
+        self.pool_slots(self.statistics_queries)
+    }
+
+    fn pool_slots(&self, queries: u32) -> u32 {
+        if queries == 0 {
+            0
+        } else {
+            queries + self.query_spare_slots
+        }
+    }
+
     /// The per-view fragment counter, when fragment counting is on.
     pub fn fragment_counter(&self) -> Option<&BufferPlan> {
         self.buffers.iter().find(|b| b.name == FRAGMENT_COUNTER)

@@ -303,6 +303,29 @@ impl fmt::Display for FramePlan {
                 steps.join(", ")
             )?;
         }
+        if self.timestamp_queries + self.statistics_queries > 0 {
+            let mut pools = Vec::new();
+            if self.timestamp_queries > 0 {
+                pools.push(format!("{} timestamps", self.timestamp_queries));
+            }
+            if self.statistics_queries > 0 {
+                pools.push(format!("{} pipeline statistics", self.statistics_queries));
+            }
+            let spare = if self.query_spare_slots > 0 {
+                let slots = if self.query_spare_slots == 1 {
+                    "slot"
+                } else {
+                    "slots"
+                };
+                format!(
+                    ", each pool with {} spare {slots} (this driver writes a query after a multiview pass into one slot per view)",
+                    self.query_spare_slots
+                )
+            } else {
+                String::new()
+            };
+            writeln!(f, "queries per frame: {}{spare}", pools.join(", "))?;
+        }
         if !self.buffers.is_empty() {
             writeln!(f, "effect buffers:")?;
             for b in &self.buffers {

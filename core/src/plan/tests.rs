@@ -190,6 +190,48 @@ fn timed_plans_carry_no_counters_and_counting_plans_no_timestamps() {
     );
 }
 
+/// Where the driver writes a query after a multiview pass into one slot per view, every query
+/// pool gets the most views of any pass, less one, spare slots past its end (the frame's 4-view
+/// foveated pass: 3); elsewhere none, and none when no query is made. Mutation: spare slots
+/// counted from the last pass's views only (the output pass has two), fails it.
+#[test]
+fn query_pools_get_spare_slots_where_queries_span_views() {
+    let mut quirky = caps();
+    quirky.quirks.queries_after_multiview_span_views = true;
+    let foveated = RenderConfig {
+        views: 4,
+        foveation: Some(crate::foveation::FoveationConfig::default()),
+        fovea_layout: FoveaLayout::OnePass,
+        ..config(StereoMode::Multiview, 1)
+    };
+    for (config, most_views) in [(config(StereoMode::Multiview, 1), 2), (foveated, 4)] {
+        let timed = plan(&default_scene(), &config, &quirky).expect("valid config");
+        assert_eq!(timed.query_spare_slots, most_views - 1);
+        assert_eq!(
+            timed.timestamp_pool_slots(),
+            timed.timestamp_queries + most_views - 1
+        );
+        assert_eq!(timed.statistics_pool_slots(), 0, "no statistics: no pool");
+        let counting = plan(&default_scene(), &config.counting(), &quirky).expect("valid");
+        assert_eq!(
+            counting.statistics_pool_slots(),
+            counting.statistics_queries + most_views - 1
+        );
+        let untimed = RenderConfig {
+            timestamps: false,
+            ..config.clone()
+        };
+        let untimed = plan(&default_scene(), &untimed, &quirky).expect("valid config");
+        assert_eq!(untimed.query_spare_slots, 0);
+        let elsewhere = plan(&default_scene(), &config, &caps()).expect("valid config");
+        assert_eq!(elsewhere.query_spare_slots, 0);
+        assert_eq!(
+            elsewhere.timestamp_pool_slots(),
+            elsewhere.timestamp_queries
+        );
+    }
+}
+
 /// Every step that shades fragments has its own counter slots, in recording order: the mask
 /// fans, the far composite (before the scene far-first, after it near-first), the scene, the
 /// composition. Mutation: a step left out of `counted_steps` (as the composite and masks once

@@ -285,11 +285,21 @@ mod tests {
             timestamps: true,
             ..base()
         });
-        assert_eq!(
-            timed.first(),
-            Some(&Command::ResetQueries(plan.timestamp_queries))
-        );
+        assert_eq!(timed.first(), Some(&Command::ResetQueries(2)));
         assert_eq!(timed.last(), Some(&Command::Timestamp(1)));
+        // Where queries after a multiview pass span its views, the whole pool is reset, its
+        // spare slots too (lavapipe 25 writes them).
+        let scene = default_scene();
+        let mut quirky = DeviceCaps::generic();
+        quirky.quirks.queries_after_multiview_span_views = true;
+        let config = RenderConfig {
+            timestamps: true,
+            ..base()
+        };
+        let spanning = crate::plan(&scene, &config, &quirky).unwrap();
+        let commands = CommandLog::record(&spanning, &scene).commands;
+        assert_eq!(commands.first(), Some(&Command::ResetQueries(2 + 1)));
+        assert_eq!(plan.timestamp_queries, spanning.timestamp_queries);
     }
 
     /// Counting frames: the counters cleared before the first pass, a barrier after every

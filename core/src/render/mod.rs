@@ -22,5 +22,5 @@ pub use crate::plan::SKY;
 pub use command_log::{Command, CommandLog};
 pub use record::{record_frame, FrameDraws, Recorder, Rect};
 pub use renderer::{
-    counting_frame, FrameStats, PassPrimitives, Renderer, StepFragments, StereoImage,
+    counting_frame, FrameStats, PassStatistics, Renderer, StepFragments, StereoImage,
 };

@@ -20,7 +20,7 @@ pub struct Rect {
 
 /// What recording a frame does, in the renderer's own terms.
 pub trait Recorder {
-    /// Before the frame: reset `count` timestamp queries.
+    /// Before the frame: reset `count` timestamp queries (the whole pool, spare slots too).
     fn reset_queries(&mut self, count: u32);
     /// A timestamp after everything recorded so far.
     fn timestamp(&mut self, index: u32);
@@ -71,12 +71,12 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
     let timestamps = plan.timestamp_queries > 0;
     let counting = plan.count_fragments();
     if timestamps {
-        rec.reset_queries(plan.timestamp_queries);
+        rec.reset_queries(plan.timestamp_pool_slots());
         rec.timestamp(0);
     }
     let statistics = plan.statistics_queries > 0;
     if counting {
-        rec.clear_counters(plan.statistics_queries);
+        rec.clear_counters(plan.statistics_pool_slots());
     }
     for (index, pass) in plan.passes.iter().enumerate() {
         if statistics {

@@ -87,30 +87,33 @@ pub struct FrameStats {
     pub pass_triangles: Vec<u64>,
     /// Primitives each pass's pipelines processed, measured by pipeline-statistics queries
     /// (counting frames on devices that have them; empty otherwise), in plan order.
-    pub pass_primitives: Vec<PassPrimitives>,
+    pub pass_statistics: Vec<PassStatistics>,
 }
 
-/// A pass's primitive work as pipeline-statistics queries measure it, summed over its views.
-/// Lavapipe runs a multiview pass's views one after another and counts each view's primitives;
-/// a tile GPU may count a multiview draw once. Full-view passes count their one triangle per
-/// view.
+/// A pass's work as pipeline-statistics queries measure it, summed over its views. Lavapipe
+/// runs a multiview pass's views one after another and counts each view's primitives; a tile
+/// GPU may count a multiview draw once. Full-view passes count their one triangle per view.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct PassPrimitives {
+pub struct PassStatistics {
     /// Primitives input assembly produced.
     pub assembled: u64,
     /// Primitives that reached the clipper.
     pub clipped_in: u64,
     /// Primitives the clipper passed on to rasterisation (culled and degenerate ones gone).
     pub rasterised: u64,
+    /// Fragment shader invocations as the driver counts them: helper invocations may or may
+    /// not count, and lavapipe 22.3 counts whole raster blocks, so the exact per-view figures
+    /// are the counting frame's atomics ([`FrameStats::steps`]).
+    pub fragment_invocations: u64,
 }
 
 /// The pipeline statistics counting frames query, in the order Vulkan returns them.
-const PRIMITIVE_STATISTICS: vk::QueryPipelineStatisticFlags =
-    vk::QueryPipelineStatisticFlags::from_raw(
-        vk::QueryPipelineStatisticFlags::INPUT_ASSEMBLY_PRIMITIVES.as_raw()
-            | vk::QueryPipelineStatisticFlags::CLIPPING_INVOCATIONS.as_raw()
-            | vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES.as_raw(),
-    );
+const PASS_STATISTICS: vk::QueryPipelineStatisticFlags = vk::QueryPipelineStatisticFlags::from_raw(
+    vk::QueryPipelineStatisticFlags::INPUT_ASSEMBLY_PRIMITIVES.as_raw()
+        | vk::QueryPipelineStatisticFlags::CLIPPING_INVOCATIONS.as_raw()
+        | vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES.as_raw()
+        | vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS.as_raw(),
+);
 
 /// Fragments one step of a pass shaded, measured by the counting frame's atomics.
 #[derive(Clone, Debug, PartialEq)]
@@ -367,7 +370,7 @@ impl<'g> Renderer<'g> {
             .then(|| {
                 let info = vk::QueryPoolCreateInfo::default()
                     .query_type(vk::QueryType::TIMESTAMP)
-                    .query_count(plan.timestamp_queries);
+                    .query_count(plan.timestamp_pool_slots());
                 unsafe { gpu.device().create_query_pool(&info, None) }
                     .vk("vkCreateQueryPool")
                     .map(|raw| QueryPool::from_raw(&gpu.dev, raw))
@@ -377,8 +380,8 @@ impl<'g> Renderer<'g> {
             .then(|| {
                 let info = vk::QueryPoolCreateInfo::default()
                     .query_type(vk::QueryType::PIPELINE_STATISTICS)
-                    .query_count(plan.statistics_queries)
-                    .pipeline_statistics(PRIMITIVE_STATISTICS);
+                    .query_count(plan.statistics_pool_slots())
+                    .pipeline_statistics(PASS_STATISTICS);
                 unsafe { gpu.device().create_query_pool(&info, None) }
                     .vk("vkCreateQueryPool")
                     .map(|raw| QueryPool::from_raw(&gpu.dev, raw))
@@ -558,7 +561,7 @@ impl<'g> Renderer<'g> {
         let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;
         let (gpu_ms, gpu_pass_ms) = self.read_gpu_times()?;
         let steps = self.read_fragment_counts();
-        let pass_primitives = self.read_primitives()?;
+        let pass_statistics = self.read_pass_statistics()?;
         let instances_drawn = self
             .plan
             .passes
@@ -595,7 +598,7 @@ impl<'g> Renderer<'g> {
                     .map(|(end, start)| end - start)
                     .collect()
             },
-            pass_primitives,
+            pass_statistics,
         };
         if self.counter.is_some() {
             let scene = stats.per_view(CountedStep::Scene);
@@ -630,12 +633,12 @@ impl<'g> Renderer<'g> {
     }
 
     /// Each pass's primitive statistics (empty without statistics queries).
-    fn read_primitives(&self) -> Result<Vec<PassPrimitives>, GpuError> {
+    fn read_pass_statistics(&self) -> Result<Vec<PassStatistics>, GpuError> {
         let Some(q) = &self.statistics else {
             return Ok(Vec::new());
         };
-        // One [u64; 3] per query: ash derives the query count and stride from the element.
-        let mut values = vec![[0u64; 3]; self.plan.statistics_queries as usize];
+        // One [u64; 4] per query: ash derives the query count and stride from the element.
+        let mut values = vec![[0u64; 4]; self.plan.statistics_queries as usize];
         unsafe {
             self.gpu.device().get_query_pool_results(
                 q.raw,
@@ -647,10 +650,11 @@ impl<'g> Renderer<'g> {
         .vk("vkGetQueryPoolResults")?;
         Ok(values
             .iter()
-            .map(|v| PassPrimitives {
+            .map(|v| PassStatistics {
                 assembled: v[0],
                 clipped_in: v[1],
                 rasterised: v[2],
+                fragment_invocations: v[3],
             })
             .collect())
     }

@@ -63,44 +63,145 @@ impl DeviceCaps {
 }
 
 /// Everything foveate knows a driver gets wrong or lacks, in one place, so that no other code
-/// tests driver names.
-#[derive(Clone, Debug, Default, PartialEq)]
+/// tests driver names. Each quirk applies to the drivers and versions where it was measured
+/// (`tests/e2e/quirks.rs` measures each on the driver it runs on and fails when the table
+/// disagrees; CI runs it on lavapipe from Mesa 22.3 and 25.0).
 ///
-/// Every field is read by the planner. (Two more lavapipe pitfalls need no workaround because
-/// foveate avoids what they break: `FRAGMENT_SHADER_INVOCATIONS` counts whole raster blocks, and
-/// an occlusion query in a multiview pass reports the sum of all views in its first query; the
-/// fragment counters are atomics instead.)
+/// Every field is read by the planner. (More lavapipe pitfalls need no workaround because
+/// foveate avoids what they break: `FRAGMENT_SHADER_INVOCATIONS` counts whole raster blocks on
+/// 22.3 (4.5–7× the shaded pixels; exact at 1× MSAA on 25.0), and an occlusion query in a
+/// multiview pass reports the sum of all views in its first query, so the fragment counters
+/// are atomics; 22.3's screen-space derivatives of world-mapped texture coordinates go wrong
+/// along triangle edges (not 25.0's), so world-mapped textures take analytic gradients.)
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct DriverQuirks {
     /// An MSAA resolve inside a render pass into an attachment view whose base array layer is
-    /// not 0 writes layer 0 (lavapipe, Mesa 22.3). The planner gives two-pass stereo one image
-    /// per eye instead of one layer per eye of a shared image.
+    /// not 0 writes layer 0 (lavapipe 22.3; fixed in 25.0). The planner gives two-pass stereo
+    /// one image per eye instead of one layer per eye of a shared image.
     pub layered_resolve_ignores_base_layer: bool,
     /// In a multiview pass, primitives the driver has to clip are rasterised into the first
-    /// view's layer, whatever their view (lavapipe, Mesa 22.3: every primitive crossing the
-    /// viewport edge or the eye plane). The planner works around it with an emulated guard
+    /// view's layer, whatever their view (lavapipe 22.3: every primitive crossing the viewport
+    /// edge or the eye plane; fixed in 25.0). The planner works around it with an emulated guard
     /// band; the test `lavapipe_multiview_clipping_quirk_is_real` measures the bug itself.
     pub multiview_clipping_drops_views: bool,
-    /// A multiview pass runs its views one after another, vertex work included (lavapipe: a
-    /// CPU rasteriser replays the draws per view). Splitting a 4-view pass into two 2-view
+    /// A multiview pass runs its views one after another, vertex work included (lavapipe 22.3
+    /// and 25.0: a CPU rasteriser replays the draws per view; its pipeline statistics count
+    /// each view's primitives). Splitting a 4-view pass into two 2-view
     /// passes then adds no per-view work, and each pass can skip what its views do not see;
     /// the planner's `auto` fovea layout reads it.
     pub multiview_runs_views_serially: bool,
     /// Anisotropic filtering is offered but runs hundreds of times slower than trilinear
-    /// (lavapipe, Mesa 22.3: 18 s against 42 ms for a lit 256² atrium frame). The planner
-    /// samples lit materials trilinearly instead.
+    /// (lavapipe 22.3: 18 s against 42 ms for a lit 256² atrium frame; 25.0 takes no longer
+    /// than trilinear). The planner samples lit materials trilinearly instead.
     pub anisotropic_filtering_is_slow: bool,
+    /// A timestamp or query recorded *outside* a render pass, after a multiview pass, writes
+    /// one query slot per view of that pass instead of one (lavapipe 25.0, not 22.3: the driver
+    /// keeps the ended pass's view mask; a pool sized by the spec is overrun and the driver's
+    /// worker thread crashes). The planner gives every query pool spare slots past its end.
+    pub queries_after_multiview_span_views: bool,
 }
 
 impl DriverQuirks {
-    /// The quirks of the driver with this Vulkan driver ID (`VkDriverId` as a raw value).
-    pub fn for_driver_id(driver_id: i32) -> Self {
+    /// The quirks of the driver with this Vulkan driver ID (`VkDriverId` as a raw value) and
+    /// `driverInfo` string (Mesa states its release there: lavapipe's `driverVersion` is 1).
+    pub fn for_driver(driver_id: i32, driver_info: &str) -> Self {
         const MESA_LLVMPIPE: i32 = 13;
-        let lavapipe = driver_id == MESA_LLVMPIPE;
-        Self {
-            layered_resolve_ignores_base_layer: lavapipe,
-            multiview_clipping_drops_views: lavapipe,
-            multiview_runs_views_serially: lavapipe,
-            anisotropic_filtering_is_slow: lavapipe,
+        if driver_id != MESA_LLVMPIPE {
+            return Self::default();
         }
+        // Measured on 22.3.6 and 25.0.7 (tests/e2e/quirks.rs). Releases between them were not
+        // measured and keep every workaround: each is harmless where the bug is absent. A
+        // release we cannot read is taken to be a new one.
+        let mesa = mesa_release(driver_info).unwrap_or((u32::MAX, 0));
+        let before_25 = mesa < (25, 0);
+        Self {
+            layered_resolve_ignores_base_layer: before_25,
+            multiview_clipping_drops_views: before_25,
+            multiview_runs_views_serially: true,
+            anisotropic_filtering_is_slow: before_25,
+            queries_after_multiview_span_views: mesa >= (23, 0),
+        }
+    }
+
+    /// Every quirk by name, whether it applies, and what foveate does about it: for
+    /// `foveate devices` and the log.
+    pub fn listing(&self) -> [(&'static str, bool, &'static str); 5] {
+        [
+            (
+                "multiview clipping drops views",
+                self.multiview_clipping_drops_views,
+                "guard band on multiview passes",
+            ),
+            (
+                "layered resolve ignores base layer",
+                self.layered_resolve_ignores_base_layer,
+                "two-pass stereo renders one image per eye",
+            ),
+            (
+                "multiview runs views serially",
+                self.multiview_runs_views_serially,
+                "auto fovea layout may split the views into two passes",
+            ),
+            (
+                "anisotropic filtering is slow",
+                self.anisotropic_filtering_is_slow,
+                "lit materials sampled trilinearly",
+            ),
+            (
+                "queries after a multiview pass span its views",
+                self.queries_after_multiview_span_views,
+                "query pools get spare slots",
+            ),
+        ]
+    }
+}
+
+/// The (major, minor) release in a Mesa driver's `driverInfo`: "Mesa 25.0.7-2~bpo12+1 (LLVM
+/// 15.0.6)" is (25, 0).
+fn mesa_release(driver_info: &str) -> Option<(u32, u32)> {
+    let version = driver_info
+        .split_whitespace()
+        .skip_while(|w| *w != "Mesa")
+        .nth(1)?;
+    let mut parts = version.split(|c: char| !c.is_ascii_digit());
+    Some((parts.next()?.parse().ok()?, parts.next()?.parse().ok()?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mesa_releases_are_read_from_driver_info() {
+        for (info, release) in [
+            ("Mesa 22.3.6 (LLVM 15.0.6)", Some((22, 3))),
+            ("Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)", Some((25, 0))),
+            ("Mesa 24.2.8-1ubuntu1~24.04.1 (LLVM 19.1.1)", Some((24, 2))),
+            ("Mesa 25.3.0-devel (git-1a2b3c4d)", Some((25, 3))),
+            ("NVIDIA 550.54", None),
+            ("Mesa", None),
+            ("Mesa x.y", None),
+        ] {
+            assert_eq!(mesa_release(info), release, "{info}");
+        }
+    }
+
+    /// The query-slot quirk follows the release; an unreadable release counts as new (the
+    /// workaround is harmless, the crash is not); other drivers have no lavapipe quirks.
+    #[test]
+    fn quirks_follow_the_driver_and_its_release() {
+        const LLVMPIPE: i32 = 13;
+        let spans =
+            |info| DriverQuirks::for_driver(LLVMPIPE, info).queries_after_multiview_span_views;
+        assert!(!spans("Mesa 22.3.6 (LLVM 15.0.6)"));
+        assert!(spans("Mesa 23.0.0"));
+        assert!(spans("Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"));
+        assert!(spans("llvmpipe, release unknown"));
+        assert!(DriverQuirks::for_driver(LLVMPIPE, "Mesa 22.3.6").multiview_clipping_drops_views);
+        const NVIDIA: i32 = 4;
+        assert_eq!(
+            DriverQuirks::for_driver(NVIDIA, "550.54"),
+            DriverQuirks::default()
+        );
     }
 }
