@@ -1,17 +1,45 @@
 #!/usr/bin/env bash
 # Quick start 2: set up and run the whole test suite (every Vulkan test with
-# VK_LAYER_KHRONOS_validation on; any validation message fails it), then clippy and fmt.
+# VK_LAYER_KHRONOS_validation on; any validation message fails it) once per driver, then clippy
+# and fmt.
+#
+# Drivers (scripts/drivers.sh): FOVEATE_TEST_DRIVERS="system mesa25" by default — the system's
+# lavapipe, then Mesa 25's, fetched privately (Debian bookworm only: elsewhere it is skipped,
+# said so). FOVEATE_DRIVER=NAME, or FOVEATE_TEST_DRIVERS=NAMES, runs only those.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/setup.sh
 [ -f "$HOME/.cargo/env" ] && source "$HOME/.cargo/env"
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
-cargo test --workspace 2>&1 | tee "$log"
-# One closing total: cargo's own last line is the (empty) doc-test run.
-awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed;?$/) p += $(i-1); if ($i ~ /^failed;?$/) f += $(i-1) } }
-     END { printf "tests: %d passed, %d failed\n", p, f }' "$log"
+
+drivers=${FOVEATE_TEST_DRIVERS:-${FOVEATE_DRIVER:-system mesa25}}
+# Passed and failed tests in a `cargo test` log.
+totals() {
+    awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed;?$/) p += $(i-1); if ($i ~ /^failed;?$/) f += $(i-1) } }
+         END { printf "%d %d\n", p, f }' "$1"
+}
+passed=0 failed=0 status=0 summary=()
+for driver in $drivers; do
+    if ! select_driver "$driver"; then
+        if [ -z "${FOVEATE_TEST_DRIVERS:-}${FOVEATE_DRIVER:-}" ] && [ "$driver" = mesa25 ]; then
+            summary+=("$driver: skipped (not fetched on this system)")
+            continue
+        fi
+        exit 1
+    fi
+    echo "=== the test suite on the $driver driver"
+    cargo test --workspace 2>&1 | tee "$log" || status=1
+    read -r p f < <(totals "$log")
+    passed=$((passed + p)) failed=$((failed + f))
+    summary+=("$driver: $p passed, $f failed")
+done
+select_driver system
+printf '%s\n' "${summary[@]}"
 if [ "${FOVEATE_SKIP_LINT:-0}" != "1" ]; then
-    cargo fmt --all -- --check
-    cargo clippy --workspace --all-targets -q -- -D warnings
+    cargo fmt --all -- --check || status=1
+    cargo clippy --workspace --all-targets -q -- -D warnings || status=1
 fi
+# One closing total over every driver: cargo's own last line is the (empty) doc-test run.
+echo "tests: $passed passed, $failed failed"
+exit $status
