@@ -12,7 +12,8 @@ driver_dir() {
     echo "${FOVEATE_DRIVER_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/foveate/drivers}"
 }
 
-# Prints the ICD manifest of Mesa 25's lavapipe, fetching it first if needed.
+# Prints the ICD manifest of Mesa 25's lavapipe, fetching it first if needed. Returns 2 where it
+# cannot be had (not Debian bookworm), 1 when fetching it failed.
 mesa25_manifest() {
     local root manifest
     root="$(driver_dir)/mesa25"
@@ -24,7 +25,7 @@ mesa25_manifest() {
     # shellcheck disable=SC1091
     if [ "$(. /etc/os-release && echo "${VERSION_CODENAME:-}")" != bookworm ]; then
         echo "foveate drivers: mesa25 is fetched from bookworm-backports, for Debian bookworm only" >&2
-        return 1
+        return 2
     fi
     echo "foveate drivers: fetching Mesa 25's lavapipe from bookworm-backports into $root" >&2
     local apt_dir="$root/apt" opts
@@ -35,10 +36,13 @@ mesa25_manifest() {
     opts=(-qq -o "Dir::Etc::sourcelist=$apt_dir/sources.list" -o Dir::Etc::sourceparts=/dev/null
         -o "Dir::State::Lists=$apt_dir/lists" -o "Dir::Cache=$apt_dir/cache"
         -o Dir::State::status=/var/lib/dpkg/status -o APT::Sandbox::User="$(id -un)")
-    apt-get "${opts[@]}" update >&2
-    (cd "$root/deb" && apt-get "${opts[@]}" download mesa-vulkan-drivers/bookworm-backports) >&2
-    # Only lavapipe is kept: the package's other drivers are for GPUs.
-    dpkg-deb -x "$root"/deb/mesa-vulkan-drivers_*.deb "$root/unpacked"
+    apt-get "${opts[@]}" update >&2 &&
+        (cd "$root/deb" && apt-get "${opts[@]}" download mesa-vulkan-drivers/bookworm-backports) >&2 &&
+        # Only lavapipe is kept: the package's other drivers are for GPUs.
+        dpkg-deb -x "$root"/deb/mesa-vulkan-drivers_*.deb "$root/unpacked" || {
+        echo "foveate drivers: could not fetch mesa-vulkan-drivers from bookworm-backports" >&2
+        return 1
+    }
     local lib
     lib=$(find "$root/unpacked" -name libvulkan_lvp.so | head -n 1)
     [ -n "$lib" ] || { echo "foveate drivers: no libvulkan_lvp.so in the package" >&2; return 1; }
@@ -50,7 +54,8 @@ mesa25_manifest() {
     echo "$manifest"
 }
 
-# select_driver NAME: exports the loader's driver selection for NAME (see above).
+# select_driver NAME: exports the loader's driver selection for NAME (see above); returns 2
+# where NAME cannot be had on this system, 1 on an error.
 select_driver() {
     case "$1" in
         system | "")
@@ -58,7 +63,7 @@ select_driver() {
             ;;
         mesa25)
             local manifest
-            manifest=$(mesa25_manifest) || return 1
+            manifest=$(mesa25_manifest) || return $?
             export VK_ICD_FILENAMES="$manifest" VK_DRIVER_FILES="$manifest"
             echo "foveate drivers: Mesa $(cat "$(dirname "$manifest")/version") lavapipe ($manifest)" >&2
             ;;

@@ -21,13 +21,13 @@ totals() {
 }
 passed=0 failed=0 status=0 summary=()
 for driver in $drivers; do
-    if ! select_driver "$driver"; then
-        if [ -z "${FOVEATE_TEST_DRIVERS:-}${FOVEATE_DRIVER:-}" ] && [ "$driver" = mesa25 ]; then
-            summary+=("$driver: skipped (not fetched on this system)")
-            continue
-        fi
-        exit 1
+    selected=0
+    select_driver "$driver" || selected=$?
+    if [ "$selected" -eq 2 ] && [ -z "${FOVEATE_TEST_DRIVERS:-}${FOVEATE_DRIVER:-}" ]; then
+        summary+=("$driver: skipped (not available on this system)")
+        continue
     fi
+    [ "$selected" -eq 0 ] || exit 1
     echo "=== the test suite on the $driver driver"
     cargo test --workspace 2>&1 | tee "$log" || status=1
     read -r p f < <(totals "$log")

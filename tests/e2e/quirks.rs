@@ -57,6 +57,10 @@ fn lavapipe_multiview_clipping_quirk_is_real() {
     unguarded.passes[0].guard_band = 1;
     let (_, without_guard) = render_plan(&gpu, &scene, &unguarded, 1);
     let (expected, got) = (reference.fragments[1], without_guard.fragments[1]);
+    eprintln!(
+        "{}: without the guard band view 1 keeps {got} of {expected} fragments",
+        gpu.info().driver
+    );
     if quirk {
         assert!(
             got < expected / 2,
@@ -113,6 +117,10 @@ fn layered_two_pass_and_the_resolve_quirk() {
         "the plan reads the quirk"
     );
     let right_eye_ssim = right.right.ssim(&unguarded.right).unwrap();
+    eprintln!(
+        "{}: layered 4x resolve, right eye SSIM {right_eye_ssim:.4} against one image per eye",
+        gpu.info().driver
+    );
     if quirk {
         assert!(
             right_eye_ssim < 0.9,
@@ -256,6 +264,10 @@ fn queries_after_a_multiview_pass_write_what_the_quirk_says() {
     for query in [vk::QueryType::TIMESTAMP, vk::QueryType::PIPELINE_STATISTICS] {
         for views in [2, 4] {
             let written = slots_written_after_multiview(&gpu, views, query);
+            eprintln!(
+                "{}: a {query:?} after a {views}-view pass wrote {written} slot(s)",
+                gpu.info().driver
+            );
             let expected = if quirk { views } else { 1 };
             assert_eq!(
                 written,
@@ -297,6 +309,10 @@ fn multiview_replays_each_view_as_the_quirk_says() {
     } else {
         1
     };
+    eprintln!(
+        "{}: a 2-view pass assembled {multiview} primitives, one view {one_view}",
+        gpu.info().driver
+    );
     assert_eq!(
         multiview,
         expected * one_view,
@@ -336,6 +352,7 @@ fn anisotropic_filtering_costs_what_the_quirk_says() {
     assert_validation_clean(&gpu);
     let ratio = anisotropic / trilinear;
     let driver = &gpu.info().driver;
+    eprintln!("{driver}: anisotropic {anisotropic:.1} ms, trilinear {trilinear:.1} ms");
     if gpu.caps().quirks.anisotropic_filtering_is_slow {
         assert!(
             ratio > 5.0,

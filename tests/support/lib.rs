@@ -79,6 +79,13 @@ pub fn assert_matches_golden(name: &str, actual: &RgbaImage, min_ssim: f64) {
         panic!("{e}\n(create it with FOVEATE_BLESS=1 cargo test -p foveate-tests)")
     });
     let ssim = expected.ssim(actual).unwrap_or(f64::NEG_INFINITY);
+    let differing = (0..actual.height.min(expected.height))
+        .flat_map(|y| (0..actual.width.min(expected.width)).map(move |x| (x, y)))
+        .filter(|&(x, y)| expected.pixel(x, y) != actual.pixel(x, y))
+        .count();
+    eprintln!(
+        "{name}: SSIM {ssim:.6} against the golden image (at least {min_ssim}); {differing} pixels differ"
+    );
     if ssim < min_ssim {
         let dir = failure_dir();
         std::fs::create_dir_all(&dir).expect("create failure dir");
