@@ -85,8 +85,9 @@ pub struct FrameStats {
     pub triangles: u64,
     /// Of those, the triangles each pass submitted, in plan order.
     pub pass_triangles: Vec<u64>,
-    /// Primitives each pass's pipelines processed, measured by pipeline-statistics queries
-    /// (counting frames on devices that have them; empty otherwise), in plan order.
+    /// Primitives and fragment-shader invocations each pass's pipelines processed, measured by
+    /// pipeline-statistics queries (counting frames on devices that have them; empty
+    /// otherwise), in plan order.
     pub pass_statistics: Vec<PassStatistics>,
 }
 
