@@ -126,30 +126,38 @@ impl DriverQuirks {
     /// Every quirk by name, whether it applies, and what foveate does about it: for
     /// `foveate devices` and the log.
     pub fn listing(&self) -> [(&'static str, bool, &'static str); 5] {
+        // Destructured whole, so that a new field does not compile until it is listed here.
+        let &Self {
+            layered_resolve_ignores_base_layer,
+            multiview_clipping_drops_views,
+            multiview_runs_views_serially,
+            anisotropic_filtering_is_slow,
+            queries_after_multiview_span_views,
+        } = self;
         [
             (
                 "multiview clipping drops views",
-                self.multiview_clipping_drops_views,
+                multiview_clipping_drops_views,
                 "guard band on multiview passes",
             ),
             (
                 "layered resolve ignores base layer",
-                self.layered_resolve_ignores_base_layer,
+                layered_resolve_ignores_base_layer,
                 "two-pass stereo renders one image per eye",
             ),
             (
                 "multiview runs views serially",
-                self.multiview_runs_views_serially,
+                multiview_runs_views_serially,
                 "auto fovea layout may split the views into two passes",
             ),
             (
                 "anisotropic filtering is slow",
-                self.anisotropic_filtering_is_slow,
+                anisotropic_filtering_is_slow,
                 "lit materials sampled trilinearly",
             ),
             (
                 "queries after a multiview pass span its views",
-                self.queries_after_multiview_span_views,
+                queries_after_multiview_span_views,
                 "query pools get spare slots",
             ),
         ]
