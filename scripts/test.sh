@@ -34,7 +34,6 @@ for driver in $drivers; do
     passed=$((passed + p)) failed=$((failed + f))
     summary+=("$driver: $p passed, $f failed")
 done
-select_driver system
 printf '%s\n' "${summary[@]}"
 if [ "${FOVEATE_SKIP_LINT:-0}" != "1" ]; then
     cargo fmt --all -- --check || status=1

@@ -138,8 +138,8 @@ fn layered_two_pass_and_the_resolve_quirk() {
 
 /// What one query recorded *outside* a render pass, right after a multiview pass of `views`
 /// views, writes: how many consecutive slots of its pool become available. The spec gives such
-/// a query one slot (only a query inside a multiview pass spans the views); lavapipe from Mesa
-/// 23 on keeps the ended pass's view mask and writes one slot per view, past the end of a pool
+/// a query one slot (only a query inside a multiview pass spans the views); lavapipe 25.0 (not
+/// 22.3) keeps the ended pass's view mask and writes one slot per view, past the end of a pool
 /// sized by the spec — the crash of issue 28. Raw Vulkan, nothing of foveate's renderer, so
 /// this is the driver's behaviour alone: the pool has spare slots, so the extra writes land
 /// inside it and can be counted.

@@ -633,7 +633,7 @@ impl<'g> Renderer<'g> {
         Ok((Some(ms(ticks[0], ticks[ticks.len() - 1])), passes))
     }
 
-    /// Each pass's primitive statistics (empty without statistics queries).
+    /// Each pass's pipeline statistics (empty without statistics queries).
     fn read_pass_statistics(&self) -> Result<Vec<PassStatistics>, GpuError> {
         let Some(q) = &self.statistics else {
             return Ok(Vec::new());

@@ -86,9 +86,9 @@ pub struct DriverQuirks {
     pub multiview_clipping_drops_views: bool,
     /// A multiview pass runs its views one after another, vertex work included (lavapipe 22.3
     /// and 25.0: a CPU rasteriser replays the draws per view; its pipeline statistics count
-    /// each view's primitives). Splitting a 4-view pass into two 2-view
-    /// passes then adds no per-view work, and each pass can skip what its views do not see;
-    /// the planner's `auto` fovea layout reads it.
+    /// each view's primitives). Splitting a 4-view pass into two 2-view passes then adds no
+    /// per-view work, and each pass can skip what its views do not see; the planner's `auto`
+    /// fovea layout reads it.
     pub multiview_runs_views_serially: bool,
     /// Anisotropic filtering is offered but runs hundreds of times slower than trilinear
     /// (lavapipe 22.3: 18 s against 42 ms for a lit 256² atrium frame; 25.0 takes no longer
@@ -194,18 +194,29 @@ mod tests {
         }
     }
 
-    /// The query-slot quirk follows the release; an unreadable release counts as new (the
-    /// workaround is harmless, the crash is not); other drivers have no lavapipe quirks.
+    /// Each quirk follows the release it was measured on; releases between 22.3 and 25.0 keep
+    /// every workaround; an unreadable release counts as new (the workarounds are harmless, the
+    /// crash is not); other drivers have none of lavapipe's quirks. Mutation: any release bound
+    /// moved (25.0 → 26.0, 23.0 → 26.0) fails it.
     #[test]
     fn quirks_follow_the_driver_and_its_release() {
         const LLVMPIPE: i32 = 13;
-        let spans =
-            |info| DriverQuirks::for_driver(LLVMPIPE, info).queries_after_multiview_span_views;
-        assert!(!spans("Mesa 22.3.6 (LLVM 15.0.6)"));
-        assert!(spans("Mesa 23.0.0"));
-        assert!(spans("Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"));
-        assert!(spans("llvmpipe, release unknown"));
-        assert!(DriverQuirks::for_driver(LLVMPIPE, "Mesa 22.3.6").multiview_clipping_drops_views);
+        let lavapipe = |info| DriverQuirks::for_driver(LLVMPIPE, info);
+        let mesa_22 = lavapipe("Mesa 22.3.6 (LLVM 15.0.6)");
+        assert!(mesa_22.multiview_clipping_drops_views);
+        assert!(mesa_22.layered_resolve_ignores_base_layer);
+        assert!(mesa_22.anisotropic_filtering_is_slow);
+        assert!(mesa_22.multiview_runs_views_serially);
+        assert!(!mesa_22.queries_after_multiview_span_views);
+        let mesa_24 = lavapipe("Mesa 24.2.8-1ubuntu1~24.04.1 (LLVM 19.1.1)");
+        assert!(mesa_24.listing().iter().all(|&(_, applies, _)| applies));
+        let mesa_25 = lavapipe("Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)");
+        assert!(mesa_25.queries_after_multiview_span_views);
+        assert!(mesa_25.multiview_runs_views_serially);
+        assert!(!mesa_25.multiview_clipping_drops_views);
+        assert!(!mesa_25.layered_resolve_ignores_base_layer);
+        assert!(!mesa_25.anisotropic_filtering_is_slow);
+        assert_eq!(lavapipe("llvmpipe, release unknown"), mesa_25);
         const NVIDIA: i32 = 4;
         assert_eq!(
             DriverQuirks::for_driver(NVIDIA, "550.54"),
