@@ -1,9 +1,60 @@
 //! SPIR-V compiled from `shaders/` by the build script.
 
-/// One compiled shader: a name for messages and its SPIR-V bytes.
+/// One compiled shader: a name for messages and its SPIR-V bytes. Two binaries are the same
+/// shader when their names are (each name is one compiled variant).
 pub struct ShaderBinary {
     pub name: &'static str,
     pub spirv: &'static [u8],
+}
+
+impl ShaderBinary {
+    /// The SPIR-V as 32-bit words, as Vulkan wants it.
+    pub fn words(&self) -> Vec<u32> {
+        self.spirv
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect()
+    }
+
+    /// The specialisation-constant ids the shader declares (`OpDecorate … SpecId`), after the
+    /// optimiser dropped those it does not use: what a pipeline must set for it.
+    pub fn spec_ids(&self) -> Vec<u32> {
+        const OP_DECORATE: u32 = 71;
+        const SPEC_ID: u32 = 1;
+        let words = self.words();
+        let mut ids = Vec::new();
+        // After the five-word header, each instruction starts with (word count << 16) | opcode.
+        let mut at = 5;
+        while at < words.len() {
+            let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
+            if opcode == OP_DECORATE && count >= 4 && words[at + 2] == SPEC_ID {
+                ids.push(words[at + 3]);
+            }
+            at += count.max(1);
+        }
+        ids.sort_unstable();
+        ids
+    }
+}
+
+impl PartialEq for ShaderBinary {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name
+    }
+}
+
+impl Eq for ShaderBinary {}
+
+impl std::hash::Hash for ShaderBinary {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.name.hash(state);
+    }
+}
+
+impl std::fmt::Debug for ShaderBinary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name)
+    }
 }
 
 macro_rules! spirv {
@@ -79,13 +130,3 @@ pub const ALL: &[ShaderBinary] = &[
     RECONSTRUCT_FRAG,
     RECONSTRUCT_FRAG_COUNTING,
 ];
-
-impl ShaderBinary {
-    /// The SPIR-V as 32-bit words, as Vulkan wants it.
-    pub fn words(&self) -> Vec<u32> {
-        self.spirv
-            .chunks_exact(4)
-            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect()
-    }
-}

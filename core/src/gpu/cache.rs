@@ -4,24 +4,27 @@
 //! never keeps anything alive on its own.
 
 use std::collections::HashMap;
-use std::hash::{Hash, Hasher};
+use std::hash::Hash;
 use std::sync::{Arc, Mutex, Weak};
 
 /// What identifies an object: every value its create info depends on, as words.
 pub type Description = Vec<u64>;
 
-/// A stable word for a name (FNV-1a), for descriptions that include shader names.
-pub fn name_word(name: &str) -> u64 {
-    name.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
-    })
+/// What identifies a pipeline: the step's pipeline as the plan states it, the samples of its
+/// pass, and the descriptions of its render pass and layout (compatible ones are shared).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct PipelineKey {
+    pub desc: crate::plan::PipelineDesc,
+    pub samples: u32,
+    pub render_pass: Description,
+    pub layout: Description,
 }
 
-pub struct ObjectCache<T> {
-    entries: Mutex<HashMap<Description, Weak<T>>>,
+pub struct ObjectCache<T, K = Description> {
+    entries: Mutex<HashMap<K, Weak<T>>>,
 }
 
-impl<T> Default for ObjectCache<T> {
+impl<T, K> Default for ObjectCache<T, K> {
     fn default() -> Self {
         Self {
             entries: Mutex::new(HashMap::new()),
@@ -29,11 +32,11 @@ impl<T> Default for ObjectCache<T> {
     }
 }
 
-impl<T> ObjectCache<T> {
+impl<T, K: Hash + Eq> ObjectCache<T, K> {
     /// The live object with this description, or a new one from `create`.
     pub fn get_or_create<E>(
         &self,
-        description: Description,
+        description: K,
         create: impl FnOnce() -> Result<T, E>,
     ) -> Result<Arc<T>, E> {
         if let Some(live) = self.lookup(&description) {
@@ -47,17 +50,10 @@ impl<T> ObjectCache<T> {
         Ok(object)
     }
 
-    fn lookup(&self, description: &Description) -> Option<Arc<T>> {
+    fn lookup(&self, description: &K) -> Option<Arc<T>> {
         self.entries
             .lock()
             .ok()
             .and_then(|entries| entries.get(description).and_then(Weak::upgrade))
     }
-}
-
-/// A word for any hashable value (for descriptions built from enums and flags).
-pub fn hash_word(value: &impl Hash) -> u64 {
-    let mut hasher = std::collections::hash_map::DefaultHasher::new();
-    value.hash(&mut hasher);
-    hasher.finish()
 }

@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
-use super::{GpuError, ObjectCache, Pipeline, PipelineCache, RenderPass, VkResultExt};
+use super::{GpuError, ObjectCache, Pipeline, PipelineCache, PipelineKey, RenderPass, VkResultExt};
 use crate::vocab::{DeviceCaps, DriverQuirks};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -255,7 +255,7 @@ pub struct Gpu {
     info: DeviceInfo,
     /// Render passes and pipelines alive, by description (see [`ObjectCache`]).
     pub(crate) render_passes: ObjectCache<RenderPass>,
-    pub(crate) pipelines: ObjectCache<Pipeline>,
+    pub(crate) pipelines: ObjectCache<Pipeline, PipelineKey>,
     /// The driver's pipeline cache, loaded from and saved to `pipeline_cache_path`.
     pub(crate) pipeline_cache: PipelineCache,
     pipeline_cache_path: Option<std::path::PathBuf>,

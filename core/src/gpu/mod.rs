@@ -20,6 +20,6 @@ pub(crate) use memory::pod_bytes;
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
 pub use swapchain::{BlitSource, Presented, Swapchain};
 
-pub(crate) use cache::{hash_word, name_word, Description, ObjectCache};
+pub(crate) use cache::{Description, ObjectCache, PipelineKey};
 pub(crate) use context::DeviceOwner;
 pub(crate) use submit::{transition_image, ImageState};

@@ -4,14 +4,15 @@
 
 use super::counting::plan_counting;
 use super::derive::{assign_stencil, derive_ops};
-use super::masks::add_mask_fans;
-use super::mffr::{add_far_composite, far_pass};
+use super::masks::{add_mask_fans, mask_pipeline};
+use super::mffr::{add_far_composite, far_composite_pipeline, far_pass};
 use super::model::*;
-use super::output::output_pass;
-use super::probe::add_probe;
-use super::radial_density::add_radial_density;
+use super::output::{output_pass, output_pipeline};
+use super::pipeline::{PipelineDesc, StepContext};
+use super::probe::{add_probe, probe_pipeline};
+use super::radial_density::{add_radial_density, radial_mask_pipeline, reconstruct_pipeline};
 use super::steps::{OutputSource, Step};
-use super::stereo_scene::{scene_passes, FoveaPasses};
+use super::stereo_scene::{scene_passes, scene_pipeline, FoveaPasses};
 use super::validate::*;
 use super::{
     ConfigError, DeviceCaps, FoveaLayout, OutputStage, RenderConfig, Resolution, StereoMode,
@@ -223,7 +224,40 @@ pub fn plan(
     }
     assign_stencil(&mut plan);
     derive_ops(&mut plan);
+    for pass in 0..plan.passes.len() {
+        plan.passes[pass].pipelines = step_pipelines(&plan, pass);
+    }
     Ok(plan)
+}
+
+/// Each step's pipeline, as the builder that added the step states it.
+fn step_pipelines(plan: &FramePlan, pass_index: usize) -> Vec<PipelineDesc> {
+    let pass = &plan.passes[pass_index];
+    let radial = || {
+        plan.radial_density
+            .as_ref()
+            .expect("planned with radial density")
+    };
+    pass.steps
+        .iter()
+        .map(|step| {
+            let ctx = StepContext {
+                counter_base: plan.counter_base(pass_index, step.counted()),
+                guard_band: pass.guard_band,
+                first_view: pass.first_view,
+                stencil: step.stencil(),
+            };
+            match step {
+                Step::MaskFans { .. } => mask_pipeline(&ctx),
+                Step::FarComposite { .. } => far_composite_pipeline(&ctx, plan, pass),
+                Step::Scene { draw_set, .. } => scene_pipeline(&ctx, plan, pass, *draw_set),
+                Step::Probe { .. } => probe_pipeline(&ctx),
+                Step::Output(output) => output_pipeline(&ctx, output),
+                Step::RadialMask { .. } => radial_mask_pipeline(&ctx, radial()),
+                Step::Reconstruct => reconstruct_pipeline(&ctx, radial()),
+            }
+        })
+        .collect()
 }
 
 /// The layout of a foveated frame's views: as asked, or chosen from the device's quirks and the

@@ -2,7 +2,9 @@
 //! first in a scene pass. Shapes per frame: `render/masks.rs`; shaders: `mask.vert`, `mask.frag`.
 
 use super::model::PassPlan;
+use super::pipeline::{PipelineDesc, StepContext};
 use super::steps::{stencil_placeholder, Step};
+use crate::shaders::{MASK_FRAG, MASK_FRAG_COUNTING, MASK_VERT};
 
 pub(super) fn add_mask_fans(pass: &mut PassPlan) {
     pass.steps.insert(
@@ -11,4 +13,13 @@ pub(super) fn add_mask_fans(pass: &mut PassPlan) {
             stencil: stencil_placeholder(),
         },
     );
+}
+
+/// Mask fans write stencil only, their reference set per fan set.
+pub(super) fn mask_pipeline(ctx: &StepContext) -> PipelineDesc {
+    PipelineDesc {
+        writes_colour: false,
+        dynamic_stencil_reference: true,
+        ..ctx.pipeline(&MASK_VERT, &MASK_FRAG, &MASK_FRAG_COUNTING)
+    }
 }

@@ -3,9 +3,12 @@
 
 use super::derive::Access;
 use super::model::*;
+use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::Step;
+use super::stereo_scene::view_source;
 use super::{RenderConfig, Resolution};
-use crate::mffr::MffrOrder;
+use crate::mffr::{MffrOrder, MffrVariant};
+use crate::shaders::{COMPOSITE_VERT, FAR_COMPOSITE_FRAG, FAR_COMPOSITE_FRAG_COUNTING};
 
 /// The MFFR far pass: the far field once, from one view, resolved into an image every eye
 /// pass samples (and which is therefore stored).
@@ -63,6 +66,7 @@ pub(super) fn far_pass(
         depth_clamp: false,
         guard_band: 1,
         first_view: 0,
+        pipelines: Vec::new(),
     }
 }
 
@@ -78,4 +82,23 @@ pub(super) fn add_far_composite(pass: &mut PassPlan, order: MffrOrder) {
         MffrOrder::NearFirst => scene + 1,
     };
     pass.steps.insert(at, Step::FarComposite { stencil: None });
+}
+
+/// The far composite: a full-view draw per view reprojecting the far image (its view from the
+/// pass's submission), with the split's depth where the variant shifts depth.
+pub(super) fn far_composite_pipeline(
+    ctx: &StepContext,
+    plan: &FramePlan,
+    pass: &PassPlan,
+) -> PipelineDesc {
+    let depth_shift = plan
+        .mffr
+        .is_some_and(|m| m.config.variant == MffrVariant::DepthShift);
+    ctx.pipeline(
+        &COMPOSITE_VERT,
+        &FAR_COMPOSITE_FRAG,
+        &FAR_COMPOSITE_FRAG_COUNTING,
+    )
+    .constant(Constant::ViewSource, view_source(pass.submission))
+    .flag(Constant::DepthShift, depth_shift)
 }

@@ -12,6 +12,7 @@ mod masks;
 mod mffr;
 mod model;
 mod output;
+mod pipeline;
 mod print;
 mod probe;
 mod radial_density;
@@ -28,11 +29,14 @@ pub use model::{
     Format, FoveaLayoutChoice, FramePlan, LensOutput, PassKind, PassPlan, Submission, TargetLayout,
     Use, COUNTER_SLOTS_PER_STEP, SKY,
 };
+pub use pipeline::{Constant, ConstantKind, PipelineDesc, VertexInput};
 pub use radial_density::{RadialDensity, RadialDensityGeometry};
 pub use steps::{
     CompareOp, OutputSource, OutputStep, StencilOp, StencilState, Step, MASK_BIT, NEAR_BIT,
     SKIP_BIT,
 };
 
+#[cfg(test)]
+mod pipeline_tests;
 #[cfg(test)]
 mod tests;

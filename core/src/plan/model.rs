@@ -2,6 +2,7 @@
 //! the figures it derives (bytes, traffic). Built by `build`, completed by `derive`.
 
 use super::derive::{Access, ClearValue, Layout, LoadOp, StoreOp};
+use super::pipeline::PipelineDesc;
 use super::steps::Step;
 use super::{CullConfig, Resolution, StereoMode, MAX_VIEWS};
 use crate::foveation::FoveationGeometry;
@@ -187,6 +188,9 @@ pub struct PassPlan {
     pub submission: Submission,
     /// What the pass does, in order (mask fans, far composite, scene, probe; or composition).
     pub steps: Vec<Step>,
+    /// Each step's pipeline, as its builder states it (one per step, in step order; stated
+    /// once the frame's stencil states and counter slots are known).
+    pub pipelines: Vec<PipelineDesc>,
     /// Depth clamp instead of clipping at the near and far planes (the MFFR split), to work
     /// around [`DriverQuirks`](super::DriverQuirks) dropping clipped primitives' views.
     pub depth_clamp: bool,

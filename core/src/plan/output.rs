@@ -5,8 +5,10 @@
 
 use super::derive::Access;
 use super::model::*;
+use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{OutputSource, OutputStep, Step};
 use super::Resolution;
+use crate::shaders::{COMPOSITE_VERT, OUTPUT_FRAG, OUTPUT_FRAG_COUNTING};
 
 /// The output pass: each eye at `eye` size, from `sources` (in eye order; the periphery, then
 /// the fovea views of a two-pass foveated frame) as `source` says.
@@ -72,5 +74,23 @@ pub(super) fn sampling_pass(
         depth_clamp: false,
         guard_band: 1,
         first_view: 0,
+        pipelines: Vec::new(),
     }
+}
+
+/// The output stage's full-view draw: the lens, the source and, for a foveated frame, where
+/// the fovea views lie and whether the periphery is sharpened.
+pub(super) fn output_pipeline(ctx: &StepContext, step: &OutputStep) -> PipelineDesc {
+    let (fovea_layer, sharpen) = match step.source {
+        OutputSource::Foveated {
+            fovea_layer,
+            sharpen,
+        } => (fovea_layer, sharpen),
+        _ => (0, false),
+    };
+    ctx.pipeline(&COMPOSITE_VERT, &OUTPUT_FRAG, &OUTPUT_FRAG_COUNTING)
+        .flag(Constant::Lens, step.lens)
+        .constant(Constant::Source, step.source.code())
+        .constant(Constant::FoveaLayer, fovea_layer)
+        .flag(Constant::Sharpen, sharpen)
 }

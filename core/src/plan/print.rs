@@ -190,6 +190,9 @@ impl fmt::Display for FramePlan {
             }
             let steps: Vec<String> = p.steps.iter().map(ToString::to_string).collect();
             writeln!(f, "    steps: {}", steps.join(" → "))?;
+            for (step, pipeline) in p.steps.iter().zip(&p.pipelines) {
+                writeln!(f, "    {} pipeline: {pipeline}", step.counted().name())?;
+            }
             for step in &p.steps {
                 match step {
                     Step::MaskFans { .. } => {

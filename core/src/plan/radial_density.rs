@@ -8,8 +8,13 @@ use glam::Vec4;
 
 use super::model::*;
 use super::output::sampling_pass;
+use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{stencil_placeholder, Step};
 use super::{ConfigError, Resolution};
+use crate::shaders::{
+    COMPOSITE_VERT, RADIAL_MASK_FRAG, RADIAL_MASK_FRAG_COUNTING, RECONSTRUCT_FRAG,
+    RECONSTRUCT_FRAG_COUNTING,
+};
 use crate::view::{Eye, EyeParams, HmdProfile};
 
 /// What a user chooses.
@@ -95,4 +100,47 @@ pub(super) fn add_radial_density(
         Step::Reconstruct,
     );
     passes.push(reconstruct);
+}
+
+/// The mask's full-view draw writes stencil only.
+pub(super) fn radial_mask_pipeline(ctx: &StepContext, r: &RadialDensityGeometry) -> PipelineDesc {
+    let desc = ctx.pipeline(
+        &COMPOSITE_VERT,
+        &RADIAL_MASK_FRAG,
+        &RADIAL_MASK_FRAG_COUNTING,
+    );
+    PipelineDesc {
+        writes_colour: false,
+        ..with_lens(desc, r)
+    }
+}
+
+pub(super) fn reconstruct_pipeline(ctx: &StepContext, r: &RadialDensityGeometry) -> PipelineDesc {
+    let desc = ctx.pipeline(
+        &COMPOSITE_VERT,
+        &RECONSTRUCT_FRAG,
+        &RECONSTRUCT_FRAG_COUNTING,
+    );
+    with_lens(desc, r)
+}
+
+/// The view's size, the radii and each eye's lens ellipse (`shaders/radial_density.glsl`).
+fn with_lens(desc: PipelineDesc, r: &RadialDensityGeometry) -> PipelineDesc {
+    use Constant::*;
+    let values = [
+        r.view.width as f32,
+        r.view.height as f32,
+        r.config.inner,
+        r.config.outer,
+    ]
+    .into_iter()
+    .chain(r.lens.iter().flat_map(|l| l.to_array()));
+    let names = [
+        ViewWidth, ViewHeight, Inner, Outer, LeftCx, LeftCy, LeftRx, LeftRy, RightCx, RightCy,
+        RightRx, RightRy,
+    ];
+    names
+        .into_iter()
+        .zip(values)
+        .fold(desc, |desc, (name, value)| desc.float(name, value))
 }

@@ -13,20 +13,20 @@ pub const NEAR_BIT: u32 = 2;
 /// Stencil bit 2: set on the quads radial density masking skips.
 pub const SKIP_BIT: u32 = 4;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum CompareOp {
     Always,
     Equal,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum StencilOp {
     Keep,
     Replace,
 }
 
 /// A step's stencil test and write (front and back alike).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct StencilState {
     pub compare: CompareOp,
     pub compare_mask: u32,

@@ -4,9 +4,14 @@
 
 use super::derive::Access;
 use super::model::*;
+use super::pipeline::{Constant, PipelineDesc, StepContext, VertexInput};
 use super::steps::Step;
 use super::{FoveaLayout, RenderConfig, Resolution, StereoMode};
 use crate::cull::Strategy;
+use crate::shaders::{
+    SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_LIT_FRAG, SCENE_LIT_FRAG_COUNTING, SCENE_MASKED_FRAG,
+    SCENE_MASKED_FRAG_COUNTING, SCENE_VERT, SCENE_VERT_INDIRECT,
+};
 use crate::view::Eye;
 
 /// A foveated frame's views as planned: the resolved layout, and whether the fovea views draw
@@ -164,6 +169,7 @@ pub(super) fn scene_passes(
             depth_clamp: false,
             guard_band: 1,
             first_view: 0,
+            pipelines: Vec::new(),
         }
     };
     let multiview = Submission::Multiview;
@@ -185,6 +191,7 @@ pub(super) fn scene_passes(
             };
             let fovea = PassPlan {
                 first_view: 2,
+                pipelines: Vec::new(),
                 ..pass(
                     "scene (fovea views)",
                     0b11,
@@ -242,5 +249,47 @@ pub(super) fn scene_passes(
             Submission::Instanced,
             eye_set(Submission::Instanced),
         )],
+    }
+}
+
+/// The scene's meshes: depth tested and written, back faces culled; the vertex shader reads
+/// culled instance ids unless the step draws every instance, the fragment shader shades as the
+/// scene's materials ask (flat, lit, lit with alpha masks).
+pub(super) fn scene_pipeline(
+    ctx: &StepContext,
+    plan: &FramePlan,
+    pass: &PassPlan,
+    draw_set: DrawSet,
+) -> PipelineDesc {
+    let vertex = if draw_set == DrawSet::All {
+        &SCENE_VERT
+    } else {
+        &SCENE_VERT_INDIRECT
+    };
+    let desc = if plan.alpha_mask {
+        ctx.pipeline(vertex, &SCENE_MASKED_FRAG, &SCENE_MASKED_FRAG_COUNTING)
+    } else if plan.lit {
+        ctx.pipeline(vertex, &SCENE_LIT_FRAG, &SCENE_LIT_FRAG_COUNTING)
+    } else {
+        ctx.pipeline(vertex, &SCENE_FRAG, &SCENE_FRAG_COUNTING)
+    };
+    PipelineDesc {
+        vertex_input: VertexInput::SceneVertices,
+        cull_back_faces: true,
+        depth_test: true,
+        depth_clamp: pass.depth_clamp,
+        ..desc
+    }
+    .constant(Constant::ViewSource, view_source(pass.submission))
+    .flag(Constant::FoveaTags, draw_set == DrawSet::FoveaTagged)
+    .flag(Constant::DepthInAlpha, pass.kind == PassKind::FarField)
+}
+
+/// The vertex shader's `VIEW_SOURCE` for a submission (see `shaders/scene.vert`).
+pub(super) fn view_source(submission: Submission) -> u32 {
+    match submission {
+        Submission::Multiview => 0,
+        Submission::SingleEye(_) | Submission::PerObject | Submission::FarView => 1,
+        Submission::Instanced => 2,
     }
 }

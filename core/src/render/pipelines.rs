@@ -6,23 +6,12 @@ use ash::vk;
 use super::materials::MaterialSet;
 use super::targets::CompiledPass;
 use crate::gpu::{
-    hash_word, name_word, Buffer, Description, DescriptorPool, DescriptorSetLayout, Gpu, GpuError,
-    ImageView, Pipeline, PipelineLayout, ShaderModule, VkResultExt,
+    Buffer, Description, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, ImageView, Pipeline,
+    PipelineKey, PipelineLayout, ShaderModule, VkResultExt,
 };
-use crate::mffr::MffrVariant;
-use crate::plan::{
-    CompareOp, DrawSet, FramePlan, OutputSource, PassKind, StencilOp, StencilState, Step,
-    Submission,
-};
+use crate::plan::{CompareOp, PipelineDesc, StencilOp, StencilState, VertexInput};
 use crate::scene::Vertex;
-use crate::shaders::{
-    ShaderBinary, COMPOSITE_VERT, COVERAGE_FRAG, COVERAGE_VERT, FAR_COMPOSITE_FRAG,
-    FAR_COMPOSITE_FRAG_COUNTING, MASK_FRAG, MASK_FRAG_COUNTING, MASK_VERT, OUTPUT_FRAG,
-    OUTPUT_FRAG_COUNTING, RADIAL_MASK_FRAG, RADIAL_MASK_FRAG_COUNTING, RECONSTRUCT_FRAG,
-    RECONSTRUCT_FRAG_COUNTING, SCENE_FRAG, SCENE_FRAG_COUNTING, SCENE_LIT_FRAG,
-    SCENE_LIT_FRAG_COUNTING, SCENE_MASKED_FRAG, SCENE_MASKED_FRAG_COUNTING, SCENE_VERT,
-    SCENE_VERT_INDIRECT,
-};
+use crate::shaders::ShaderBinary;
 
 const ENTRY: &CStr = c"main";
 
@@ -237,239 +226,75 @@ fn shader_module(gpu: &Gpu, shader: &ShaderBinary) -> Result<ShaderModule, GpuEr
     Ok(ShaderModule::from_raw(&gpu.dev, raw))
 }
 
-/// The vertex shader's `VIEW_SOURCE` for a submission (see `shaders/scene.vert`).
-fn view_source(submission: Submission) -> u32 {
-    match submission {
-        Submission::Multiview => 0,
-        Submission::SingleEye(_) | Submission::PerObject | Submission::FarView => 1,
-        Submission::Instanced => 2,
-    }
+/// The specialisation info of one stage: the constants its shader declares, from `desc`.
+struct StageConstants {
+    entries: Vec<vk::SpecializationMapEntry>,
+    data: Vec<u8>,
 }
 
-/// What a pipeline of a scene pass draws.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum PipelineKind {
-    /// The scene's meshes: depth tested and written, stencil tested when the pass has masks.
-    Scene,
-    /// Stencil mask fans: stencil written (reference set per draw), nothing else.
-    Mask,
-    /// The coverage probe: a full-view triangle, stencil tested, counted, nothing written.
-    Coverage,
-    /// The output stage: a full-view triangle sampling what the frame rendered (single-sampled,
-    /// no depth).
-    Output,
-    /// MFFR: a full-view triangle sampling the far image, under the pass's stencil.
-    FarComposite,
-    /// Radial density masking: a full-view triangle marking skipped quads in stencil.
-    RadialMask,
-    /// Radial density reconstruction: a full-view triangle sampling the masked views
-    /// (single-sampled, no depth).
-    Reconstruct,
-}
-
-impl PipelineKind {
-    /// The pipeline a step draws with.
-    pub fn of(step: &Step) -> PipelineKind {
-        match step {
-            Step::MaskFans { .. } => PipelineKind::Mask,
-            Step::FarComposite { .. } => PipelineKind::FarComposite,
-            Step::Scene { .. } => PipelineKind::Scene,
-            Step::Probe { .. } => PipelineKind::Coverage,
-            Step::Output(_) => PipelineKind::Output,
-            Step::RadialMask { .. } => PipelineKind::RadialMask,
-            Step::Reconstruct => PipelineKind::Reconstruct,
+impl StageConstants {
+    fn new(desc: &PipelineDesc, shader: &ShaderBinary) -> Self {
+        let constants = desc.stage_constants(shader);
+        StageConstants {
+            entries: (0..)
+                .zip(&constants)
+                .map(|(i, &(id, _))| vk::SpecializationMapEntry {
+                    constant_id: id,
+                    offset: 4 * i,
+                    size: 4,
+                })
+                .collect(),
+            data: constants.iter().flat_map(|c| c.1.to_le_bytes()).collect(),
         }
     }
+
+    fn info(&self) -> vk::SpecializationInfo<'_> {
+        vk::SpecializationInfo::default()
+            .map_entries(&self.entries)
+            .data(&self.data)
+    }
 }
 
-/// The pipeline of step `step` of pass `pass_index`, compiled as `compiled`, with `layout`
-/// (made as `layout_description` says). Shared with any live pipeline of the same description.
-pub(crate) fn step_pipeline(
+/// The scene's vertex layout (`scene::Vertex`): position, normal, uv, tangent.
+fn scene_vertex_attributes() -> [vk::VertexInputAttributeDescription; 4] {
+    let attribute = |location, format, offset| vk::VertexInputAttributeDescription {
+        location,
+        binding: 0,
+        format,
+        offset,
+    };
+    [
+        attribute(0, vk::Format::R32G32B32_SFLOAT, 0),
+        attribute(1, vk::Format::R32G32B32_SFLOAT, 12),
+        attribute(2, vk::Format::R32G32_SFLOAT, 24),
+        attribute(3, vk::Format::R32G32B32A32_SFLOAT, 32),
+    ]
+}
+
+/// The pipeline `desc` states, for a pass with `samples` compiled as `compiled`, with `layout`
+/// (made as `layout_description` says). Shared with any live pipeline of the same key.
+pub(crate) fn compile_pipeline(
     gpu: &Gpu,
-    plan: &FramePlan,
-    pass_index: usize,
-    step: &Step,
+    desc: &PipelineDesc,
+    samples: u32,
     compiled: &CompiledPass,
     layout: &PipelineLayout,
     layout_description: &[u64],
 ) -> Result<Arc<Pipeline>, GpuError> {
-    let pass = &plan.passes[pass_index];
-    let kind = PipelineKind::of(step);
-    // Counting frames use the counting variant of every fragment shader (the probe always
-    // counts); timed frames never carry the counter.
-    let counter_base = plan.counter_base(pass_index, step.counted());
-    let pick_frag = |plain, counting| {
-        if counter_base.is_some() {
-            counting
-        } else {
-            plain
-        }
+    let key = PipelineKey {
+        desc: desc.clone(),
+        samples,
+        render_pass: compiled.description.clone(),
+        layout: layout_description.to_vec(),
     };
-    let (vert, frag) = match kind {
-        PipelineKind::Scene => (
-            if matches!(
-                step,
-                Step::Scene {
-                    draw_set: DrawSet::All,
-                    ..
-                }
-            ) {
-                &SCENE_VERT
-            } else {
-                &SCENE_VERT_INDIRECT
-            },
-            if plan.alpha_mask {
-                pick_frag(&SCENE_MASKED_FRAG, &SCENE_MASKED_FRAG_COUNTING)
-            } else if plan.lit {
-                pick_frag(&SCENE_LIT_FRAG, &SCENE_LIT_FRAG_COUNTING)
-            } else {
-                pick_frag(&SCENE_FRAG, &SCENE_FRAG_COUNTING)
-            },
-        ),
-        PipelineKind::Mask => (&MASK_VERT, pick_frag(&MASK_FRAG, &MASK_FRAG_COUNTING)),
-        PipelineKind::Coverage => (&COVERAGE_VERT, &COVERAGE_FRAG),
-        PipelineKind::Output => (
-            &COMPOSITE_VERT,
-            pick_frag(&OUTPUT_FRAG, &OUTPUT_FRAG_COUNTING),
-        ),
-        PipelineKind::FarComposite => (
-            &COMPOSITE_VERT,
-            pick_frag(&FAR_COMPOSITE_FRAG, &FAR_COMPOSITE_FRAG_COUNTING),
-        ),
-        PipelineKind::RadialMask => (
-            &COMPOSITE_VERT,
-            pick_frag(&RADIAL_MASK_FRAG, &RADIAL_MASK_FRAG_COUNTING),
-        ),
-        PipelineKind::Reconstruct => (
-            &COMPOSITE_VERT,
-            pick_frag(&RECONSTRUCT_FRAG, &RECONSTRUCT_FRAG_COUNTING),
-        ),
-    };
-    let (vert_binary, frag_binary) = (vert, frag);
-    // Specialisation constants, by id: 0 where the view index comes from, 1 the guard band's
-    // clip scale, 2 depth shift (the far composite), 3 depth into alpha (the far pass), 4 the
-    // step's first counter slot (counting frames), 5 the pass's first view, 6 fovea tags (the
-    // one-pass fovea layout), 10–21 radial density's view size, radii and lens ellipses
-    // (`shaders/radial_density.glsl`), 30–33 the output stage's lens, source, fovea layer and
-    // periphery sharpening.
-    // Every stage gets the ones it declares.
-    let far_pass = pass.kind == PassKind::FarField;
-    let depth_shift = plan
-        .mffr
-        .is_some_and(|m| m.config.variant == MffrVariant::DepthShift);
-    let mut constants: Vec<(u32, [u8; 4])> = vec![
-        (0, view_source(pass.submission).to_le_bytes()),
-        (1, (1.0 / pass.guard_band as f32).to_le_bytes()),
-        (2, (depth_shift as u32).to_le_bytes()),
-        (3, (far_pass as u32).to_le_bytes()),
-        (4, counter_base.unwrap_or(0).to_le_bytes()),
-        (5, pass.first_view.to_le_bytes()),
-        (
-            6,
-            (matches!(
-                step,
-                Step::Scene {
-                    draw_set: DrawSet::FoveaTagged,
-                    ..
-                }
-            ) as u32)
-                .to_le_bytes(),
-        ),
-    ];
-    if let Step::Output(o) = step {
-        let (fovea_layer, sharpen) = match o.source {
-            OutputSource::Foveated {
-                fovea_layer,
-                sharpen,
-            } => (fovea_layer, sharpen),
-            _ => (0, false),
-        };
-        constants.extend([
-            (30, (o.lens as u32).to_le_bytes()),
-            (31, o.source.code().to_le_bytes()),
-            (32, fovea_layer.to_le_bytes()),
-            (33, (sharpen as u32).to_le_bytes()),
-        ]);
-    }
-    if let Some(r) = &plan.radial_density {
-        let values = [
-            r.view.width as f32,
-            r.view.height as f32,
-            r.config.inner,
-            r.config.outer,
-        ]
-        .into_iter()
-        .chain(r.lens.iter().flat_map(|l| l.to_array()));
-        constants.extend((10..).zip(values.map(f32::to_le_bytes)));
-    }
-    const RADIAL: [u32; 12] = [10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21];
-    let radial_and_counter: Vec<u32> = RADIAL.iter().copied().chain([4]).collect();
-    let spec_data: Vec<u8> = constants.iter().flat_map(|c| c.1).collect();
-    let entries: Vec<vk::SpecializationMapEntry> = constants
-        .iter()
-        .enumerate()
-        .map(|(i, c)| vk::SpecializationMapEntry {
-            constant_id: c.0,
-            offset: 4 * i as u32,
-            size: 4,
-        })
-        .collect();
-    let pick = |ids: &[u32]| -> Vec<vk::SpecializationMapEntry> {
-        entries
-            .iter()
-            .copied()
-            .filter(|e| ids.contains(&e.constant_id))
-            .collect()
-    };
-    let (vert_ids, frag_ids): (&[u32], &[u32]) = match kind {
-        PipelineKind::Scene => (&[0, 1, 5, 6], &[3, 4]),
-        PipelineKind::Mask => (&[1, 5], &[4, 5]),
-        PipelineKind::Coverage => (&[1], &[4, 5]),
-        PipelineKind::FarComposite => (&[1], &[0, 2, 4, 5]),
-        PipelineKind::Output => (&[1], &[4, 30, 31, 32, 33]),
-        PipelineKind::RadialMask | PipelineKind::Reconstruct => (&[1], &radial_and_counter),
-    };
-    let (vert_entries, frag_entries) = (pick(vert_ids), pick(frag_ids));
-    let vert_spec = vk::SpecializationInfo::default()
-        .map_entries(&vert_entries)
-        .data(&spec_data);
-    let frag_spec = vk::SpecializationInfo::default()
-        .map_entries(&frag_entries)
-        .data(&spec_data);
-    let samples = if matches!(kind, PipelineKind::Output | PipelineKind::Reconstruct) {
-        1
-    } else {
-        plan.samples
-    };
-    let stencil = step.stencil().map(vk_stencil);
-    // Everything the create info below depends on: the shaders and their constants, the fixed
-    // state the kind and the pass decide, the render pass's and the layout's descriptions.
-    let mut description: Description = vec![
-        kind as u64,
-        name_word(vert_binary.name),
-        name_word(frag_binary.name),
-        samples as u64,
-        (pass.depth_clamp && kind == PipelineKind::Scene) as u64,
-        hash_word(&stencil.map(|s| {
-            (
-                s.fail_op.as_raw(),
-                s.pass_op.as_raw(),
-                s.depth_fail_op.as_raw(),
-                s.compare_op.as_raw(),
-                s.compare_mask,
-                s.write_mask,
-                s.reference,
-            )
-        })),
-    ];
-    description.extend(constants.iter().map(|c| u32::from_le_bytes(c.1) as u64));
-    description.extend(vert_ids.iter().chain(frag_ids).map(|&i| i as u64 + 100));
-    description.push(compiled.description.len() as u64);
-    description.extend(&compiled.description);
-    description.extend(layout_description);
-    gpu.pipelines.get_or_create(description, || {
-        let vert = shader_module(gpu, vert_binary)?;
-        let frag = shader_module(gpu, frag_binary)?;
+    gpu.pipelines.get_or_create(key, || {
+        let vert = shader_module(gpu, desc.vertex)?;
+        let frag = shader_module(gpu, desc.fragment)?;
+        let (vert_constants, frag_constants) = (
+            StageConstants::new(desc, desc.vertex),
+            StageConstants::new(desc, desc.fragment),
+        );
+        let (vert_spec, frag_spec) = (vert_constants.info(), frag_constants.info());
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
@@ -487,38 +312,12 @@ pub(crate) fn step_pipeline(
             stride: std::mem::size_of::<Vertex>() as u32,
             input_rate: vk::VertexInputRate::VERTEX,
         }];
-        let attributes = [
-            vk::VertexInputAttributeDescription {
-                location: 0,
-                binding: 0,
-                format: vk::Format::R32G32B32_SFLOAT,
-                offset: 0,
-            },
-            vk::VertexInputAttributeDescription {
-                location: 1,
-                binding: 0,
-                format: vk::Format::R32G32B32_SFLOAT,
-                offset: 12,
-            },
-            vk::VertexInputAttributeDescription {
-                location: 2,
-                binding: 0,
-                format: vk::Format::R32G32_SFLOAT,
-                offset: 24,
-            },
-            vk::VertexInputAttributeDescription {
-                location: 3,
-                binding: 0,
-                format: vk::Format::R32G32B32A32_SFLOAT,
-                offset: 32,
-            },
-        ];
-        let vertex_input = if kind == PipelineKind::Scene {
-            vk::PipelineVertexInputStateCreateInfo::default()
+        let attributes = scene_vertex_attributes();
+        let vertex_input = match desc.vertex_input {
+            VertexInput::SceneVertices => vk::PipelineVertexInputStateCreateInfo::default()
                 .vertex_binding_descriptions(&bindings)
-                .vertex_attribute_descriptions(&attributes)
-        } else {
-            vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_attribute_descriptions(&attributes),
+            VertexInput::Generated => vk::PipelineVertexInputStateCreateInfo::default(),
         };
         let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
             .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
@@ -527,10 +326,10 @@ pub(crate) fn step_pipeline(
             .scissor_count(1);
         let raster = vk::PipelineRasterizationStateCreateInfo::default()
             .polygon_mode(vk::PolygonMode::FILL)
-            .depth_clamp_enable(pass.depth_clamp && kind == PipelineKind::Scene)
+            .depth_clamp_enable(desc.depth_clamp)
             // The projections keep the image upright (Vulkan NDC y down), so on-screen winding is
-            // the geometry's own: counter-clockwise faces the viewer. Masks and the probe are 2D.
-            .cull_mode(if kind == PipelineKind::Scene {
+            // the geometry's own: counter-clockwise faces the viewer.
+            .cull_mode(if desc.cull_back_faces {
                 vk::CullModeFlags::BACK
             } else {
                 vk::CullModeFlags::NONE
@@ -539,22 +338,16 @@ pub(crate) fn step_pipeline(
             .line_width(1.0);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::from_raw(samples));
+        let stencil = desc.stencil.map(vk_stencil);
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(kind == PipelineKind::Scene)
-            .depth_write_enable(kind == PipelineKind::Scene)
+            .depth_test_enable(desc.depth_test)
+            .depth_write_enable(desc.depth_test)
             // Reverse-Z: nearer is greater.
             .depth_compare_op(vk::CompareOp::GREATER)
             .stencil_test_enable(stencil.is_some())
             .front(stencil.unwrap_or_default())
             .back(stencil.unwrap_or_default());
-        let writes_colour = matches!(
-            kind,
-            PipelineKind::Scene
-                | PipelineKind::Output
-                | PipelineKind::FarComposite
-                | PipelineKind::Reconstruct
-        );
-        let write = if writes_colour {
+        let write = if desc.writes_colour {
             vk::ColorComponentFlags::RGBA
         } else {
             vk::ColorComponentFlags::empty()
@@ -564,7 +357,7 @@ pub(crate) fn step_pipeline(
         let blend =
             vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
         let mut dynamic_states = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
-        if kind == PipelineKind::Mask {
+        if desc.dynamic_stencil_reference {
             dynamic_states.push(vk::DynamicState::STENCIL_REFERENCE);
         }
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);

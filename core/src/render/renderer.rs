@@ -8,7 +8,7 @@ use super::culling::FrameCulling;
 use super::materials::MaterialSet;
 use super::mffr::FarComposite;
 use super::output::OutputStage;
-use super::pipelines::{step_pipeline, SceneBindings};
+use super::pipelines::{compile_pipeline, SceneBindings};
 use super::radial_density::Reconstruction;
 use super::record::{memory_barrier, record_frame, FrameDraws, VulkanRecorder};
 use super::scene_buffers::SceneBuffers;
@@ -348,10 +348,12 @@ impl<'g> Renderer<'g> {
             let compiled = compile_pass(gpu, plan, i, &images)?;
             // Each step's pipeline, with the layout of the resources it reads: the composites
             // their sampled sets, everything else the scene's bindings.
+            let samples = plan.attachments[p.color.attachment].samples;
             let pipelines = p
                 .steps
                 .iter()
-                .map(|step| {
+                .zip(&p.pipelines)
+                .map(|(step, desc)| {
                     let set = match step {
                         Step::Output(_) => output.as_ref().map(|c| &c.set),
                         Step::FarComposite { .. } => far_composite.as_ref().map(|f| &f.set),
@@ -362,7 +364,7 @@ impl<'g> Renderer<'g> {
                         Some(set) => (&set.layout, &set.layout_description),
                         None => (&bindings.layout, &bindings.layout_description),
                     };
-                    step_pipeline(gpu, plan, i, step, &compiled, layout, description)
+                    compile_pipeline(gpu, desc, samples, &compiled, layout, description)
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             passes.push((compiled, pipelines));

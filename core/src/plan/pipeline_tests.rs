@@ -1,0 +1,189 @@
+//! Each step's pipeline as its builder states it, checked without a GPU against the compiled
+//! shaders: a stage gets every constant its SPIR-V declares (none falls back to its GLSL default)
+//! and a pipeline states no constant neither stage declares (which would split the cache).
+
+use std::collections::BTreeSet;
+
+use super::*;
+use crate::cull::Strategy;
+use crate::foveation::FoveationConfig;
+use crate::mffr::{MffrConfig, MffrOrder, MffrVariant};
+use crate::scene::{atrium_scene, default_scene, Scene, Shading};
+
+fn base(stereo: StereoMode) -> RenderConfig {
+    RenderConfig {
+        stereo,
+        msaa: 4,
+        resolution: Some(Resolution::square(256)),
+        ..RenderConfig::default()
+    }
+}
+
+/// Configurations reaching every step kind, submission and shader variant.
+fn configurations() -> Vec<(Scene, RenderConfig)> {
+    let foveated = |layout, count_fragments| RenderConfig {
+        views: 4,
+        foveation: Some(FoveationConfig {
+            ratio: 0.5,
+            stencil: true,
+            periphery_sharpen: 0.5,
+            ..Default::default()
+        }),
+        fovea_layout: layout,
+        culling: Some(CullConfig {
+            strategy: Strategy::Superfrustum,
+            draw_distance: 320.0,
+        }),
+        count_fragments,
+        ..base(StereoMode::Multiview)
+    };
+    let mffr = |stereo, order, variant, count_fragments| RenderConfig {
+        mffr: Some(MffrConfig {
+            order,
+            variant,
+            ..Default::default()
+        }),
+        hmd_mask: true,
+        count_fragments,
+        ..base(stereo)
+    };
+    let mut configs: Vec<RenderConfig> = StereoMode::ALL
+        .into_iter()
+        .flat_map(|stereo| {
+            let far_field = matches!(stereo, StereoMode::Multiview | StereoMode::TwoPass);
+            [
+                Some(base(stereo)),
+                Some(RenderConfig {
+                    hmd_mask: true,
+                    coverage_probe: stereo == StereoMode::Multiview,
+                    output: OutputStage::Lens,
+                    count_fragments: true,
+                    ..base(stereo)
+                }),
+                far_field.then(|| mffr(stereo, MffrOrder::FarFirst, MffrVariant::Centre, false)),
+                far_field
+                    .then(|| mffr(stereo, MffrOrder::NearFirst, MffrVariant::DepthShift, true)),
+            ]
+        })
+        .flatten()
+        .collect();
+    configs.extend([
+        foveated(FoveaLayout::OnePass, false),
+        foveated(FoveaLayout::OnePass, true),
+        foveated(FoveaLayout::TwoPass, true),
+        RenderConfig {
+            radial_density: Some(RadialDensity::default()),
+            count_fragments: true,
+            ..base(StereoMode::Multiview)
+        },
+        RenderConfig {
+            radial_density: Some(RadialDensity::default()),
+            ..base(StereoMode::Multiview)
+        },
+    ]);
+    let lit = atrium_scene().with_shading(Shading::Lit);
+    let mut out: Vec<(Scene, RenderConfig)> =
+        configs.into_iter().map(|c| (default_scene(), c)).collect();
+    out.push((lit.clone(), base(StereoMode::Multiview)));
+    let mut masked = lit.clone();
+    masked.materials[0].alpha_cutoff = Some(0.5);
+    out.push((masked.clone(), base(StereoMode::Multiview)));
+    out.push((
+        masked,
+        RenderConfig {
+            count_fragments: true,
+            ..base(StereoMode::Multiview)
+        },
+    ));
+    out.push((
+        lit,
+        RenderConfig {
+            count_fragments: true,
+            ..base(StereoMode::TwoPass)
+        },
+    ));
+    out
+}
+
+fn ids(desc: &PipelineDesc) -> BTreeSet<u32> {
+    desc.constants.iter().map(|c| c.0.id()).collect()
+}
+
+/// Mutation: a builder forgetting `FIRST_VIEW` (the two-pass fovea pass would draw the periphery
+/// views), the scene step stating `FOVEA_TAGS` for the plain vertex shader, or `constant()`
+/// no longer filtering by the shaders fails it.
+#[test]
+fn every_stage_gets_exactly_the_constants_its_shader_declares() {
+    let mut stages = BTreeSet::new();
+    for (scene, config) in configurations() {
+        let plan = plan(&scene, &config, &DeviceCaps::generic())
+            .unwrap_or_else(|e| panic!("{config:?}: {e}"));
+        for pass in &plan.passes {
+            assert_eq!(pass.pipelines.len(), pass.steps.len(), "{}", pass.name);
+            for (step, desc) in pass.steps.iter().zip(&pass.pipelines) {
+                let stated = ids(desc);
+                let declared: BTreeSet<u32> = [desc.vertex, desc.fragment]
+                    .iter()
+                    .flat_map(|s| s.spec_ids())
+                    .collect();
+                assert_eq!(
+                    stated, declared,
+                    "{} / {step}: {desc} states other constants than its shaders declare",
+                    pass.name
+                );
+                assert_eq!(desc.stencil, step.stencil(), "{step}");
+                stages.insert((desc.vertex.name, desc.fragment.name));
+            }
+        }
+    }
+    // Every shader variant is reached by some configuration above.
+    let reached: BTreeSet<&str> = stages.iter().flat_map(|&(v, f)| [v, f]).collect();
+    for shader in crate::shaders::ALL {
+        assert!(
+            reached.contains(shader.name),
+            "no configuration uses {shader:?}"
+        );
+    }
+}
+
+/// The descriptions differ wherever the pipelines must: two passes of a two-pass fovea layout
+/// differ only in their first view, and a counting frame's scene step in its shader and slot.
+/// Mutation: `FIRST_VIEW` dropped from the scene step fails it.
+#[test]
+fn pipelines_that_differ_in_a_constant_are_not_the_same_value() {
+    let config = RenderConfig {
+        views: 4,
+        foveation: Some(FoveationConfig {
+            ratio: 0.5,
+            ..Default::default()
+        }),
+        fovea_layout: FoveaLayout::TwoPass,
+        ..base(StereoMode::Multiview)
+    };
+    let planned = plan(&default_scene(), &config, &DeviceCaps::generic()).unwrap();
+    let scene_pipeline = |p: &PassPlan| {
+        p.steps
+            .iter()
+            .position(|s| matches!(s, Step::Scene { .. }))
+            .map(|i| p.pipelines[i].clone())
+    };
+    let scenes: Vec<PipelineDesc> = planned.passes.iter().filter_map(scene_pipeline).collect();
+    assert_eq!(scenes.len(), 2, "periphery and fovea passes");
+    assert_ne!(scenes[0], scenes[1]);
+    let first_view = |d: &PipelineDesc| {
+        d.constants
+            .iter()
+            .find(|c| c.0 == Constant::FirstView)
+            .map(|c| c.1)
+    };
+    assert_eq!(
+        (first_view(&scenes[0]), first_view(&scenes[1])),
+        (Some(0), Some(2))
+    );
+    let text = planned.to_string();
+    assert!(
+        text.contains("scene pipeline: scene_indirect.vert + scene.frag; scene vertices"),
+        "{text}"
+    );
+    assert!(text.contains("FIRST_VIEW=2"), "{text}");
+}
