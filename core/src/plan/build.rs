@@ -2,6 +2,7 @@
 //! passes and steps (`stereo_scene`, `mffr`, `composition`, `counting`), then derive ops,
 //! layouts and clear values (`derive`).
 
+use super::barriers::derive_barriers;
 use super::counting::plan_counting;
 use super::derive::{assign_stencil, derive_ops};
 use super::masks::{add_mask_fans, mask_pipeline};
@@ -224,6 +225,9 @@ pub fn plan(
     }
     assign_stencil(&mut plan);
     derive_ops(&mut plan);
+    for (pass, barriers) in derive_barriers(&plan).into_iter().enumerate() {
+        plan.passes[pass].barriers = barriers;
+    }
     for pass in 0..plan.passes.len() {
         plan.passes[pass].pipelines = step_pipelines(&plan, pass);
     }

@@ -67,6 +67,7 @@ pub(super) fn far_pass(
         guard_band: 1,
         first_view: 0,
         pipelines: Vec::new(),
+        barriers: Default::default(),
     }
 }
 

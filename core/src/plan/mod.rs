@@ -4,6 +4,7 @@
 //! Pure: no Vulkan objects are created here, so every rule is unit-tested without a GPU and
 //! `foveate plan` prints exactly what the renderer will build.
 
+mod barriers;
 mod build;
 mod config;
 mod counting;
@@ -21,6 +22,7 @@ mod stereo_scene;
 mod validate;
 
 pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
+pub use barriers::{Barrier, PassBarriers, Touch};
 pub use build::plan;
 pub use config::{CullConfig, FoveaLayout, OutputStage, RenderConfig, StereoMode, MAX_VIEWS};
 pub use derive::{Access, ClearValue, Layout, LoadOp, StoreOp};

@@ -1,6 +1,7 @@
 //! The plan's model: attachments with their uses, passes with their steps, the frame plan and
 //! the figures it derives (bytes, traffic). Built by `build`, completed by `derive`.
 
+use super::barriers::PassBarriers;
 use super::derive::{Access, ClearValue, Layout, LoadOp, StoreOp};
 use super::pipeline::PipelineDesc;
 use super::steps::Step;
@@ -188,6 +189,9 @@ pub struct PassPlan {
     pub submission: Submission,
     /// What the pass does, in order (mask fans, far composite, scene, probe; or composition).
     pub steps: Vec<Step>,
+    /// What the pass waits on as it begins and signals as it ends (derived: who touched each
+    /// of its images before, who touches them next).
+    pub barriers: PassBarriers,
     /// Each step's pipeline, as its builder states it (one per step, in step order; stated
     /// once the frame's stencil states and counter slots are known).
     pub pipelines: Vec<PipelineDesc>,

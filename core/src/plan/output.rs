@@ -75,6 +75,7 @@ pub(super) fn sampling_pass(
         guard_band: 1,
         first_view: 0,
         pipelines: Vec::new(),
+        barriers: Default::default(),
     }
 }
 

@@ -293,6 +293,13 @@ impl fmt::Display for FramePlan {
                     u.initial_layout, u.final_layout
                 )?;
             }
+            for (what, barriers) in [
+                ("waits on", &p.barriers.wait),
+                ("signals", &p.barriers.signal),
+            ] {
+                let list: Vec<String> = barriers.iter().map(ToString::to_string).collect();
+                writeln!(f, "    {what}: {}", list.join("; "))?;
+            }
         }
         if !self.counted.is_empty() {
             let steps: Vec<String> = self

@@ -170,6 +170,7 @@ pub(super) fn scene_passes(
             guard_band: 1,
             first_view: 0,
             pipelines: Vec::new(),
+            barriers: Default::default(),
         }
     };
     let multiview = Submission::Multiview;
@@ -192,6 +193,7 @@ pub(super) fn scene_passes(
             let fovea = PassPlan {
                 first_view: 2,
                 pipelines: Vec::new(),
+                barriers: Default::default(),
                 ..pass(
                     "scene (fovea views)",
                     0b11,

@@ -2,7 +2,7 @@
 //! plan, read without a GPU (tests, and anyone checking what a configuration records).
 
 use super::record::{record_frame, FrameDraws, Recorder, Rect};
-use crate::plan::{ClearValue, FramePlan, Step};
+use crate::plan::{Barrier, ClearValue, FramePlan, Step};
 use crate::scene::{Draw, Scene};
 
 /// One recorded command, in the renderer's terms.
@@ -15,11 +15,17 @@ pub enum Command {
     EndStatistics(usize),
     CountersBarrier,
     CountersToHost,
+    /// A pass begins once what it waits on is done.
     BeginPass {
         pass: usize,
         clears: Vec<ClearValue>,
+        wait: Vec<Barrier>,
     },
-    EndPass(usize),
+    /// A pass ends; what touches its images next waits on `signal`.
+    EndPass {
+        pass: usize,
+        signal: Vec<Barrier>,
+    },
     /// A step's pipeline and resources bound (the step as the plan has it).
     BindStep {
         pass: usize,
@@ -91,14 +97,18 @@ impl Recorder for CommandLog<'_> {
     fn counters_to_host(&mut self) {
         self.commands.push(Command::CountersToHost);
     }
-    fn begin_pass(&mut self, pass: usize, clears: &[ClearValue]) {
+    fn begin_pass(&mut self, pass: usize, clears: &[ClearValue], wait: &[Barrier]) {
         self.commands.push(Command::BeginPass {
             pass,
             clears: clears.to_vec(),
+            wait: wait.to_vec(),
         });
     }
-    fn end_pass(&mut self, pass: usize) {
-        self.commands.push(Command::EndPass(pass));
+    fn end_pass(&mut self, pass: usize, signal: &[Barrier]) {
+        self.commands.push(Command::EndPass {
+            pass,
+            signal: signal.to_vec(),
+        });
     }
     fn bind_step(&mut self, pass: usize, step: usize) {
         self.commands.push(Command::BindStep {
@@ -165,7 +175,7 @@ mod tests {
             .iter()
             .filter_map(|c| match c {
                 Command::BeginPass { pass, .. } => Some(format!("begin {pass}")),
-                Command::EndPass(pass) => Some(format!("end {pass}")),
+                Command::EndPass { pass, .. } => Some(format!("end {pass}")),
                 Command::BindStep { step, .. } => {
                     Some(step.to_string().split(" [").next().unwrap().to_string())
                 }
@@ -434,6 +444,114 @@ mod tests {
                 "begin 1",
                 "reconstruct",
                 "end 1"
+            ]
+        );
+    }
+
+    /// Each pass's barriers as recorded where it begins and ends.
+    fn barriers(commands: &[Command]) -> (Vec<Vec<Barrier>>, Vec<Vec<Barrier>>) {
+        let (mut waits, mut signals) = (Vec::new(), Vec::new());
+        for c in commands {
+            match c {
+                Command::BeginPass { wait, .. } => waits.push(wait.clone()),
+                Command::EndPass { signal, .. } => signals.push(signal.clone()),
+                _ => {}
+            }
+        }
+        (waits, signals)
+    }
+
+    /// A foveated frame: the output pass samples the scene pass's resolve only after the scene
+    /// pass ends, the readback follows the output pass, and the on-tile MSAA image only waits on
+    /// its own previous frame. Mutation: the sampled touch left out of `derive_barriers`, or
+    /// barriers recorded with the wrong pass, fails it (and synchronization validation fails
+    /// the Vulkan tests).
+    #[test]
+    fn each_pass_records_the_barriers_its_images_need() {
+        use crate::plan::Touch::*;
+        let (plan, commands) = log_of(&RenderConfig {
+            views: 4,
+            msaa: 4,
+            foveation: Some(FoveationConfig::default()),
+            fovea_layout: FoveaLayout::OnePass,
+            output: OutputStage::Lens,
+            ..base()
+        });
+        let (waits, signals) = barriers(&commands);
+        for (i, pass) in plan.passes.iter().enumerate() {
+            assert_eq!(
+                (&waits[i], &signals[i]),
+                (&pass.barriers.wait, &pass.barriers.signal)
+            );
+        }
+        let barrier = |attachment, from, to| Barrier {
+            attachment,
+            from,
+            to,
+        };
+        let (msaa, depth) = (
+            plan.passes[0].color.attachment,
+            plan.passes[0].depth.unwrap(),
+        );
+        let views = plan.passes[0].resolve.unwrap().attachment;
+        let output = plan.passes[1].color.attachment;
+        assert_eq!(
+            signals[0],
+            [
+                barrier(msaa, ColourAttachment, ColourAttachment),
+                barrier(depth.attachment, DepthAttachment, DepthAttachment),
+                barrier(views, ColourAttachment, Sampled),
+            ]
+        );
+        assert_eq!(
+            waits[1],
+            [
+                barrier(views, ColourAttachment, Sampled),
+                barrier(output, ReadAfterFrame, ColourAttachment),
+            ]
+        );
+        assert_eq!(
+            signals[1],
+            [
+                barrier(views, Sampled, ColourAttachment),
+                barrier(output, ColourAttachment, ReadAfterFrame),
+            ]
+        );
+    }
+
+    /// Two-pass stereo: the eye passes share the on-tile scratch images, so the second waits on
+    /// the first; each resolves into its own layer of the eye image, so neither waits on the
+    /// other's resolve. Mutation: touches compared without their layers fails it.
+    #[test]
+    fn two_pass_eyes_wait_on_each_other_only_for_the_images_they_share() {
+        use crate::plan::Touch::*;
+        let (plan, commands) = log_of(&RenderConfig {
+            stereo: StereoMode::TwoPass,
+            msaa: 4,
+            ..base()
+        });
+        let (waits, _) = barriers(&commands);
+        let (left, right) = (&plan.passes[0], &plan.passes[1]);
+        let eyes = right.resolve.unwrap().attachment;
+        assert_eq!(left.resolve.unwrap().attachment, eyes, "one layered image");
+        assert_eq!(
+            waits[1],
+            [
+                Barrier {
+                    attachment: right.color.attachment,
+                    from: ColourAttachment,
+                    to: ColourAttachment
+                },
+                Barrier {
+                    attachment: right.depth.unwrap().attachment,
+                    from: DepthAttachment,
+                    to: DepthAttachment
+                },
+                Barrier {
+                    attachment: eyes,
+                    from: ReadAfterFrame,
+                    to: ColourAttachment
+                },
             ]
         );
     }

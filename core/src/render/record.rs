@@ -6,7 +6,7 @@
 use ash::vk;
 
 use super::renderer::{DrawTally, Renderer};
-use crate::plan::{ClearValue, FramePlan, PassPlan, Step};
+use crate::plan::{Barrier, ClearValue, FramePlan, PassPlan, Step};
 use crate::scene::Draw;
 
 /// A rectangle of a pass's render area: x, y, width, height in pixels.
@@ -35,8 +35,11 @@ pub trait Recorder {
     fn counters_barrier(&mut self);
     /// Counting frames: the counters, visible to the host.
     fn counters_to_host(&mut self);
-    fn begin_pass(&mut self, pass: usize, clears: &[ClearValue]);
-    fn end_pass(&mut self, pass: usize);
+    /// Pass `pass` begins, clearing as `clears` says, once what it waits on is done (`wait`:
+    /// the plan's barriers, which Vulkan executes as the render pass's external dependency).
+    fn begin_pass(&mut self, pass: usize, clears: &[ClearValue], wait: &[Barrier]);
+    /// Pass `pass` ends; later work that touches its images waits for it as `signal` says.
+    fn end_pass(&mut self, pass: usize, signal: &[Barrier]);
     /// Step `step` of pass `pass`: its pipeline and the resources it reads.
     fn bind_step(&mut self, pass: usize, step: usize);
     /// The scene's vertex and index buffers.
@@ -98,7 +101,7 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
                 })
             })
             .collect();
-        rec.begin_pass(index, &clears);
+        rec.begin_pass(index, &clears, &pass.barriers.wait);
         let area = pass_area(plan, pass);
         for (step_index, step) in pass.steps.iter().enumerate() {
             rec.bind_step(index, step_index);
@@ -116,7 +119,7 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
                 Step::Reconstruct => super::radial_density::record_reconstruction(pass, area, rec),
             }
         }
-        rec.end_pass(index);
+        rec.end_pass(index, &pass.barriers.signal);
         if statistics {
             rec.end_statistics(index);
         }
@@ -272,7 +275,9 @@ impl Recorder for VulkanRecorder<'_> {
         );
     }
 
-    fn begin_pass(&mut self, pass: usize, clears: &[ClearValue]) {
+    // The barriers are the compiled render pass's external dependencies (`targets.rs`):
+    // beginning and ending it executes them.
+    fn begin_pass(&mut self, pass: usize, clears: &[ClearValue], _wait: &[Barrier]) {
         let compiled = &self.r.passes[pass].0;
         let clears: Vec<vk::ClearValue> = clears
             .iter()
@@ -299,7 +304,7 @@ impl Recorder for VulkanRecorder<'_> {
         };
     }
 
-    fn end_pass(&mut self, _pass: usize) {
+    fn end_pass(&mut self, _pass: usize, _signal: &[Barrier]) {
         unsafe { self.device().cmd_end_render_pass(self.cmd) };
         self.pass_ends.push(self.tally.triangles);
     }

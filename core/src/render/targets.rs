@@ -8,7 +8,9 @@ use std::sync::Arc;
 use crate::gpu::{
     Description, Framebuffer, Gpu, GpuError, Image, ImageDesc, ImageView, RenderPass, VkResultExt,
 };
-use crate::plan::{AttachmentPlan, Format, FramePlan, Layout, LoadOp, StoreOp, Use};
+use crate::plan::{
+    AttachmentPlan, Barrier, Format, FramePlan, Layout, LoadOp, StoreOp, Touch, Use,
+};
 
 pub(crate) fn vk_format(format: Format) -> vk::Format {
     match format {
@@ -111,6 +113,56 @@ fn description(plan: &FramePlan, u: &Use) -> vk::AttachmentDescription {
         .final_layout(vk_layout(u.final_layout))
 }
 
+/// Where a touch happens, what it makes available when it comes first (its writes) and what it
+/// needs visible when it comes second.
+fn synchronisation(touch: Touch) -> (vk::PipelineStageFlags, vk::AccessFlags, vk::AccessFlags) {
+    match touch {
+        Touch::ColourAttachment => (
+            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+            vk::AccessFlags::COLOR_ATTACHMENT_READ | vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+        ),
+        Touch::DepthAttachment => (
+            vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+                | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
+            vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ
+                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+        ),
+        Touch::Sampled => (
+            vk::PipelineStageFlags::FRAGMENT_SHADER,
+            vk::AccessFlags::empty(),
+            vk::AccessFlags::SHADER_READ,
+        ),
+        Touch::ReadAfterFrame => (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::empty(),
+            vk::AccessFlags::TRANSFER_READ,
+        ),
+    }
+}
+
+/// One subpass dependency covering `barriers` (none when there are none).
+fn dependency(barriers: &[Barrier], src: u32, dst: u32) -> Option<vk::SubpassDependency> {
+    barriers
+        .iter()
+        .fold(None, |d: Option<vk::SubpassDependency>, b| {
+            let (src_stage, src_access, _) = synchronisation(b.from);
+            let (dst_stage, _, dst_access) = synchronisation(b.to);
+            let d = d.unwrap_or_else(|| {
+                vk::SubpassDependency::default()
+                    .src_subpass(src)
+                    .dst_subpass(dst)
+            });
+            Some(
+                d.src_stage_mask(d.src_stage_mask | src_stage)
+                    .dst_stage_mask(d.dst_stage_mask | dst_stage)
+                    .src_access_mask(d.src_access_mask | src_access)
+                    .dst_access_mask(d.dst_access_mask | dst_access),
+            )
+        })
+}
+
 pub(crate) fn compile_pass(
     gpu: &Gpu,
     plan: &FramePlan,
@@ -144,42 +196,30 @@ pub(crate) fn compile_pass(
     if pass.resolve.is_some() {
         subpass = subpass.resolve_attachments(&resolve_ref);
     }
-    let attachment_stages = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-        | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
-        | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
-    let attachment_writes =
-        vk::AccessFlags::COLOR_ATTACHMENT_WRITE | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE;
-    let dependencies = [
-        // Earlier frames' attachment writes and the readback's reads finish before we write.
-        vk::SubpassDependency::default()
-            .src_subpass(vk::SUBPASS_EXTERNAL)
-            .dst_subpass(0)
-            .src_stage_mask(attachment_stages | vk::PipelineStageFlags::TRANSFER)
-            .dst_stage_mask(attachment_stages)
-            .src_access_mask(attachment_writes)
-            .dst_access_mask(
-                attachment_writes
-                    | vk::AccessFlags::COLOR_ATTACHMENT_READ
-                    | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
-            ),
-        // The output is copied out, or sampled by a later pass.
-        vk::SubpassDependency::default()
-            .src_subpass(0)
-            .dst_subpass(vk::SUBPASS_EXTERNAL)
-            .src_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT)
-            .dst_stage_mask(
-                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::FRAGMENT_SHADER,
-            )
-            .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
-            .dst_access_mask(vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::SHADER_READ),
-    ];
-    // Everything the render pass's create info depends on; the dependencies are the same for
-    // every pass.
+    // The plan's barriers, as the render pass's external dependencies: what the pass waits
+    // on before its first subpass, and what later work waits on after it.
+    let dependencies: Vec<vk::SubpassDependency> = [
+        dependency(&pass.barriers.wait, vk::SUBPASS_EXTERNAL, 0),
+        dependency(&pass.barriers.signal, 0, vk::SUBPASS_EXTERNAL),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    // Everything the render pass's create info depends on.
     let mut description: Description = vec![
         pass.view_mask as u64,
         pass.depth.is_some() as u64,
         pass.resolve.is_some() as u64,
     ];
+    for d in &dependencies {
+        description.extend([
+            d.src_subpass as u64,
+            d.src_stage_mask.as_raw() as u64,
+            d.dst_stage_mask.as_raw() as u64,
+            d.src_access_mask.as_raw() as u64,
+            d.dst_access_mask.as_raw() as u64,
+        ]);
+    }
     for d in &descriptions {
         description.extend([
             d.format.as_raw() as u64,
