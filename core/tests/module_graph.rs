@@ -69,10 +69,8 @@ fn the_vocabulary_is_a_leaf() {
     );
 }
 
-#[test]
-fn no_module_imports_itself_through_others() {
-    let graph = module_graph();
-    // Depth-first search for a cycle; report the first found.
+/// The first cycle in `graph`, if any.
+fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
     fn visit(
         node: &str,
         graph: &BTreeMap<String, BTreeSet<String>>,
@@ -98,9 +96,112 @@ fn no_module_imports_itself_through_others() {
         None
     }
     let mut done = BTreeSet::new();
-    for node in graph.keys() {
-        if let Some(cycle) = visit(node, &graph, &mut Vec::new(), &mut done) {
-            panic!("module cycle: {}\nthe graph: {graph:#?}", cycle.join(" → "));
+    graph
+        .keys()
+        .find_map(|node| visit(node, graph, &mut Vec::new(), &mut done))
+}
+
+#[test]
+fn no_module_imports_itself_through_others() {
+    let graph = module_graph();
+    if let Some(cycle) = find_cycle(&graph) {
+        panic!("module cycle: {}\nthe graph: {graph:#?}", cycle.join(" → "));
+    }
+}
+
+/// The names a folder's `mod.rs` re-exports (`pub use file::{A, B}`), by the file they come
+/// from: a sibling naming `super::A` imports that file.
+fn reexports(mod_rs: &str, files: &BTreeSet<String>) -> BTreeMap<String, String> {
+    let mut items = BTreeMap::new();
+    for (i, _) in mod_rs.match_indices("pub use ") {
+        let rest = &mod_rs[i + "pub use ".len()..];
+        let statement = &rest[..rest.find(';').unwrap()];
+        let Some((file, names)) = statement.split_once("::") else {
+            continue;
+        };
+        if !files.contains(file) {
+            continue;
+        }
+        for name in names.split(|c: char| "{}, \n".contains(c)) {
+            if !name.is_empty() {
+                items.insert(name.to_string(), file.to_string());
+            }
+        }
+    }
+    items
+}
+
+/// File → the sibling files it names, inside one folder of `core/src` (`super::file`, a name
+/// `mod.rs` re-exports from a file, or `crate::folder::…` alike). `mod.rs` and tests left out.
+fn file_graph(folder: &str) -> BTreeMap<String, BTreeSet<String>> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("src")
+        .join(folder);
+    let stem = |p: &Path| p.file_stem().unwrap().to_string_lossy().to_string();
+    let files: BTreeSet<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "rs"))
+        .map(|p| stem(&p))
+        .filter(|f| f != "mod" && !f.ends_with("tests"))
+        .collect();
+    let items = reexports(
+        &std::fs::read_to_string(dir.join("mod.rs")).unwrap(),
+        &files,
+    );
+    let mut graph = BTreeMap::new();
+    for file in &files {
+        let text = std::fs::read_to_string(dir.join(format!("{file}.rs"))).unwrap();
+        // Unit tests inside the file may use anything.
+        let code = text.split("#[cfg(test)]").next().unwrap();
+        let mut names = BTreeSet::new();
+        let prefix = format!("crate::{folder}::");
+        for start in ["super::", prefix.as_str()] {
+            for (i, _) in code.match_indices(start) {
+                let rest = &code[i + start.len()..];
+                // `super::{a::B, C}` or `super::a::B` or `super::C`.
+                let paths = if let Some(group) = rest.strip_prefix('{') {
+                    group[..group.find('}').unwrap_or(group.len())].to_string()
+                } else {
+                    rest.chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '_')
+                        .collect()
+                };
+                for path in paths.split(',') {
+                    let first: String = path
+                        .trim()
+                        .chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '_')
+                        .collect();
+                    let target = if files.contains(&first) {
+                        Some(first)
+                    } else {
+                        items.get(&first).cloned()
+                    };
+                    if let Some(target) = target.filter(|t| t != file) {
+                        names.insert(target);
+                    }
+                }
+            }
+        }
+        graph.insert(file.clone(), names);
+    }
+    graph
+}
+
+/// DESIGN.md: inside `render/` and `plan/` no two files import each other, through others
+/// either. Mutation: `use super::renderer::Renderer` in `record.rs`, or a `plan/model.rs` item
+/// `derive.rs` names while `model.rs` names `derive.rs`, fails it.
+#[test]
+fn no_file_of_render_or_plan_imports_itself_through_others() {
+    for folder in ["plan", "render"] {
+        let graph = file_graph(folder);
+        assert!(graph.len() > 5, "{folder}: {graph:?}");
+        if let Some(cycle) = find_cycle(&graph) {
+            panic!(
+                "{folder}/: file cycle {}\nthe graph: {graph:#?}",
+                cycle.join(" → ")
+            );
         }
     }
 }

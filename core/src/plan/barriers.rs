@@ -4,43 +4,8 @@
 //! readback of its output). A render pass executes them as its external subpass dependencies —
 //! on a tile GPU a pass then waits only for what it reads, not for every earlier pass.
 
-use std::fmt;
-
-use super::model::{AttachmentId, FramePlan, PassPlan};
-
-/// How a pass, or the frame's reader, touches an image.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Touch {
-    /// Colour attachment or resolve target: written (and read where the pass loads it).
-    ColourAttachment,
-    /// Depth/stencil attachment: tested and written.
-    DepthAttachment,
-    /// Sampled by a fragment shader.
-    Sampled,
-    /// Copied out after the frame: read back, or blitted to a swapchain.
-    ReadAfterFrame,
-}
-
-impl Touch {
-    pub fn writes(self) -> bool {
-        matches!(self, Touch::ColourAttachment | Touch::DepthAttachment)
-    }
-}
-
-/// One dependency: `from` (an earlier touch of `attachment`) done and visible before `to`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct Barrier {
-    pub attachment: AttachmentId,
-    pub from: Touch,
-    pub to: Touch,
-}
-
-/// A pass's barriers: those it waits on as it begins, those it signals as it ends.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct PassBarriers {
-    pub wait: Vec<Barrier>,
-    pub signal: Vec<Barrier>,
-}
+use super::model::{FramePlan, PassPlan};
+use super::ops::{AttachmentId, Barrier, PassBarriers, Touch};
 
 /// One touch in frame order: by pass `pass` (`None`: after the frame), of some layers.
 #[derive(Clone, Copy)]
@@ -146,21 +111,4 @@ pub(super) fn derive_barriers(plan: &FramePlan) -> Vec<PassBarriers> {
         b.signal.dedup();
     }
     barriers
-}
-
-impl fmt::Display for Touch {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Touch::ColourAttachment => "colour attachment",
-            Touch::DepthAttachment => "depth attachment",
-            Touch::Sampled => "sampled",
-            Touch::ReadAfterFrame => "read after the frame",
-        })
-    }
-}
-
-impl fmt::Display for Barrier {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "#{} {} → {}", self.attachment, self.from, self.to)
-    }
 }

@@ -8,11 +8,12 @@ use super::derive::{assign_stencil, derive_ops};
 use super::masks::{add_mask_fans, mask_pipeline};
 use super::mffr::{add_far_composite, far_composite_pipeline, far_pass};
 use super::model::*;
+use super::ops::AttachmentId;
 use super::output::{output_pass, output_pipeline};
 use super::pipeline::{PipelineDesc, StepContext};
 use super::probe::{add_probe, probe_pipeline};
 use super::radial_density::{add_radial_density, radial_mask_pipeline, reconstruct_pipeline};
-use super::steps::{OutputSource, Step};
+use super::steps::{DrawSet, OutputSource, Step};
 use super::stereo_scene::{scene_passes, scene_pipeline, FoveaPasses};
 use super::validate::*;
 use super::{

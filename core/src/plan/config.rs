@@ -1,11 +1,13 @@
 use std::fmt;
 use std::str::FromStr;
 
+use glam::Vec4;
+
 use super::{ConfigError, Resolution};
 use crate::cull::Strategy;
 use crate::foveation::FoveationConfig;
 use crate::mffr::MffrConfig;
-use crate::view::{FovTangents, HmdProfile, HMD_PROFILES};
+use crate::view::{Eye, EyeParams, FovTangents, HmdProfile, HMD_PROFILES};
 use crate::vocab::named_enum;
 
 /// foveate's own limit on views in one pass: two eyes, or two eyes × (periphery, fovea).
@@ -116,7 +118,7 @@ impl CullConfig {
     };
 }
 
-/// Everything a user chooses about a frame. Validated by [`super::plan`].
+/// Everything a user chooses about a frame. Validated by `plan()`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderConfig {
     /// Headset profile name (see [`HMD_PROFILES`]).
@@ -151,7 +153,7 @@ pub struct RenderConfig {
     pub mffr: Option<MffrConfig>,
     /// Radial density masking: 2×2 quads skipped in the periphery, reconstructed after the
     /// scene pass.
-    pub radial_density: Option<super::radial_density::RadialDensity>,
+    pub radial_density: Option<RadialDensity>,
     /// Count every pixel each view renders (a full-view draw under the pass's stencil masks,
     /// counted by the fragment counter) — `foveate pixels` measures with it.
     pub coverage_probe: bool,
@@ -206,6 +208,56 @@ impl RenderConfig {
         HmdProfile::by_name(&self.hmd).ok_or_else(|| {
             let names: Vec<_> = HMD_PROFILES.iter().map(|p| p.name).collect();
             ConfigError::new("hmd", &self.hmd, format!("one of {}", names.join(", ")))
+        })
+    }
+}
+
+/// Radial density masking as a user chooses it (seed 000 §4.4.2; builder: `radial_density.rs`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RadialDensity {
+    /// Inside this radius (1 = the lens edge) every quad is shaded.
+    pub inner: f32,
+    /// Past this radius three quads in four are skipped; between the two, every other one.
+    pub outer: f32,
+}
+
+impl Default for RadialDensity {
+    fn default() -> Self {
+        RadialDensity {
+            inner: 0.5,
+            outer: 0.8,
+        }
+    }
+}
+
+/// Radial density masking as planned: the configuration and each eye's lens ellipse in NDC.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RadialDensityGeometry {
+    pub config: RadialDensity,
+    /// Centre x, y and radius x, y per eye.
+    pub lens: [Vec4; 2],
+    pub view: Resolution,
+}
+
+impl RadialDensity {
+    pub(super) fn resolve(
+        &self,
+        hmd: &HmdProfile,
+        eyes: &EyeParams,
+        view: Resolution,
+    ) -> Result<RadialDensityGeometry, ConfigError> {
+        let ok = |r: f32| r.is_finite() && r >= 0.0;
+        if !(ok(self.inner) && ok(self.outer) && self.inner < self.outer) {
+            return Err(ConfigError::new(
+                "radial_density",
+                format!("inner {}, outer {}", self.inner, self.outer),
+                "finite radii with 0 ≤ inner < outer (1 = the lens edge)",
+            ));
+        }
+        Ok(RadialDensityGeometry {
+            config: *self,
+            lens: Eye::BOTH.map(|e| hmd.lens_region(eyes.fov(e)).ndc_ellipse()),
+            view,
         })
     }
 }

@@ -1,10 +1,10 @@
 //! MFFR's far field: one mono pass from the far view into an image the eye passes composite,
 //! before their scene step (far-first) or after it (near-first).
 
-use super::derive::Access;
 use super::model::*;
+use super::ops::Access;
 use super::pipeline::{Constant, PipelineDesc, StepContext};
-use super::steps::Step;
+use super::steps::{DrawSet, Step};
 use super::stereo_scene::view_source;
 use super::{RenderConfig, Resolution};
 use crate::mffr::{MffrOrder, MffrVariant};

@@ -12,6 +12,7 @@ mod derive;
 mod masks;
 mod mffr;
 mod model;
+mod ops;
 mod output;
 mod pipeline;
 mod print;
@@ -22,20 +23,22 @@ mod stereo_scene;
 mod validate;
 
 pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
-pub use barriers::{Barrier, PassBarriers, Touch};
 pub use build::plan;
-pub use config::{CullConfig, FoveaLayout, OutputStage, RenderConfig, StereoMode, MAX_VIEWS};
-pub use derive::{Access, ClearValue, Layout, LoadOp, StoreOp};
+pub use config::{
+    CullConfig, FoveaLayout, OutputStage, RadialDensity, RadialDensityGeometry, RenderConfig,
+    StereoMode, MAX_VIEWS,
+};
 pub use model::{
-    AttachmentId, AttachmentPlan, AttachmentRole, BufferPlan, CountedSlot, CountedStep, DrawSet,
-    Format, FoveaLayoutChoice, FramePlan, LensOutput, PassKind, PassPlan, Submission, TargetLayout,
-    Use, COUNTER_SLOTS_PER_STEP, SKY,
+    AttachmentPlan, AttachmentRole, BufferPlan, CountedSlot, Format, FoveaLayoutChoice, FramePlan,
+    LensOutput, PassKind, PassPlan, Submission, TargetLayout, Use, COUNTER_SLOTS_PER_STEP, SKY,
+};
+pub use ops::{
+    Access, AttachmentId, Barrier, ClearValue, Layout, LoadOp, PassBarriers, StoreOp, Touch,
 };
 pub use pipeline::{Constant, ConstantKind, PipelineDesc, VertexInput};
-pub use radial_density::{RadialDensity, RadialDensityGeometry};
 pub use steps::{
-    CompareOp, OutputSource, OutputStep, StencilOp, StencilState, Step, MASK_BIT, NEAR_BIT,
-    SKIP_BIT,
+    CompareOp, CountedStep, DrawSet, OutputSource, OutputStep, StencilOp, StencilState, Step,
+    MASK_BIT, NEAR_BIT, SKIP_BIT,
 };
 
 #[cfg(test)]

@@ -1,10 +1,9 @@
 //! The plan's model: attachments with their uses, passes with their steps, the frame plan and
 //! the figures it derives (bytes, traffic). Built by `build`, completed by `derive`.
 
-use super::barriers::PassBarriers;
-use super::derive::{Access, ClearValue, Layout, LoadOp, StoreOp};
+use super::ops::{Access, AttachmentId, ClearValue, Layout, LoadOp, PassBarriers, StoreOp};
 use super::pipeline::PipelineDesc;
-use super::steps::Step;
+use super::steps::{CountedStep, DrawSet, Step};
 use super::{CullConfig, Resolution, StereoMode, MAX_VIEWS};
 use crate::foveation::FoveationGeometry;
 use crate::mffr::{MffrGeometry, MffrOrder};
@@ -42,9 +41,6 @@ pub enum AttachmentRole {
     /// Single-sample target an MSAA colour attachment resolves into inside the pass.
     Resolve,
 }
-
-/// Index into [`FramePlan::attachments`].
-pub type AttachmentId = usize;
 
 /// One image the frame renders into, and its fate.
 #[derive(Clone, Debug, PartialEq)]
@@ -135,28 +131,6 @@ pub enum Submission {
     Instanced,
     /// Once, from the MFFR far view.
     FarView,
-}
-
-/// Which instances a scene pass draws.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DrawSet {
-    /// Every instance, straight from the scene's draws.
-    All,
-    /// Instances the culling strategy keeps for the pass's views (culled per frame).
-    Visible,
-    /// Instances one eye's own frustum keeps: per-eye culling of a two-pass frame.
-    VisibleToEye(Eye),
-    /// Instances reaching in front of the MFFR split (culled per frame).
-    NearField,
-    /// Instances reaching beyond the MFFR far pass's near plane (culled per frame).
-    FarField,
-    /// Instances the superfrustum of the two fovea frusta keeps: the fovea pass of the
-    /// two-pass fovea layout (culled per frame).
-    Fovea,
-    /// The periphery's instances (every one, or the culling strategy's), each tagged with
-    /// whether the fovea superfrustum keeps it: the one-pass fovea layout, whose vertex shader
-    /// emits no primitives in the fovea views for untagged instances (culled per frame).
-    FoveaTagged,
 }
 
 /// What a pass does.
@@ -275,38 +249,6 @@ pub enum TargetLayout {
     SideBySide,
 }
 
-/// A step of a pass that shades fragments, counted on its own in counting frames.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum CountedStep {
-    /// Stencil mask fans (the HMD mask, foveation's inset/outset), at the start of the pass.
-    Mask,
-    /// The MFFR far image composited into the eye views.
-    FarComposite,
-    /// The scene's meshes.
-    Scene,
-    /// The coverage probe's full-view draw.
-    Probe,
-    /// The output stage (with foveation, the composition of each eye at full resolution).
-    Output,
-    /// Radial density masking's mask (a full-view draw) and its reconstruction.
-    RadialMask,
-    Reconstruct,
-}
-
-impl CountedStep {
-    pub fn name(self) -> &'static str {
-        match self {
-            CountedStep::Mask => "mask",
-            CountedStep::FarComposite => "far composite",
-            CountedStep::Scene => "scene",
-            CountedStep::Probe => "probe",
-            CountedStep::Output => "output",
-            CountedStep::RadialMask => "radial mask",
-            CountedStep::Reconstruct => "reconstruct",
-        }
-    }
-}
-
 /// One counted step: its pass (index into [`FramePlan::passes`]) and what it draws. Its five
 /// counter slots (views 0–3, then the MFFR far view) start at [`FramePlan::counter_base`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -367,7 +309,7 @@ pub struct FramePlan {
     /// Per-frame culling, when on.
     pub culling: Option<CullConfig>,
     /// Radial density masking as resolved, when on.
-    pub radial_density: Option<super::radial_density::RadialDensityGeometry>,
+    pub radial_density: Option<super::config::RadialDensityGeometry>,
     /// The sets culled each frame, in order; a scene step's `cull_slot` indexes this (empty
     /// when every pass draws every instance).
     pub cull_slots: Vec<DrawSet>,

@@ -3,8 +3,8 @@
 //! the bilinearly upscaled periphery, smoothstep across the band); for the lens it pre-distorts
 //! each eye. Like a VR compositor's pass, it costs one full-view pass however much it does.
 
-use super::derive::Access;
 use super::model::*;
+use super::ops::{Access, AttachmentId};
 use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{OutputSource, OutputStep, Step};
 use super::Resolution;

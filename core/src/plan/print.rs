@@ -1,6 +1,7 @@
 use std::fmt;
 
-use super::{DrawSet, FramePlan, PassKind, Step, Submission, TargetLayout};
+use super::model::{FramePlan, PassKind, Submission, TargetLayout};
+use super::steps::{DrawSet, Step};
 use crate::mffr::MffrOrder;
 
 fn mib(bytes: u64) -> String {

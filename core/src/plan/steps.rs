@@ -3,7 +3,61 @@
 
 use std::fmt;
 
-use super::{CountedStep, DrawSet};
+use crate::view::Eye;
+
+/// Which instances a scene pass draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DrawSet {
+    /// Every instance, straight from the scene's draws.
+    All,
+    /// Instances the culling strategy keeps for the pass's views (culled per frame).
+    Visible,
+    /// Instances one eye's own frustum keeps: per-eye culling of a two-pass frame.
+    VisibleToEye(Eye),
+    /// Instances reaching in front of the MFFR split (culled per frame).
+    NearField,
+    /// Instances reaching beyond the MFFR far pass's near plane (culled per frame).
+    FarField,
+    /// Instances the superfrustum of the two fovea frusta keeps: the fovea pass of the
+    /// two-pass fovea layout (culled per frame).
+    Fovea,
+    /// The periphery's instances (every one, or the culling strategy's), each tagged with
+    /// whether the fovea superfrustum keeps it: the one-pass fovea layout, whose vertex shader
+    /// emits no primitives in the fovea views for untagged instances (culled per frame).
+    FoveaTagged,
+}
+
+/// A step of a pass that shades fragments, counted on its own in counting frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CountedStep {
+    /// Stencil mask fans (the HMD mask, foveation's inset/outset), at the start of the pass.
+    Mask,
+    /// The MFFR far image composited into the eye views.
+    FarComposite,
+    /// The scene's meshes.
+    Scene,
+    /// The coverage probe's full-view draw.
+    Probe,
+    /// The output stage (with foveation, the composition of each eye at full resolution).
+    Output,
+    /// Radial density masking's mask (a full-view draw) and its reconstruction.
+    RadialMask,
+    Reconstruct,
+}
+
+impl CountedStep {
+    pub fn name(self) -> &'static str {
+        match self {
+            CountedStep::Mask => "mask",
+            CountedStep::FarComposite => "far composite",
+            CountedStep::Scene => "scene",
+            CountedStep::Probe => "probe",
+            CountedStep::Output => "output",
+            CountedStep::RadialMask => "radial mask",
+            CountedStep::Reconstruct => "reconstruct",
+        }
+    }
+}
 
 /// Stencil bit 0: set where the masks keep a pixel (the lens-visible area, a fovea's inset
 /// circle, a periphery outside its hole). Bit 1: set where the MFFR near field drew

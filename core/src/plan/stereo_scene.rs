@@ -2,10 +2,10 @@
 //! and a foveated frame's layout say (masks, MFFR's far composite and the probe are their own
 //! builders' steps).
 
-use super::derive::Access;
 use super::model::*;
+use super::ops::{Access, AttachmentId};
 use super::pipeline::{Constant, PipelineDesc, StepContext, VertexInput};
-use super::steps::Step;
+use super::steps::{DrawSet, Step};
 use super::{FoveaLayout, RenderConfig, Resolution, StereoMode};
 use crate::cull::Strategy;
 use crate::shaders::{
