@@ -22,4 +22,4 @@ pub use swapchain::{BlitSource, Presented, Swapchain};
 
 pub(crate) use cache::{Description, ObjectCache, PipelineKey};
 pub(crate) use context::DeviceOwner;
-pub(crate) use submit::{transition_image, ImageState};
+pub(crate) use submit::{memory_barrier, transition_image, ImageState};

@@ -106,3 +106,27 @@ pub(crate) unsafe fn transition_image(
         )
     };
 }
+
+/// A global memory barrier: what `src` did, available to and visible for `dst`.
+///
+/// # Safety
+/// `cmd` is a command buffer of `device` in the recording state.
+pub(crate) unsafe fn memory_barrier(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    src: (vk::PipelineStageFlags, vk::AccessFlags),
+    dst: (vk::PipelineStageFlags, vk::AccessFlags),
+) {
+    let barrier = [vk::MemoryBarrier::default()
+        .src_access_mask(src.1)
+        .dst_access_mask(dst.1)];
+    device.cmd_pipeline_barrier(
+        cmd,
+        src.0,
+        dst.0,
+        vk::DependencyFlags::empty(),
+        &barrier,
+        &[],
+        &[],
+    );
+}

@@ -1,7 +1,8 @@
 //! A [`Recorder`] that keeps what a frame records as a list of commands: the recording of any
 //! plan, read without a GPU (tests, and anyone checking what a configuration records).
 
-use super::record::{record_frame, FrameDraws, Recorder, Rect};
+use super::record::record_frame;
+use super::recorder::{FrameDraws, Recorder, Rect};
 use crate::plan::{Barrier, ClearValue, FramePlan, Step};
 use crate::scene::{Draw, Scene};
 

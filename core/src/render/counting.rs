@@ -1,7 +1,7 @@
 //! Fragment counting in counting frames: the counters each counted step added to (the shaders'
 //! `counter.glsl`), read back per step and view. Timed frames have no counter.
 
-use super::renderer::StepFragments;
+use super::stats::StepFragments;
 use crate::gpu::Buffer;
 use crate::plan::{FramePlan, COUNTER_SLOTS_PER_STEP};
 

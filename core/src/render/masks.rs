@@ -3,16 +3,22 @@
 
 use glam::Vec4;
 
-use super::record::{Recorder, Rect};
+use super::recorder::{Recorder, Rect};
 use crate::foveation::mask_shapes;
-use crate::plan::{FramePlan, PassPlan};
+use crate::plan::{FramePlan, PassPlan, StencilState};
 use crate::shaders::MASK_VERTICES;
 use crate::view::{Eye, FovTangents};
 
-/// The mask fans step: every view's keep shapes as the mask bit, then its drop shapes cleared.
-pub(super) fn record_mask_fans(pass: &PassPlan, area: Rect, rec: &mut dyn Recorder) {
+/// The mask fans step: every view's keep shapes set the bits the step writes, then its drop
+/// shapes clear them.
+pub(super) fn record_mask_fans(
+    pass: &PassPlan,
+    stencil: StencilState,
+    area: Rect,
+    rec: &mut dyn Recorder,
+) {
     rec.set_viewport(area, pass.guard_band);
-    for (shape_set, reference) in [(0u32, 1u32), (1, 0)] {
+    for (shape_set, reference) in [(0u32, stencil.write_mask), (1, 0)] {
         rec.stencil_reference(reference);
         rec.push_vertex(shape_set);
         rec.draw(MASK_VERTICES);

@@ -4,13 +4,48 @@
 
 use glam::{Mat4, Vec4};
 
-use super::record::{Recorder, Rect};
+use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
+use crate::cull::Frustum;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
-use crate::mffr::FarReprojection;
-use crate::plan::MAX_VIEWS;
-use crate::plan::{PassPlan, Submission};
-use crate::view::FovTangents;
+use crate::mffr::{FarReprojection, MffrGeometry};
+use crate::plan::{PassPlan, Resolution, Submission, MAX_VIEWS};
+use crate::view::{reverse_z_projection, EyeParams, FovTangents};
+
+/// This frame's far view: one view covering both eyes, from beyond the split (its pose moves
+/// with the frame as the MFFR variant says).
+pub(super) struct FarView {
+    pub world_from_far: Mat4,
+    pub view_proj: Mat4,
+    pub fov: FovTangents,
+    /// The far pass's near plane (its depth-in-alpha numerator).
+    pub near: f32,
+    /// Where the eye views end.
+    pub split_m: f32,
+    pub resolution: Resolution,
+    frustum: Frustum,
+}
+
+impl FarView {
+    pub fn new(m: &MffrGeometry, eyes: &EyeParams, world_from_head: Mat4, frame: u64) -> Self {
+        let world_from_far = world_from_head * m.head_from_far(eyes, frame);
+        FarView {
+            world_from_far,
+            view_proj: reverse_z_projection(m.far_fov, m.far_near, m.far)
+                * world_from_far.inverse(),
+            fov: m.far_fov,
+            near: m.far_near,
+            split_m: m.split_m,
+            resolution: m.resolution,
+            frustum: Frustum::from_eye(world_from_far, m.far_fov, m.far_near, m.far),
+        }
+    }
+
+    /// What the far pass sees (its instances are culled against it).
+    pub fn frustum(&self) -> &Frustum {
+        &self.frustum
+    }
+}
 
 /// The far composite's uniform block (`FarComposite` in `shaders/far_composite.frag`, std140).
 #[repr(C)]
@@ -36,14 +71,14 @@ impl FarComposite {
     }
 
     /// This frame's reprojection of each view (its pose and field of view) into the far view.
-    pub fn update(&mut self, views: &[(Mat4, FovTangents)], far_view_proj: Mat4, far_near: f32) {
+    pub fn update(&mut self, views: &[(Mat4, FovTangents)], far: &FarView) {
         let mut block = FarCompositeBlock {
             direction: [Mat4::ZERO; MAX_VIEWS as usize],
             origin: [Vec4::ZERO; MAX_VIEWS as usize],
-            params: Vec4::new(far_near, 0.0, 0.0, 0.0),
+            params: Vec4::new(far.near, 0.0, 0.0, 0.0),
         };
         for (i, &(world_from_view, fov)) in views.iter().enumerate() {
-            let r = FarReprojection::new(world_from_view, fov, far_view_proj);
+            let r = FarReprojection::new(world_from_view, fov, far.view_proj);
             block.direction[i] = r.direction;
             block.origin[i] = r.origin;
         }

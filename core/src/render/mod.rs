@@ -11,16 +11,22 @@ mod output;
 mod pipelines;
 mod probe;
 mod radial_density;
+mod readback;
 mod record;
+mod recorder;
 mod renderer;
 mod sampled_set;
 mod scene_buffers;
+mod stats;
 mod stereo_scene;
 mod targets;
+mod views;
+mod vulkan_recorder;
 
 pub use crate::plan::SKY;
 pub use command_log::{Command, CommandLog};
-pub use record::{record_frame, FrameDraws, Recorder, Rect};
-pub use renderer::{
-    counting_frame, FrameStats, PassStatistics, Renderer, StepFragments, StereoImage,
-};
+pub use readback::StereoImage;
+pub use record::record_frame;
+pub use recorder::{FrameDraws, Recorder, Rect};
+pub use renderer::{counting_frame, Renderer};
+pub use stats::{FrameStats, PassStatistics, StepFragments};

@@ -5,7 +5,7 @@
 
 use glam::Vec4;
 
-use super::record::{Recorder, Rect};
+use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
 use crate::plan::{FramePlan, PassPlan};

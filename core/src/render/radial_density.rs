@@ -3,7 +3,7 @@
 //! reconstruction, and the reconstruction's sampled views. Every parameter is a
 //! specialisation constant of the pipelines, so there is nothing to update per frame.
 
-use super::record::{Recorder, Rect};
+use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
 use crate::plan::PassPlan;

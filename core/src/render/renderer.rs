@@ -1,196 +1,29 @@
-use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use glam::{Mat4, Vec2, Vec4};
+use glam::{Mat4, Vec2, Vec3};
 
 use super::culling::FrameCulling;
 use super::materials::MaterialSet;
-use super::mffr::FarComposite;
+use super::mffr::{FarComposite, FarView};
 use super::output::OutputStage;
 use super::pipelines::{compile_pipeline, SceneBindings};
 use super::radial_density::Reconstruction;
-use super::record::{memory_barrier, record_frame, FrameDraws, VulkanRecorder};
+use super::record::record_frame;
+use super::recorder::FrameDraws;
+use super::sampled_set::SampledSet;
 use super::scene_buffers::SceneBuffers;
+use super::stats::{FrameStats, PassStatistics, StepFragments, PASS_STATISTICS};
 use super::targets::{compile_pass, create_images, CompiledPass};
-use crate::cull::Frustum;
+use super::views::{FrameViews, ViewsBlock};
+use super::vulkan_recorder::{BoundStep, FrameObjects, VulkanRecorder};
 use crate::foveation::fovea_views;
 use crate::gpu::{
-    BlitSource, Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, Pipeline,
-    QueryPool, VkResultExt,
+    Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, QueryPool, VkResultExt,
 };
-use crate::metrics::RgbaImage;
 use crate::mffr::FAR_VIEW_INDEX;
-use crate::plan::{
-    AttachmentId, CountedStep, FramePlan, PassKind, PassPlan, RenderConfig, Step, TargetLayout,
-    COUNTER_SLOTS_PER_STEP, MAX_VIEWS,
-};
+use crate::plan::{CountedStep, FramePlan, PassKind, PassPlan, RenderConfig, Step};
 use crate::scene::{Draw, Scene, Shading};
-use crate::view::{reverse_z_projection, Eye, FovTangents};
-
-/// The per-frame uniform block (`Views` in the shaders, std140).
-#[repr(C)]
-#[derive(Clone, Copy)]
-struct ViewsBlock {
-    /// The eye views, then the MFFR far view at [`FAR_VIEW_INDEX`].
-    view_proj: [Mat4; MAX_VIEWS as usize + 1],
-    /// xyz: light direction; w: the far pass's near plane (its depth-in-alpha numerator).
-    light_dir: Vec4,
-    /// Each view's eye in world space, the MFFR far view's at [`FAR_VIEW_INDEX`].
-    eye_pos: [Vec4; MAX_VIEWS as usize + 1],
-    /// How each view's ray at unit depth moves per pixel right and down (world space): lit
-    /// shading's analytic texture gradients.
-    ray_dx: [Vec4; MAX_VIEWS as usize + 1],
-    ray_dy: [Vec4; MAX_VIEWS as usize + 1],
-}
-
-/// One pixel's step of a view's ray at unit depth, right and down, in world space.
-fn ray_steps(world_from_view: Mat4, fov: FovTangents, pixels: (u32, u32)) -> (Vec4, Vec4) {
-    let right = world_from_view.transform_vector3(glam::Vec3::X);
-    let down = world_from_view.transform_vector3(glam::Vec3::NEG_Y);
-    (
-        (right * (fov.left + fov.right) / pixels.0 as f32).extend(0.0),
-        (down * (fov.up + fov.down) / pixels.1 as f32).extend(0.0),
-    )
-}
-
-/// What one frame cost, measured.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct FrameStats {
-    /// CPU time recording the command buffer.
-    pub cpu_record_ms: f64,
-    /// CPU time of the `vkQueueSubmit` call.
-    pub cpu_submit_ms: f64,
-    /// Wall time from the start of recording to the frame's fence signalling.
-    pub frame_ms: f64,
-    /// GPU time between the frame's first and last timestamp (when timestamps are planned).
-    pub gpu_ms: Option<f64>,
-    /// GPU time of each planned pass, in plan order (when timestamps are planned).
-    pub gpu_pass_ms: Vec<f64>,
-    /// Fragments the scene draws shaded per eye view, over every eye pass (when fragment
-    /// counting is planned; empty otherwise). Masks, composites and probes are in
-    /// [`FrameStats::steps`].
-    pub fragments: Vec<u64>,
-    /// Fragments the MFFR far pass's scene draws shaded (when both are planned).
-    pub far_fragments: Option<u64>,
-    /// Every counted step's fragments, per view, in recording order (counting frames only).
-    pub steps: Vec<StepFragments>,
-    /// CPU time splitting the instances into the MFFR near and far sets (0 without MFFR).
-    pub cpu_cull_ms: f64,
-    /// Instances drawn by each scene pass, in plan order (every instance without culling).
-    pub instances_drawn: Vec<u64>,
-    /// Draw commands the frame recorded (scene draws, masks, composites).
-    pub draw_calls: u64,
-    /// Triangles those draw commands submitted (per draw: triangles × instances).
-    pub triangles: u64,
-    /// Of those, the triangles each pass submitted, in plan order.
-    pub pass_triangles: Vec<u64>,
-    /// Primitives and fragment-shader invocations each pass's pipelines processed, measured by
-    /// pipeline-statistics queries (counting frames on devices that have them; empty
-    /// otherwise), in plan order.
-    pub pass_statistics: Vec<PassStatistics>,
-}
-
-/// A pass's work as pipeline-statistics queries measure it, summed over its views. Lavapipe
-/// runs a multiview pass's views one after another and counts each view's primitives; a tile
-/// GPU may count a multiview draw once. Full-view passes count their one triangle per view.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct PassStatistics {
-    /// Primitives input assembly produced.
-    pub assembled: u64,
-    /// Primitives that reached the clipper.
-    pub clipped_in: u64,
-    /// Primitives the clipper passed on to rasterisation (culled and degenerate ones gone).
-    pub rasterised: u64,
-    /// Fragment shader invocations as the driver counts them: helper invocations may or may
-    /// not count, and lavapipe 22.3 counts whole raster blocks, so the exact per-view figures
-    /// are the counting frame's atomics ([`FrameStats::steps`]).
-    pub fragment_invocations: u64,
-}
-
-/// The pipeline statistics counting frames query, in the order Vulkan returns them.
-const PASS_STATISTICS: vk::QueryPipelineStatisticFlags = vk::QueryPipelineStatisticFlags::from_raw(
-    vk::QueryPipelineStatisticFlags::INPUT_ASSEMBLY_PRIMITIVES.as_raw()
-        | vk::QueryPipelineStatisticFlags::CLIPPING_INVOCATIONS.as_raw()
-        | vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES.as_raw()
-        | vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS.as_raw(),
-);
-
-/// Fragments one step of a pass shaded, measured by the counting frame's atomics.
-#[derive(Clone, Debug, PartialEq)]
-pub struct StepFragments {
-    /// The pass's name, as the plan prints it.
-    pub pass: &'static str,
-    pub step: CountedStep,
-    /// Per view: views 0–3, then the MFFR far view.
-    pub views: [u64; COUNTER_SLOTS_PER_STEP as usize],
-}
-
-impl StepFragments {
-    pub fn total(&self) -> u64 {
-        self.views.iter().sum()
-    }
-}
-
-impl FrameStats {
-    /// Fragments every counted step shaded: the frame's whole fragment work.
-    pub fn total_fragments(&self) -> u64 {
-        self.steps.iter().map(StepFragments::total).sum()
-    }
-
-    /// Fragments the scene draws shaded, eye views and MFFR far view together.
-    pub fn scene_fragments(&self) -> u64 {
-        self.fragments_of(CountedStep::Scene)
-    }
-
-    /// Fragments the steps of one kind shaded, over passes and views.
-    pub fn fragments_of(&self, step: CountedStep) -> u64 {
-        self.per_view(step).iter().sum()
-    }
-
-    /// Fragments the steps of one kind shaded per view (0–3, then the far view), over passes.
-    pub fn per_view(&self, step: CountedStep) -> [u64; COUNTER_SLOTS_PER_STEP as usize] {
-        let mut views = [0; COUNTER_SLOTS_PER_STEP as usize];
-        for s in self.steps.iter().filter(|s| s.step == step) {
-            for (sum, n) in views.iter_mut().zip(s.views) {
-                *sum += n;
-            }
-        }
-        views
-    }
-}
-
-/// Draw commands and triangles recorded into the current frame.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct DrawTally {
-    pub calls: u64,
-    pub triangles: u64,
-}
-
-/// The two eyes' images of the last frame.
-#[derive(Clone, Debug, PartialEq)]
-pub struct StereoImage {
-    pub left: RgbaImage,
-    pub right: RgbaImage,
-}
-
-impl StereoImage {
-    pub fn eye(&self, eye: Eye) -> &RgbaImage {
-        match eye {
-            Eye::Left => &self.left,
-            Eye::Right => &self.right,
-        }
-    }
-
-    /// Left, right.
-    pub fn eyes(&self) -> [&RgbaImage; 2] {
-        [&self.left, &self.right]
-    }
-
-    pub fn side_by_side(&self) -> RgbaImage {
-        RgbaImage::side_by_side(&self.left, &self.right)
-    }
-}
 
 /// A [`FramePlan`] compiled into Vulkan objects for one scene.
 ///
@@ -200,37 +33,41 @@ pub struct Renderer<'g> {
     pub(super) gpu: &'g Gpu,
     pub(super) plan: FramePlan,
     // Passes (framebuffers, views) go before the images they view.
-    /// Each pass compiled, with one pipeline per step of the plan's, in step order.
-    pub(super) passes: Vec<(CompiledPass, Vec<Arc<Pipeline>>)>,
+    /// Each pass compiled.
+    passes: Vec<CompiledPass>,
+    /// Each pass's steps as recorded: pipeline, layout and descriptor set (the sets belong to
+    /// the fields below).
+    steps: Vec<Vec<BoundStep>>,
     /// The output stage (a foveated frame's composition, lens distortion), when planned.
-    pub(super) output: Option<OutputStage>,
+    output: Option<OutputStage>,
     /// The MFFR far composite, when planned.
-    pub(super) far_composite: Option<FarComposite>,
-    /// Radial density reconstruction, when planned.
-    pub(super) reconstruction: Option<Reconstruction>,
+    far_composite: Option<FarComposite>,
+    /// Radial density reconstruction, when planned (only its set is used, through `steps`).
+    _reconstruction: Option<Reconstruction>,
     /// Per-frame culling and its id buffer (only when a pass draws a culled set).
-    pub(super) culling: Option<FrameCulling>,
-    pub(super) instance_ids: Option<Buffer>,
-    images: Vec<Image>,
-    pub(super) bindings: SceneBindings,
+    culling: Option<FrameCulling>,
+    instance_ids: Option<Buffer>,
+    pub(super) images: Vec<Image>,
+    /// The scene's descriptor set and layout (used through `steps`).
+    _bindings: SceneBindings,
     /// A lit scene's textures, materials and lights (after the bindings that refer to them).
     _materials: Option<MaterialSet>,
-    pub(super) scene: SceneBuffers,
+    scene: SceneBuffers,
     views_block: Buffer,
-    pub(super) counter: Option<Buffer>,
+    counter: Option<Buffer>,
     /// Stencil mask shapes (only when a pass has masks), rewritten each frame from the gaze.
     masks: Option<Buffer>,
-    pub(super) queries: Option<QueryPool>,
+    queries: Option<QueryPool>,
     /// Pipeline-statistics queries, one per pass (counting frames on devices that have them).
-    pub(super) statistics: Option<QueryPool>,
-    readback: Option<Buffer>,
+    statistics: Option<QueryPool>,
+    pub(super) readback: Option<Buffer>,
     cmd: vk::CommandBuffer,
     frame_pool: CommandPool,
     fence: Fence,
-    light_dir: Vec4,
+    light_dir: Vec3,
     /// Each eye's gaze, normalised (−1…1, x right, y up); moves the fovea views.
     gaze: [Vec2; 2],
-    frames_rendered: u64,
+    pub(super) frames_rendered: u64,
 }
 
 impl<'g> Renderer<'g> {
@@ -287,7 +124,7 @@ impl<'g> Renderer<'g> {
             .iter()
             .any(PassPlan::has_masks)
             .then(|| {
-                let bytes = std::mem::size_of::<[Vec4; 8]>() as u64;
+                let bytes = std::mem::size_of::<[glam::Vec4; 8]>() as u64;
                 Buffer::new(
                     gpu,
                     "stencil masks",
@@ -344,30 +181,43 @@ impl<'g> Renderer<'g> {
             })
             .transpose()?;
         let mut passes = Vec::with_capacity(plan.passes.len());
+        let mut steps = Vec::with_capacity(plan.passes.len());
         for (i, p) in plan.passes.iter().enumerate() {
             let compiled = compile_pass(gpu, plan, i, &images)?;
-            // Each step's pipeline, with the layout of the resources it reads: the composites
-            // their sampled sets, everything else the scene's bindings.
+            // Each step's pipeline, with the resources it reads: the composites their sampled
+            // sets, everything else the scene's bindings.
             let samples = plan.attachments[p.color.attachment].samples;
-            let pipelines = p
+            let bound = p
                 .steps
                 .iter()
                 .zip(&p.pipelines)
                 .map(|(step, desc)| {
-                    let set = match step {
+                    let set: Option<&SampledSet> = match step {
                         Step::Output(_) => output.as_ref().map(|c| &c.set),
                         Step::FarComposite { .. } => far_composite.as_ref().map(|f| &f.set),
                         Step::Reconstruct => reconstruction.as_ref().map(|r| &r.set),
                         _ => None,
                     };
-                    let (layout, description) = match set {
-                        Some(set) => (&set.layout, &set.layout_description),
-                        None => (&bindings.layout, &bindings.layout_description),
+                    let (layout, description, set) = match set {
+                        Some(s) => (&s.layout, &s.layout_description, s.set),
+                        None => (&bindings.layout, &bindings.layout_description, bindings.set),
                     };
-                    compile_pipeline(gpu, desc, samples, &compiled, layout, description)
+                    Ok(BoundStep {
+                        pipeline: compile_pipeline(
+                            gpu,
+                            desc,
+                            samples,
+                            &compiled,
+                            layout,
+                            description,
+                        )?,
+                        layout: layout.raw,
+                        set,
+                    })
                 })
-                .collect::<Result<Vec<_>, _>>()?;
-            passes.push((compiled, pipelines));
+                .collect::<Result<Vec<_>, GpuError>>()?;
+            passes.push(compiled);
+            steps.push(bound);
         }
         let queries = (plan.timestamp_queries > 0)
             .then(|| {
@@ -404,15 +254,16 @@ impl<'g> Renderer<'g> {
             gpu,
             plan: plan.clone(),
             passes,
+            steps,
             output,
             far_composite,
-            reconstruction,
+            _reconstruction: reconstruction,
             culling: instance_ids
                 .is_some()
                 .then(|| FrameCulling::new(scene, &scene_buffers.draws, plan)),
             instance_ids,
             images,
-            bindings,
+            _bindings: bindings,
             _materials: materials,
             scene: scene_buffers,
             views_block,
@@ -424,7 +275,7 @@ impl<'g> Renderer<'g> {
             cmd,
             frame_pool,
             fence: gpu.fence()?,
-            light_dir: scene.light_dir.extend(0.0),
+            light_dir: scene.light_dir,
             gaze: [Vec2::ZERO; 2],
             frames_rendered: 0,
         })
@@ -448,66 +299,28 @@ impl<'g> Renderer<'g> {
     /// Renders one frame with the head at `world_from_head` and waits for it.
     pub fn render_frame(&mut self, world_from_head: Mat4) -> Result<FrameStats, GpuError> {
         let plan = &self.plan;
-        // Every view (pose, field of view): the eyes, then the fovea windows around the gaze.
-        let world_from_eye = Eye::BOTH.map(|e| world_from_head * plan.eyes.head_from_eye(e));
-        let mut views: Vec<(Mat4, FovTangents)> = Eye::BOTH
-            .iter()
-            .map(|&e| (world_from_eye[e.index()], plan.eyes.fov(e)))
-            .collect();
         let fovea = plan.foveation.map(|g| {
             let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
             fovea_views(&plan.eyes, g.ratio, self.gaze, screen)
         });
-        if let Some(fovea) = &fovea {
-            views.extend(Eye::BOTH.map(|e| (world_from_eye[e.index()], fovea[e.index()])));
-        }
-        // With MFFR the eye views end at the split.
-        let eye_far = plan.mffr.map_or(plan.far, |m| m.split_m);
-        let mut view_proj = [Mat4::IDENTITY; MAX_VIEWS as usize + 1];
-        let mut eye_pos = [Vec4::ZERO; MAX_VIEWS as usize + 1];
-        let (mut ray_dx, mut ray_dy) = ([Vec4::ZERO; 5], [Vec4::ZERO; 5]);
-        let view_pixels = plan.foveation.map_or(plan.eye_resolution, |f| f.view);
-        for (i, &(world_from_view, fov)) in views.iter().enumerate() {
-            view_proj[i] =
-                reverse_z_projection(fov, plan.near, eye_far) * world_from_view.inverse();
-            eye_pos[i] = world_from_view.w_axis;
-            (ray_dx[i], ray_dy[i]) = ray_steps(
-                world_from_view,
-                fov,
-                (view_pixels.width, view_pixels.height),
-            );
-        }
+        let far = plan
+            .mffr
+            .map(|m| FarView::new(&m, &plan.eyes, world_from_head, self.frames_rendered));
+        let views = FrameViews::new(
+            plan,
+            world_from_head,
+            fovea.as_ref(),
+            far.as_ref(),
+            self.light_dir,
+        );
         if let Some(masks) = &mut self.masks {
             masks.write(&super::masks::stencil_shapes(plan, fovea.as_ref()));
         }
         if let Some(output) = &mut self.output {
             output.update(plan, fovea.as_ref());
         }
-        let mut light_dir = self.light_dir;
-        let mut far_frustum = None;
-        if let Some(m) = &plan.mffr {
-            let world_from_far =
-                world_from_head * m.head_from_far(&plan.eyes, self.frames_rendered);
-            let far_view_proj =
-                reverse_z_projection(m.far_fov, m.far_near, m.far) * world_from_far.inverse();
-            view_proj[FAR_VIEW_INDEX as usize] = far_view_proj;
-            eye_pos[FAR_VIEW_INDEX as usize] = world_from_far.w_axis;
-            let far = FAR_VIEW_INDEX as usize;
-            (ray_dx[far], ray_dy[far]) = ray_steps(
-                world_from_far,
-                m.far_fov,
-                (m.resolution.width, m.resolution.height),
-            );
-            light_dir.w = m.far_near;
-            if let Some(far) = &mut self.far_composite {
-                far.update(&views, far_view_proj, m.far_near);
-            }
-            far_frustum = Some(Frustum::from_eye(
-                world_from_far,
-                m.far_fov,
-                m.far_near,
-                m.far,
-            ));
+        if let (Some(composite), Some(far)) = (&mut self.far_composite, &far) {
+            composite.update(&views.views, far);
         }
         let mut cpu_cull_ms = 0.0;
         if let (Some(culling), Some(ids)) = (&mut self.culling, &mut self.instance_ids) {
@@ -516,20 +329,14 @@ impl<'g> Renderer<'g> {
                 plan,
                 world_from_head,
                 self.frames_rendered,
-                far_frustum.as_ref(),
+                far.as_ref().map(FarView::frustum),
                 fovea.as_ref(),
                 &self.scene.draws,
             );
             ids.write(&culling.ids);
             cpu_cull_ms = start.elapsed().as_secs_f64() * 1e3;
         }
-        self.views_block.write(&[ViewsBlock {
-            view_proj,
-            light_dir,
-            eye_pos,
-            ray_dx,
-            ray_dy,
-        }]);
+        self.views_block.write(&[views.block]);
 
         let device = self.gpu.device();
         let start = Instant::now();
@@ -549,7 +356,16 @@ impl<'g> Renderer<'g> {
                 all: &self.scene.draws,
                 culled: self.culling.as_ref().map_or(&[][..], |c| &c.sets),
             };
-            let mut recorder = VulkanRecorder::new(self, self.cmd);
+            let objects = FrameObjects {
+                device,
+                passes: &self.passes,
+                steps: &self.steps,
+                timestamps: self.queries.as_ref().map(|q| q.raw),
+                statistics: self.statistics.as_ref().map(|q| q.raw),
+                counter: self.counter.as_ref().map(|c| c.raw),
+                scene: &self.scene,
+            };
+            let mut recorder = VulkanRecorder::new(objects, self.cmd);
             record_frame(&self.plan, &draws, &mut recorder);
             (recorder.tally, recorder.pass_ends)
         };
@@ -676,122 +492,6 @@ impl<'g> Renderer<'g> {
             (Some(slot), Some(culling)) => &culling.sets[slot],
             _ => &self.scene.draws,
         }
-    }
-
-    /// Copies the last frame's stereo image back to the CPU.
-    pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
-        if self.frames_rendered == 0 {
-            return Err(GpuError::NoFrameRendered);
-        }
-        let outputs = self.plan.outputs();
-        let size: u64 = outputs
-            .iter()
-            .map(|&i| self.plan.attachments[i].bytes())
-            .sum();
-        if self.readback.as_ref().is_none_or(|b| b.size < size) {
-            self.readback = Some(Buffer::new(
-                self.gpu,
-                "readback",
-                size,
-                vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuToCpu,
-            )?);
-        }
-        let buffer = self.readback.as_mut().expect("created above");
-        // Every layer of every output, one after the other.
-        let mut copies = Vec::new();
-        let mut offset = 0;
-        for &id in &outputs {
-            let a = &self.plan.attachments[id];
-            let region = vk::BufferImageCopy::default()
-                .buffer_offset(offset)
-                .image_subresource(vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: a.layers,
-                })
-                .image_extent(vk::Extent3D {
-                    width: a.width,
-                    height: a.height,
-                    depth: 1,
-                });
-            copies.push((self.images[id].raw, region));
-            offset += a.bytes();
-        }
-        let device = self.gpu.device();
-        let buffer_raw = buffer.raw;
-        self.gpu.one_shot(|cmd| unsafe {
-            for (image, region) in &copies {
-                // The outputs' render passes left them in TRANSFER_SRC_OPTIMAL.
-                device.cmd_copy_image_to_buffer(
-                    cmd,
-                    *image,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    buffer_raw,
-                    &[*region],
-                );
-            }
-            memory_barrier(
-                device,
-                cmd,
-                (
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                ),
-                (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-            );
-        })?;
-        let bytes = &buffer.mapped()[..size as usize];
-        let first = &self.plan.attachments[outputs[0]];
-        let (w, h) = (first.width, first.height);
-        let mut slices = bytes
-            .chunks_exact((w * h * 4) as usize)
-            .map(|data| RgbaImage {
-                width: w,
-                height: h,
-                data: data.to_vec(),
-            });
-        let mut next = || slices.next().expect("two eyes' worth of layers");
-        Ok(match self.plan.output_layout() {
-            TargetLayout::Layered | TargetLayout::PerEye => StereoImage {
-                left: next(),
-                right: next(),
-            },
-            TargetLayout::SideBySide => {
-                let both = next();
-                StereoImage {
-                    left: both.crop(0, 0, w / 2, h),
-                    right: both.crop(w / 2, 0, w / 2, h),
-                }
-            }
-        })
-    }
-
-    /// The last frame's eye images where they lie (left, right) for a swapchain to show
-    /// ([`crate::gpu::Swapchain::present`]); the outputs stay in `TRANSFER_SRC_OPTIMAL`.
-    pub fn present_sources(&self) -> Result<[BlitSource; 2], GpuError> {
-        if self.frames_rendered == 0 {
-            return Err(GpuError::NoFrameRendered);
-        }
-        let outputs = self.plan.outputs();
-        let first = &self.plan.attachments[outputs[0]];
-        let source = |id: AttachmentId, layer, x, width| BlitSource {
-            image: self.images[id].raw,
-            layer,
-            x,
-            width,
-            height: first.height,
-        };
-        let w = first.width;
-        Ok(match self.plan.output_layout() {
-            TargetLayout::Layered => [source(outputs[0], 0, 0, w), source(outputs[0], 1, 0, w)],
-            TargetLayout::PerEye => [source(outputs[0], 0, 0, w), source(outputs[1], 0, 0, w)],
-            TargetLayout::SideBySide => [
-                source(outputs[0], 0, 0, w / 2),
-                source(outputs[0], 0, w / 2, w / 2),
-            ],
-        })
     }
 
     /// How many transient attachments got lazily allocated memory (tile GPUs; 0 on lavapipe).

@@ -1,7 +1,6 @@
 use ash::vk;
 
-use super::record::memory_barrier;
-use crate::gpu::{pod_bytes, Buffer, Gpu, GpuError, MemoryLocation};
+use crate::gpu::{memory_barrier, pod_bytes, Buffer, Gpu, GpuError, MemoryLocation};
 use crate::scene::{Draw, Scene, Vertex};
 
 /// Where one mesh lives in the shared vertex and index buffers.

@@ -1,7 +1,7 @@
 //! Recording the stereo scene step: the scene's geometry, submitted as the pass's strategy
 //! says (seed 004: multiview, one eye, instanced, each object twice).
 
-use super::record::{Recorder, Rect};
+use super::recorder::{Recorder, Rect};
 use crate::mffr::FAR_VIEW_INDEX;
 use crate::plan::{FramePlan, PassPlan, Submission};
 use crate::scene::Draw;

@@ -1,0 +1,152 @@
+//! The frame's output, read back to the CPU or handed to a swapchain.
+
+use ash::vk;
+
+use super::renderer::Renderer;
+use crate::gpu::{memory_barrier, BlitSource, Buffer, GpuError, MemoryLocation};
+use crate::metrics::RgbaImage;
+use crate::plan::{AttachmentId, TargetLayout};
+use crate::view::Eye;
+
+/// The two eyes' images of the last frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StereoImage {
+    pub left: RgbaImage,
+    pub right: RgbaImage,
+}
+
+impl StereoImage {
+    pub fn eye(&self, eye: Eye) -> &RgbaImage {
+        match eye {
+            Eye::Left => &self.left,
+            Eye::Right => &self.right,
+        }
+    }
+
+    /// Left, right.
+    pub fn eyes(&self) -> [&RgbaImage; 2] {
+        [&self.left, &self.right]
+    }
+
+    pub fn side_by_side(&self) -> RgbaImage {
+        RgbaImage::side_by_side(&self.left, &self.right)
+    }
+}
+
+impl Renderer<'_> {
+    /// Copies the last frame's stereo image back to the CPU.
+    pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
+        if self.frames_rendered == 0 {
+            return Err(GpuError::NoFrameRendered);
+        }
+        let outputs = self.plan.outputs();
+        let size: u64 = outputs
+            .iter()
+            .map(|&i| self.plan.attachments[i].bytes())
+            .sum();
+        if self.readback.as_ref().is_none_or(|b| b.size < size) {
+            self.readback = Some(Buffer::new(
+                self.gpu,
+                "readback",
+                size,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?);
+        }
+        let buffer = self.readback.as_mut().expect("created above");
+        // Every layer of every output, one after the other.
+        let mut copies = Vec::new();
+        let mut offset = 0;
+        for &id in &outputs {
+            let a = &self.plan.attachments[id];
+            let region = vk::BufferImageCopy::default()
+                .buffer_offset(offset)
+                .image_subresource(vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: a.layers,
+                })
+                .image_extent(vk::Extent3D {
+                    width: a.width,
+                    height: a.height,
+                    depth: 1,
+                });
+            copies.push((self.images[id].raw, region));
+            offset += a.bytes();
+        }
+        let device = self.gpu.device();
+        let buffer_raw = buffer.raw;
+        self.gpu.one_shot(|cmd| unsafe {
+            for (image, region) in &copies {
+                // The outputs' render passes left them in TRANSFER_SRC_OPTIMAL.
+                device.cmd_copy_image_to_buffer(
+                    cmd,
+                    *image,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    buffer_raw,
+                    &[*region],
+                );
+            }
+            memory_barrier(
+                device,
+                cmd,
+                (
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                ),
+                (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+            );
+        })?;
+        let bytes = &buffer.mapped()[..size as usize];
+        let first = &self.plan.attachments[outputs[0]];
+        let (w, h) = (first.width, first.height);
+        let mut slices = bytes
+            .chunks_exact((w * h * 4) as usize)
+            .map(|data| RgbaImage {
+                width: w,
+                height: h,
+                data: data.to_vec(),
+            });
+        let mut next = || slices.next().expect("two eyes' worth of layers");
+        Ok(match self.plan.output_layout() {
+            TargetLayout::Layered | TargetLayout::PerEye => StereoImage {
+                left: next(),
+                right: next(),
+            },
+            TargetLayout::SideBySide => {
+                let both = next();
+                StereoImage {
+                    left: both.crop(0, 0, w / 2, h),
+                    right: both.crop(w / 2, 0, w / 2, h),
+                }
+            }
+        })
+    }
+
+    /// The last frame's eye images where they lie (left, right) for a swapchain to show
+    /// ([`crate::gpu::Swapchain::present`]); the outputs stay in `TRANSFER_SRC_OPTIMAL`.
+    pub fn present_sources(&self) -> Result<[BlitSource; 2], GpuError> {
+        if self.frames_rendered == 0 {
+            return Err(GpuError::NoFrameRendered);
+        }
+        let outputs = self.plan.outputs();
+        let first = &self.plan.attachments[outputs[0]];
+        let source = |id: AttachmentId, layer, x, width| BlitSource {
+            image: self.images[id].raw,
+            layer,
+            x,
+            width,
+            height: first.height,
+        };
+        let w = first.width;
+        Ok(match self.plan.output_layout() {
+            TargetLayout::Layered => [source(outputs[0], 0, 0, w), source(outputs[0], 1, 0, w)],
+            TargetLayout::PerEye => [source(outputs[0], 0, 0, w), source(outputs[1], 0, 0, w)],
+            TargetLayout::SideBySide => [
+                source(outputs[0], 0, 0, w / 2),
+                source(outputs[0], 0, w / 2, w / 2),
+            ],
+        })
+    }
+}

@@ -1,0 +1,91 @@
+//! A frame's views as the shaders see them (`Views`, binding 0): the eyes, the fovea windows
+//! around the gaze, and the MFFR far view, with what lit shading needs of each.
+
+use glam::{Mat4, Vec3, Vec4};
+
+use super::mffr::FarView;
+use crate::mffr::FAR_VIEW_INDEX;
+use crate::plan::{FramePlan, MAX_VIEWS};
+use crate::view::{reverse_z_projection, Eye, FovTangents};
+
+const SLOTS: usize = MAX_VIEWS as usize + 1;
+
+/// The per-frame uniform block (`Views` in the shaders, std140).
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub(super) struct ViewsBlock {
+    /// The eye views, then the MFFR far view at [`FAR_VIEW_INDEX`].
+    view_proj: [Mat4; SLOTS],
+    /// xyz: light direction; w: the far pass's near plane (its depth-in-alpha numerator).
+    light_dir: Vec4,
+    /// Each view's eye in world space, the MFFR far view's at [`FAR_VIEW_INDEX`].
+    eye_pos: [Vec4; SLOTS],
+    /// How each view's ray at unit depth moves per pixel right and down (world space): lit
+    /// shading's analytic texture gradients.
+    ray_dx: [Vec4; SLOTS],
+    ray_dy: [Vec4; SLOTS],
+}
+
+/// One pixel's step of a view's ray at unit depth, right and down, in world space.
+fn ray_steps(world_from_view: Mat4, fov: FovTangents, pixels: (u32, u32)) -> (Vec4, Vec4) {
+    let right = world_from_view.transform_vector3(Vec3::X);
+    let down = world_from_view.transform_vector3(Vec3::NEG_Y);
+    (
+        (right * (fov.left + fov.right) / pixels.0 as f32).extend(0.0),
+        (down * (fov.up + fov.down) / pixels.1 as f32).extend(0.0),
+    )
+}
+
+/// Every view of a frame, in frame-view order: the eyes, then the fovea windows.
+pub(super) struct FrameViews {
+    /// Each view's pose and field.
+    pub views: Vec<(Mat4, FovTangents)>,
+    pub block: ViewsBlock,
+}
+
+impl FrameViews {
+    /// The views of a frame with the head at `world_from_head`: each eye, each eye's fovea
+    /// window when foveated, and the far view with MFFR (whose split ends the eye views).
+    pub fn new(
+        plan: &FramePlan,
+        world_from_head: Mat4,
+        fovea: Option<&[FovTangents; 2]>,
+        far: Option<&FarView>,
+        light_dir: Vec3,
+    ) -> Self {
+        let world_from_eye = Eye::BOTH.map(|e| world_from_head * plan.eyes.head_from_eye(e));
+        let mut views: Vec<(Mat4, FovTangents)> = Eye::BOTH
+            .iter()
+            .map(|&e| (world_from_eye[e.index()], plan.eyes.fov(e)))
+            .collect();
+        if let Some(fovea) = fovea {
+            views.extend(Eye::BOTH.map(|e| (world_from_eye[e.index()], fovea[e.index()])));
+        }
+        let eye_far = far.map_or(plan.far, |f| f.split_m);
+        let view_pixels = plan.foveation.map_or(plan.eye_resolution, |f| f.view);
+        let mut block = ViewsBlock {
+            view_proj: [Mat4::IDENTITY; SLOTS],
+            light_dir: light_dir.extend(far.map_or(0.0, |f| f.near)),
+            eye_pos: [Vec4::ZERO; SLOTS],
+            ray_dx: [Vec4::ZERO; SLOTS],
+            ray_dy: [Vec4::ZERO; SLOTS],
+        };
+        let mut set = |i: usize, world_from_view: Mat4, view_proj: Mat4, fov, pixels| {
+            block.view_proj[i] = view_proj;
+            block.eye_pos[i] = world_from_view.w_axis;
+            (block.ray_dx[i], block.ray_dy[i]) = ray_steps(world_from_view, fov, pixels);
+        };
+        for (i, &(world_from_view, fov)) in views.iter().enumerate() {
+            let view_proj =
+                reverse_z_projection(fov, plan.near, eye_far) * world_from_view.inverse();
+            let pixels = (view_pixels.width, view_pixels.height);
+            set(i, world_from_view, view_proj, fov, pixels);
+        }
+        if let Some(f) = far {
+            let pixels = (f.resolution.width, f.resolution.height);
+            let at = FAR_VIEW_INDEX as usize;
+            set(at, f.world_from_far, f.view_proj, f.fov, pixels);
+        }
+        FrameViews { views, block }
+    }
+}
