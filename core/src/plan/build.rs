@@ -3,6 +3,7 @@
 //! layouts and clear values (`derive`).
 
 use super::barriers::derive_barriers;
+use super::config::RadialDensityGeometry;
 use super::counting::plan_counting;
 use super::derive::{assign_stencil, derive_ops};
 use super::masks::{add_mask_fans, mask_pipeline};
@@ -19,9 +20,10 @@ use super::validate::*;
 use super::{
     ConfigError, DeviceCaps, FoveaLayout, OutputStage, RenderConfig, Resolution, StereoMode,
 };
+use crate::foveation::FoveationGeometry;
 use crate::mffr::MffrGeometry;
 use crate::scene::{Scene, Shading, MAX_POINT_LIGHTS};
-use crate::view::Eye;
+use crate::view::{Eye, EyeParams, HmdProfile, LensRegion};
 
 /// Plans a frame. Rejects a configuration the device or foveate cannot render with an error
 /// naming the field, the value and the limit.
@@ -30,53 +32,7 @@ pub fn plan(
     config: &RenderConfig,
     caps: &DeviceCaps,
 ) -> Result<FramePlan, ConfigError> {
-    let hmd = config.hmd_profile()?;
-    let eyes = validate_eyes(config, hmd)?;
-    let eye_resolution = validate_resolution(config, hmd, caps)?;
-    validate_views(config, caps)?;
-    let foveation = config
-        .foveation
-        .map(|f| f.geometry(eye_resolution))
-        .transpose()?;
-    validate_msaa(config, caps)?;
-    validate_depth_range(config)?;
-    validate_features(config, caps)?;
-    validate_culling(config)?;
-    if scene.lights.len() > MAX_POINT_LIGHTS {
-        return Err(ConfigError::new(
-            "scene lights",
-            scene.lights.len(),
-            format!("at most {MAX_POINT_LIGHTS} point lights"),
-        ));
-    }
-    let hmd_mask = config
-        .hmd_mask
-        .then(|| Eye::BOTH.map(|e| hmd.lens_region(eyes.fov(e))));
-    let mffr = match config.mffr {
-        Some(m) => MffrGeometry::resolve(m, &eyes, eye_resolution, config.near, config.far)?
-            // A scene whose every point is nearer than the split has no far field to render.
-            .filter(|g| scene.content_reach() > g.split_m),
-        None => None,
-    };
-    if let Some(g) = &mffr {
-        let max = caps.max_image_dimension_2d;
-        if g.resolution.width > max || g.resolution.height > max {
-            return Err(ConfigError::new(
-                "mffr split",
-                g.config.split,
-                format!(
-                    "a far image within {max}x{max} on this device; it needs {}",
-                    g.resolution
-                ),
-            ));
-        }
-    }
-
-    let radial_density = config
-        .radial_density
-        .map(|r| r.resolve(hmd, &eyes, eye_resolution))
-        .transpose()?;
-
+    let e = resolve_effects(scene, config, caps)?;
     let layout = match config.stereo {
         StereoMode::Multiview => TargetLayout::Layered,
         StereoMode::TwoPass if caps.quirks.layered_resolve_ignores_base_layer => {
@@ -86,13 +42,15 @@ pub fn plan(
         StereoMode::PerObject | StereoMode::Instanced => TargetLayout::SideBySide,
     };
     let mut attachments = Vec::new();
-    let render_resolution = foveation.map_or(eye_resolution, |f| f.view);
-    let far = mffr.map(|g| far_pass(config, g.resolution, &mut attachments));
+    let render_resolution = e.foveation.map_or(e.eye_resolution, |f| f.view);
+    let far = e
+        .mffr
+        .map(|g| far_pass(config, g.resolution, &mut attachments));
     let far_colour = far
         .as_ref()
         .map(|p| p.resolve.unwrap_or(p.color).attachment);
-    let fovea_layout = foveation.map(|f| {
-        let cull = f.cull_fovea && mffr.is_none();
+    let fovea_layout = e.foveation.map(|f| {
+        let cull = f.cull_fovea && e.mffr.is_none();
         choose_fovea_layout(config.fovea_layout, cull, scene, f.view, caps)
     });
     let mut passes: Vec<PassPlan> = far.into_iter().collect();
@@ -107,71 +65,24 @@ pub fn plan(
         }),
         &mut attachments,
     ));
-    // Each technique's steps around the scene step of every eye pass.
-    let masks = config.hmd_mask || foveation.is_some_and(|f| f.stencil);
-    for pass in passes.iter_mut().filter(|p| p.kind == PassKind::Scene) {
-        if masks {
-            add_mask_fans(pass);
-        }
-        if let Some(g) = &mffr {
-            add_far_composite(pass, g.config.order);
-        }
-        if config.coverage_probe {
-            add_probe(pass);
-        }
-    }
-    // The output stage: composition folds into it; the lens asks for it on every frame.
     let lens = config.output == OutputStage::Lens;
-    if radial_density.is_some() {
-        add_radial_density(&mut passes, &mut attachments, eye_resolution);
-    }
-    let source = match (&fovea_layout, layout) {
-        (Some(c), _) => Some(OutputSource::Foveated {
-            fovea_layer: if c.layout == FoveaLayout::TwoPass {
-                0
-            } else {
-                2
-            },
-            sharpen: foveation.is_some_and(|f| f.periphery_sharpen > 0.0),
-        }),
-        _ if !lens => None,
-        _ if radial_density.is_some() => Some(OutputSource::Layered),
-        (None, TargetLayout::Layered) => Some(OutputSource::Layered),
-        (None, TargetLayout::PerEye) => Some(OutputSource::PerEye),
-        (None, TargetLayout::SideBySide) => Some(OutputSource::SideBySide),
+    let techniques = Techniques {
+        config,
+        eye_resolution: e.eye_resolution,
+        layout,
+        foveation: e.foveation.as_ref(),
+        fovea_layout: fovea_layout.as_ref(),
+        mffr: e.mffr.as_ref(),
+        radial_density: e.radial_density.is_some(),
     };
-    if let Some(source) = source {
-        let images: Vec<AttachmentId> = (0..attachments.len())
-            .filter(|&i| attachments[i].read_after_frame)
-            .collect();
-        passes.push(output_pass(
-            images,
-            source,
-            lens,
-            eye_resolution,
-            &mut attachments,
-        ));
-    }
+    add_technique_steps(&techniques, &mut passes, &mut attachments);
     if caps.quirks.multiview_clipping_drops_views {
-        for p in passes.iter_mut().filter(|p| p.view_mask != 0) {
-            let a = &attachments[p.color.attachment];
-            p.guard_band = guard_band(
-                Resolution {
-                    width: a.width,
-                    height: a.height,
-                },
-                caps,
-            );
-            // Clipping at the MFFR split would drop views too: clamp depth instead, so what lies
-            // beyond the split lands on the far plane's depth, 0, and fails the depth test
-            // against the clear value (reverse-Z, GREATER) without any primitive being clipped.
-            p.depth_clamp = p.far_composite().is_some() && caps.depth_clamp;
-        }
+        work_around_multiview_clipping(&mut passes, &attachments, caps);
     }
     let mut plan = FramePlan {
-        hmd,
-        eyes,
-        eye_resolution,
+        hmd: e.hmd,
+        eyes: e.eyes,
+        eye_resolution: e.eye_resolution,
         stereo: config.stereo,
         views: config.views,
         samples: config.msaa,
@@ -186,11 +97,11 @@ pub fn plan(
         query_spare_slots: 0,
         counted: Vec::new(),
         draw_calls_estimate: 0,
-        foveation,
-        hmd_mask,
-        mffr,
+        foveation: e.foveation,
+        hmd_mask: e.hmd_mask,
+        mffr: e.mffr,
         culling: config.culling,
-        radial_density,
+        radial_density: e.radial_density,
         cull_slots: Vec::new(),
         scene_instances: scene.instance_count(),
         fovea_layout,
@@ -198,25 +109,11 @@ pub fn plan(
         alpha_mask: scene.materials.iter().any(|m| m.alpha_cutoff.is_some()),
         anisotropy: (caps.max_anisotropy >= 2.0 && !caps.quirks.anisotropic_filtering_is_slow)
             .then(|| caps.max_anisotropy.min(8.0)),
-        lens: lens.then(|| LensOutput::new(hmd.distortion, &eyes)),
+        lens: lens.then(|| LensOutput::new(e.hmd.distortion, &e.eyes)),
     };
     assign_cull_slots(&mut plan);
     plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
-    if config.timestamps {
-        // One before the frame and one after each pass.
-        plan.timestamp_queries = plan.passes.len() as u32 + 1;
-    }
-    if config.count_fragments {
-        plan_counting(&mut plan);
-        if caps.pipeline_statistics {
-            plan.statistics_queries = plan.passes.len() as u32;
-        }
-    }
-    let queries = plan.timestamp_queries + plan.statistics_queries;
-    if caps.quirks.queries_after_multiview_span_views && queries > 0 {
-        let most_views = plan.passes.iter().map(|p| p.view_mask.count_ones());
-        plan.query_spare_slots = most_views.max().unwrap_or(1).saturating_sub(1);
-    }
+    plan_queries(&mut plan, config, caps);
     if !plan.cull_slots.is_empty() {
         // Near and far sets of one frame, each at most every instance.
         plan.buffers.push(BufferPlan {
@@ -263,6 +160,189 @@ fn step_pipelines(plan: &FramePlan, pass_index: usize) -> Vec<PipelineDesc> {
             }
         })
         .collect()
+}
+
+/// What the configuration's effects resolve to for this headset, resolution and scene, each
+/// validated.
+struct Effects {
+    hmd: &'static HmdProfile,
+    eyes: EyeParams,
+    eye_resolution: Resolution,
+    foveation: Option<FoveationGeometry>,
+    hmd_mask: Option<[LensRegion; 2]>,
+    mffr: Option<MffrGeometry>,
+    radial_density: Option<RadialDensityGeometry>,
+}
+
+fn resolve_effects(
+    scene: &Scene,
+    config: &RenderConfig,
+    caps: &DeviceCaps,
+) -> Result<Effects, ConfigError> {
+    let hmd = config.hmd_profile()?;
+    let eyes = validate_eyes(config, hmd)?;
+    let eye_resolution = validate_resolution(config, hmd, caps)?;
+    validate_views(config, caps)?;
+    let foveation = config
+        .foveation
+        .map(|f| f.geometry(eye_resolution))
+        .transpose()?;
+    validate_msaa(config, caps)?;
+    validate_depth_range(config)?;
+    validate_features(config, caps)?;
+    validate_culling(config)?;
+    if scene.lights.len() > MAX_POINT_LIGHTS {
+        return Err(ConfigError::new(
+            "scene lights",
+            scene.lights.len(),
+            format!("at most {MAX_POINT_LIGHTS} point lights"),
+        ));
+    }
+    let hmd_mask = config
+        .hmd_mask
+        .then(|| Eye::BOTH.map(|e| hmd.lens_region(eyes.fov(e))));
+    let mffr = match config.mffr {
+        Some(m) => MffrGeometry::resolve(m, &eyes, eye_resolution, config.near, config.far)?
+            // A scene whose every point is nearer than the split has no far field to render.
+            .filter(|g| scene.content_reach() > g.split_m),
+        None => None,
+    };
+    if let Some(g) = &mffr {
+        let max = caps.max_image_dimension_2d;
+        if g.resolution.width > max || g.resolution.height > max {
+            return Err(ConfigError::new(
+                "mffr split",
+                g.config.split,
+                format!(
+                    "a far image within {max}x{max} on this device; it needs {}",
+                    g.resolution
+                ),
+            ));
+        }
+    }
+
+    let radial_density = config
+        .radial_density
+        .map(|r| r.resolve(hmd, &eyes, eye_resolution))
+        .transpose()?;
+    Ok(Effects {
+        hmd,
+        eyes,
+        eye_resolution,
+        foveation,
+        hmd_mask,
+        mffr,
+        radial_density,
+    })
+}
+
+/// What the technique builders need to know of the frame.
+struct Techniques<'a> {
+    config: &'a RenderConfig,
+    eye_resolution: Resolution,
+    layout: TargetLayout,
+    foveation: Option<&'a FoveationGeometry>,
+    fovea_layout: Option<&'a FoveaLayoutChoice>,
+    mffr: Option<&'a MffrGeometry>,
+    radial_density: bool,
+}
+
+/// Each technique's steps around the scene step of every eye pass, then its passes: radial
+/// density's reconstruction, the output stage.
+fn add_technique_steps(
+    t: &Techniques,
+    passes: &mut Vec<PassPlan>,
+    attachments: &mut Vec<AttachmentPlan>,
+) {
+    let (config, eye_resolution, layout) = (t.config, t.eye_resolution, t.layout);
+    let (foveation, fovea_layout, mffr) = (t.foveation, t.fovea_layout, t.mffr);
+    let lens = config.output == OutputStage::Lens;
+    let masks = config.hmd_mask || foveation.is_some_and(|f| f.stencil);
+    for pass in passes.iter_mut().filter(|p| p.kind == PassKind::Scene) {
+        if masks {
+            add_mask_fans(pass);
+        }
+        if let Some(g) = mffr {
+            add_far_composite(pass, g.config.order);
+        }
+        if config.coverage_probe {
+            add_probe(pass);
+        }
+    }
+    // The output stage: composition folds into it; the lens asks for it on every frame.
+    if t.radial_density {
+        add_radial_density(passes, attachments, eye_resolution);
+    }
+    let source = match (fovea_layout, layout) {
+        (Some(c), _) => Some(OutputSource::Foveated {
+            fovea_layer: if c.layout == FoveaLayout::TwoPass {
+                0
+            } else {
+                2
+            },
+            sharpen: foveation.is_some_and(|f| f.periphery_sharpen > 0.0),
+        }),
+        _ if !lens => None,
+        _ if t.radial_density => Some(OutputSource::Layered),
+        (None, TargetLayout::Layered) => Some(OutputSource::Layered),
+        (None, TargetLayout::PerEye) => Some(OutputSource::PerEye),
+        (None, TargetLayout::SideBySide) => Some(OutputSource::SideBySide),
+    };
+    if let Some(source) = source {
+        let images: Vec<AttachmentId> = (0..attachments.len())
+            .filter(|&i| attachments[i].read_after_frame)
+            .collect();
+        passes.push(output_pass(
+            images,
+            source,
+            lens,
+            eye_resolution,
+            attachments,
+        ));
+    }
+}
+
+/// A driver that clips multiview primitives into view 0 gets a guard band on every multiview
+/// pass, and depth clamping at the MFFR split (see [`DriverQuirks`](super::DriverQuirks)).
+fn work_around_multiview_clipping(
+    passes: &mut [PassPlan],
+    attachments: &[AttachmentPlan],
+    caps: &DeviceCaps,
+) {
+    for p in passes.iter_mut().filter(|p| p.view_mask != 0) {
+        let a = &attachments[p.color.attachment];
+        p.guard_band = guard_band(
+            Resolution {
+                width: a.width,
+                height: a.height,
+            },
+            caps,
+        );
+        // Clipping at the MFFR split would drop views too: clamp depth instead, so what lies
+        // beyond the split lands on the far plane's depth, 0, and fails the depth test
+        // against the clear value (reverse-Z, GREATER) without any primitive being clipped.
+        p.depth_clamp = p.far_composite().is_some() && caps.depth_clamp;
+    }
+}
+
+/// Timestamps (one before the frame, one after each pass), a counting frame's pipeline
+/// statistics, and spare slots where a driver quirk writes past a query.
+fn plan_queries(plan: &mut FramePlan, config: &RenderConfig, caps: &DeviceCaps) {
+    if config.timestamps {
+        // One before the frame and one after each pass.
+        plan.timestamp_queries = plan.passes.len() as u32 + 1;
+    }
+    if config.count_fragments {
+        plan_counting(plan);
+        if caps.pipeline_statistics {
+            plan.statistics_queries = plan.passes.len() as u32;
+        }
+    }
+    let queries = plan.timestamp_queries + plan.statistics_queries;
+    if caps.quirks.queries_after_multiview_span_views && queries > 0 {
+        let most_views = plan.passes.iter().map(|p| p.view_mask.count_ones());
+        plan.query_spare_slots = most_views.max().unwrap_or(1).saturating_sub(1);
+    }
 }
 
 /// The layout of a foveated frame's views: as asked, or chosen from the device's quirks and the

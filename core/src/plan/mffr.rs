@@ -50,24 +50,16 @@ pub(super) fn far_pass(
     let output = add("far field colour", output_role, Format::Rgba8Srgb, 1);
     let whole = |id, access| Use::new(id, 0, 1, access);
     PassPlan {
-        name: "far field (mono)",
-        kind: PassKind::FarField,
-        view_mask: 0,
-        color: whole(color.unwrap_or(output), Access::Clear),
         depth: Some(whole(depth, Access::Clear)),
         resolve: color.map(|_| whole(output, Access::Overwrite)),
-        samples: Vec::new(),
-        submission: Submission::FarView,
-        steps: vec![Step::Scene {
-            draw_set: DrawSet::FarField,
-            cull_slot: None,
-            stencil: None,
-        }],
-        depth_clamp: false,
-        guard_band: 1,
-        first_view: 0,
-        pipelines: Vec::new(),
-        barriers: Default::default(),
+        steps: vec![Step::scene(DrawSet::FarField)],
+        ..PassPlan::new(
+            "far field (mono)",
+            PassKind::FarField,
+            0,
+            Submission::FarView,
+            whole(color.unwrap_or(output), Access::Clear),
+        )
     }
 }
 

@@ -182,6 +182,33 @@ pub struct PassPlan {
 }
 
 impl PassPlan {
+    /// A pass writing `color`, with nothing else yet: no depth, no resolve, nothing sampled, no
+    /// steps, no workaround; barriers and pipelines are derived once the frame is planned.
+    pub(super) fn new(
+        name: &'static str,
+        kind: PassKind,
+        view_mask: u32,
+        submission: Submission,
+        color: Use,
+    ) -> Self {
+        PassPlan {
+            name,
+            kind,
+            view_mask,
+            color,
+            depth: None,
+            resolve: None,
+            samples: Vec::new(),
+            submission,
+            steps: Vec::new(),
+            depth_clamp: false,
+            guard_band: 1,
+            first_view: 0,
+            barriers: PassBarriers::default(),
+            pipelines: Vec::new(),
+        }
+    }
+
     pub fn uses(&self) -> impl Iterator<Item = &Use> {
         [
             Some(&self.color),

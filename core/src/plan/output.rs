@@ -62,20 +62,15 @@ pub(super) fn sampling_pass(
         transient: false,
     });
     PassPlan {
-        name,
-        kind,
-        view_mask: 0b11,
-        color: Use::new(attachments.len() - 1, 0, 2, Access::Overwrite),
-        depth: None,
-        resolve: None,
         samples: sources,
-        submission: Submission::Multiview,
         steps: vec![step],
-        depth_clamp: false,
-        guard_band: 1,
-        first_view: 0,
-        pipelines: Vec::new(),
-        barriers: Default::default(),
+        ..PassPlan::new(
+            name,
+            kind,
+            0b11,
+            Submission::Multiview,
+            Use::new(attachments.len() - 1, 0, 2, Access::Overwrite),
+        )
     }
 }
 

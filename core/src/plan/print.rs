@@ -1,6 +1,6 @@
 use std::fmt;
 
-use super::model::{FramePlan, PassKind, Submission, TargetLayout};
+use super::model::{FramePlan, PassKind, PassPlan, Submission, TargetLayout};
 use super::steps::{DrawSet, Step};
 use crate::mffr::MffrOrder;
 
@@ -10,6 +10,22 @@ fn mib(bytes: u64) -> String {
 
 impl fmt::Display for FramePlan {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.write_header(f)?;
+        self.write_effects(f)?;
+        self.write_attachments(f)?;
+        writeln!(f, "passes:")?;
+        for p in &self.passes {
+            self.write_pass(f, p)?;
+            self.write_step_notes(f, p)?;
+            write_pass_targets(f, p)?;
+        }
+        self.write_footer(f)
+    }
+}
+
+impl FramePlan {
+    /// The frame as a whole: headset, eyes, layout and each effect as resolved.
+    fn write_header(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let fov = self.eyes.left_fov;
         writeln!(
             f,
@@ -43,6 +59,11 @@ impl fmt::Display for FramePlan {
             "  layout: {layout}; about {} draw calls per frame (estimate before culling, without mask fans and probes)",
             self.draw_calls_estimate
         )?;
+        Ok(())
+    }
+
+    /// Each effect as resolved for this frame.
+    fn write_effects(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if let Some(g) = &self.foveation {
             writeln!(
                 f,
@@ -134,6 +155,10 @@ impl fmt::Display for FramePlan {
                 c.draw_distance
             )?;
         }
+        Ok(())
+    }
+
+    fn write_attachments(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "attachments:")?;
         writeln!(
             f,
@@ -155,153 +180,118 @@ impl fmt::Display for FramePlan {
                 mib(a.bytes())
             )?;
         }
+        Ok(())
+    }
 
-        writeln!(f, "passes:")?;
-        for p in &self.passes {
-            let submission = match p.submission {
-                _ if matches!(p.kind, PassKind::Output | PassKind::Reconstruct) => {
-                    "a full-view triangle per eye, sampling the views".to_string()
-                }
-                Submission::Multiview => "scene once, broadcast by multiview".to_string(),
-                Submission::SingleEye(eye) => {
-                    format!("scene once for the {eye:?} eye").to_lowercase()
-                }
-                Submission::PerObject => "each object twice, view state switched".to_string(),
-                Submission::Instanced => {
-                    "instance count doubled, clip-space half viewports".to_string()
-                }
-                Submission::FarView => "the far field once, from the far view".to_string(),
-            };
-            let first_view = if p.first_view > 0 {
-                format!(" (views {}..)", p.first_view)
-            } else {
-                String::new()
-            };
+    /// A pass: its views and submission, what it samples, its steps and their pipelines.
+    fn write_pass(&self, f: &mut fmt::Formatter<'_>, p: &PassPlan) -> fmt::Result {
+        let submission = match p.submission {
+            _ if matches!(p.kind, PassKind::Output | PassKind::Reconstruct) => {
+                "a full-view triangle per eye, sampling the views".to_string()
+            }
+            Submission::Multiview => "scene once, broadcast by multiview".to_string(),
+            Submission::SingleEye(eye) => format!("scene once for the {eye:?} eye").to_lowercase(),
+            Submission::PerObject => "each object twice, view state switched".to_string(),
+            Submission::Instanced => {
+                "instance count doubled, clip-space half viewports".to_string()
+            }
+            Submission::FarView => "the far field once, from the far view".to_string(),
+        };
+        let first_view = if p.first_view > 0 {
+            format!(" (views {}..)", p.first_view)
+        } else {
+            String::new()
+        };
+        writeln!(
+            f,
+            "  {} — view mask {:#04b}{first_view}; {submission}",
+            p.name, p.view_mask
+        )?;
+        for &id in &p.samples {
             writeln!(
                 f,
-                "  {} — view mask {:#04b}{first_view}; {submission}",
-                p.name, p.view_mask
+                "    samples #{id} ({}) as a texture",
+                self.attachments[id].name
             )?;
-            for &id in &p.samples {
-                writeln!(
-                    f,
-                    "    samples #{id} ({}) as a texture",
-                    self.attachments[id].name
-                )?;
-            }
-            let steps: Vec<String> = p.steps.iter().map(ToString::to_string).collect();
-            writeln!(f, "    steps: {}", steps.join(" → "))?;
-            for (step, pipeline) in p.steps.iter().zip(&p.pipelines) {
-                writeln!(f, "    {} pipeline: {pipeline}", step.counted().name())?;
-            }
-            for step in &p.steps {
-                match step {
-                    Step::MaskFans { .. } => {
-                        let mut masks = Vec::new();
-                        if self.hmd_mask.is_some() {
-                            masks.push("the lens-visible ellipse in the eye (periphery) views");
-                        }
-                        if self.foveation.is_some_and(|g| g.stencil) {
-                            masks.push(
-                                "inset circle in the fovea views, outset (hole) in the periphery views",
-                            );
-                        }
-                        writeln!(f, "    stencil masks first: {}", masks.join("; "))?;
+        }
+        let steps: Vec<String> = p.steps.iter().map(ToString::to_string).collect();
+        writeln!(f, "    steps: {}", steps.join(" → "))?;
+        for (step, pipeline) in p.steps.iter().zip(&p.pipelines) {
+            writeln!(f, "    {} pipeline: {pipeline}", step.counted().name())?;
+        }
+        Ok(())
+    }
+
+    /// What each step of a pass does, in words.
+    fn write_step_notes(&self, f: &mut fmt::Formatter<'_>, p: &PassPlan) -> fmt::Result {
+        for step in &p.steps {
+            match step {
+                Step::MaskFans { .. } => {
+                    let mut masks = Vec::new();
+                    if self.hmd_mask.is_some() {
+                        masks.push("the lens-visible ellipse in the eye (periphery) views");
                     }
-                    Step::Scene { draw_set, .. } => match draw_set {
-                        DrawSet::All => {}
-                        DrawSet::Visible => writeln!(
-                            f,
-                            "    draws the instances its views may see (culled per frame: {})",
-                            self.culling.map_or("", |c| c.strategy.name())
-                        )?,
-                        DrawSet::VisibleToEye(eye) => writeln!(
-                            f,
-                            "    draws the instances the {} eye's frustum keeps (culled per frame for this eye alone)",
-                            eye.name()
-                        )?,
-                        DrawSet::NearField => writeln!(
-                            f,
-                            "    draws the near field (instances in front of the split, culled per frame)"
-                        )?,
-                        DrawSet::FarField => writeln!(
-                            f,
-                            "    draws the far field (instances beyond the split, culled per frame)"
-                        )?,
-                        DrawSet::Fovea => writeln!(
-                            f,
-                            "    draws the instances the fovea views' superfrustum keeps (culled per frame)"
-                        )?,
-                        DrawSet::FoveaTagged => writeln!(
-                            f,
-                            "    draws the periphery's instances, each tagged per frame with whether the fovea superfrustum keeps it; untagged ones emit no primitives in the fovea views"
-                        )?,
-                    },
-                    Step::FarComposite { .. } => match p.far_composite() {
-                        Some(MffrOrder::FarFirst) => writeln!(f, "    far image composited first into every pixel, near field drawn over it")?,
-                        _ => writeln!(f, "    near field first, marking stencil; far image composited into the unmarked pixels")?,
-                    },
-                    Step::Probe { .. } => writeln!(
-                        f,
-                        "    coverage probe last: a full-view draw per view, counted"
-                    )?,
-                    Step::RadialMask { .. } => {
-                        if let Some(r) = &self.radial_density {
-                            writeln!(
-                                f,
-                                "    radial density mask: 2x2 quads skipped past {} of the lens radius (every other), past {} (three in four); reconstructed after the pass",
-                                r.config.inner, r.config.outer
-                            )?;
-                        }
+                    if self.foveation.is_some_and(|g| g.stencil) {
+                        masks.push(
+                            "inset circle in the fovea views, outset (hole) in the periphery views",
+                        );
                     }
-                    Step::Output(_) | Step::Reconstruct => {}
+                    writeln!(f, "    stencil masks first: {}", masks.join("; "))?;
                 }
-            }
-            if p.depth_clamp {
-                writeln!(
+                Step::Scene { draw_set, .. } => match draw_set {
+                    DrawSet::All => {}
+                    DrawSet::Visible => writeln!(
+                        f,
+                        "    draws the instances its views may see (culled per frame: {})",
+                        self.culling.map_or("", |c| c.strategy.name())
+                    )?,
+                    DrawSet::VisibleToEye(eye) => writeln!(
+                        f,
+                        "    draws the instances the {} eye's frustum keeps (culled per frame for this eye alone)",
+                        eye.name()
+                    )?,
+                    DrawSet::NearField => writeln!(
+                        f,
+                        "    draws the near field (instances in front of the split, culled per frame)"
+                    )?,
+                    DrawSet::FarField => writeln!(
+                        f,
+                        "    draws the far field (instances beyond the split, culled per frame)"
+                    )?,
+                    DrawSet::Fovea => writeln!(
+                        f,
+                        "    draws the instances the fovea views' superfrustum keeps (culled per frame)"
+                    )?,
+                    DrawSet::FoveaTagged => writeln!(
+                        f,
+                        "    draws the periphery's instances, each tagged per frame with whether the fovea superfrustum keeps it; untagged ones emit no primitives in the fovea views"
+                    )?,
+                },
+                Step::FarComposite { .. } => match p.far_composite() {
+                    Some(MffrOrder::FarFirst) => writeln!(f, "    far image composited first into every pixel, near field drawn over it")?,
+                    _ => writeln!(f, "    near field first, marking stencil; far image composited into the unmarked pixels")?,
+                },
+                Step::Probe { .. } => writeln!(
                     f,
-                    "    depth clamp, not clipping, ends the near field at the split (same driver quirk)"
-                )?;
-            }
-            if p.guard_band > 1 {
-                writeln!(
-                    f,
-                    "    guard band x{} (works around this driver clipping multiview primitives into view 0)",
-                    p.guard_band
-                )?;
-            }
-            for (what, u) in [
-                ("colour", Some(&p.color)),
-                ("depth", p.depth.as_ref()),
-                ("resolve", p.resolve.as_ref()),
-            ] {
-                let Some(u) = u else { continue };
-                writeln!(
-                    f,
-                    "    {what:<7} #{} layers {}..{}: load {}, store {}",
-                    u.attachment,
-                    u.base_layer,
-                    u.base_layer + u.layer_count,
-                    u.load,
-                    u.store
-                )?;
-                let clear = u
-                    .clear
-                    .map_or(String::new(), |c| format!("; clears to {c}"));
-                writeln!(
-                    f,
-                    "            layout {} → {}{clear}",
-                    u.initial_layout, u.final_layout
-                )?;
-            }
-            for (what, barriers) in [
-                ("waits on", &p.barriers.wait),
-                ("signals", &p.barriers.signal),
-            ] {
-                let list: Vec<String> = barriers.iter().map(ToString::to_string).collect();
-                writeln!(f, "    {what}: {}", list.join("; "))?;
+                    "    coverage probe last: a full-view draw per view, counted"
+                )?,
+                Step::RadialMask { .. } => {
+                    if let Some(r) = &self.radial_density {
+                        writeln!(
+                            f,
+                            "    radial density mask: 2x2 quads skipped past {} of the lens radius (every other), past {} (three in four); reconstructed after the pass",
+                            r.config.inner, r.config.outer
+                        )?;
+                    }
+                }
+                Step::Output(_) | Step::Reconstruct => {}
             }
         }
+        Ok(())
+    }
+
+    /// Fragment counting, queries, effect buffers, memory and traffic.
+    fn write_footer(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if !self.counted.is_empty() {
             let steps: Vec<String> = self
                 .counted
@@ -355,4 +345,53 @@ impl fmt::Display for FramePlan {
             mib(self.external_traffic_bytes())
         )
     }
+}
+
+/// A pass's workarounds, attachment uses (ops, layouts, clears) and barriers.
+fn write_pass_targets(f: &mut fmt::Formatter<'_>, p: &PassPlan) -> fmt::Result {
+    if p.depth_clamp {
+        writeln!(
+            f,
+            "    depth clamp, not clipping, ends the near field at the split (same driver quirk)"
+        )?;
+    }
+    if p.guard_band > 1 {
+        writeln!(
+                f,
+                "    guard band x{} (works around this driver clipping multiview primitives into view 0)",
+                p.guard_band
+            )?;
+    }
+    for (what, u) in [
+        ("colour", Some(&p.color)),
+        ("depth", p.depth.as_ref()),
+        ("resolve", p.resolve.as_ref()),
+    ] {
+        let Some(u) = u else { continue };
+        writeln!(
+            f,
+            "    {what:<7} #{} layers {}..{}: load {}, store {}",
+            u.attachment,
+            u.base_layer,
+            u.base_layer + u.layer_count,
+            u.load,
+            u.store
+        )?;
+        let clear = u
+            .clear
+            .map_or(String::new(), |c| format!("; clears to {c}"));
+        writeln!(
+            f,
+            "            layout {} → {}{clear}",
+            u.initial_layout, u.final_layout
+        )?;
+    }
+    for (what, barriers) in [
+        ("waits on", &p.barriers.wait),
+        ("signals", &p.barriers.signal),
+    ] {
+        let list: Vec<String> = barriers.iter().map(ToString::to_string).collect();
+        writeln!(f, "    {what}: {}", list.join("; "))?;
+    }
+    Ok(())
 }

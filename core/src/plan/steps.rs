@@ -154,6 +154,15 @@ impl OutputSource {
 }
 
 impl Step {
+    /// A scene step drawing `draw_set` (its cull slot and stencil assigned later).
+    pub(crate) fn scene(draw_set: DrawSet) -> Step {
+        Step::Scene {
+            draw_set,
+            cull_slot: None,
+            stencil: None,
+        }
+    }
+
     /// What a counting frame calls this step's fragments.
     pub fn counted(&self) -> CountedStep {
         match self {

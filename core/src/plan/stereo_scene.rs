@@ -22,15 +22,27 @@ pub(super) struct FoveaPasses {
     pub cull: bool,
 }
 
-/// The scene pass(es) of a stereo frame and the attachments they use.
-pub(super) fn scene_passes(
+/// The images the scene passes render into.
+struct SceneTargets {
+    /// The MSAA colour image, when multisampled (the outputs are then its resolve targets).
+    color: Option<AttachmentId>,
+    depth: AttachmentId,
+    /// Where the views end up: one image, or one per eye (per-eye layout) or per view pair
+    /// (the two-pass fovea layout).
+    outputs: Vec<AttachmentId>,
+    /// Layers of the scratch images, and of the outputs.
+    layers: u32,
+    output_layers: u32,
+}
+
+/// Adds the scene passes' images to `attachments`.
+fn scene_targets(
     config: &RenderConfig,
     eye: Resolution,
     layout: TargetLayout,
-    far_field: Option<AttachmentId>,
     fovea: Option<FoveaPasses>,
     attachments: &mut Vec<AttachmentPlan>,
-) -> Vec<PassPlan> {
+) -> SceneTargets {
     let two_pass_fovea = fovea.is_some_and(|f| f.layout == FoveaLayout::TwoPass);
     let msaa = config.msaa > 1;
     // Image shape: one layer per view for multiview, one double-wide image for the side-by-side
@@ -132,6 +144,66 @@ pub(super) fn scene_passes(
             output_layers,
         )],
     };
+    SceneTargets {
+        color,
+        depth,
+        outputs,
+        layers,
+        output_layers,
+    }
+}
+
+/// What one scene pass submits and draws.
+struct SceneStep {
+    submission: Submission,
+    draw_set: DrawSet,
+}
+
+/// A scene pass into `output` (through the MSAA image, when multisampled) with its scene step;
+/// other techniques' builders add theirs around it.
+fn scene_pass(
+    targets: &SceneTargets,
+    name: &'static str,
+    view_mask: u32,
+    output: AttachmentId,
+    scene: SceneStep,
+    far_field: Option<AttachmentId>,
+) -> PassPlan {
+    let whole = |id, access| Use::new(id, 0, targets.layers, access);
+    // A single-eye pass into a layered output writes only its eye's layer.
+    let output_use = |access| match scene.submission {
+        Submission::SingleEye(eye) if targets.output_layers == 2 => {
+            Use::new(output, eye.index() as u32, 1, access)
+        }
+        _ => whole(output, access),
+    };
+    let color = targets.color;
+    PassPlan {
+        depth: Some(whole(targets.depth, Access::Clear)),
+        resolve: color.map(|_| output_use(Access::Overwrite)),
+        samples: far_field.into_iter().collect(),
+        steps: vec![Step::scene(scene.draw_set)],
+        ..PassPlan::new(
+            name,
+            PassKind::Scene,
+            view_mask,
+            scene.submission,
+            color.map_or(output_use(Access::Clear), |c| whole(c, Access::Clear)),
+        )
+    }
+}
+
+/// The scene pass(es) of a stereo frame and the attachments they use.
+pub(super) fn scene_passes(
+    config: &RenderConfig,
+    eye: Resolution,
+    layout: TargetLayout,
+    far_field: Option<AttachmentId>,
+    fovea: Option<FoveaPasses>,
+    attachments: &mut Vec<AttachmentPlan>,
+) -> Vec<PassPlan> {
+    let targets = scene_targets(config, eye, layout, fovea, attachments);
+    let outputs = &targets.outputs;
     // What the eye (periphery) views draw.
     let eye_set = |submission| match (far_field, config.culling, submission) {
         (Some(_), _, _) => DrawSet::NearField,
@@ -142,36 +214,12 @@ pub(super) fn scene_passes(
         (None, Some(_), _) => DrawSet::Visible,
     };
 
-    let pass = |name, view_mask, output: AttachmentId, submission, draw_set| {
-        let whole = |id, access| Use::new(id, 0, layers, access);
-        // A single-eye pass into a layered output writes only its eye's layer.
-        let output_use = |access| match submission {
-            Submission::SingleEye(eye) if output_layers == 2 => {
-                Use::new(output, eye.index() as u32, 1, access)
-            }
-            _ => whole(output, access),
-        };
-        PassPlan {
-            name,
-            view_mask,
-            color: color.map_or(output_use(Access::Clear), |c| whole(c, Access::Clear)),
-            depth: Some(whole(depth, Access::Clear)),
-            resolve: color.map(|_| output_use(Access::Overwrite)),
+    let pass = |name, view_mask, output, submission, draw_set| {
+        let scene = SceneStep {
             submission,
-            kind: PassKind::Scene,
-            samples: far_field.into_iter().collect(),
-            // The scene step; other techniques' builders add theirs around it.
-            steps: vec![Step::Scene {
-                draw_set,
-                cull_slot: None,
-                stencil: None,
-            }],
-            depth_clamp: false,
-            guard_band: 1,
-            first_view: 0,
-            pipelines: Vec::new(),
-            barriers: Default::default(),
-        }
+            draw_set,
+        };
+        scene_pass(&targets, name, view_mask, output, scene, far_field)
     };
     let multiview = Submission::Multiview;
     // The fovea views' own set, when culled (not with MFFR: they draw its near field).
@@ -192,8 +240,6 @@ pub(super) fn scene_passes(
             };
             let fovea = PassPlan {
                 first_view: 2,
-                pipelines: Vec::new(),
-                barriers: Default::default(),
                 ..pass(
                     "scene (fovea views)",
                     0b11,

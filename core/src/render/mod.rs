@@ -4,6 +4,7 @@
 mod command_log;
 mod counting;
 mod culling;
+mod descriptors;
 mod masks;
 mod materials;
 mod mffr;

@@ -3,11 +3,11 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::descriptors::{Binding, DescriptorSet, Resource};
 use super::materials::MaterialSet;
 use super::targets::CompiledPass;
 use crate::gpu::{
-    Buffer, Description, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, ImageView, Pipeline,
-    PipelineKey, PipelineLayout, ShaderModule, VkResultExt,
+    Buffer, Gpu, GpuError, Pipeline, PipelineKey, PipelineLayout, ShaderModule, VkResultExt,
 };
 use crate::plan::{CompareOp, PipelineDesc, StencilOp, StencilState, VertexInput};
 use crate::scene::Vertex;
@@ -17,186 +17,46 @@ const ENTRY: &CStr = c"main";
 
 /// The scene shaders' resources: views (binding 0), instances (1) and, only when their effect
 /// is on, the fragment counter (2), the stencil mask shapes (3), culled instance ids (4) and a
-/// lit scene's textures (5–7), materials (8) and lights (9).
-pub(crate) struct SceneBindings {
-    pub layout: PipelineLayout,
-    /// What the layout is made of: pipelines for identically described (compatible) layouts
-    /// are shared.
-    pub layout_description: Description,
-    _set_layout: DescriptorSetLayout,
-    _pool: DescriptorPool,
-    pub set: vk::DescriptorSet,
-}
-
-impl SceneBindings {
-    pub fn new(
-        gpu: &Gpu,
-        views: &Buffer,
-        instances: &Buffer,
-        counter: Option<&Buffer>,
-        masks: Option<&Buffer>,
-        instance_ids: Option<&Buffer>,
-        lit: Option<&MaterialSet>,
-    ) -> Result<Self, GpuError> {
-        let fragment = vk::ShaderStageFlags::FRAGMENT;
-        let device = gpu.device();
-        // (binding, type, stages, buffer): only what this plan uses exists.
-        let uniform = vk::DescriptorType::UNIFORM_BUFFER;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let resources: Vec<(u32, vk::DescriptorType, vk::ShaderStageFlags, &Buffer)> = [
-            Some((
-                0,
-                uniform,
-                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-                views,
-            )),
-            Some((1, storage, vk::ShaderStageFlags::VERTEX, instances)),
-            counter.map(|b| (2, storage, vk::ShaderStageFlags::FRAGMENT, b)),
-            masks.map(|b| (3, uniform, vk::ShaderStageFlags::VERTEX, b)),
-            instance_ids.map(|b| (4, storage, vk::ShaderStageFlags::VERTEX, b)),
-            lit.map(|m| (8, storage, fragment, &m.materials)),
-            lit.map(|m| (9, uniform, fragment, &m.lighting)),
-        ]
-        .into_iter()
-        .flatten()
-        .collect();
-        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
-        let textures: Vec<(u32, &ImageView)> = lit
-            .map(|m| (5..).zip(m.views.iter()).collect())
-            .unwrap_or_default();
-        let bindings: Vec<vk::DescriptorSetLayoutBinding> = resources
-            .iter()
-            .map(|&(binding, ty, stages, _)| (binding, ty, stages))
-            .chain(
-                textures
-                    .iter()
-                    .map(|&(binding, _)| (binding, sampled, fragment)),
-            )
-            .map(|(binding, ty, stages)| {
-                vk::DescriptorSetLayoutBinding::default()
-                    .binding(binding)
-                    .descriptor_type(ty)
-                    .descriptor_count(1)
-                    .stage_flags(stages)
-            })
-            .collect();
-        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
-        // SAFETY: plain object creation with locals alive for each call.
-        let set_layout = DescriptorSetLayout::from_raw(
-            &gpu.dev,
-            unsafe { device.create_descriptor_set_layout(&info, None) }
-                .vk("vkCreateDescriptorSetLayout")?,
+/// lit scene's textures (5–7), materials (8) and lights (9); the view index or mask shape set
+/// as a vertex push constant.
+pub(crate) fn scene_bindings(
+    gpu: &Gpu,
+    views: &Buffer,
+    instances: &Buffer,
+    counter: Option<&Buffer>,
+    masks: Option<&Buffer>,
+    instance_ids: Option<&Buffer>,
+    lit: Option<&MaterialSet>,
+) -> Result<DescriptorSet, GpuError> {
+    use vk::ShaderStageFlags as Stage;
+    let binding = |binding, stages, resource| Binding {
+        binding,
+        stages,
+        resource,
+    };
+    let mut bindings = vec![
+        binding(0, Stage::VERTEX | Stage::FRAGMENT, Resource::Uniform(views)),
+        binding(1, Stage::VERTEX, Resource::Storage(instances)),
+    ];
+    bindings.extend(counter.map(|b| binding(2, Stage::FRAGMENT, Resource::Storage(b))));
+    bindings.extend(masks.map(|b| binding(3, Stage::VERTEX, Resource::Uniform(b))));
+    bindings.extend(instance_ids.map(|b| binding(4, Stage::VERTEX, Resource::Storage(b))));
+    if let Some(m) = lit {
+        let textures = (5..).zip(&m.views);
+        bindings.extend(
+            textures.map(|(i, view)| {
+                binding(i, Stage::FRAGMENT, Resource::Sampled(view, m.sampler.raw))
+            }),
         );
-        let sizes = [
-            vk::DescriptorPoolSize {
-                ty: uniform,
-                descriptor_count: 2,
-            },
-            vk::DescriptorPoolSize {
-                ty: storage,
-                descriptor_count: 4,
-            },
-            vk::DescriptorPoolSize {
-                ty: sampled,
-                descriptor_count: 3,
-            },
-        ];
-        let pool_info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(1)
-            .pool_sizes(&sizes);
-        let pool = DescriptorPool::from_raw(
-            &gpu.dev,
-            unsafe { device.create_descriptor_pool(&pool_info, None) }
-                .vk("vkCreateDescriptorPool")?,
-        );
-        let layouts = [set_layout.raw];
-        let alloc = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(pool.raw)
-            .set_layouts(&layouts);
-        let set =
-            unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
-
-        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = resources
-            .iter()
-            .map(|r| {
-                [vk::DescriptorBufferInfo {
-                    buffer: r.3.raw,
-                    offset: 0,
-                    range: vk::WHOLE_SIZE,
-                }]
-            })
-            .collect();
-        let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = textures
-            .iter()
-            .map(|&(_, view)| {
-                [vk::DescriptorImageInfo {
-                    sampler: lit.expect("textures only when lit").sampler.raw,
-                    image_view: view.raw,
-                    image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                }]
-            })
-            .collect();
-        let writes: Vec<vk::WriteDescriptorSet> = resources
-            .iter()
-            .zip(&infos)
-            .map(|(r, info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .dst_binding(r.0)
-                    .descriptor_type(r.1)
-                    .buffer_info(info)
-            })
-            .chain(textures.iter().zip(&image_infos).map(|(t, info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .dst_binding(t.0)
-                    .descriptor_type(sampled)
-                    .image_info(info)
-            }))
-            .collect();
-        unsafe { device.update_descriptor_sets(&writes, &[]) };
-
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::VERTEX,
-            offset: 0,
-            size: 4,
-        }];
-        let layout_info = vk::PipelineLayoutCreateInfo::default()
-            .set_layouts(&layouts)
-            .push_constant_ranges(&push);
-        let layout = PipelineLayout::from_raw(
-            &gpu.dev,
-            unsafe { device.create_pipeline_layout(&layout_info, None) }
-                .vk("vkCreatePipelineLayout")?,
-        );
-        let layout_description = describe_layout(&bindings, push[0].size);
-        Ok(SceneBindings {
-            layout,
-            layout_description,
-            _set_layout: set_layout,
-            _pool: pool,
-            set,
-        })
+        bindings.push(binding(8, Stage::FRAGMENT, Resource::Storage(&m.materials)));
+        bindings.push(binding(9, Stage::FRAGMENT, Resource::Uniform(&m.lighting)));
     }
-}
-
-/// A pipeline layout's description: its bindings and push-constant bytes. Pipelines made with
-/// identically described layouts are compatible, so they are shared (see `gpu::ObjectCache`).
-pub(crate) fn describe_layout(
-    bindings: &[vk::DescriptorSetLayoutBinding],
-    push_bytes: u32,
-) -> Description {
-    bindings
-        .iter()
-        .flat_map(|b| {
-            [
-                b.binding as u64,
-                b.descriptor_type.as_raw() as u64,
-                b.stage_flags.as_raw() as u64,
-            ]
-        })
-        .chain([push_bytes as u64])
-        .collect()
+    let push = vk::PushConstantRange {
+        stage_flags: Stage::VERTEX,
+        offset: 0,
+        size: 4,
+    };
+    DescriptorSet::new(gpu, &bindings, Some(push))
 }
 
 /// The plan's stencil state in Vulkan's terms (failing fragments keep the value).

@@ -4,14 +4,14 @@ use ash::vk;
 use glam::{Mat4, Vec2, Vec3};
 
 use super::culling::FrameCulling;
+use super::descriptors::DescriptorSet;
 use super::materials::MaterialSet;
 use super::mffr::{FarComposite, FarView};
 use super::output::OutputStage;
-use super::pipelines::{compile_pipeline, SceneBindings};
+use super::pipelines::{compile_pipeline, scene_bindings};
 use super::radial_density::Reconstruction;
 use super::record::record_frame;
 use super::recorder::FrameDraws;
-use super::sampled_set::SampledSet;
 use super::scene_buffers::SceneBuffers;
 use super::stats::{FrameStats, PassStatistics, StepFragments, PASS_STATISTICS};
 use super::targets::{compile_pass, create_images, CompiledPass};
@@ -21,8 +21,7 @@ use crate::foveation::fovea_views;
 use crate::gpu::{
     Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, QueryPool, VkResultExt,
 };
-use crate::mffr::FAR_VIEW_INDEX;
-use crate::plan::{CountedStep, FramePlan, PassKind, PassPlan, RenderConfig, Step};
+use crate::plan::{BufferPlan, FramePlan, PassKind, PassPlan, RenderConfig, Step};
 use crate::scene::{Draw, Scene, Shading};
 
 /// A [`FramePlan`] compiled into Vulkan objects for one scene.
@@ -38,18 +37,14 @@ pub struct Renderer<'g> {
     /// Each pass's steps as recorded: pipeline, layout and descriptor set (the sets belong to
     /// the fields below).
     steps: Vec<Vec<BoundStep>>,
-    /// The output stage (a foveated frame's composition, lens distortion), when planned.
-    output: Option<OutputStage>,
-    /// The MFFR far composite, when planned.
-    far_composite: Option<FarComposite>,
-    /// Radial density reconstruction, when planned (only its set is used, through `steps`).
-    _reconstruction: Option<Reconstruction>,
+    /// The steps that sample earlier passes' images (their sets are bound through `steps`).
+    sampling: SamplingExecutors,
     /// Per-frame culling and its id buffer (only when a pass draws a culled set).
     culling: Option<FrameCulling>,
     instance_ids: Option<Buffer>,
     pub(super) images: Vec<Image>,
     /// The scene's descriptor set and layout (used through `steps`).
-    _bindings: SceneBindings,
+    _bindings: DescriptorSet,
     /// A lit scene's textures, materials and lights (after the bindings that refer to them).
     _materials: Option<MaterialSet>,
     scene: SceneBuffers,
@@ -74,27 +69,7 @@ impl<'g> Renderer<'g> {
     /// Builds everything `plan` calls for, and nothing else: no counter buffer without fragment
     /// counting, no query pool without timestamps, no MSAA images at 1×.
     pub fn new(gpu: &'g Gpu, plan: &FramePlan, scene: &Scene) -> Result<Self, GpuError> {
-        if scene.instance_count() != plan.scene_instances {
-            return Err(crate::vocab::ConfigError::new(
-                "scene",
-                format!("{} instances", scene.instance_count()),
-                format!(
-                    "the scene the plan was made for ({} instances): plan the frame for this scene",
-                    plan.scene_instances
-                ),
-            )
-            .into());
-        }
-        if scene.shading() == Shading::Lit && !plan.lit
-            || scene.shading() == Shading::Flat && plan.lit
-        {
-            return Err(crate::vocab::ConfigError::new(
-                "scene",
-                format!("{} shading", scene.shading()),
-                "the shading the plan was made for: plan the frame for this scene",
-            )
-            .into());
-        }
+        check_scene(plan, scene)?;
         let scene_buffers = SceneBuffers::upload(gpu, scene)?;
         let materials = plan
             .lit
@@ -107,46 +82,32 @@ impl<'g> Renderer<'g> {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
         )?;
-        let counter = plan
-            .fragment_counter()
-            .map(|b| {
-                Buffer::new(
-                    gpu,
-                    b.name,
-                    b.bytes,
-                    vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-                    MemoryLocation::GpuToCpu,
-                )
-            })
-            .transpose()?;
-        let masks = plan
-            .passes
-            .iter()
-            .any(PassPlan::has_masks)
-            .then(|| {
-                let bytes = std::mem::size_of::<[glam::Vec4; 8]>() as u64;
-                Buffer::new(
-                    gpu,
-                    "stencil masks",
-                    bytes,
-                    vk::BufferUsageFlags::UNIFORM_BUFFER,
-                    MemoryLocation::CpuToGpu,
-                )
-            })
-            .transpose()?;
-        let instance_ids = plan
-            .instance_ids()
-            .map(|b| {
-                Buffer::new(
-                    gpu,
-                    b.name,
-                    b.bytes,
-                    vk::BufferUsageFlags::STORAGE_BUFFER,
-                    MemoryLocation::CpuToGpu,
-                )
-            })
-            .transpose()?;
-        let bindings = SceneBindings::new(
+        let counter = effect_buffer(
+            gpu,
+            plan.fragment_counter(),
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let mask_shapes = BufferPlan {
+            name: "stencil masks",
+            bytes: std::mem::size_of::<[glam::Vec4; 8]>() as u64,
+        };
+        let masks = effect_buffer(
+            gpu,
+            plan.passes
+                .iter()
+                .any(PassPlan::has_masks)
+                .then_some(&mask_shapes),
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let instance_ids = effect_buffer(
+            gpu,
+            plan.instance_ids(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let bindings = scene_bindings(
             gpu,
             &views_block,
             &scene_buffers.instances,
@@ -156,90 +117,20 @@ impl<'g> Renderer<'g> {
             materials.as_ref(),
         )?;
         let images = create_images(gpu, plan)?;
-        let output = plan
-            .passes
-            .iter()
-            .find(|p| p.kind == PassKind::Output)
-            .map(|p| {
-                // Two images always: the shader declares both (a one-image source twice).
-                let first = &images[p.samples[0]];
-                let second = &images[p.samples[p.samples.len() - 1]];
-                OutputStage::new(gpu, &[first, second], counter.as_ref())
-            })
-            .transpose()?;
-        let reconstruction = plan
-            .passes
-            .iter()
-            .find(|p| p.steps.contains(&Step::Reconstruct))
-            .map(|p| Reconstruction::new(gpu, &images[p.samples[0]], counter.as_ref()))
-            .transpose()?;
-        let far_composite = plan
-            .far_pass()
-            .map(|p| {
-                let far_image = &images[p.resolve.unwrap_or(p.color).attachment];
-                FarComposite::new(gpu, far_image, counter.as_ref())
-            })
-            .transpose()?;
-        let mut passes = Vec::with_capacity(plan.passes.len());
-        let mut steps = Vec::with_capacity(plan.passes.len());
-        for (i, p) in plan.passes.iter().enumerate() {
-            let compiled = compile_pass(gpu, plan, i, &images)?;
-            // Each step's pipeline, with the resources it reads: the composites their sampled
-            // sets, everything else the scene's bindings.
-            let samples = plan.attachments[p.color.attachment].samples;
-            let bound = p
-                .steps
-                .iter()
-                .zip(&p.pipelines)
-                .map(|(step, desc)| {
-                    let set: Option<&SampledSet> = match step {
-                        Step::Output(_) => output.as_ref().map(|c| &c.set),
-                        Step::FarComposite { .. } => far_composite.as_ref().map(|f| &f.set),
-                        Step::Reconstruct => reconstruction.as_ref().map(|r| &r.set),
-                        _ => None,
-                    };
-                    let (layout, description, set) = match set {
-                        Some(s) => (&s.layout, &s.layout_description, s.set),
-                        None => (&bindings.layout, &bindings.layout_description, bindings.set),
-                    };
-                    Ok(BoundStep {
-                        pipeline: compile_pipeline(
-                            gpu,
-                            desc,
-                            samples,
-                            &compiled,
-                            layout,
-                            description,
-                        )?,
-                        layout: layout.raw,
-                        set,
-                    })
-                })
-                .collect::<Result<Vec<_>, GpuError>>()?;
-            passes.push(compiled);
-            steps.push(bound);
-        }
-        let queries = (plan.timestamp_queries > 0)
-            .then(|| {
-                let info = vk::QueryPoolCreateInfo::default()
-                    .query_type(vk::QueryType::TIMESTAMP)
-                    .query_count(plan.timestamp_pool_slots());
-                unsafe { gpu.device().create_query_pool(&info, None) }
-                    .vk("vkCreateQueryPool")
-                    .map(|raw| QueryPool::from_raw(&gpu.dev, raw))
-            })
-            .transpose()?;
-        let statistics = (plan.statistics_queries > 0)
-            .then(|| {
-                let info = vk::QueryPoolCreateInfo::default()
-                    .query_type(vk::QueryType::PIPELINE_STATISTICS)
-                    .query_count(plan.statistics_pool_slots())
-                    .pipeline_statistics(PASS_STATISTICS);
-                unsafe { gpu.device().create_query_pool(&info, None) }
-                    .vk("vkCreateQueryPool")
-                    .map(|raw| QueryPool::from_raw(&gpu.dev, raw))
-            })
-            .transpose()?;
+        let sampling = SamplingExecutors::new(gpu, plan, &images, counter.as_ref())?;
+        let sets = |step: &Step| match step {
+            Step::Output(_) => sampling.output.as_ref().map(|c| &c.set.descriptors),
+            Step::FarComposite { .. } => sampling.far.as_ref().map(|f| &f.set.descriptors),
+            Step::Reconstruct => sampling.reconstruction.as_ref().map(|r| &r.set.descriptors),
+            _ => None,
+        };
+        let (passes, steps) = compile_passes(gpu, plan, &images, &bindings, sets)?;
+        let queries = query_pool(gpu, vk::QueryType::TIMESTAMP, plan.timestamp_pool_slots())?;
+        let statistics = query_pool(
+            gpu,
+            vk::QueryType::PIPELINE_STATISTICS,
+            plan.statistics_pool_slots(),
+        )?;
         let frame_pool = gpu.command_pool(vk::CommandPoolCreateFlags::TRANSIENT)?;
         let cmd = gpu.allocate_command_buffer(&frame_pool)?;
         log::debug!(
@@ -255,9 +146,7 @@ impl<'g> Renderer<'g> {
             plan: plan.clone(),
             passes,
             steps,
-            output,
-            far_composite,
-            _reconstruction: reconstruction,
+            sampling,
             culling: instance_ids
                 .is_some()
                 .then(|| FrameCulling::new(scene, &scene_buffers.draws, plan)),
@@ -316,10 +205,10 @@ impl<'g> Renderer<'g> {
         if let Some(masks) = &mut self.masks {
             masks.write(&super::masks::stencil_shapes(plan, fovea.as_ref()));
         }
-        if let Some(output) = &mut self.output {
+        if let Some(output) = &mut self.sampling.output {
             output.update(plan, fovea.as_ref());
         }
-        if let (Some(composite), Some(far)) = (&mut self.far_composite, &far) {
+        if let (Some(composite), Some(far)) = (&mut self.sampling.far, &far) {
             composite.update(&views.views, far);
         }
         let mut cpu_cull_ms = 0.0;
@@ -381,21 +270,7 @@ impl<'g> Renderer<'g> {
         let (gpu_ms, gpu_pass_ms) = self.read_gpu_times()?;
         let steps = self.read_fragment_counts();
         let pass_statistics = self.read_pass_statistics()?;
-        let instances_drawn = self
-            .plan
-            .passes
-            .iter()
-            .flat_map(|p| &p.steps)
-            .filter_map(|s| match *s {
-                Step::Scene { cull_slot, .. } => Some(
-                    self.draws(cull_slot)
-                        .iter()
-                        .map(|d| d.instance_count as u64)
-                        .sum(),
-                ),
-                _ => None,
-            })
-            .collect();
+        let instances_drawn = self.instances_drawn();
         let mut stats = FrameStats {
             cpu_record_ms: ms(start, recorded),
             cpu_submit_ms: ms(recorded, submitted),
@@ -420,15 +295,25 @@ impl<'g> Renderer<'g> {
             pass_statistics,
         };
         if self.counter.is_some() {
-            let scene = stats.per_view(CountedStep::Scene);
-            stats.fragments = scene[..self.plan.views as usize].to_vec();
-            stats.far_fragments = self
-                .plan
-                .mffr
-                .is_some()
-                .then_some(scene[FAR_VIEW_INDEX as usize]);
+            stats.split_scene_fragments(self.plan.views, self.plan.mffr.is_some());
         }
         Ok(stats)
+    }
+
+    /// Instances each scene step drew this frame, in plan order.
+    fn instances_drawn(&self) -> Vec<u64> {
+        let scene_steps = self.plan.passes.iter().flat_map(|p| &p.steps);
+        scene_steps
+            .filter_map(|s| match *s {
+                Step::Scene { cull_slot, .. } => Some(
+                    self.draws(cull_slot)
+                        .iter()
+                        .map(|d| d.instance_count as u64)
+                        .sum(),
+                ),
+                _ => None,
+            })
+            .collect()
     }
 
     /// Frame and per-pass GPU times from the timestamps.
@@ -498,6 +383,142 @@ impl<'g> Renderer<'g> {
     pub fn lazy_attachments(&self) -> usize {
         self.images.iter().filter(|i| i.lazy).count()
     }
+}
+
+/// The executors of the steps that sample earlier passes' images, each when planned.
+struct SamplingExecutors {
+    /// The output stage: a foveated frame's composition, lens distortion.
+    output: Option<OutputStage>,
+    /// The MFFR far composite.
+    far: Option<FarComposite>,
+    /// Radial density's reconstruction.
+    reconstruction: Option<Reconstruction>,
+}
+
+impl SamplingExecutors {
+    fn new(
+        gpu: &Gpu,
+        plan: &FramePlan,
+        images: &[Image],
+        counter: Option<&Buffer>,
+    ) -> Result<Self, GpuError> {
+        let output = plan
+            .passes
+            .iter()
+            .find(|p| p.kind == PassKind::Output)
+            .map(|p| {
+                // Two images always: the shader declares both (a one-image source twice).
+                let first = &images[p.samples[0]];
+                let second = &images[p.samples[p.samples.len() - 1]];
+                OutputStage::new(gpu, &[first, second], counter)
+            })
+            .transpose()?;
+        let reconstruction = plan
+            .passes
+            .iter()
+            .find(|p| p.steps.contains(&Step::Reconstruct))
+            .map(|p| Reconstruction::new(gpu, &images[p.samples[0]], counter))
+            .transpose()?;
+        let far_composite = plan
+            .far_pass()
+            .map(|p| {
+                let far_image = &images[p.resolve.unwrap_or(p.color).attachment];
+                FarComposite::new(gpu, far_image, counter)
+            })
+            .transpose()?;
+        Ok(SamplingExecutors {
+            output,
+            far: far_composite,
+            reconstruction,
+        })
+    }
+}
+
+/// The scene must be the one the plan was made for (its buffers are sized for it).
+fn check_scene(plan: &FramePlan, scene: &Scene) -> Result<(), GpuError> {
+    if scene.instance_count() != plan.scene_instances {
+        return Err(crate::vocab::ConfigError::new(
+            "scene",
+            format!("{} instances", scene.instance_count()),
+            format!(
+                "the scene the plan was made for ({} instances): plan the frame for this scene",
+                plan.scene_instances
+            ),
+        )
+        .into());
+    }
+    if scene.shading() == Shading::Lit && !plan.lit || scene.shading() == Shading::Flat && plan.lit
+    {
+        return Err(crate::vocab::ConfigError::new(
+            "scene",
+            format!("{} shading", scene.shading()),
+            "the shading the plan was made for: plan the frame for this scene",
+        )
+        .into());
+    }
+    Ok(())
+}
+
+/// A buffer that exists only because an effect asked for it.
+fn effect_buffer(
+    gpu: &Gpu,
+    planned: Option<&BufferPlan>,
+    usage: vk::BufferUsageFlags,
+    location: MemoryLocation,
+) -> Result<Option<Buffer>, GpuError> {
+    planned
+        .map(|b| Buffer::new(gpu, b.name, b.bytes, usage, location))
+        .transpose()
+}
+
+/// A query pool of `slots` (none when 0); pipeline statistics count what `PASS_STATISTICS` says.
+fn query_pool(gpu: &Gpu, ty: vk::QueryType, slots: u32) -> Result<Option<QueryPool>, GpuError> {
+    if slots == 0 {
+        return Ok(None);
+    }
+    let mut info = vk::QueryPoolCreateInfo::default()
+        .query_type(ty)
+        .query_count(slots);
+    if ty == vk::QueryType::PIPELINE_STATISTICS {
+        info = info.pipeline_statistics(PASS_STATISTICS);
+    }
+    // SAFETY: plain object creation.
+    let raw = unsafe { gpu.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+    Ok(Some(QueryPool::from_raw(&gpu.dev, raw)))
+}
+
+/// Each pass compiled, and each of its steps bound: its pipeline, with the resources it reads —
+/// its technique's sampled set (`sets`), or the scene's bindings.
+fn compile_passes<'s>(
+    gpu: &Gpu,
+    plan: &FramePlan,
+    images: &[Image],
+    bindings: &DescriptorSet,
+    sets: impl Fn(&Step) -> Option<&'s DescriptorSet>,
+) -> Result<(Vec<CompiledPass>, Vec<Vec<BoundStep>>), GpuError> {
+    let mut passes = Vec::with_capacity(plan.passes.len());
+    let mut steps = Vec::with_capacity(plan.passes.len());
+    for (i, p) in plan.passes.iter().enumerate() {
+        let compiled = compile_pass(gpu, plan, i, images)?;
+        let samples = plan.attachments[p.color.attachment].samples;
+        let bound = p
+            .steps
+            .iter()
+            .zip(&p.pipelines)
+            .map(|(step, desc)| {
+                let d = sets(step).unwrap_or(bindings);
+                let (layout, description, set) = (&d.layout, &d.layout_description, d.set);
+                Ok(BoundStep {
+                    pipeline: compile_pipeline(gpu, desc, samples, &compiled, layout, description)?,
+                    layout: layout.raw,
+                    set,
+                })
+            })
+            .collect::<Result<Vec<_>, GpuError>>()?;
+        passes.push(compiled);
+        steps.push(bound);
+    }
+    Ok((passes, steps))
 }
 
 /// Renders one counting frame of `config` (fragment counters on, no timestamps: its time is no

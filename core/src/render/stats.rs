@@ -3,6 +3,7 @@
 
 use ash::vk;
 
+use crate::mffr::FAR_VIEW_INDEX;
 use crate::plan::{CountedStep, COUNTER_SLOTS_PER_STEP};
 
 /// What one frame cost, measured.
@@ -85,6 +86,14 @@ impl StepFragments {
 }
 
 impl FrameStats {
+    /// A counting frame: the scene's fragments per eye view (`views` of them) and, with MFFR,
+    /// the far view's, from the per-step counts.
+    pub(super) fn split_scene_fragments(&mut self, views: u32, mffr: bool) {
+        let scene = self.per_view(CountedStep::Scene);
+        self.fragments = scene[..views as usize].to_vec();
+        self.far_fragments = mffr.then_some(scene[FAR_VIEW_INDEX as usize]);
+    }
+
     /// Fragments every counted step shaded: the frame's whole fragment work.
     pub fn total_fragments(&self) -> u64 {
         self.steps.iter().map(StepFragments::total).sum()
