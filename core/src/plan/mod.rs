@@ -42,6 +42,10 @@ pub use steps::{
 };
 
 #[cfg(test)]
+mod effect_tests;
+#[cfg(test)]
 mod pipeline_tests;
+#[cfg(test)]
+mod step_tests;
 #[cfg(test)]
 mod tests;

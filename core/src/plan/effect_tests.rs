@@ -1,0 +1,315 @@
+//! The planner's rules for each effect (foveation, masks, MFFR, culling), checked without a GPU.
+
+use super::tests::*;
+use super::*;
+use crate::scene::default_scene;
+
+#[test]
+fn the_plan_prints_its_decisions() {
+    let text = planned(&config(StereoMode::Multiview, 4)).to_string();
+    for needle in [
+        "view mask 0b11",
+        "load CLEAR, store DONT_CARE",
+        "load DONT_CARE, store STORE",
+        "transient",
+        "traffic",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+}
+
+#[test]
+fn foveation_plans_four_low_resolution_views_in_one_pass() {
+    let plan = planned(&foveated(true));
+    assert_eq!(plan.passes.len(), 2, "scene pass + composition");
+    let pass = &plan.passes[0];
+    assert_eq!((pass.kind, pass.view_mask), (PassKind::Scene, 0b1111));
+    assert!(pass.has_masks());
+    for u in pass.uses() {
+        let a = attachment(&plan, u);
+        assert!(
+            a.layers == 4 && a.width == 256,
+            "{}: 4 views at 512 × 0.5",
+            a.name
+        );
+    }
+    let depth = attachment(&plan, &pass.depth.unwrap());
+    assert_eq!(
+        depth.format,
+        Format::D32S8,
+        "stencil only because the masks need it"
+    );
+    assert_eq!(
+        (pass.depth.unwrap().load, pass.depth.unwrap().store),
+        (LoadOp::Clear, StoreOp::DontCare)
+    );
+    assert!(depth.transient);
+}
+
+#[test]
+fn composition_samples_the_views_which_are_therefore_stored() {
+    let plan = planned(&foveated(true));
+    let (scene, composite) = (&plan.passes[0], &plan.passes[1]);
+    let views = scene.resolve.expect("MSAA 4 resolves").attachment;
+    assert_eq!(
+        scene.resolve.unwrap().store,
+        StoreOp::Store,
+        "sampled later, so stored"
+    );
+    let views_plan = &plan.attachments[views];
+    assert!(views_plan.sampled && !views_plan.transient && !views_plan.read_after_frame);
+    assert_eq!(composite.kind, PassKind::Output);
+    assert_eq!(composite.samples, vec![views]);
+    assert!(composite.depth.is_none() && composite.resolve.is_none());
+    let out = attachment(&plan, &composite.color);
+    assert_eq!(
+        (out.width, out.layers, out.read_after_frame),
+        (512, 2, true),
+        "full resolution, one layer per eye"
+    );
+    assert_eq!(
+        (composite.color.load, composite.color.store),
+        (LoadOp::DontCare, StoreOp::Store)
+    );
+    assert_eq!(plan.outputs(), vec![composite.color.attachment]);
+}
+
+#[test]
+fn no_masks_no_stencil() {
+    let plan = planned(&foveated(false));
+    assert!(!plan.passes[0].has_masks());
+    assert!(plan.attachments.iter().all(|a| a.format != Format::D32S8));
+}
+
+#[test]
+fn foveation_needs_four_views_and_multiview() {
+    let e = rejected(
+        &RenderConfig {
+            views: 2,
+            ..foveated(true)
+        },
+        &caps(),
+    );
+    assert_eq!((e.field, e.value.as_str()), ("views", "2"));
+    let e = rejected(
+        &RenderConfig {
+            stereo: StereoMode::TwoPass,
+            ..foveated(true)
+        },
+        &caps(),
+    );
+    assert_eq!(e.field, "stereo");
+    let e = rejected(
+        &RenderConfig {
+            views: 4,
+            ..config(StereoMode::Multiview, 4)
+        },
+        &caps(),
+    );
+    assert!(e.limit.contains("4 with foveation"), "{e}");
+    let bad_ratio = RenderConfig {
+        foveation: Some(crate::foveation::FoveationConfig {
+            ratio: 1.5,
+            ..Default::default()
+        }),
+        ..foveated(true)
+    };
+    assert_eq!(rejected(&bad_ratio, &caps()).field, "ratio");
+    let probe_without_counter = RenderConfig {
+        coverage_probe: true,
+        count_fragments: false,
+        ..foveated(true)
+    };
+    assert_eq!(
+        rejected(&probe_without_counter, &caps()).field,
+        "coverage_probe"
+    );
+}
+
+#[test]
+fn hmd_mask_adds_stencil_and_nothing_else() {
+    let off = planned(&config(StereoMode::Multiview, 4));
+    let on = planned(&RenderConfig {
+        hmd_mask: true,
+        ..config(StereoMode::Multiview, 4)
+    });
+    let depth = |p: &FramePlan| attachment(p, &p.passes[0].depth.unwrap()).format;
+    assert_eq!((depth(&off), depth(&on)), (Format::D32, Format::D32S8));
+    assert!(on.passes[0].has_masks() && !off.passes[0].has_masks());
+    assert_eq!(
+        on.passes.len(),
+        off.passes.len(),
+        "masks are written in the scene pass"
+    );
+    let lens = on.hmd_mask.expect("lens regions planned");
+    // Index has no published hidden-area mesh: the circular fallback hides 1 − π/4.
+    assert!((lens[0].hidden_fraction() - (1.0 - std::f64::consts::FRAC_PI_4)).abs() < 1e-9);
+    assert!(on.to_string().contains("HMD stencil mask: hides 21.5 %"));
+}
+
+#[test]
+fn mffr_plans_a_mono_far_pass_the_eye_pass_samples() {
+    let scene = crate::scene::city_scene();
+    for order in [
+        crate::mffr::MffrOrder::NearFirst,
+        crate::mffr::MffrOrder::FarFirst,
+    ] {
+        let plan = plan(&scene, &with_mffr(order), &caps()).unwrap();
+        let far = plan.far_pass().expect("far pass planned");
+        assert_eq!(
+            (far.view_mask, far.draw_set().unwrap()),
+            (0, DrawSet::FarField)
+        );
+        let far_colour = far.resolve.unwrap();
+        assert_eq!(far_colour.store, StoreOp::Store, "sampled later, so stored");
+        assert!(
+            attachment(&plan, &far.color).transient
+                && attachment(&plan, &far.depth.unwrap()).transient
+        );
+        let eye = &plan.passes[1];
+        assert_eq!(eye.samples, vec![far_colour.attachment]);
+        assert_eq!(
+            (eye.far_composite(), eye.draw_set().unwrap()),
+            (Some(order), DrawSet::NearField)
+        );
+        // Only near-first writes stencil.
+        let stencil = attachment(&plan, &eye.depth.unwrap()).format == Format::D32S8;
+        assert_eq!(stencil, order == crate::mffr::MffrOrder::NearFirst);
+        assert!(plan.instance_ids().is_some());
+        let m = plan.mffr.unwrap();
+        assert_eq!(
+            m.resolution,
+            Resolution {
+                width: attachment(&plan, &far_colour).width,
+                height: attachment(&plan, &far_colour).height
+            }
+        );
+    }
+}
+
+#[test]
+fn a_scene_without_far_content_pays_nothing_for_mffr() {
+    // The default scene reaches a few hundred metres; a split past it (or past the far plane)
+    // leaves nothing to render far: the plan is exactly the plan without MFFR.
+    let scene = default_scene();
+    let base = config(StereoMode::Multiview, 4);
+    let without = plan(&scene, &base, &caps()).unwrap();
+    for split in ["2000m", "0.001px"] {
+        let c = RenderConfig {
+            mffr: Some(crate::mffr::MffrConfig {
+                split: split.parse().unwrap(),
+                ..Default::default()
+            }),
+            far: 3000.0,
+            ..base.clone()
+        };
+        let with = plan(&scene, &c, &caps()).unwrap();
+        let plain = RenderConfig {
+            far: 3000.0,
+            ..base.clone()
+        };
+        assert_eq!(with, plan(&scene, &plain, &caps()).unwrap(), "{split}");
+    }
+    let near_only = crate::scene::Scene {
+        batches: vec![crate::scene::DrawBatch {
+            mesh: 1,
+            instances: vec![crate::scene::Instance::new(
+                glam::Mat4::IDENTITY,
+                glam::Vec3::ONE,
+            )],
+        }],
+        ..default_scene()
+    };
+    let c = RenderConfig {
+        mffr: Some(Default::default()),
+        ..base.clone()
+    };
+    assert_eq!(
+        plan(&near_only, &c, &caps()).unwrap(),
+        plan(&near_only, &base, &caps()).unwrap()
+    );
+    assert!(without.far_pass().is_none() && without.instance_ids().is_none());
+}
+
+#[test]
+fn mffr_needs_an_eye_pass_to_composite_into() {
+    let scene = crate::scene::city_scene();
+    for stereo in [StereoMode::PerObject, StereoMode::Instanced] {
+        let c = RenderConfig {
+            stereo,
+            ..with_mffr(crate::mffr::MffrOrder::NearFirst)
+        };
+        assert_eq!(plan(&scene, &c, &caps()).unwrap_err().field, "stereo");
+    }
+    let two_pass = RenderConfig {
+        stereo: StereoMode::TwoPass,
+        ..with_mffr(crate::mffr::MffrOrder::NearFirst)
+    };
+    let p = plan(&scene, &two_pass, &caps()).unwrap();
+    assert_eq!(
+        p.passes
+            .iter()
+            .filter(|p| p.far_composite().is_some())
+            .count(),
+        2
+    );
+}
+
+#[test]
+fn culling_picks_each_pass_its_draw_set_and_adds_only_the_id_buffer() {
+    use crate::cull::Strategy;
+    use crate::view::Eye;
+    let with = |stereo, strategy| RenderConfig {
+        culling: Some(CullConfig {
+            strategy,
+            draw_distance: 320.0,
+        }),
+        ..config(stereo, 4)
+    };
+    let sets = |c: &RenderConfig| -> Vec<DrawSet> {
+        planned(c)
+            .passes
+            .iter()
+            .filter_map(|p| p.draw_set())
+            .collect()
+    };
+    // The thesis' baseline: each eye's pass culled with its own frustum.
+    assert_eq!(
+        sets(&with(StereoMode::TwoPass, Strategy::PerEye)),
+        [
+            DrawSet::VisibleToEye(Eye::Left),
+            DrawSet::VisibleToEye(Eye::Right)
+        ]
+    );
+    assert_eq!(
+        sets(&with(StereoMode::TwoPass, Strategy::Superfrustum)),
+        [DrawSet::Visible, DrawSet::Visible]
+    );
+    assert_eq!(
+        sets(&with(StereoMode::Multiview, Strategy::PerEye)),
+        [DrawSet::Visible]
+    );
+    // Culling changes what is drawn, not the frame's passes or attachments.
+    let culled = planned(&with(StereoMode::Multiview, Strategy::Superfrustum));
+    let plain = planned(&config(StereoMode::Multiview, 4));
+    assert_eq!(culled.attachments, plain.attachments);
+    assert_eq!(culled.passes.len(), plain.passes.len());
+    let extra: Vec<&str> = culled
+        .buffers
+        .iter()
+        .filter(|b| !plain.buffers.contains(b))
+        .map(|b| b.name)
+        .collect();
+    assert_eq!(extra, ["instance ids"]);
+    for bad in [0.0, -1.0, f32::INFINITY, f32::NAN] {
+        let c = RenderConfig {
+            culling: Some(CullConfig {
+                strategy: Strategy::PerEye,
+                draw_distance: bad,
+            }),
+            ..config(StereoMode::Multiview, 4)
+        };
+        let e = plan(&default_scene(), &c, &caps()).unwrap_err();
+        assert_eq!(e.field, "draw distance");
+    }
+}
