@@ -2,19 +2,18 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use foveate::foveation::{FoveationConfig, FoveationGeometry};
+use foveate::foveation::FoveationConfig;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::{frame_accuracy, heat_map, FrameAccuracy};
-use foveate::metrics::{ErrorSummary, EyePixels, RgbaImage, Stats};
+use foveate::metrics::{ErrorSummary, EyePixels, RgbaImage};
 use foveate::plan::{RadialDensity, RenderConfig, Resolution};
-use foveate::render::{counting_frame, Renderer, StereoImage};
-use foveate::scene::{named_scene, Scene, Shading};
-use glam::Vec2;
+use foveate::scene::{named_scene, Shading};
 
 use crate::csv_out::{opt, CsvTable};
 use crate::fovea_table::{self, TableSettings};
 use crate::frame_args::ComparedFrame;
+use crate::side_by_side::{measure_group, Measured};
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -79,7 +78,8 @@ pub struct CompareArgs {
     /// Also price radial density masking (its default radii) at each MSAA count.
     #[arg(long)]
     radial_density: bool,
-    /// Frames per configuration (the first is a warm-up).
+    /// Frames per configuration, the first a warm-up (at least 2); with `--table`, timed frames
+    /// after one warm-up. Every configuration is measured side by side, frames interleaved.
     #[arg(long, default_value_t = 5)]
     frames: u32,
     /// Also write the table as CSV to this file.
@@ -87,43 +87,11 @@ pub struct CompareArgs {
     csv: Option<PathBuf>,
 }
 
-/// One configuration's measurements.
-struct Run {
-    frame_ms: f64,
-    /// Fragments the scene draws shaded, and every pass together (a separate counting frame).
-    scene_fragments: u64,
-    total_fragments: u64,
-    image: StereoImage,
-    /// Foveation as the frame's plan resolved it.
-    foveation: Option<FoveationGeometry>,
-}
-
-fn run(gpu: &Gpu, scene: &Scene, config: &RenderConfig, gaze: Vec2, frames: u32) -> Result<Run> {
-    let plan = foveate::plan(scene, config, gpu.caps())?;
-    let mut renderer = Renderer::new(gpu, &plan, scene)?;
-    renderer.set_gaze([gaze; 2]);
-    let mut times = Vec::new();
-    for i in 0..frames {
-        let stats = renderer.render_frame(scene.head)?;
-        if i > 0 || frames == 1 {
-            times.push(stats.frame_ms);
-        }
-    }
-    let counts = counting_frame(gpu, scene, config, [gaze; 2], scene.head)?;
-    Ok(Run {
-        frame_ms: Stats::of(&times).map_or(f64::NAN, |s| s.median),
-        scene_fragments: counts.scene_fragments(),
-        total_fragments: counts.total_fragments(),
-        image: renderer.readback()?,
-        foveation: plan.foveation,
-    })
-}
-
 /// One measured configuration of `compare`.
 struct Row {
     name: String,
     msaa: u32,
-    run: Run,
+    run: Measured,
 }
 
 pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
@@ -146,6 +114,11 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     if args.table {
         return table(options, args);
     }
+    anyhow::ensure!(
+        args.frames >= 2,
+        "invalid frames = {}: at least 2 (the first is a warm-up)",
+        args.frames
+    );
     let ratios = args.ratios.clone().unwrap_or(vec![0.7, 0.5, 0.35]);
     let gaze = crate::gaze_arg::gaze_from(&args.gaze)?;
     let scene = args.frame.scene(&args.scene)?;
@@ -181,23 +154,41 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let gpu = Gpu::new(options)?;
-    let per_msaa = 1 + args.radial_density as usize + variants.len();
-    let bar = crate::progress::bar("compare", (1 + args.msaa.len() * per_msaa) as u64);
-    let step = |what: &str| {
-        bar.set_message(what.to_string());
-        bar.inc(1);
-    };
-    step("reference: stereo, MSAA 4");
-    let reference = run(
-        &gpu,
-        &scene,
-        &RenderConfig {
-            msaa: 4,
-            ..base.clone()
-        },
-        gaze,
-        args.frames,
-    )?;
+    // The reference first, then every row: all measured side by side in one group.
+    let mut named = vec![("reference".to_string(), 4, base.clone())];
+    for &msaa in &args.msaa {
+        named.push((format!("stereo, MSAA {msaa}"), msaa, base.clone()));
+        if args.radial_density {
+            let config = RenderConfig {
+                radial_density: Some(RadialDensity::default()),
+                ..base.clone()
+            };
+            named.push((format!("radial density, MSAA {msaa}"), msaa, config));
+        }
+        for (name, foveation) in &variants {
+            let config = RenderConfig {
+                views: 4,
+                foveation: Some(*foveation),
+                ..base.clone()
+            };
+            named.push((format!("{name}, MSAA {msaa}"), msaa, config));
+        }
+    }
+    let configs: Vec<RenderConfig> = named
+        .iter()
+        .map(|(_, msaa, c)| RenderConfig {
+            msaa: *msaa,
+            ..c.clone()
+        })
+        .collect();
+    let mut measured = measure_group(&gpu, &scene, &configs, gaze, args.frames, "compare")?;
+    let reference = measured.remove(0);
+    let rows: Vec<Row> = named
+        .into_iter()
+        .skip(1)
+        .zip(measured)
+        .map(|((name, msaa, _), run)| Row { name, msaa, run })
+        .collect();
     println!(
         "device: {}; scene {}, {}x{} per eye, gaze {gaze}; eFLIP: MAR = {}′ + {}′/° · eccentricity",
         gpu.info().name,
@@ -209,46 +200,16 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     );
     println!(
         "reference: stereo multiview, MSAA 4: {:.2} ms, {} scene fragments, {} in all passes",
-        reference.frame_ms, reference.scene_fragments, reference.total_fragments
+        reference.frame_ms,
+        reference.scene_fragments(),
+        reference.total_fragments
     );
-    let mut rows = Vec::new();
-    for &msaa in &args.msaa {
-        let mut measure = |name: String, config: RenderConfig| -> Result<()> {
-            step(&name);
-            let run = run(
-                &gpu,
-                &scene,
-                &RenderConfig { msaa, ..config },
-                gaze,
-                args.frames,
-            )?;
-            rows.push(Row { name, msaa, run });
-            Ok(())
-        };
-        measure(format!("stereo, MSAA {msaa}"), base.clone())?;
-        if args.radial_density {
-            let config = RenderConfig {
-                radial_density: Some(RadialDensity::default()),
-                ..base.clone()
-            };
-            measure(format!("radial density, MSAA {msaa}"), config)?;
-        }
-        for (name, foveation) in &variants {
-            let config = RenderConfig {
-                views: 4,
-                foveation: Some(*foveation),
-                ..base.clone()
-            };
-            measure(format!("{name}, MSAA {msaa}"), config)?;
-        }
-    }
-    bar.finish_and_clear();
     let base_plan = foveate::plan(&scene, &base, gpu.caps())?;
     let bar = crate::progress::bar("FLIP", rows.len() as u64);
     let mut measured = Vec::new();
     for row in &rows {
         bar.set_message(row.name.clone());
-        let pixels = EyePixels::both(&base_plan, gaze, row.run.foveation.as_ref());
+        let pixels = EyePixels::both(&base_plan, gaze, row.run.plan.foveation.as_ref());
         let accuracy = frame_accuracy(
             reference.image.eyes(),
             row.run.image.eyes(),
@@ -336,7 +297,7 @@ fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
             row.name,
             row.run.frame_ms,
             row.run.frame_ms / reference_ms,
-            row.run.scene_fragments,
+            row.run.scene_fragments(),
             row.run.total_fragments,
             cells[0],
             cells[1],
@@ -375,7 +336,7 @@ fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<Cs
         "eccentric_flip_p99_periphery",
     ])?;
     for (row, m) in rows.iter().zip(measured) {
-        let f = row.run.foveation;
+        let f = row.run.plan.foveation;
         let e = &m.perceptual;
         let p99 = |s: Option<ErrorSummary>| opt(s.map(|s| s.p99), 5);
         csv.row(&[
@@ -386,7 +347,7 @@ fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<Cs
             &opt(f.map(|f| f.periphery_sharpen as f64), 2),
             &format!("{:.3}", row.run.frame_ms),
             &format!("{:.4}", row.run.frame_ms / reference_ms),
-            &row.run.scene_fragments,
+            &row.run.scene_fragments(),
             &row.run.total_fragments,
             &opt(m.region_psnr[0], 4),
             &opt(m.region_psnr[1], 4),

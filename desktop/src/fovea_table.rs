@@ -1,7 +1,7 @@
 //! The foveation table: stereo against foveation at each ratio in each fovea layout, on every
 //! scene variant asked for, the output stage on for every row — measured side by side in one
-//! run (every row's renderer alive together, frames interleaved round-robin so machine noise
-//! hits all rows alike): frame and per-pass GPU time, fragments and primitives from separate
+//! run through the one measurement engine (`side_by_side`: every row's renderer alive together,
+//! frames interleaved round-robin so machine noise hits all rows alike): frame and per-pass GPU time, fragments and primitives from separate
 //! counting frames, and the ratio to stereo. `compare --table` prints it and the bench records
 //! it.
 
@@ -10,12 +10,11 @@ use std::fmt::Write as _;
 use anyhow::{Context, Result};
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::Gpu;
-use foveate::metrics::Stats;
 use foveate::plan::{FoveaLayout, OutputStage, RenderConfig, Resolution};
-use foveate::render::{counting_frame, FrameStats, Renderer};
 use foveate::scene::{Scene, Shading};
 
 use crate::csv_out::CsvTable;
+use crate::side_by_side::measure_group;
 
 /// What the table measures.
 pub struct TableSettings {
@@ -90,23 +89,15 @@ pub fn measure(
     for (name, shading) in &settings.scenes {
         let scene = load(name, *shading)?;
         let configs: Vec<RenderConfig> = variants.iter().map(|v| row_config(&base, *v)).collect();
-        let plans = configs
-            .iter()
-            .map(|c| foveate::plan(&scene, c, gpu.caps()).with_context(|| name.clone()))
-            .collect::<Result<Vec<_>>>()?;
-        let mut renderers = plans
-            .iter()
-            .map(|p| Renderer::new(gpu, p, &scene))
-            .collect::<Result<Vec<_>, _>>()?;
-        let mut samples: Vec<Vec<FrameStats>> = vec![Vec::new(); renderers.len()];
-        for frame in 0..=settings.frames {
-            for (r, out) in renderers.iter_mut().zip(&mut samples) {
-                let stats = r.render_frame(scene.head)?;
-                if frame > 0 {
-                    out.push(stats);
-                }
-            }
-        }
+        let measured = measure_group(
+            gpu,
+            &scene,
+            &configs,
+            glam::Vec2::ZERO,
+            settings.frames + 1,
+            name,
+        )
+        .with_context(|| name.clone())?;
         let auto = foveate::plan(
             &scene,
             &row_config(&base, Some((0.35, FoveaLayout::Auto))),
@@ -114,30 +105,9 @@ pub fn measure(
         )?
         .fovea_layout
         .map(|c| c.layout);
-        let median = |v: Vec<f64>| Stats::of(&v).map_or(f64::NAN, |s| s.median);
-        let mut stereo_ms = f64::NAN;
-        for (i, ((variant, plan), frames)) in variants.iter().zip(&plans).zip(&samples).enumerate()
-        {
-            let frame_ms = median(frames.iter().map(|f| f.frame_ms).collect());
-            if i == 0 {
-                stereo_ms = frame_ms;
-            }
-            let passes = plan
-                .passes
-                .iter()
-                .enumerate()
-                .map(|(k, p)| {
-                    let ms = median(
-                        frames
-                            .iter()
-                            .filter_map(|f| f.gpu_pass_ms.get(k).copied())
-                            .collect(),
-                    );
-                    (p.name, ms)
-                })
-                .collect();
-            let counts =
-                counting_frame(gpu, &scene, &configs[i], [glam::Vec2::ZERO; 2], scene.head)?;
+        let stereo_ms = measured[0].frame_ms;
+        for (variant, m) in variants.iter().zip(&measured) {
+            let names = m.plan.passes.iter().map(|p| p.name);
             table.push(TableRow {
                 scene: name.clone(),
                 shading: *shading,
@@ -146,17 +116,15 @@ pub fn measure(
                     Some((ratio, layout)) => format!("foveated {ratio} {layout}"),
                 },
                 auto_pick: variant.is_some_and(|(_, layout)| Some(layout) == auto),
-                frame_ms,
-                ratio: frame_ms / stereo_ms,
-                passes,
-                scene_fragments: counts.scene_fragments(),
-                total_fragments: counts.total_fragments(),
-                primitives: (!counts.pass_statistics.is_empty())
-                    .then(|| counts.pass_statistics.iter().map(|p| p.rasterised).sum()),
+                frame_ms: m.frame_ms,
+                ratio: m.frame_ms / stereo_ms,
+                passes: names.zip(m.gpu_pass_ms.iter().copied()).collect(),
+                scene_fragments: m.scene_fragments(),
+                total_fragments: m.total_fragments,
+                primitives: m.primitives,
             });
             bar.inc(1);
         }
-        drop(renderers);
         gpu.check_validation()?;
     }
     bar.finish_and_clear();

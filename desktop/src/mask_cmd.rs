@@ -87,7 +87,14 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
         let lens = plan.hmd_mask.expect("planned with the mask");
         let analytic = lens[0].hidden_fraction();
         let hidden = measured_hidden(&gpu, &on)?;
-        let m = measure_group(&gpu, &scene, &[off, on], args.frames, profile.name)?;
+        let m = measure_group(
+            &gpu,
+            &scene,
+            &[off, on],
+            Vec2::ZERO,
+            args.frames,
+            profile.name,
+        )?;
         let saved = 1.0 - m[1].frame_ms / m[0].frame_ms;
         // The mask may cost no accuracy where the lens shows the image.
         let pixels = EyePixels::both(&plan, Vec2::ZERO, None);

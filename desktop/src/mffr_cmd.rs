@@ -145,6 +145,7 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
             &gpu,
             &scene,
             &configs,
+            Vec2::ZERO,
             args.frames,
             &format!("split {split}"),
         )?;

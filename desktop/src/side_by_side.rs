@@ -1,15 +1,21 @@
-//! Measuring configurations side by side: every renderer of a group renders one frame in turn,
-//! round after round, so a noisy machine's drift hits them all alike.
+//! The one measurement engine: configurations measured side by side. Every renderer of a group
+//! is alive at once and renders one frame in turn, round after round (the first round a warm-up),
+//! so a noisy machine's drift hits them all alike; times are medians of the timed frames, which
+//! carry no instruments; counts come from a separate counting frame per configuration. Every
+//! command that reports a time or a ratio measures through here.
 
 use anyhow::Result;
 use foveate::gpu::Gpu;
 use foveate::metrics::Stats;
-use foveate::plan::RenderConfig;
+use foveate::plan::{FramePlan, RenderConfig};
 use foveate::render::{counting_frame, Renderer, StereoImage};
 use foveate::scene::Scene;
+use glam::Vec2;
 
 /// One configuration's measurements over the counted rounds.
 pub struct Measured {
+    /// The configuration as planned.
+    pub plan: FramePlan,
     pub frame_ms: f64,
     /// Median GPU time of each planned pass.
     pub gpu_pass_ms: Vec<f64>,
@@ -18,15 +24,27 @@ pub struct Measured {
     pub eye_fragments: u64,
     pub far_fragments: u64,
     pub total_fragments: u64,
+    /// Primitives rasterised over every pass (pipeline statistics, from the counting frame),
+    /// when the device has them.
+    pub primitives: Option<u64>,
     pub image: StereoImage,
 }
 
-/// Renders `rounds` frames of each configuration, interleaved (the first round is a warm-up and
-/// not counted), and reads back the last frame of each. `label` is shown in the progress line.
+impl Measured {
+    /// Fragments the scene draws shaded, eye views and MFFR far view together.
+    pub fn scene_fragments(&self) -> u64 {
+        self.eye_fragments + self.far_fragments
+    }
+}
+
+/// Renders `rounds` frames of each configuration with both eyes' gaze at `gaze`, interleaved
+/// (the first round is a warm-up and not counted), and reads back the last frame of each.
+/// `label` is shown in the progress line.
 pub fn measure_group(
     gpu: &Gpu,
     scene: &Scene,
     configs: &[RenderConfig],
+    gaze: Vec2,
     rounds: u32,
     label: &str,
 ) -> Result<Vec<Measured>> {
@@ -37,11 +55,9 @@ pub fn measure_group(
     let mut renderers = configs
         .iter()
         .map(|c| {
-            Ok(Renderer::new(
-                gpu,
-                &foveate::plan(scene, c, gpu.caps())?,
-                scene,
-            )?)
+            let mut r = Renderer::new(gpu, &foveate::plan(scene, c, gpu.caps())?, scene)?;
+            r.set_gaze([gaze; 2]);
+            Ok(r)
         })
         .collect::<Result<Vec<_>>>()?;
     let mut samples = vec![Vec::new(); configs.len()];
@@ -67,11 +83,14 @@ pub fn measure_group(
             let passes = s[0].gpu_pass_ms.len();
             let counts = counting_frame(gpu, scene, config, r.gaze(), scene.head)?;
             Ok(Measured {
+                plan: r.plan().clone(),
                 frame_ms: median(&|x| x.frame_ms),
                 gpu_pass_ms: (0..passes).map(|i| median(&|x| x.gpu_pass_ms[i])).collect(),
                 eye_fragments: counts.fragments.iter().sum(),
                 far_fragments: counts.far_fragments.unwrap_or(0),
                 total_fragments: counts.total_fragments(),
+                primitives: (!counts.pass_statistics.is_empty())
+                    .then(|| counts.pass_statistics.iter().map(|p| p.rasterised).sum()),
                 image: r.readback()?,
             })
         })

@@ -179,6 +179,7 @@ pub fn sweep(
         gpu,
         &scene,
         &configs,
+        Vec2::ZERO,
         args.accuracy_rounds.max(2),
         "accuracy sweep",
     )?;
