@@ -6,7 +6,7 @@ use foveate::mffr::MffrConfig;
 use foveate::plan::{FoveaLayout, RenderConfig, StereoMode};
 use foveate::scene::Shading;
 
-/// The keys, as the README and the window's help line list them.
+/// The keys, as `docs/commands/view.md` and the window's help line list them.
 pub const KEYS: &[(char, &str)] = &[
     ('f', "foveation on/off"),
     ('[', "foveation ratio -0.05"),

@@ -1,6 +1,6 @@
 //! glTF scenes on the GPU: the alpha mask discards what it should, and every glTF 2.0 model of
 //! Debian's `assimp-testmodels` (files nobody here wrote) either renders validation-clean or is
-//! refused with the reason the README lists.
+//! refused with the reason `docs/scenes.md` lists.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -87,7 +87,7 @@ fn alpha_mask_discards_below_the_cutoff() {
 }
 
 /// What each assimp glTF 2.0 test model gives: `None` renders, `Some(reason)` is refused with
-/// an error containing `reason`. The README's table is this one.
+/// an error containing `reason`. The table in `docs/scenes.md` is this one.
 const ASSIMP_MODELS: &[(&str, Option<&str>)] = &[
     ("2CylinderEngine-glTF-Binary/2CylinderEngine.glb", None),
     ("BoxBadNormals-glTF-Binary/BoxBadNormals.glb", None),
@@ -251,7 +251,7 @@ fn gltf_files(dir: &Path, out: &mut Vec<PathBuf>) {
 
 /// Every model loads and renders foveated (4 views, MSAA, lens output) validation-clean, or
 /// is refused with its listed reason; a model the table does not list fails the test, so a
-/// new package version cannot slip past the README.
+/// new package version cannot slip past `docs/scenes.md`.
 #[test]
 fn assimp_test_models_render_or_are_refused_clearly() {
     let root = Path::new(ASSIMP_GLTF2);
@@ -283,7 +283,7 @@ fn assimp_test_models_render_or_are_refused_clearly() {
         let expected = ASSIMP_MODELS
             .iter()
             .find(|(n, _)| *n == name)
-            .unwrap_or_else(|| panic!("{name} is not in the table (and the README)"))
+            .unwrap_or_else(|| panic!("{name} is not in the table (and docs/scenes.md)"))
             .1;
         match (load_gltf(file), expected) {
             (Ok(scene), None) => {

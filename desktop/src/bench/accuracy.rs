@@ -218,7 +218,7 @@ pub fn sweep(
 }
 
 pub fn table(points: &[AccuracyPoint]) -> String {
-    let mut t = String::from("## What accuracy costs in time\n\nEach approximation at one rails pose against the full-quality reference (multiview, 4x MSAA, per-eye culling), measured in interleaved rounds; over the pixels the lens shows, both eyes: PSNR, SSIM, FLIP (mean, at the display's ppd) and the eccentricity-aware FLIP (mean and 99th percentile, the eye looking ahead; see README, \"Eccentricity-aware FLIP\").\n\n| family | approximation | frame ms | time vs reference | PSNR dB | SSIM | FLIP | eFLIP | eFLIP p99 |\n|---|---|---|---|---|---|---|---|---|\n");
+    let mut t = String::from("## What accuracy costs in time\n\nEach approximation at one rails pose against the full-quality reference (multiview, 4x MSAA, per-eye culling), measured in interleaved rounds; over the pixels the lens shows, both eyes: PSNR, SSIM, FLIP (mean, at the display's ppd) and the eccentricity-aware FLIP (mean and 99th percentile, the eye looking ahead; see docs/what-the-eye-sees.md).\n\n| family | approximation | frame ms | time vs reference | PSNR dB | SSIM | FLIP | eFLIP | eFLIP p99 |\n|---|---|---|---|---|---|---|---|---|\n");
     for p in points {
         let _ = writeln!(
             t,
