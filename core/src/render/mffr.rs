@@ -4,48 +4,13 @@
 
 use glam::{Mat4, Vec4};
 
+use super::descriptors::DescriptorSet;
+use super::executor::{Executor, FrameInput};
 use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
-use crate::cull::Frustum;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
-use crate::mffr::{FarReprojection, MffrGeometry};
-use crate::plan::{PassPlan, Resolution, Submission, MAX_VIEWS};
-use crate::view::{reverse_z_projection, EyeParams, FovTangents};
-
-/// This frame's far view: one view covering both eyes, from beyond the split (its pose moves
-/// with the frame as the MFFR variant says).
-pub(super) struct FarView {
-    pub world_from_far: Mat4,
-    pub view_proj: Mat4,
-    pub fov: FovTangents,
-    /// The far pass's near plane (its depth-in-alpha numerator).
-    pub near: f32,
-    /// Where the eye views end.
-    pub split_m: f32,
-    pub resolution: Resolution,
-    frustum: Frustum,
-}
-
-impl FarView {
-    pub fn new(m: &MffrGeometry, eyes: &EyeParams, world_from_head: Mat4, frame: u64) -> Self {
-        let world_from_far = world_from_head * m.head_from_far(eyes, frame);
-        FarView {
-            world_from_far,
-            view_proj: reverse_z_projection(m.far_fov, m.far_near, m.far)
-                * world_from_far.inverse(),
-            fov: m.far_fov,
-            near: m.far_near,
-            split_m: m.split_m,
-            resolution: m.resolution,
-            frustum: Frustum::from_eye(world_from_far, m.far_fov, m.far_near, m.far),
-        }
-    }
-
-    /// What the far pass sees (its instances are culled against it).
-    pub fn frustum(&self) -> &Frustum {
-        &self.frustum
-    }
-}
+use crate::mffr::FarReprojection;
+use crate::plan::{PassPlan, Step, Submission, MAX_VIEWS};
 
 /// The far composite's uniform block (`FarComposite` in `shaders/far_composite.frag`, std140).
 #[repr(C)]
@@ -69,20 +34,29 @@ impl FarComposite {
             set: SampledSet::new(gpu, &[far_image], false, bytes, 4, counter)?,
         })
     }
+}
 
+impl Executor for FarComposite {
     /// This frame's reprojection of each view (its pose and field of view) into the far view.
-    pub fn update(&mut self, views: &[(Mat4, FovTangents)], far: &FarView) {
+    fn update(&mut self, frame: &FrameInput) {
+        let Some(far) = frame.views.far.as_ref() else {
+            return;
+        };
         let mut block = FarCompositeBlock {
             direction: [Mat4::ZERO; MAX_VIEWS as usize],
             origin: [Vec4::ZERO; MAX_VIEWS as usize],
             params: Vec4::new(far.near, 0.0, 0.0, 0.0),
         };
-        for (i, &(world_from_view, fov)) in views.iter().enumerate() {
+        for (i, &(world_from_view, fov)) in frame.views.views.iter().enumerate() {
             let r = FarReprojection::new(world_from_view, fov, far.view_proj);
             block.direction[i] = r.direction;
             block.origin[i] = r.origin;
         }
         self.set.uniforms.write(&[block]);
+    }
+
+    fn descriptors(&self, step: &Step) -> Option<&DescriptorSet> {
+        matches!(step, Step::FarComposite { .. }).then_some(&self.set.descriptors)
     }
 }
 

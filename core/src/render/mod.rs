@@ -5,6 +5,8 @@ mod command_log;
 mod counting;
 mod culling;
 mod descriptors;
+mod executor;
+mod far_view;
 mod masks;
 mod materials;
 mod mffr;

@@ -5,10 +5,12 @@
 
 use glam::Vec4;
 
+use super::descriptors::DescriptorSet;
+use super::executor::{Executor, FrameInput};
 use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
-use crate::plan::{FramePlan, PassPlan};
+use crate::plan::{PassPlan, Step};
 use crate::view::{Eye, FovTangents};
 
 /// The output stage's uniform block (`Output` in `shaders/output.frag`, std140).
@@ -35,10 +37,13 @@ impl OutputStage {
             set: SampledSet::new(gpu, images, true, bytes, 0, counter)?,
         })
     }
+}
 
+impl Executor for OutputStage {
     /// Writes this frame's fields: each eye's rendered and display tangents, and with
     /// foveation its (gaze-dependent) fovea tangents.
-    pub fn update(&mut self, plan: &FramePlan, fovea: Option<&[FovTangents; 2]>) {
+    fn update(&mut self, frame: &FrameInput) {
+        let (plan, fovea) = (frame.plan, frame.fovea);
         let tangents = |f: FovTangents| Vec4::from_array(f.as_array());
         let periphery = Eye::BOTH.map(|e| tangents(plan.eyes.fov(e)));
         let (k1, k2) = plan
@@ -64,6 +69,10 @@ impl OutputStage {
             ),
         };
         self.set.uniforms.write(&[block]);
+    }
+
+    fn descriptors(&self, step: &Step) -> Option<&DescriptorSet> {
+        matches!(step, Step::Output(_)).then_some(&self.set.descriptors)
     }
 }
 

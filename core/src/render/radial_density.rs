@@ -3,10 +3,12 @@
 //! reconstruction, and the reconstruction's sampled views. Every parameter is a
 //! specialisation constant of the pipelines, so there is nothing to update per frame.
 
+use super::descriptors::DescriptorSet;
+use super::executor::{Executor, FrameInput};
 use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
-use crate::plan::PassPlan;
+use crate::plan::{PassPlan, Step};
 
 /// The reconstruction's resources: the masked views, sampled.
 pub(crate) struct Reconstruction {
@@ -21,6 +23,14 @@ impl Reconstruction {
         Ok(Reconstruction {
             set: SampledSet::new(gpu, &[views], false, 16, 0, counter)?,
         })
+    }
+}
+
+impl Executor for Reconstruction {
+    fn update(&mut self, _frame: &FrameInput) {}
+
+    fn descriptors(&self, step: &Step) -> Option<&DescriptorSet> {
+        (*step == Step::Reconstruct).then_some(&self.set.descriptors)
     }
 }
 

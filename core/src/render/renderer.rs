@@ -5,8 +5,11 @@ use glam::{Mat4, Vec2, Vec3};
 
 use super::culling::FrameCulling;
 use super::descriptors::DescriptorSet;
+use super::executor::{Executor, FrameInput};
+use super::far_view::FarView;
+use super::masks::MaskShapes;
 use super::materials::MaterialSet;
-use super::mffr::{FarComposite, FarView};
+use super::mffr::FarComposite;
 use super::output::OutputStage;
 use super::pipelines::{compile_pipeline, scene_bindings};
 use super::radial_density::Reconstruction;
@@ -38,7 +41,9 @@ pub struct Renderer<'g> {
     /// the fields below).
     steps: Vec<Vec<BoundStep>>,
     /// The steps that sample earlier passes' images (their sets are bound through `steps`).
-    sampling: SamplingExecutors,
+    /// Each technique's executor the plan calls for (masks, output stage, far composite,
+    /// reconstruction), in no particular order: each owns its resources and per-frame uniforms.
+    executors: Vec<Box<dyn Executor>>,
     /// Per-frame culling and its id buffer (only when a pass draws a culled set).
     culling: Option<FrameCulling>,
     instance_ids: Option<Buffer>,
@@ -50,8 +55,6 @@ pub struct Renderer<'g> {
     scene: SceneBuffers,
     views_block: Buffer,
     counter: Option<Buffer>,
-    /// Stencil mask shapes (only when a pass has masks), rewritten each frame from the gaze.
-    masks: Option<Buffer>,
     queries: Option<QueryPool>,
     /// Pipeline-statistics queries, one per pass (counting frames on devices that have them).
     statistics: Option<QueryPool>,
@@ -88,19 +91,12 @@ impl<'g> Renderer<'g> {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        let mask_shapes = BufferPlan {
-            name: "stencil masks",
-            bytes: std::mem::size_of::<[glam::Vec4; 8]>() as u64,
-        };
-        let masks = effect_buffer(
-            gpu,
-            plan.passes
-                .iter()
-                .any(PassPlan::has_masks)
-                .then_some(&mask_shapes),
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
+        let masks = plan
+            .passes
+            .iter()
+            .any(PassPlan::has_masks)
+            .then(|| MaskShapes::new(gpu))
+            .transpose()?;
         let instance_ids = effect_buffer(
             gpu,
             plan.instance_ids(),
@@ -112,18 +108,14 @@ impl<'g> Renderer<'g> {
             &views_block,
             &scene_buffers.instances,
             counter.as_ref(),
-            masks.as_ref(),
+            masks.as_ref().map(|m| &m.buffer),
             instance_ids.as_ref(),
             materials.as_ref(),
         )?;
         let images = create_images(gpu, plan)?;
-        let sampling = SamplingExecutors::new(gpu, plan, &images, counter.as_ref())?;
-        let sets = |step: &Step| match step {
-            Step::Output(_) => sampling.output.as_ref().map(|c| &c.set.descriptors),
-            Step::FarComposite { .. } => sampling.far.as_ref().map(|f| &f.set.descriptors),
-            Step::Reconstruct => sampling.reconstruction.as_ref().map(|r| &r.set.descriptors),
-            _ => None,
-        };
+        let mut executors = sampling_executors(gpu, plan, &images, counter.as_ref())?;
+        executors.extend(masks.map(|m| Box::new(m) as Box<dyn Executor>));
+        let sets = |step: &Step| executors.iter().find_map(|e| e.descriptors(step));
         let (passes, steps) = compile_passes(gpu, plan, &images, &bindings, sets)?;
         let queries = query_pool(gpu, vk::QueryType::TIMESTAMP, plan.timestamp_pool_slots())?;
         let statistics = query_pool(
@@ -146,7 +138,7 @@ impl<'g> Renderer<'g> {
             plan: plan.clone(),
             passes,
             steps,
-            sampling,
+            executors,
             culling: instance_ids
                 .is_some()
                 .then(|| FrameCulling::new(scene, &scene_buffers.draws, plan)),
@@ -157,7 +149,6 @@ impl<'g> Renderer<'g> {
             scene: scene_buffers,
             views_block,
             counter,
-            masks,
             queries,
             statistics,
             readback: None,
@@ -195,21 +186,14 @@ impl<'g> Renderer<'g> {
         let far = plan
             .mffr
             .map(|m| FarView::new(&m, &plan.eyes, world_from_head, self.frames_rendered));
-        let views = FrameViews::new(
+        let views = FrameViews::new(plan, world_from_head, fovea.as_ref(), far, self.light_dir);
+        let input = FrameInput {
             plan,
-            world_from_head,
-            fovea.as_ref(),
-            far.as_ref(),
-            self.light_dir,
-        );
-        if let Some(masks) = &mut self.masks {
-            masks.write(&super::masks::stencil_shapes(plan, fovea.as_ref()));
-        }
-        if let Some(output) = &mut self.sampling.output {
-            output.update(plan, fovea.as_ref());
-        }
-        if let (Some(composite), Some(far)) = (&mut self.sampling.far, &far) {
-            composite.update(&views.views, far);
+            fovea: fovea.as_ref(),
+            views: &views,
+        };
+        for executor in &mut self.executors {
+            executor.update(&input);
         }
         let mut cpu_cull_ms = 0.0;
         if let (Some(culling), Some(ids)) = (&mut self.culling, &mut self.instance_ids) {
@@ -218,7 +202,7 @@ impl<'g> Renderer<'g> {
                 plan,
                 world_from_head,
                 self.frames_rendered,
-                far.as_ref().map(FarView::frustum),
+                views.far.as_ref().map(FarView::frustum),
                 fovea.as_ref(),
                 &self.scene.draws,
             );
@@ -385,53 +369,35 @@ impl<'g> Renderer<'g> {
     }
 }
 
-/// The executors of the steps that sample earlier passes' images, each when planned.
-struct SamplingExecutors {
-    /// The output stage: a foveated frame's composition, lens distortion.
-    output: Option<OutputStage>,
-    /// The MFFR far composite.
-    far: Option<FarComposite>,
-    /// Radial density's reconstruction.
-    reconstruction: Option<Reconstruction>,
-}
-
-impl SamplingExecutors {
-    fn new(
-        gpu: &Gpu,
-        plan: &FramePlan,
-        images: &[Image],
-        counter: Option<&Buffer>,
-    ) -> Result<Self, GpuError> {
-        let output = plan
-            .passes
-            .iter()
-            .find(|p| p.kind == PassKind::Output)
-            .map(|p| {
-                // Two images always: the shader declares both (a one-image source twice).
-                let first = &images[p.samples[0]];
-                let second = &images[p.samples[p.samples.len() - 1]];
-                OutputStage::new(gpu, &[first, second], counter)
-            })
-            .transpose()?;
-        let reconstruction = plan
-            .passes
-            .iter()
-            .find(|p| p.steps.contains(&Step::Reconstruct))
-            .map(|p| Reconstruction::new(gpu, &images[p.samples[0]], counter))
-            .transpose()?;
-        let far_composite = plan
-            .far_pass()
-            .map(|p| {
-                let far_image = &images[p.resolve.unwrap_or(p.color).attachment];
-                FarComposite::new(gpu, far_image, counter)
-            })
-            .transpose()?;
-        Ok(SamplingExecutors {
-            output,
-            far: far_composite,
-            reconstruction,
-        })
+/// The executors of the steps that sample earlier passes' images, each when planned: the output
+/// stage (a foveated frame's composition, lens distortion), the MFFR far composite and radial
+/// density's reconstruction.
+fn sampling_executors(
+    gpu: &Gpu,
+    plan: &FramePlan,
+    images: &[Image],
+    counter: Option<&Buffer>,
+) -> Result<Vec<Box<dyn Executor>>, GpuError> {
+    let mut executors: Vec<Box<dyn Executor>> = Vec::new();
+    if let Some(p) = plan.passes.iter().find(|p| p.kind == PassKind::Output) {
+        // Two images always: the shader declares both (a one-image source twice).
+        let first = &images[p.samples[0]];
+        let second = &images[p.samples[p.samples.len() - 1]];
+        executors.push(Box::new(OutputStage::new(gpu, &[first, second], counter)?));
     }
+    if let Some(p) = plan.far_pass() {
+        let far_image = &images[p.resolve.unwrap_or(p.color).attachment];
+        executors.push(Box::new(FarComposite::new(gpu, far_image, counter)?));
+    }
+    let reconstruct = plan
+        .passes
+        .iter()
+        .find(|p| p.steps.contains(&Step::Reconstruct));
+    if let Some(p) = reconstruct {
+        let views = &images[p.samples[0]];
+        executors.push(Box::new(Reconstruction::new(gpu, views, counter)?));
+    }
+    Ok(executors)
 }
 
 /// The scene must be the one the plan was made for (its buffers are sized for it).

@@ -3,7 +3,7 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
-use super::mffr::FarView;
+use super::far_view::FarView;
 use crate::mffr::FAR_VIEW_INDEX;
 use crate::plan::{FramePlan, MAX_VIEWS};
 use crate::view::{reverse_z_projection, Eye, FovTangents};
@@ -40,6 +40,8 @@ fn ray_steps(world_from_view: Mat4, fov: FovTangents, pixels: (u32, u32)) -> (Ve
 pub(super) struct FrameViews {
     /// Each view's pose and field.
     pub views: Vec<(Mat4, FovTangents)>,
+    /// The MFFR far view, when planned.
+    pub far: Option<FarView>,
     pub block: ViewsBlock,
 }
 
@@ -50,7 +52,7 @@ impl FrameViews {
         plan: &FramePlan,
         world_from_head: Mat4,
         fovea: Option<&[FovTangents; 2]>,
-        far: Option<&FarView>,
+        far: Option<FarView>,
         light_dir: Vec3,
     ) -> Self {
         let world_from_eye = Eye::BOTH.map(|e| world_from_head * plan.eyes.head_from_eye(e));
@@ -61,11 +63,11 @@ impl FrameViews {
         if let Some(fovea) = fovea {
             views.extend(Eye::BOTH.map(|e| (world_from_eye[e.index()], fovea[e.index()])));
         }
-        let eye_far = far.map_or(plan.far, |f| f.split_m);
+        let eye_far = far.as_ref().map_or(plan.far, |f| f.split_m);
         let view_pixels = plan.foveation.map_or(plan.eye_resolution, |f| f.view);
         let mut block = ViewsBlock {
             view_proj: [Mat4::IDENTITY; SLOTS],
-            light_dir: light_dir.extend(far.map_or(0.0, |f| f.near)),
+            light_dir: light_dir.extend(far.as_ref().map_or(0.0, |f| f.near)),
             eye_pos: [Vec4::ZERO; SLOTS],
             ray_dx: [Vec4::ZERO; SLOTS],
             ray_dy: [Vec4::ZERO; SLOTS],
@@ -81,11 +83,11 @@ impl FrameViews {
             let pixels = (view_pixels.width, view_pixels.height);
             set(i, world_from_view, view_proj, fov, pixels);
         }
-        if let Some(f) = far {
+        if let Some(f) = &far {
             let pixels = (f.resolution.width, f.resolution.height);
             let at = FAR_VIEW_INDEX as usize;
             set(at, f.world_from_far, f.view_proj, f.fov, pixels);
         }
-        FrameViews { views, block }
+        FrameViews { views, far, block }
     }
 }

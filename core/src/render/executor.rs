@@ -1,0 +1,28 @@
+//! A technique's executor: made from the plan, it owns its technique's resources (images,
+//! buffers, descriptor sets, per-frame uniforms), writes its uniforms each frame and records its
+//! steps (each executor's file has its `record_…` functions). The renderer keeps its executors
+//! in a list and loops over them; it computes none of their maths.
+
+use super::descriptors::DescriptorSet;
+use super::views::FrameViews;
+use crate::plan::{FramePlan, Step};
+use crate::view::FovTangents;
+
+/// What every executor sees of a frame before it is recorded.
+pub(super) struct FrameInput<'a> {
+    pub plan: &'a FramePlan,
+    /// Each eye's fovea window around its gaze, when foveated.
+    pub fovea: Option<&'a [FovTangents; 2]>,
+    /// Every view of the frame, the MFFR far view included.
+    pub views: &'a FrameViews,
+}
+
+/// One technique's per-frame work. None keeps state across frames yet; one that does (a
+/// temporal history) owns it here and says in `update` when it resets.
+pub(super) trait Executor {
+    /// Writes this frame's uniforms.
+    fn update(&mut self, frame: &FrameInput);
+    /// The descriptor set `step` binds, when it is one of this executor's steps that reads the
+    /// executor's own resources (others bind the scene's).
+    fn descriptors(&self, step: &Step) -> Option<&DescriptorSet>;
+}
