@@ -2,8 +2,8 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 use foveate::gpu::{Gpu, GpuOptions};
 
+use crate::commands::render::RenderArgs;
 use crate::frame_args::ConfigArgs;
-use crate::render_cmd::RenderArgs;
 
 #[derive(Parser)]
 #[command(
@@ -30,30 +30,30 @@ enum Command {
     Plan(ConfigArgs),
     /// The frame in a window: eyes side by side, the mouse as the gaze, keys toggle foveation
     /// and the other effects, frame and GPU times and fragments in the title once a second.
-    View(crate::view_cmd::ViewArgs),
+    View(crate::commands::view::ViewArgs),
     /// List Vulkan devices with what foveate cares about.
     Devices,
     /// Culling benchmarks: Hale's intersection tables, and stereo strategies on the thesis scene.
-    CullBench(crate::cull_cmd::CullBenchArgs),
+    CullBench(crate::commands::cull::CullBenchArgs),
     /// Arm's foveation pixel tables 2-4, every cell measured on the GPU beside the formula.
-    Pixels(crate::pixels_cmd::PixelsArgs),
+    Pixels(crate::commands::pixels::PixelsArgs),
     /// What accuracy costs: a full-quality stereo reference against foveation ratios x MSAA,
     /// blend bands and periphery sharpening: frame time beside PSNR and SSIM per region, FLIP and
     /// the eccentricity-aware FLIP; `--recommend` picks within an error budget.
-    Compare(crate::compare_cmd::CompareArgs),
+    Compare(crate::commands::compare::CompareArgs),
     /// Temporal stability: flicker of each approximation beyond the reference's own change,
     /// along a saccade trace and with the head walking.
-    Flicker(crate::flicker_cmd::FlickerArgs),
+    Flicker(crate::commands::flicker::FlickerArgs),
     /// Monoscopic far-field rendering: every variant at a list of splits against a stereo
     /// reference, frame time beside image error, disparity bound and seam check.
-    Mffr(crate::mffr_cmd::MffrArgs),
+    Mffr(crate::commands::mffr::MffrArgs),
     /// The HMD stencil mask per headset: fraction hidden (published, analytic, measured) beside
     /// the frame time it saves.
-    Mask(crate::mask_cmd::MaskArgs),
+    Mask(crate::commands::mask::MaskArgs),
     /// The thesis' benchmark on its scene along the rails: 16 permutations of superfrustum,
     /// multiview, stencil mask and MFFR (and the multiview ones foveated), its tables with
     /// ratios to the baseline, memory and traffic, accuracy against time, and plots.
-    Bench(crate::bench::BenchArgs),
+    Bench(crate::commands::bench::BenchArgs),
 }
 
 impl Cli {
@@ -83,15 +83,15 @@ impl Cli {
                 }
                 Ok(())
             }
-            Command::Render(args) => crate::render_cmd::render(&self.gpu_options(), args),
-            Command::View(args) => crate::view_cmd::view(&self.gpu_options(), args),
-            Command::CullBench(args) => crate::cull_cmd::cull_bench(args),
-            Command::Pixels(args) => crate::pixels_cmd::pixels(&self.gpu_options(), args),
-            Command::Compare(args) => crate::compare_cmd::compare(&self.gpu_options(), args),
-            Command::Flicker(args) => crate::flicker_cmd::flicker(&self.gpu_options(), args),
-            Command::Mffr(args) => crate::mffr_cmd::mffr(&self.gpu_options(), args),
-            Command::Mask(args) => crate::mask_cmd::mask(&self.gpu_options(), args),
-            Command::Bench(args) => crate::bench::bench(&self.gpu_options(), args),
+            Command::Render(args) => crate::commands::render::render(&self.gpu_options(), args),
+            Command::View(args) => crate::commands::view::view(&self.gpu_options(), args),
+            Command::CullBench(args) => crate::commands::cull::cull_bench(args),
+            Command::Pixels(args) => crate::commands::pixels::pixels(&self.gpu_options(), args),
+            Command::Compare(args) => crate::commands::compare::compare(&self.gpu_options(), args),
+            Command::Flicker(args) => crate::commands::flicker::flicker(&self.gpu_options(), args),
+            Command::Mffr(args) => crate::commands::mffr::mffr(&self.gpu_options(), args),
+            Command::Mask(args) => crate::commands::mask::mask(&self.gpu_options(), args),
+            Command::Bench(args) => crate::commands::bench::bench(&self.gpu_options(), args),
         }
     }
 }

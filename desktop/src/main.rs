@@ -1,23 +1,15 @@
 //! `foveate`: render, plan and inspect stereo VR frames on Vulkan (lavapipe by default where no
 //! GPU exists).
 
-mod bench;
 mod cli;
-mod compare_cmd;
+mod commands;
 mod counts;
 mod csv_out;
-mod cull_cmd;
-mod flicker_cmd;
 mod fovea_table;
 mod frame_args;
 mod gaze_arg;
-mod mask_cmd;
-mod mffr_cmd;
-mod pixels_cmd;
 mod progress;
-mod render_cmd;
 mod side_by_side;
-mod view_cmd;
 mod view_keys;
 
 use clap::Parser;

@@ -32,7 +32,7 @@ pub struct MaskArgs {
 
 /// The fraction of both eyes the mask hides, measured by the coverage probe.
 fn measured_hidden(gpu: &Gpu, config: &RenderConfig) -> Result<f64> {
-    let shaded: u64 = crate::pixels_cmd::coverage(gpu, config)?.iter().sum();
+    let shaded: u64 = crate::commands::pixels::coverage(gpu, config)?.iter().sum();
     let pixels = 2 * config.resolution.map_or(0, |r| r.pixels());
     Ok(1.0 - shaded as f64 / pixels as f64)
 }

@@ -1,0 +1,11 @@
+//! One file (or folder) per command of the CLI; `cli.rs` dispatches to them.
+
+pub mod bench;
+pub mod compare;
+pub mod cull;
+pub mod flicker;
+pub mod mask;
+pub mod mffr;
+pub mod pixels;
+pub mod render;
+pub mod view;
