@@ -14,7 +14,7 @@ use foveate::plan::{FoveaLayout, OutputStage, RenderConfig, Resolution};
 use foveate::scene::{Scene, Shading};
 
 use crate::csv_out::CsvTable;
-use crate::side_by_side::measure_group;
+use crate::side_by_side::{measure_group, Group};
 
 /// What the table measures.
 pub struct TableSettings {
@@ -89,15 +89,14 @@ pub fn measure(
     for (name, shading) in &settings.scenes {
         let scene = load(name, *shading)?;
         let configs: Vec<RenderConfig> = variants.iter().map(|v| row_config(&base, *v)).collect();
-        let measured = measure_group(
-            gpu,
-            &scene,
-            &configs,
-            glam::Vec2::ZERO,
-            settings.frames + 1,
-            name,
-        )
-        .with_context(|| name.clone())?;
+        let group = Group {
+            scene: &scene,
+            configs: &configs,
+            gaze: glam::Vec2::ZERO,
+            rounds: settings.frames + 1,
+            label: name,
+        };
+        let measured = measure_group(gpu, &group).with_context(|| name.clone())?;
         let auto = foveate::plan(
             &scene,
             &row_config(&base, Some((0.35, FoveaLayout::Auto))),

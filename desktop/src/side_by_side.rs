@@ -6,7 +6,9 @@
 
 use anyhow::Result;
 use foveate::gpu::Gpu;
-use foveate::metrics::Stats;
+use foveate::metrics::flip::Acuity;
+use foveate::metrics::perceptual::{frame_accuracy, FrameAccuracy};
+use foveate::metrics::{EyePixels, Stats};
 use foveate::plan::{FramePlan, RenderConfig};
 use foveate::render::{counting_frame, Renderer, StereoImage};
 use foveate::scene::Scene;
@@ -37,17 +39,26 @@ impl Measured {
     }
 }
 
-/// Renders `rounds` frames of each configuration with both eyes' gaze at `gaze`, interleaved
-/// (the first round is a warm-up and not counted), and reads back the last frame of each.
-/// `label` is shown in the progress line.
-pub fn measure_group(
-    gpu: &Gpu,
-    scene: &Scene,
-    configs: &[RenderConfig],
-    gaze: Vec2,
-    rounds: u32,
-    label: &str,
-) -> Result<Vec<Measured>> {
+/// What a group measures: `configs` over `scene` with both eyes' gaze at `gaze`, `rounds`
+/// frames each (the first a warm-up); `label` is shown in the progress line.
+pub struct Group<'a> {
+    pub scene: &'a Scene,
+    pub configs: &'a [RenderConfig],
+    pub gaze: Vec2,
+    pub rounds: u32,
+    pub label: &'a str,
+}
+
+/// Renders the group's frames, interleaved (the warm-up round not counted), and reads back the
+/// last frame of each configuration.
+pub fn measure_group(gpu: &Gpu, group: &Group) -> Result<Vec<Measured>> {
+    let Group {
+        scene,
+        configs,
+        gaze,
+        rounds,
+        label,
+    } = *group;
     anyhow::ensure!(
         rounds >= 2,
         "invalid frames = {rounds}: at least 2 (one warm-up)"
@@ -95,4 +106,40 @@ pub fn measure_group(
             })
         })
         .collect()
+}
+
+/// A configuration of a sweep: measured, and its output judged against the reference's.
+pub struct Judged {
+    pub measured: Measured,
+    /// The pixels its error is measured over: those the lens shows, by region for the eye at
+    /// the gaze.
+    pub pixels: [EyePixels; 2],
+    pub accuracy: FrameAccuracy,
+}
+
+/// The one accuracy sweep: `configs[0]` is the full-quality reference; every configuration (the
+/// reference too, which scores perfectly) is measured side by side through [`measure_group`]
+/// and its output image judged against the reference's with `acuity`. Every command that prices
+/// an approximation in time and error sweeps through here.
+pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity) -> Result<Vec<Judged>> {
+    let measured = measure_group(gpu, group)?;
+    let (gaze, label) = (group.gaze, group.label);
+    let reference_plan = measured[0].plan.clone();
+    let reference_image = measured[0].image.clone();
+    let bar = crate::progress::bar(&format!("{label}: FLIP"), measured.len() as u64);
+    let judged = measured
+        .into_iter()
+        .map(|m| {
+            let pixels = EyePixels::both(&reference_plan, gaze, m.plan.foveation.as_ref());
+            let accuracy = frame_accuracy(reference_image.eyes(), m.image.eyes(), &pixels, acuity)?;
+            bar.inc(1);
+            Ok(Judged {
+                measured: m,
+                pixels,
+                accuracy,
+            })
+        })
+        .collect();
+    bar.finish_and_clear();
+    judged
 }

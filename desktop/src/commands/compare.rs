@@ -5,15 +5,15 @@ use clap::Args;
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
-use foveate::metrics::perceptual::{frame_accuracy, heat_map, FrameAccuracy};
-use foveate::metrics::{ErrorSummary, EyePixels, RgbaImage};
+use foveate::metrics::perceptual::{heat_map, FrameAccuracy};
+use foveate::metrics::{ErrorSummary, RgbaImage};
 use foveate::plan::{RadialDensity, RenderConfig, Resolution};
 use foveate::scene::{named_scene, Shading};
 
 use crate::csv_out::{opt, CsvTable};
 use crate::fovea_table::{self, TableSettings};
 use crate::frame_args::ComparedFrame;
-use crate::side_by_side::{measure_group, Measured};
+use crate::side_by_side::{sweep, Group, Measured};
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -181,14 +181,38 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             ..c.clone()
         })
         .collect();
-    let mut measured = measure_group(&gpu, &scene, &configs, gaze, args.frames, "compare")?;
-    let reference = measured.remove(0);
-    let rows: Vec<Row> = named
+    let group = Group {
+        scene: &scene,
+        configs: &configs,
+        gaze,
+        rounds: args.frames,
+        label: "compare",
+    };
+    let mut judged = sweep(&gpu, &group, acuity)?;
+    let reference = judged.remove(0).measured;
+    if let Some(dir) = &args.heatmaps {
+        for ((name, ..), j) in named.iter().skip(1).zip(&judged) {
+            let (maps, pixels) = (&j.accuracy.perceptual.maps, &j.pixels);
+            let picture = RgbaImage::side_by_side(
+                &heat_map(&maps[0], &pixels[0]),
+                &heat_map(&maps[1], &pixels[1]),
+            );
+            picture.save_png(&dir.join(format!("{}.png", slug(name))))?;
+        }
+    }
+    let (rows, measured): (Vec<Row>, Vec<FrameAccuracy>) = named
         .into_iter()
         .skip(1)
-        .zip(measured)
-        .map(|((name, msaa, _), run)| Row { name, msaa, run })
-        .collect();
+        .zip(judged)
+        .map(|((name, msaa, _), j)| {
+            let row = Row {
+                name,
+                msaa,
+                run: j.measured,
+            };
+            (row, j.accuracy)
+        })
+        .unzip();
     println!(
         "device: {}; scene {}, {}x{} per eye, gaze {gaze}; eFLIP: MAR = {}′ + {}′/° · eccentricity",
         gpu.info().name,
@@ -204,31 +228,6 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         reference.scene_fragments(),
         reference.total_fragments
     );
-    let base_plan = foveate::plan(&scene, &base, gpu.caps())?;
-    let bar = crate::progress::bar("FLIP", rows.len() as u64);
-    let mut measured = Vec::new();
-    for row in &rows {
-        bar.set_message(row.name.clone());
-        let pixels = EyePixels::both(&base_plan, gaze, row.run.plan.foveation.as_ref());
-        let accuracy = frame_accuracy(
-            reference.image.eyes(),
-            row.run.image.eyes(),
-            &pixels,
-            acuity,
-        )?;
-        if let Some(dir) = &args.heatmaps {
-            let maps = &accuracy.perceptual.maps;
-            let picture = RgbaImage::side_by_side(
-                &heat_map(&maps[0], &pixels[0]),
-                &heat_map(&maps[1], &pixels[1]),
-            );
-            let path = dir.join(format!("{}.png", slug(&row.name)));
-            picture.save_png(&path)?;
-        }
-        measured.push(accuracy);
-        bar.inc(1);
-    }
-    bar.finish_and_clear();
     print_rows(&rows, &measured, reference.frame_ms);
     println!(
         "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); on the output image ({}), both eyes, pixels the lens hides left out: PSNR in dB / SSIM per region against the reference (stereo rows: all periphery); FLIP: mean at the display's pixels per degree; eFLIP: the eccentricity-aware FLIP for the eye at the gaze (metrics::flip), mean and 99th percentile, then p99 per region)",

@@ -4,15 +4,13 @@ use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
-use foveate::metrics::perceptual::frame_accuracy;
-use foveate::metrics::EyePixels;
 use foveate::plan::{RenderConfig, Resolution};
 use foveate::scene::named_scene;
 use foveate::view::HMD_PROFILES;
 use glam::Vec2;
 
 use crate::csv_out::CsvTable;
-use crate::side_by_side::measure_group;
+use crate::side_by_side::{sweep, Group};
 
 #[derive(Args)]
 pub struct MaskArgs {
@@ -87,23 +85,20 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
         let lens = plan.hmd_mask.expect("planned with the mask");
         let analytic = lens[0].hidden_fraction();
         let hidden = measured_hidden(&gpu, &on)?;
-        let m = measure_group(
-            &gpu,
-            &scene,
-            &[off, on],
-            Vec2::ZERO,
-            args.frames,
-            profile.name,
-        )?;
-        let saved = 1.0 - m[1].frame_ms / m[0].frame_ms;
         // The mask may cost no accuracy where the lens shows the image.
-        let pixels = EyePixels::both(&plan, Vec2::ZERO, None);
-        let accuracy = frame_accuracy(
-            m[0].image.eyes(),
-            m[1].image.eyes(),
-            &pixels,
-            Acuity::default(),
-        )?;
+        let group = Group {
+            scene: &scene,
+            configs: &[off, on],
+            gaze: Vec2::ZERO,
+            rounds: args.frames,
+            label: profile.name,
+        };
+        let judged = sweep(&gpu, &group, Acuity::default())?;
+        let (m, accuracy) = (
+            [&judged[0].measured, &judged[1].measured],
+            &judged[1].accuracy,
+        );
+        let saved = 1.0 - m[1].frame_ms / m[0].frame_ms;
         let psnr = accuracy.psnr.unwrap_or(f64::NAN);
         let eflip = accuracy.perceptual.eccentric.map_or(f64::NAN, |s| s.p99);
         let published = profile

@@ -4,8 +4,7 @@ use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
-use foveate::metrics::perceptual::frame_accuracy;
-use foveate::metrics::{EyePixels, RgbaImage};
+use foveate::metrics::RgbaImage;
 use foveate::mffr::{MffrConfig, MffrVariant, SplitDistance};
 use foveate::plan::{RenderConfig, Resolution};
 use foveate::render::SKY;
@@ -13,7 +12,7 @@ use foveate::scene::named_scene;
 use glam::Vec2;
 
 use crate::csv_out::CsvTable;
-use crate::side_by_side::measure_group;
+use crate::side_by_side::{sweep, Group};
 
 #[derive(Args)]
 pub struct MffrArgs {
@@ -137,22 +136,19 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
                 ..base.clone()
             });
         }
-        let plans: Vec<_> = configs
-            .iter()
-            .map(|c| foveate::plan(&scene, c, gpu.caps()))
-            .collect::<Result<_, _>>()?;
-        let measured = measure_group(
-            &gpu,
-            &scene,
-            &configs,
-            Vec2::ZERO,
-            args.frames,
-            &format!("split {split}"),
-        )?;
-        let reference = &measured[0];
-        let pixels = EyePixels::both(&plans[0], Vec2::ZERO, None);
+        let label = format!("split {split}");
+        let group = Group {
+            scene: &scene,
+            configs: &configs,
+            gaze: Vec2::ZERO,
+            rounds: args.frames,
+            label: &label,
+        };
+        let judged = sweep(&gpu, &group, Acuity::default())?;
+        let reference = &judged[0].measured;
         let reference_both = reference.image.side_by_side();
-        for (i, (plan, m)) in plans.iter().zip(&measured).enumerate() {
+        for (i, j) in judged.iter().enumerate() {
+            let (m, plan, accuracy) = (&j.measured, &j.measured.plan, &j.accuracy);
             let image = m.image.side_by_side();
             let (name, split_m, disparity, bound) = match &plan.mffr {
                 Some(g) => {
@@ -165,12 +161,6 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
                 None if i == 0 => ("stereo", f32::NAN, f32::NAN, 0.0),
                 None => ("(no far field)", f32::NAN, f32::NAN, 0.0),
             };
-            let accuracy = frame_accuracy(
-                reference.image.eyes(),
-                m.image.eyes(),
-                &pixels,
-                Acuity::default(),
-            )?;
             let psnr = accuracy.psnr.unwrap_or(f64::NAN);
             let ssim = accuracy.ssim.unwrap_or(f64::NAN);
             let e = &accuracy.perceptual;

@@ -11,8 +11,6 @@ use foveate::cull::Strategy;
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::Gpu;
 use foveate::metrics::flip::Acuity;
-use foveate::metrics::perceptual::frame_accuracy;
-use foveate::metrics::EyePixels;
 use foveate::mffr::MffrConfig;
 use foveate::plan::{CullConfig, RadialDensity, RenderConfig};
 use foveate::scene::Scene;
@@ -21,7 +19,7 @@ use serde::Serialize;
 
 use super::{BenchArgs, Settings, Toggles};
 use crate::csv_out::CsvTable;
-use crate::side_by_side::measure_group;
+use crate::side_by_side;
 
 /// One approximation: its time and its error against the reference.
 #[derive(Clone, Debug, Serialize)]
@@ -175,32 +173,22 @@ pub fn sweep(
         head: pose,
         ..scene.clone()
     };
-    let measured = measure_group(
-        gpu,
-        &scene,
-        &configs,
-        Vec2::ZERO,
-        args.accuracy_rounds.max(2),
-        "accuracy sweep",
-    )?;
-    let plan = foveate::plan(&scene, &reference, gpu.caps())?;
-    let pixels = EyePixels::both(&plan, Vec2::ZERO, None);
-    let base = &measured[0];
-    let bar = crate::progress::bar("accuracy: FLIP", points.len() as u64);
-    let out = points
+    let group = side_by_side::Group {
+        scene: &scene,
+        configs: &configs,
+        gaze: Vec2::ZERO,
+        rounds: args.accuracy_rounds.max(2),
+        label: "accuracy sweep",
+    };
+    let judged = side_by_side::sweep(gpu, &group, Acuity::default())?;
+    let base = &judged[0].measured;
+    Ok(points
         .into_iter()
-        .zip(&measured[1..])
-        .map(|((family, name, _), m)| {
-            bar.set_message(name.clone());
-            let a = frame_accuracy(
-                base.image.eyes(),
-                m.image.eyes(),
-                &pixels,
-                Acuity::default(),
-            )?;
-            bar.inc(1);
+        .zip(&judged[1..])
+        .map(|((family, name, _), j)| {
+            let (m, a) = (&j.measured, &j.accuracy);
             let e = &a.perceptual;
-            Ok(AccuracyPoint {
+            AccuracyPoint {
                 family,
                 name,
                 frame_ms: m.frame_ms,
@@ -210,11 +198,9 @@ pub fn sweep(
                 flip_mean: e.flip.map_or(0.0, |s| s.mean),
                 eccentric_flip_mean: e.eccentric.map_or(0.0, |s| s.mean),
                 eccentric_flip_p99: e.eccentric.map_or(0.0, |s| s.p99),
-            })
+            }
         })
-        .collect();
-    bar.finish_and_clear();
-    out
+        .collect())
 }
 
 pub fn table(points: &[AccuracyPoint]) -> String {
