@@ -69,6 +69,15 @@ fn the_vocabulary_is_a_leaf() {
     );
 }
 
+/// The GPU layer reads frames back into the vocabulary's image; it knows nothing of how images
+/// are compared. Mutation: `use crate::metrics::RgbaImage` back in `gpu/swapchain.rs`.
+#[test]
+fn the_gpu_layer_imports_no_metrics() {
+    let graph = module_graph();
+    let gpu = &graph["gpu"];
+    assert!(!gpu.contains("metrics"), "gpu imports {gpu:?}");
+}
+
 /// The first cycle in `graph`, if any.
 fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
     fn visit(

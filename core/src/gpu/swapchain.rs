@@ -12,7 +12,7 @@ use super::{
     transition_image, Buffer, CommandPool, DeviceOwner, Fence, Gpu, GpuError, MemoryLocation,
     Semaphore, VkResultExt,
 };
-use crate::metrics::RgbaImage;
+use crate::vocab::RgbaImage;
 
 /// A region of an image to show: layer `layer`, `width` × `height` texels from column `x`, in
 /// `TRANSFER_SRC_OPTIMAL` (where a renderer leaves its outputs).

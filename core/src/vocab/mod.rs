@@ -5,10 +5,12 @@
 
 mod caps;
 mod error;
+mod image;
 mod named_enum;
 mod resolution;
 
 pub use caps::{DeviceCaps, DriverQuirks};
 pub use error::ConfigError;
+pub use image::{ImageError, RgbaImage};
 pub(crate) use named_enum::named_enum;
 pub use resolution::Resolution;
