@@ -16,6 +16,8 @@ layout(constant_id = 31) const uint SOURCE = 0;
 layout(constant_id = 32) const uint FOVEA_LAYER = 2;
 // Sharpen the upscaled periphery (strength in params.w).
 layout(constant_id = 33) const bool SHARPEN = false;
+// Upscale the periphery with Catmull-Rom instead of bilinearly.
+layout(constant_id = 34) const bool CATMULL_ROM = false;
 
 layout(set = 0, binding = 0) uniform sampler2DArray images;
 layout(set = 0, binding = 3) uniform sampler2DArray second;
@@ -49,13 +51,39 @@ vec3 eye_image(uint eye, vec2 uv) {
     return texture(images, vec3(uv, SOURCE == 2u ? 0.0 : float(eye))).rgb;
 }
 
-// The periphery at `uv`, upscaled bilinearly and, with SHARPEN, sharpened contrast-adaptively:
+// The periphery at `uv` upscaled with the Catmull-Rom spline (Keys 1981, "Cubic convolution
+// interpolation for digital image processing", a = -0.5; Catmull & Rom 1974): the 4×4 texels
+// around it, each axis weighted by the cubic that passes through the texel centres with
+// continuous slope. It keeps more of the periphery's contrast than bilinear's 2×2 tent, and it
+// can overshoot at edges, so the result is clamped to the displayable range. Texels past the
+// image's edge repeat the edge (as the bilinear sampler's clamp does).
+vec3 catmull_rom(uint eye, vec2 uv) {
+    ivec2 size = textureSize(images, 0).xy;
+    vec2 pos = uv * vec2(size) - 0.5;
+    vec2 base = floor(pos);
+    vec2 t = pos - base;
+    vec2 w0 = ((-0.5 * t + 1.0) * t - 0.5) * t;
+    vec2 w1 = (1.5 * t - 2.5) * t * t + 1.0;
+    vec2 w2 = ((-1.5 * t + 2.0) * t + 0.5) * t;
+    vec2 w3 = (0.5 * t - 0.5) * t * t;
+    vec2 w[4] = vec2[4](w0, w1, w2, w3);
+    vec3 sum = vec3(0.0);
+    for (int j = 0; j < 4; j++) {
+        for (int i = 0; i < 4; i++) {
+            ivec2 texel = clamp(ivec2(base) + ivec2(i - 1, j - 1), ivec2(0), size - 1);
+            sum += w[i].x * w[j].y * texelFetch(images, ivec3(texel, int(eye)), 0).rgb;
+        }
+    }
+    return clamp(sum, 0.0, 1.0);
+}
+
+// The periphery at `uv`, upscaled bilinearly (or with CATMULL_ROM, by `catmull_rom`) and, with SHARPEN, sharpened contrast-adaptively:
 // AMD FidelityFX CAS's filter (Lottes 2019) on the cross of bilinear taps one periphery texel
 // apart. Its negative lobe shrinks where the neighbourhood already spans the range (strong
 // edges) and grows where contrast is low, so it restores what bilinear upscaling softens
 // without the halos a fixed unsharp mask rings with; five taps, one pass, no extra image.
 vec3 periphery(uint eye, vec2 uv) {
-    vec3 centre = texture(images, vec3(uv, float(eye))).rgb;
+    vec3 centre = CATMULL_ROM ? catmull_rom(eye, uv) : texture(images, vec3(uv, float(eye))).rgb;
     if (!SHARPEN) {
         return centre;
     }

@@ -3,7 +3,7 @@
 
 use anyhow::Result;
 use clap::Args;
-use foveate::foveation::FoveationConfig;
+use foveate::foveation::{FoveationConfig, PeripheryFilter};
 use foveate::mffr::MffrConfig;
 use foveate::plan::{RadialDensity, RenderConfig, Resolution, StereoMode};
 use foveate::scene::{named_scene, Scene, Shading};
@@ -51,6 +51,10 @@ pub struct ConfigArgs {
     /// strength 0 (off) to 1.
     #[arg(long)]
     pub sharpen: Option<f32>,
+    /// How the output pass upscales the periphery: `bilinear` or `catmull-rom` (sixteen texels,
+    /// sharper).
+    #[arg(long, default_value = "bilinear")]
+    pub periphery_filter: String,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -199,6 +203,7 @@ impl ConfigArgs {
             "native" => None,
             r => Some(r.parse::<Resolution>()?),
         };
+        let periphery_filter = self.periphery_filter.parse::<PeripheryFilter>()?;
         let foveation = self.foveate.map(|ratio| FoveationConfig {
             ratio,
             view_resolution: self.view_res,
@@ -208,6 +213,7 @@ impl ConfigArgs {
             debug_tint: self.tint,
             cull_fovea: !self.no_fovea_cull,
             periphery_sharpen: self.sharpen.unwrap_or(0.0),
+            periphery_filter,
         });
         let mffr = self
             .mffr

@@ -2,7 +2,7 @@
 //! pixel counts measured by the coverage probe against the analytic budget.
 
 use foveate::foveation::{fovea_centre_px, fovea_views};
-use foveate::foveation::{FoveationConfig, PixelBudget};
+use foveate::foveation::{FoveationConfig, PeripheryFilter, PixelBudget};
 use foveate::metrics::RgbaImage;
 use foveate::plan::{
     CountedStep, FoveaLayout, FramePlan, OutputStage, RenderConfig, Resolution, StereoMode,
@@ -394,22 +394,37 @@ fn band_mismatch(
     periphery: &StereoImage,
     blend: &Blend,
 ) -> f64 {
+    let in_band = |eye, x, y| {
+        let d = blend.distance(eye, x, y);
+        d >= blend.radius - blend.band - 1.0 && d <= blend.radius + 1.0
+    };
+    let model = |eye: Eye, x, y| {
+        let w = blend.weight(blend.distance(eye, x, y)) as f64;
+        let (rp, pp) = (
+            reference.eye(eye).pixel(x, y),
+            periphery.eye(eye).pixel(x, y),
+        );
+        std::array::from_fn(|k| encode(w * linear(rp[k]) + (1.0 - w) * linear(pp[k])))
+    };
+    fraction_off(composed, 3.0, in_band, model)
+}
+
+/// Fraction of the pixels `select` picks, both eyes, whose colour in `image` is more than
+/// `levels` from what `expected` says there (in any channel).
+fn fraction_off(
+    image: &StereoImage,
+    levels: f64,
+    select: impl Fn(Eye, u32, u32) -> bool,
+    expected: impl Fn(Eye, u32, u32) -> [f64; 3],
+) -> f64 {
     let (mut off, mut n) = (0u64, 0u64);
     for eye in Eye::BOTH {
-        let (c, r, p) = (composed.eye(eye), reference.eye(eye), periphery.eye(eye));
-        for y in 0..c.height {
-            for x in 0..c.width {
-                let d = blend.distance(eye, x, y);
-                if d < blend.radius - blend.band - 1.0 || d > blend.radius + 1.0 {
-                    continue;
-                }
-                let w = blend.weight(d) as f64;
-                let (cp, rp, pp) = (c.pixel(x, y), r.pixel(x, y), p.pixel(x, y));
+        let img = image.eye(eye);
+        for y in 0..img.height {
+            for x in (0..img.width).filter(|&x| select(eye, x, y)) {
+                let (got, want) = (img.pixel(x, y), expected(eye, x, y));
                 n += 1;
-                off += (0..3).any(|k| {
-                    let expected = encode(w * linear(rp[k]) + (1.0 - w) * linear(pp[k]));
-                    (cp[k] as f64 - expected).abs() > 3.0
-                }) as u64;
+                off += (0..3).any(|k| (got[k] as f64 - want[k]).abs() > levels) as u64;
             }
         }
     }
@@ -666,4 +681,123 @@ fn fovea_culling_changes_no_pixel_in_either_layout() {
         one_pass == two_pass,
         "the layouts differ (left eye PSNR {diff:.1} dB)"
     );
+}
+
+/// The periphery of `image` upscaled to the output at output pixel (`x`, `y`) of a `screen`-wide
+/// eye, in linear light as the output pass filters it, then encoded: bilinear, or the
+/// Catmull-Rom spline (a = -0.5) over the 4×4 texels around it, edges repeated, clamped.
+fn upscaled(image: &RgbaImage, screen: u32, x: u32, y: u32, catmull_rom: bool) -> [f64; 3] {
+    let (w, h) = (image.width as i64, image.height as i64);
+    let to_texels = |p: u32, n: i64| (p as f64 + 0.5) / screen as f64 * n as f64 - 0.5;
+    let (px, py) = (to_texels(x, w), to_texels(y, h));
+    let (bx, by) = (px.floor(), py.floor());
+    let (tx, ty) = (px - bx, py - by);
+    let weights = |t: f64| {
+        if catmull_rom {
+            [
+                ((-0.5 * t + 1.0) * t - 0.5) * t,
+                (1.5 * t - 2.5) * t * t + 1.0,
+                ((-1.5 * t + 2.0) * t + 0.5) * t,
+                (0.5 * t - 0.5) * t * t,
+            ]
+        } else {
+            [0.0, 1.0 - t, t, 0.0]
+        }
+    };
+    let (wx, wy) = (weights(tx), weights(ty));
+    let mut sum = [0.0; 3];
+    for (j, wj) in wy.iter().enumerate() {
+        for (i, wi) in wx.iter().enumerate() {
+            let tx = (bx as i64 + i as i64 - 1).clamp(0, w - 1) as u32;
+            let ty = (by as i64 + j as i64 - 1).clamp(0, h - 1) as u32;
+            let p = image.pixel(tx, ty);
+            for (c, s) in sum.iter_mut().enumerate() {
+                *s += wi * wj * linear(p[c]);
+            }
+        }
+    }
+    sum.map(|l| encode(l.clamp(0.0, 1.0)))
+}
+
+/// Fraction of periphery pixels (both eyes, beyond the band) more than two levels from
+/// `periphery` upscaled as `catmull_rom` says.
+fn upscale_mismatch(
+    composed: &StereoImage,
+    periphery: &StereoImage,
+    blend: &Blend,
+    catmull_rom: bool,
+) -> f64 {
+    let beyond_band = |eye, x, y| blend.distance(eye, x, y) > blend.radius + 1.0;
+    let width = composed.left.width;
+    let filtered = |eye, x, y| upscaled(periphery.eye(eye), width, x, y, catmull_rom);
+    fraction_off(composed, 2.0, beyond_band, filtered)
+}
+
+/// The periphery upscaled with Catmull-Rom is the spline the CPU evaluates on the periphery
+/// views — rendered alone as a stereo frame at their resolution — and bilinear upscaling is the
+/// CPU's bilinear on the same views (which checks the views and the sampling positions): at most
+/// 1 % of periphery pixels more than two levels off. Negative control: the bilinear frame against
+/// the spline fails. The fovea is the same pixels with either filter (only the periphery's
+/// upscaling changes).
+#[test]
+fn catmull_rom_upscales_the_periphery_as_the_spline_says() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let (screen, ratio) = (128, 0.5);
+    let gaze = Vec2::new(0.3, -0.25);
+    // No masks, so the periphery has no hole for the filter to reach into.
+    let with_filter = |periphery_filter| {
+        let frame = foveated_frame(screen, ratio, 8.0);
+        RenderConfig {
+            output: OutputStage::Undistorted,
+            foveation: frame.foveation.map(|f| FoveationConfig {
+                stencil: false,
+                periphery_filter,
+                ..f
+            }),
+            ..frame
+        }
+    };
+    let bilinear_config = with_filter(PeripheryFilter::Bilinear);
+    let blend = Blend::of(&gpu, &bilinear_config, gaze);
+    let views = RenderConfig {
+        resolution: Some(Resolution::square((screen as f32 * ratio) as u32)),
+        msaa: 4,
+        output: OutputStage::Undistorted,
+        ..RenderConfig::default()
+    };
+    let periphery = render_at(&gpu, &scene, &views, gaze);
+    let bilinear = render_at(&gpu, &scene, &bilinear_config, gaze);
+    let spline = render_at(
+        &gpu,
+        &scene,
+        &with_filter(PeripheryFilter::CatmullRom),
+        gaze,
+    );
+    let (as_bilinear, as_spline, wrong) = (
+        upscale_mismatch(&bilinear, &periphery, &blend, false),
+        upscale_mismatch(&spline, &periphery, &blend, true),
+        upscale_mismatch(&bilinear, &periphery, &blend, true),
+    );
+    println!(
+        "periphery pixels off the CPU's filter: bilinear {:.2} %, Catmull-Rom {:.2} %; bilinear against the spline {:.2} %",
+        100.0 * as_bilinear,
+        100.0 * as_spline,
+        100.0 * wrong
+    );
+    assert!(as_bilinear <= 0.01, "bilinear {:.2} %", 100.0 * as_bilinear);
+    assert!(as_spline <= 0.01, "Catmull-Rom {:.2} %", 100.0 * as_spline);
+    assert!(
+        wrong > 0.01,
+        "negative control passes: {:.2} %",
+        100.0 * wrong
+    );
+    for eye in Eye::BOTH {
+        let (a, b) = (bilinear.eye(eye), spline.eye(eye));
+        for y in 0..a.height {
+            for x in (0..a.width).filter(|&x| blend.distance(eye, x, y) < blend.radius - 9.0) {
+                assert_eq!(a.pixel(x, y), b.pixel(x, y), "fovea pixel ({x}, {y})");
+            }
+        }
+    }
 }

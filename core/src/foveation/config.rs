@@ -1,4 +1,19 @@
-use crate::vocab::{ConfigError, Resolution};
+use crate::vocab::{named_enum, ConfigError, Resolution};
+
+/// How the output stage upscales the periphery to the screen.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PeripheryFilter {
+    /// The sampler's bilinear filter: four texels.
+    #[default]
+    Bilinear,
+    /// The Catmull-Rom spline over sixteen texels (see `shaders/output.frag`).
+    CatmullRom,
+}
+
+named_enum!(PeripheryFilter, "periphery filter", [
+    PeripheryFilter::Bilinear => "bilinear",
+    PeripheryFilter::CatmullRom => "catmull-rom",
+]);
 
 /// What a user chooses about foveation (seed 001 §3.3–3.6).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,6 +39,8 @@ pub struct FoveationConfig {
     /// Contrast-adaptive sharpening of the upscaled periphery in the output pass (0 = off, up
     /// to 1 = strongest); see `shaders/output.frag`.
     pub periphery_sharpen: f32,
+    /// How the output pass upscales the periphery.
+    pub periphery_filter: PeripheryFilter,
 }
 
 impl Default for FoveationConfig {
@@ -37,6 +54,7 @@ impl Default for FoveationConfig {
             debug_tint: false,
             cull_fovea: true,
             periphery_sharpen: 0.0,
+            periphery_filter: PeripheryFilter::Bilinear,
         }
     }
 }
@@ -60,6 +78,7 @@ pub struct FoveationGeometry {
     pub debug_tint: bool,
     pub cull_fovea: bool,
     pub periphery_sharpen: f32,
+    pub periphery_filter: PeripheryFilter,
 }
 
 impl FoveationConfig {
@@ -136,6 +155,7 @@ impl FoveationConfig {
             debug_tint: self.debug_tint,
             cull_fovea: self.cull_fovea,
             periphery_sharpen: self.periphery_sharpen,
+            periphery_filter: self.periphery_filter,
         })
     }
 }

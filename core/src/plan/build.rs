@@ -154,7 +154,7 @@ fn step_pipelines(plan: &FramePlan, pass_index: usize) -> Vec<PipelineDesc> {
                 Step::FarComposite { .. } => far_composite_pipeline(&ctx, plan, pass),
                 Step::Scene { draw_set, .. } => scene_pipeline(&ctx, plan, pass, *draw_set),
                 Step::Probe { .. } => probe_pipeline(&ctx),
-                Step::Output(output) => output_pipeline(&ctx, output),
+                Step::Output(output) => output_pipeline(&ctx, output, plan.foveation.as_ref()),
                 Step::RadialMask { .. } => radial_mask_pipeline(&ctx, radial()),
                 Step::Reconstruct => reconstruct_pipeline(&ctx, radial()),
             }

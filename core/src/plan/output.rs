@@ -8,6 +8,7 @@ use super::ops::{Access, AttachmentId};
 use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{OutputSource, OutputStep, Step};
 use super::Resolution;
+use crate::foveation::{FoveationGeometry, PeripheryFilter};
 use crate::shaders::{COMPOSITE_VERT, OUTPUT_FRAG, OUTPUT_FRAG_COUNTING};
 
 /// The output pass: each eye at `eye` size, from `sources` (in eye order; the periphery, then
@@ -75,8 +76,13 @@ pub(super) fn sampling_pass(
 }
 
 /// The output stage's full-view draw: the lens, the source and, for a foveated frame, where
-/// the fovea views lie and whether the periphery is sharpened.
-pub(super) fn output_pipeline(ctx: &StepContext, step: &OutputStep) -> PipelineDesc {
+/// the fovea views lie, whether the periphery is sharpened and how it is upscaled.
+pub(super) fn output_pipeline(
+    ctx: &StepContext,
+    step: &OutputStep,
+    foveation: Option<&FoveationGeometry>,
+) -> PipelineDesc {
+    let catmull_rom = foveation.is_some_and(|f| f.periphery_filter == PeripheryFilter::CatmullRom);
     let (fovea_layer, sharpen) = match step.source {
         OutputSource::Foveated {
             fovea_layer,
@@ -89,4 +95,5 @@ pub(super) fn output_pipeline(ctx: &StepContext, step: &OutputStep) -> PipelineD
         .constant(Constant::Source, step.source.code())
         .constant(Constant::FoveaLayer, fovea_layer)
         .flag(Constant::Sharpen, sharpen)
+        .flag(Constant::CatmullRom, catmull_rom)
 }

@@ -47,6 +47,8 @@ pub enum Constant {
     FoveaLayer,
     /// The output stage: sharpen the periphery as it is upscaled.
     Sharpen,
+    /// The output stage: upscale the periphery with Catmull-Rom rather than bilinearly.
+    CatmullRom,
 }
 
 /// How a constant's 32 bits read.
@@ -59,7 +61,7 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 23] = {
+    pub const ALL: [Constant; 24] = {
         use Constant::*;
         [
             ViewSource,
@@ -85,6 +87,7 @@ impl Constant {
             Source,
             FoveaLayer,
             Sharpen,
+            CatmullRom,
         ]
     };
 
@@ -116,6 +119,7 @@ impl Constant {
             Source => (31, "SOURCE", Uint),
             FoveaLayer => (32, "FOVEA_LAYER", Uint),
             Sharpen => (33, "SHARPEN", Bool),
+            CatmullRom => (34, "CATMULL_ROM", Bool),
         }
     }
 

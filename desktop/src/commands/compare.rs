@@ -2,7 +2,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use foveate::foveation::FoveationConfig;
+use foveate::foveation::{FoveationConfig, PeripheryFilter};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::{heat_map, FrameAccuracy};
@@ -63,6 +63,9 @@ pub struct CompareArgs {
     /// each.
     #[arg(long, value_delimiter = ',')]
     sharpen: Vec<f32>,
+    /// Also compare each ratio with the periphery upscaled by Catmull-Rom, one row each.
+    #[arg(long)]
+    catmull_rom: bool,
     /// Name the cheapest configuration measured whose eccentricity-aware FLIP (99th
     /// percentile) stays within this budget.
     #[arg(long)]
@@ -145,6 +148,13 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             );
             let name = format!("foveated {ratio}, sharpen {sharpen}");
             variants.push((name, with(default_band, sharpen)));
+        }
+        if args.catmull_rom {
+            let f = FoveationConfig {
+                periphery_filter: PeripheryFilter::CatmullRom,
+                ..with(default_band, 0.0)
+            };
+            variants.push((format!("foveated {ratio}, catmull-rom"), f));
         }
     }
     for (_, f) in &variants {
