@@ -81,6 +81,21 @@ impl Cli {
                     let plan = foveate::plan(&scene, &args.config(mode)?, gpu.caps())?;
                     println!("{plan}\n");
                 }
+                let tracked: Vec<&str> = foveate::view::HMD_PROFILES
+                    .iter()
+                    .filter(|p| p.eye_tracker.is_some())
+                    .map(|p| p.name)
+                    .collect();
+                println!(
+                    "headsets with eye tracking (eye-tracked foveation): {}; the others ({}) only fixed foveation",
+                    tracked.join(", "),
+                    foveate::view::HMD_PROFILES
+                        .iter()
+                        .filter(|p| p.eye_tracker.is_none())
+                        .map(|p| p.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
                 Ok(())
             }
             Command::Render(args) => crate::commands::render::render(&self.gpu_options(), args),

@@ -22,6 +22,8 @@ pub struct TableSettings {
     pub scenes: Vec<(String, Shading)>,
     pub ratios: Vec<f32>,
     pub resolution: Resolution,
+    /// Headset profile name.
+    pub hmd: String,
     pub msaa: u32,
     pub output: OutputStage,
     /// Timed frames per row (after one warm-up frame each).
@@ -71,6 +73,7 @@ pub fn measure(
 ) -> Result<Vec<TableRow>> {
     let base = RenderConfig {
         resolution: Some(settings.resolution),
+        hmd: settings.hmd.clone(),
         msaa: settings.msaa,
         output: settings.output,
         ..RenderConfig::default()

@@ -5,15 +5,16 @@ use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{FoveationConfig, PeripheryFilter};
 use foveate::mffr::MffrConfig;
-use foveate::plan::{RadialDensity, RenderConfig, Resolution, StereoMode};
+use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
 use foveate::scene::{named_scene, Scene, Shading};
-use foveate::view::look_at_head;
+use foveate::view::{look_at_head, HmdProfile};
 use glam::Vec3;
 
 /// Frame configuration shared by `render` and `plan`.
 #[derive(Args, Clone)]
 pub struct ConfigArgs {
-    /// Headset profile: index, vive, rift-cv1, quest2.
+    /// Headset profile: index, vive, rift-cv1, quest2, quest3, or eye-tracked quest-pro, psvr2,
+    /// vision-pro, galaxy-xr, varjo-xr4 (`foveate plan` prints each one's figures and sources).
     #[arg(long, default_value = "index")]
     pub hmd: String,
     /// Stereo submission: multiview, two-pass, per-object, instanced (`render` also takes `all`).
@@ -160,10 +161,59 @@ pub fn scene_from(name: &str, shading: Option<&str>, head: &HeadArgs) -> Result<
     })
 }
 
+/// A per-eye resolution as the command line gives it: N (square), WxH, or `native` (`None`:
+/// the headset's panel).
+pub fn parse_res(res: &str) -> Result<Option<Resolution>> {
+    Ok(match res {
+        "native" => None,
+        r => Some(r.parse::<Resolution>()?),
+    })
+}
+
+/// The headset profile named `name`, or an error listing the names.
+pub fn profile(name: &str) -> Result<&'static HmdProfile> {
+    HmdProfile::by_name(name).ok_or_else(|| {
+        anyhow::anyhow!(
+            "invalid hmd = {name}: one of {}",
+            HmdProfile::names().join(", ")
+        )
+    })
+}
+
+/// The per-eye screen `res` resolves to on headset `hmd` (`native`: its panel).
+pub fn screen(hmd: &str, res: &str) -> Result<Resolution> {
+    let panel = profile(hmd)?.panel_per_eye;
+    Ok(parse_res(res)?.unwrap_or(Resolution {
+        width: panel.0,
+        height: panel.1,
+    }))
+}
+
+/// The headset and screen a report was measured at, as its header says them: the profile,
+/// whether it tracks the eyes, the per-eye resolution and the pixels per degree at the lens axis.
+pub fn headset_line(plan: &FramePlan) -> String {
+    format!(
+        "{} ({}{}), {} per eye, {:.1} px/° at the lens axis",
+        plan.hmd.display_name,
+        plan.hmd.name,
+        if plan.hmd.eye_tracker.is_some() {
+            ", eye-tracked"
+        } else {
+            ", no eye tracker"
+        },
+        plan.eye_resolution,
+        plan.pixels_per_degree(foveate::view::Eye::Left)
+    )
+}
+
 /// The frame the comparing commands (`compare`, `flicker`) measure against and vary; the
 /// scene and resolution are each command's, with defaults of its own.
 #[derive(Args, Clone)]
 pub struct ComparedFrame {
+    /// Headset profile (`foveate plan --hmd NAME` prints its figures): its field of view, lens
+    /// and, with `--res native`, its panel.
+    #[arg(long, default_value = "index")]
+    pub hmd: String,
     /// Shading: flat or lit (default: the scene's own).
     #[arg(long)]
     pub shading: Option<String>,
@@ -184,10 +234,16 @@ impl ComparedFrame {
         scene_from(name, self.shading.as_deref(), &self.head)
     }
 
-    /// The multiview stereo frame at `res`² per eye.
-    pub fn base(&self, res: u32) -> Result<RenderConfig> {
+    /// The per-eye screen of `res` (N, WxH or `native`) on this frame's headset.
+    pub fn screen(&self, res: &str) -> Result<Resolution> {
+        screen(&self.hmd, res)
+    }
+
+    /// The multiview stereo frame on the headset at `res` (N, WxH or `native`) per eye.
+    pub fn base(&self, res: &str) -> Result<RenderConfig> {
         Ok(RenderConfig {
-            resolution: Some(Resolution::square(res)),
+            hmd: profile(&self.hmd)?.name.to_string(),
+            resolution: Some(self.screen(res)?),
             stereo: StereoMode::Multiview,
             output: self.output.parse()?,
             fovea_layout: self.fovea_layout.parse()?,
@@ -199,10 +255,7 @@ impl ComparedFrame {
 impl ConfigArgs {
     /// The config for one stereo mode (`stereo` may be `all`; the caller picks the mode).
     pub fn config(&self, stereo: StereoMode) -> Result<RenderConfig> {
-        let resolution = match self.res.as_str() {
-            "native" => None,
-            r => Some(r.parse::<Resolution>()?),
-        };
+        let resolution = parse_res(&self.res)?;
         let periphery_filter = self.periphery_filter.parse::<PeripheryFilter>()?;
         let foveation = self.foveate.map(|ratio| FoveationConfig {
             ratio,

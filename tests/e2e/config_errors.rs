@@ -65,7 +65,7 @@ fn bad_configs_are_rejected_with_field_value_and_limit() {
             },
             "hmd",
             "pimax",
-            "one of index, vive, rift-cv1, quest2",
+            "one of index, vive, rift-cv1, quest2, quest-pro, quest3",
         ),
     ];
     for (config, field, value, limit) in cases {

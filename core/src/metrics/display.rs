@@ -45,8 +45,7 @@ pub struct EyePixels {
     pub width: u32,
     pub height: u32,
     pub pixels: Vec<Option<DisplayPixel>>,
-    /// Display pixels per degree at the lens axis: `1 / degrees(atan(field width / pixels))`
-    /// (`flip::pixels_per_degree`), the field being the display's (the lens's) when distorted.
+    /// Display pixels per degree at the lens axis ([`FramePlan::pixels_per_degree`]).
     pub ppd: f64,
 }
 
@@ -63,7 +62,6 @@ impl EyePixels {
         let fov = plan.eyes.fov(eye);
         let screen = plan.eye_resolution;
         let (w, h) = (screen.width, screen.height);
-        let field = plan.lens.map_or(fov, |l| l.display[eye.index()]);
         let lens_region = plan.hmd.lens_region(fov);
         let g = gaze_tangent(fov, gaze);
         let gaze_dir = DVec3::new(g.x as f64, g.y as f64, -1.0).normalize();
@@ -114,7 +112,7 @@ impl EyePixels {
                 .flat_map(|y| (0..w).map(move |x| (x, y)))
                 .map(|(x, y)| pixel(x, y))
                 .collect(),
-            ppd: pixels_per_degree((field.left + field.right) as f64, w),
+            ppd: plan.pixels_per_degree(eye),
         }
     }
 
@@ -148,13 +146,6 @@ impl EyePixels {
             .filter_map(|(&v, p)| p.filter(|&p| v.is_finite() && keep(p)).map(|_| v))
             .collect()
     }
-}
-
-/// Pixels per degree at the centre of a view `pixels` wide whose field spans `tangent_width`
-/// (left + right tangents): one pixel spans `atan(tangent_width / pixels)` there, so
-/// `ppd = 1 / degrees(atan(tangent_width / pixels))`.
-pub fn pixels_per_degree(tangent_width: f64, pixels: u32) -> f64 {
-    1.0 / (tangent_width / pixels as f64).atan().to_degrees()
 }
 
 #[cfg(test)]
@@ -218,7 +209,7 @@ mod tests {
     #[test]
     fn centre_ppd_follows_the_field_and_the_pixels() {
         // 90° across 1000 pixels: tan 45° on each side.
-        let ppd = pixels_per_degree(2.0, 1000);
+        let ppd = crate::view::FovTangents::symmetric_deg(90.0, 90.0).pixels_per_degree(1000);
         assert!((ppd - 1.0 / (0.002f64).atan().to_degrees()).abs() < 1e-9);
         assert!((ppd - 8.73).abs() < 0.01, "{ppd}");
     }

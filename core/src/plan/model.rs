@@ -408,6 +408,16 @@ impl LensOutput {
 }
 
 impl FramePlan {
+    /// Display pixels per degree at `eye`'s lens axis: across the display's field (the lens
+    /// model's) when the output is distorted for the lens, the rendered field otherwise, over
+    /// the eye's output width.
+    pub fn pixels_per_degree(&self, eye: Eye) -> f64 {
+        let field = self
+            .lens
+            .map_or(self.eyes.fov(eye), |l| l.display[eye.index()]);
+        field.pixels_per_degree(self.eye_resolution.width)
+    }
+
     /// Slots of the timestamp query pool: the timestamps read, then the spare slots (0 when
     /// timing is off).
     pub fn timestamp_pool_slots(&self) -> u32 {

@@ -49,6 +49,25 @@ impl FramePlan {
             self.near,
             self.far
         )?;
+        let tracker = match self.hmd.eye_tracker {
+            None => "no eye tracker (fixed foveation only)".to_string(),
+            Some(t) => format!(
+                "eye-tracked (rate {}, latency {})",
+                t.rate_hz
+                    .map_or("unpublished".into(), |r| format!("{r} Hz")),
+                t.latency_ms
+                    .map_or("unpublished".into(), |l| format!("≈ {l} ms"))
+            ),
+        };
+        writeln!(
+            f,
+            "  headset: panel {}x{} per eye at {} Hz, {tracker}; {:.1} px/° at the lens axis at this resolution ({})",
+            self.hmd.panel_per_eye.0,
+            self.hmd.panel_per_eye.1,
+            self.hmd.refresh_hz,
+            self.pixels_per_degree(crate::view::Eye::Left),
+            self.hmd.source
+        )?;
         let layout = match self.layout {
             TargetLayout::Layered => "one array layer per eye",
             TargetLayout::PerEye => "one image per eye",

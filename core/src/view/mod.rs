@@ -11,7 +11,7 @@ mod lens;
 mod projection;
 
 pub use distortion::RadialDistortion;
-pub use hmd::{HmdProfile, CARDBOARD_2015_LENS, DEFAULT_IPD_M, HMD_PROFILES};
+pub use hmd::{EyeTracker, HmdProfile, CARDBOARD_2015_LENS, DEFAULT_IPD_M, HMD_PROFILES};
 pub use lens::LensRegion;
 pub use projection::reverse_z_projection;
 
@@ -96,6 +96,13 @@ impl FovTangents {
 
     pub fn as_array(self) -> [f32; 4] {
         [self.left, self.right, self.up, self.down]
+    }
+
+    /// Pixels per degree at this view's axis when it is `pixels` wide: one pixel there spans
+    /// `atan(tangent width / pixels)`, so `ppd = 1 / degrees(atan((left + right) / pixels))`.
+    pub fn pixels_per_degree(self, pixels: u32) -> f64 {
+        let width = self.left as f64 + self.right as f64;
+        1.0 / (width / pixels as f64).atan().to_degrees()
     }
 
     /// Where a tangent-space point (x right, y up) lands in this view's NDC (Vulkan: y down).

@@ -7,7 +7,7 @@ use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::{heat_map, FrameAccuracy};
 use foveate::metrics::{ErrorSummary, RgbaImage};
-use foveate::plan::{RadialDensity, RenderConfig, Resolution};
+use foveate::plan::{RadialDensity, RenderConfig};
 use foveate::scene::{named_scene, Shading};
 
 use crate::csv_out::{opt, CsvTable};
@@ -17,9 +17,9 @@ use crate::side_by_side::{sweep, Group, Measured};
 
 #[derive(Args)]
 pub struct CompareArgs {
-    /// Screen resolution per eye.
-    #[arg(long, default_value_t = 1024)]
-    res: u32,
+    /// Screen resolution per eye: N (square), WxH, or `native` (the headset's panel).
+    #[arg(long, default_value = "1024")]
+    res: String,
     /// Scene: default, fill, city, thesis or atrium.
     #[arg(long, default_value = "default")]
     scene: String,
@@ -125,8 +125,8 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     let ratios = args.ratios.clone().unwrap_or(vec![0.7, 0.5, 0.35]);
     let gaze = crate::gaze_arg::gaze_from(&args.gaze)?;
     let scene = args.frame.scene(&args.scene)?;
-    let screen = Resolution::square(args.res);
-    let base = args.frame.base(args.res)?;
+    let screen = args.frame.screen(&args.res)?;
+    let base = args.frame.base(&args.res)?;
     // Every foveated variant, checked before anything renders.
     let default_band = args.blend_band.unwrap_or(-1.0);
     let mut variants = Vec::new();
@@ -224,11 +224,10 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         })
         .unzip();
     println!(
-        "device: {}; scene {}, {}x{} per eye, gaze {gaze}; eFLIP: MAR = {}′ + {}′/° · eccentricity",
+        "device: {}; scene {}, {}, gaze {gaze}; eFLIP: MAR = {}′ + {}′/° · eccentricity",
         gpu.info().name,
         args.scene,
-        args.res,
-        args.res,
+        crate::frame_args::headset_line(&reference.plan),
         acuity.mar0_arcmin,
         acuity.slope_arcmin_per_deg
     );
@@ -419,16 +418,17 @@ fn table(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     let settings = TableSettings {
         scenes,
         ratios: args.ratios.clone().unwrap_or(vec![0.35, 0.5]),
-        resolution: Resolution::square(args.res),
+        resolution: args.frame.screen(&args.res)?,
+        hmd: args.frame.hmd.clone(),
         msaa: *args.msaa.last().unwrap_or(&4),
         output: args.frame.output.parse()?,
         frames: args.frames,
     };
     println!(
-        "device: {}; {}x{} per eye, MSAA {}, output {}, gaze centred; {} timed frames per row, rows interleaved",
+        "device: {}; {} {} per eye, MSAA {}, output {}, gaze centred; {} timed frames per row, rows interleaved",
         gpu.info().name,
-        args.res,
-        args.res,
+        args.frame.hmd,
+        settings.resolution,
         settings.msaa,
         settings.output,
         settings.frames

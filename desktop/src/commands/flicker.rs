@@ -12,7 +12,7 @@ use foveate::foveation::{simulated_trace, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::temporal::{Flicker, FlickerSummary};
 use foveate::metrics::{ErrorSummary, EyePixels};
-use foveate::plan::{RenderConfig, Resolution};
+use foveate::plan::RenderConfig;
 use foveate::render::Renderer;
 use foveate::scene::walking_pose;
 use glam::{Mat4, Vec2};
@@ -22,9 +22,9 @@ use crate::frame_args::ComparedFrame;
 
 #[derive(Args)]
 pub struct FlickerArgs {
-    /// Screen resolution per eye.
-    #[arg(long, default_value_t = 512)]
-    res: u32,
+    /// Screen resolution per eye: N (square), WxH, or `native` (the headset's panel).
+    #[arg(long, default_value = "512")]
+    res: String,
     /// Scene: default, fill, city, thesis or atrium.
     #[arg(long, default_value = "atrium")]
     scene: String,
@@ -63,8 +63,8 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         args.frames
     );
     let scene = args.frame.scene(&args.scene)?;
-    let screen = Resolution::square(args.res);
-    let base = args.frame.base(args.res)?;
+    let screen = args.frame.screen(&args.res)?;
+    let base = args.frame.base(&args.res)?;
     let mut configs = vec![(
         "stereo, MSAA 1".to_string(),
         RenderConfig {
@@ -117,22 +117,21 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         },
     ];
     let gpu = Gpu::new(options)?;
+    let plans = std::iter::once(&reference)
+        .chain(configs.iter().map(|(_, c)| c))
+        .map(|c| foveate::plan(&scene, c, gpu.caps()))
+        .collect::<Result<Vec<_>, _>>()?;
     println!(
-        "device: {}; scene {}, {}x{} per eye, output {}; {} frames at {RATE_HZ} Hz per motion: saccades (seed {}, head still), walking ({} m/s, turning {}°/s, gaze ahead)",
+        "device: {}; scene {}, {}, output {}; {} frames at {RATE_HZ} Hz per motion: saccades (seed {}, head still), walking ({} m/s, turning {}°/s, gaze ahead)",
         gpu.info().name,
         args.scene,
-        args.res,
-        args.res,
+        crate::frame_args::headset_line(&plans[0]),
         base.output,
         args.frames,
         args.seed,
         foveate::scene::WALK_SPEED_M_S,
         foveate::scene::TURN_DEG_S
     );
-    let plans = std::iter::once(&reference)
-        .chain(configs.iter().map(|(_, c)| c))
-        .map(|c| foveate::plan(&scene, c, gpu.caps()))
-        .collect::<Result<Vec<_>, _>>()?;
     let bar = crate::progress::bar("flicker", (motions.len() as u32 * args.frames) as u64);
     let mut results = Vec::new();
     for motion in &motions {

@@ -4,7 +4,7 @@ use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
-use foveate::plan::{RenderConfig, Resolution};
+use foveate::plan::RenderConfig;
 use foveate::scene::named_scene;
 use foveate::view::HMD_PROFILES;
 use glam::Vec2;
@@ -14,9 +14,9 @@ use crate::side_by_side::{sweep, Group};
 
 #[derive(Args)]
 pub struct MaskArgs {
-    /// Screen resolution per eye.
-    #[arg(long, default_value_t = 1024)]
-    res: u32,
+    /// Screen resolution per eye: N (square), WxH or `native` (each headset's own panel).
+    #[arg(long, default_value = "1024")]
+    res: String,
     /// Scene: fill (fill-bound), default or city.
     #[arg(long, default_value = "fill")]
     scene: String,
@@ -39,10 +39,9 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
     let scene = named_scene(&args.scene)?;
     let gpu = Gpu::new(options)?;
     println!(
-        "device: {}; scene {}, {}x{} per eye, MSAA 4x; each profile's pair measured side by side, {} interleaved rounds",
+        "device: {}; scene {}, {} per eye, MSAA 4x; each profile's pair measured side by side, {} interleaved rounds",
         gpu.info().name,
         args.scene,
-        args.res,
         args.res,
         args.frames
     );
@@ -74,7 +73,7 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
     for profile in HMD_PROFILES {
         let off = RenderConfig {
             hmd: profile.name.into(),
-            resolution: Some(Resolution::square(args.res)),
+            resolution: Some(crate::frame_args::screen(profile.name, &args.res)?),
             ..RenderConfig::default()
         };
         let on = RenderConfig {

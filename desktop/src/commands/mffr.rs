@@ -6,7 +6,7 @@ use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
 use foveate::metrics::RgbaImage;
 use foveate::mffr::{MffrConfig, MffrVariant, SplitDistance};
-use foveate::plan::{RenderConfig, Resolution};
+use foveate::plan::RenderConfig;
 use foveate::render::SKY;
 use foveate::scene::named_scene;
 use glam::Vec2;
@@ -16,9 +16,12 @@ use crate::side_by_side::{sweep, Group};
 
 #[derive(Args)]
 pub struct MffrArgs {
-    /// Screen resolution per eye.
-    #[arg(long, default_value_t = 1024)]
-    res: u32,
+    /// Screen resolution per eye: N (square), WxH or `native` (the headset's panel).
+    #[arg(long, default_value = "1024")]
+    res: String,
+    /// Headset profile.
+    #[arg(long, default_value = "index")]
+    hmd: String,
     /// Scene: city (far-heavy), default or fill.
     #[arg(long, default_value = "city")]
     scene: String,
@@ -73,17 +76,17 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
     let scene = named_scene(&args.scene)?;
     let gpu = Gpu::new(options)?;
     let base = RenderConfig {
-        resolution: Some(Resolution::square(args.res)),
+        hmd: crate::frame_args::profile(&args.hmd)?.name.to_string(),
+        resolution: Some(crate::frame_args::screen(&args.hmd, &args.res)?),
         msaa: args.msaa,
         ..RenderConfig::default()
     };
     println!(
-        "device: {}; scene {} ({} instances), {}x{} per eye, MSAA {}x; each split's rows measured side by side, {} interleaved rounds",
+        "device: {}; scene {} ({} instances), {}, MSAA {}x; each split's rows measured side by side, {} interleaved rounds",
         gpu.info().name,
         args.scene,
         scene.instance_count(),
-        args.res,
-        args.res,
+        crate::frame_args::headset_line(&foveate::plan(&scene, &base, gpu.caps())?),
         args.msaa,
         args.frames
     );

@@ -36,10 +36,10 @@ pub struct BenchArgs {
     /// Warm-up frames rendered first by every configuration and dropped.
     #[arg(long, default_value_t = 2)]
     pub warmup: u64,
-    /// Headset profile (its FOV, IPD and lens mask).
+    /// Headset profile (its FOV, IPD and lens mask; with `--res native`, its panel).
     #[arg(long, default_value = "index")]
     pub hmd: String,
-    /// Per-eye resolution: N (square) or WxH.
+    /// Per-eye resolution: N (square), WxH or `native` (the headset's panel).
     #[arg(long, default_value = "512")]
     pub res: String,
     /// MSAA samples: 1 or 4 (the thesis: 4).
@@ -113,7 +113,7 @@ pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         "invalid frames = {}: at least 1",
         args.frames
     );
-    let resolution: Resolution = args.res.parse()?;
+    let resolution = crate::frame_args::screen(&args.hmd, &args.res)?;
     let split: SplitDistance = args.split.parse()?;
     let settings = Settings {
         hmd: args.hmd.clone(),
@@ -251,6 +251,7 @@ fn foveation_table(gpu: &Gpu, args: &BenchArgs) -> Result<()> {
         scenes,
         ratios: vec![0.35, 0.5],
         resolution: Resolution::square(args.foveation_res),
+        hmd: args.hmd.clone(),
         msaa: args.msaa,
         output: OutputStage::Lens,
         frames: args.foveation_frames,
