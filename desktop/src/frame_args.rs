@@ -56,6 +56,14 @@ pub struct ConfigArgs {
     /// sharper).
     #[arg(long, default_value = "bilinear")]
     pub periphery_filter: String,
+    /// The periphery views' pixels per side as a fraction of the screen's (default: the
+    /// foveation ratio); another density renders the periphery and fovea pairs into images of
+    /// their own (the two-pass layout).
+    #[arg(long)]
+    pub periphery_density: Option<f32>,
+    /// MSAA samples of the periphery views (default: --msaa), e.g. 1 with a 4x fovea.
+    #[arg(long)]
+    pub periphery_msaa: Option<u32>,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -267,6 +275,8 @@ impl ConfigArgs {
             cull_fovea: !self.no_fovea_cull,
             periphery_sharpen: self.sharpen.unwrap_or(0.0),
             periphery_filter,
+            periphery_density: self.periphery_density,
+            periphery_msaa: self.periphery_msaa,
         });
         let mffr = self
             .mffr

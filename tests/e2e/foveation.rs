@@ -57,6 +57,13 @@ fn measured_pixels_match_the_analytic_budget() {
             fovea_size: Some(128),
             ..Default::default()
         },
+        // The periphery at its own density: views of two sizes, two passes.
+        FoveationConfig {
+            ratio: 0.5,
+            periphery_density: Some(0.7),
+            stencil: true,
+            ..Default::default()
+        },
     ];
     for f in cases {
         let plan =
@@ -308,8 +315,9 @@ fn shifted_one_pixel(image: &StereoImage) -> StereoImage {
 /// centre, off-centre and clamped at a corner; and through the output stage's lens (against the
 /// reference through the same lens, on the display pixels whose image point the f64 lens oracle
 /// puts inside the fovea) in both fovea layouts, on the default scene and the lit atrium's
-/// textures. Negative control: the same frame compared one pixel off — what a fovea window one
-/// pixel off would compose — fails.
+/// textures; and with the periphery at its own density and sample count (periphery 0.5 at 1x,
+/// fovea 4x: the view pairs in images of their own). Negative control: the same frame compared
+/// one pixel off — what a fovea window one pixel off would compose — fails.
 #[test]
 fn the_fovea_is_the_full_resolution_reference() {
     let gpu = gpu();
@@ -320,20 +328,35 @@ fn the_fovea_is_the_full_resolution_reference() {
     // Centre, off-centre, and clamped at the bottom-left corner (content there, so a shift
     // shows: the bottom-right corner is uniform ground).
     let off_centre = Vec2::new(0.3, -0.25);
+    let (coupled, split) = (false, true);
     let cases = [
-        (undistorted, &default, FoveaLayout::Auto, Vec2::ZERO),
-        (undistorted, &default, FoveaLayout::Auto, off_centre),
+        (
+            undistorted,
+            &default,
+            FoveaLayout::Auto,
+            Vec2::ZERO,
+            coupled,
+        ),
+        (
+            undistorted,
+            &default,
+            FoveaLayout::Auto,
+            off_centre,
+            coupled,
+        ),
         (
             undistorted,
             &default,
             FoveaLayout::Auto,
             Vec2::new(-1.0, -1.0),
+            coupled,
         ),
-        (lens, &default, FoveaLayout::OnePass, off_centre),
-        (lens, &default, FoveaLayout::TwoPass, off_centre),
-        (lens, &atrium, FoveaLayout::TwoPass, off_centre),
+        (lens, &default, FoveaLayout::OnePass, off_centre, coupled),
+        (lens, &default, FoveaLayout::TwoPass, off_centre, coupled),
+        (lens, &atrium, FoveaLayout::TwoPass, off_centre, coupled),
+        (lens, &atrium, FoveaLayout::Auto, off_centre, split),
     ];
-    for (output, scene, fovea_layout, gaze) in cases {
+    for (output, scene, fovea_layout, gaze, split) in cases {
         let reference_config = RenderConfig {
             resolution: Some(Resolution::square(screen)),
             msaa: 4,
@@ -341,15 +364,19 @@ fn the_fovea_is_the_full_resolution_reference() {
             ..RenderConfig::default()
         };
         let (reference, _) = foveate_tests::render(&gpu, scene, &reference_config);
-        let config = RenderConfig {
+        let mut config = RenderConfig {
             fovea_layout,
             output,
             ..foveated_frame(screen, 0.35, 8.0)
         };
+        if split {
+            let f = config.foveation.as_mut().unwrap();
+            (f.periphery_density, f.periphery_msaa) = (Some(0.5), Some(1));
+        }
         let image = render_at(&gpu, scene, &config, gaze);
         let blend = Blend::of(&gpu, &config, gaze);
         assert_eq!(blend.lens.is_some(), output == lens);
-        let case = format!("{output}, {fovea_layout}, gaze {gaze}");
+        let case = format!("{output}, {fovea_layout}, gaze {gaze}, split {split}");
         let (psnr, off) = fovea_identity(&reference, &image, &blend);
         assert!(
             psnr >= 55.0 && off <= 0.001,

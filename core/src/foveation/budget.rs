@@ -22,34 +22,36 @@ impl PixelBudget {
         100.0 * (1.0 - self.total() / (2.0 * screen as f64 * screen as f64))
     }
 
-    /// Four views of `view` pixels each (two fovea, two periphery). With stencil masks the fovea
-    /// keeps its inset circle of `fovea_circle_px` and the periphery drops the hole of
-    /// `periphery_hole_px` the fovea covers (both diameters in their own view's pixels).
+    /// Two periphery views of `periphery` pixels and two fovea views of `fovea` pixels. With
+    /// stencil masks the fovea keeps its inset circle of `fovea_circle_px` and the periphery
+    /// drops the hole of `periphery_hole_px` the fovea covers (both diameters in their own
+    /// view's pixels).
     pub fn analytic(
-        view: (u32, u32),
+        periphery: (u32, u32),
+        fovea: (u32, u32),
         fovea_circle_px: f64,
         periphery_hole_px: f64,
         stencil: bool,
         pi: f64,
     ) -> PixelBudget {
-        let area = view.0 as f64 * view.1 as f64;
+        let area = |v: (u32, u32)| v.0 as f64 * v.1 as f64;
         if !stencil {
             return PixelBudget {
-                fovea: 2.0 * area,
-                periphery: 2.0 * area,
+                fovea: 2.0 * area(fovea),
+                periphery: 2.0 * area(periphery),
             };
         }
         PixelBudget {
             fovea: 2.0 * pi * (fovea_circle_px / 2.0).powi(2),
-            periphery: 2.0 * (area - pi * (periphery_hole_px / 2.0).powi(2)),
+            periphery: 2.0 * (area(periphery) - pi * (periphery_hole_px / 2.0).powi(2)),
         }
     }
 
     /// The budget of a resolved foveation, with the true π.
     pub fn of(g: &super::FoveationGeometry) -> PixelBudget {
-        let view = (g.view.width, g.view.height);
         PixelBudget::analytic(
-            view,
+            (g.periphery_view.width, g.periphery_view.height),
+            (g.fovea_view.width, g.fovea_view.height),
             g.fovea_circle_px as f64,
             g.periphery_hole_px as f64,
             g.stencil,
@@ -83,6 +85,7 @@ impl ArmRow {
             self.view as f64
         };
         PixelBudget::analytic(
+            (self.view, self.view),
             (self.view, self.view),
             circle,
             circle * self.ratio,

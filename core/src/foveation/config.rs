@@ -41,6 +41,12 @@ pub struct FoveationConfig {
     pub periphery_sharpen: f32,
     /// How the output pass upscales the periphery.
     pub periphery_filter: PeripheryFilter,
+    /// The periphery views' pixels per side as a fraction of the screen's, independent of the
+    /// fovea's size; default: the ratio (Arm's coupling: all four views one size).
+    pub periphery_density: Option<f32>,
+    /// The periphery views' MSAA sample count; default: the frame's (the fovea views always
+    /// use the frame's).
+    pub periphery_msaa: Option<u32>,
 }
 
 impl Default for FoveationConfig {
@@ -55,6 +61,8 @@ impl Default for FoveationConfig {
             cull_fovea: true,
             periphery_sharpen: 0.0,
             periphery_filter: PeripheryFilter::Bilinear,
+            periphery_density: None,
+            periphery_msaa: None,
         }
     }
 }
@@ -65,8 +73,12 @@ pub struct FoveationGeometry {
     /// The window's size relative to the periphery as used: the configured ratio, or exactly
     /// view / screen when the view size is derived.
     pub ratio: f32,
-    /// Size of each of the four views.
-    pub view: Resolution,
+    /// Size of each fovea view (the fovea window at the screen's density).
+    pub fovea_view: Resolution,
+    /// Size of each periphery view (the whole field at the periphery's density).
+    pub periphery_view: Resolution,
+    /// The periphery views' sample count, when it differs from the frame's.
+    pub periphery_msaa: Option<u32>,
     /// The fovea region's diameter on the screen (pixels).
     pub fovea_screen_px: f32,
     /// The inset circle's diameter in fovea-view pixels.
@@ -141,12 +153,31 @@ impl FoveationConfig {
                 "0 (off) ≤ sharpen ≤ 1",
             ));
         }
+        let periphery_view = match self.periphery_density {
+            None => view,
+            Some(d) if d.is_finite() && d > 0.0 && d <= 1.0 => Resolution {
+                width: ((screen.width as f32 * d).round() as u32).max(1),
+                height: ((screen.height as f32 * d).round() as u32).max(1),
+            },
+            Some(d) => {
+                return Err(ConfigError::new(
+                    "periphery_density",
+                    d,
+                    "0 < density ≤ 1 (of the screen's pixels per side)",
+                ))
+            }
+        };
+        if let Some(m) = self.periphery_msaa.filter(|m| !matches!(m, 1 | 4)) {
+            return Err(ConfigError::new("periphery_msaa", m, "1 or 4"));
+        }
         // Fovea-view pixels per screen pixel, and periphery pixels per screen pixel.
         let fovea_scale = view.width as f32 / window_px;
-        let periphery_scale = view.width as f32 / screen.width as f32;
+        let periphery_scale = periphery_view.width as f32 / screen.width as f32;
         Ok(FoveationGeometry {
             ratio,
-            view,
+            fovea_view: view,
+            periphery_view,
+            periphery_msaa: self.periphery_msaa,
             fovea_screen_px,
             fovea_circle_px: fovea_screen_px * fovea_scale,
             periphery_hole_px: (fovea_screen_px - 2.0 * band) * periphery_scale,
@@ -157,6 +188,19 @@ impl FoveationConfig {
             periphery_sharpen: self.periphery_sharpen,
             periphery_filter: self.periphery_filter,
         })
+    }
+}
+
+impl FoveationGeometry {
+    /// The periphery views' sample count in a frame of `frame_msaa` samples.
+    pub fn periphery_samples(&self, frame_msaa: u32) -> u32 {
+        self.periphery_msaa.unwrap_or(frame_msaa)
+    }
+
+    /// Whether the periphery and fovea views differ in size or samples, so that they need
+    /// images of their own (only the two-pass layout has them).
+    pub fn views_differ(&self, frame_msaa: u32) -> bool {
+        self.periphery_view != self.fovea_view || self.periphery_samples(frame_msaa) != frame_msaa
     }
 }
 
@@ -174,7 +218,11 @@ mod tests {
         }
         .geometry(screen)
         .unwrap();
-        assert_eq!(g.view, Resolution::square(366));
+        assert_eq!(g.fovea_view, Resolution::square(366));
+        assert_eq!(
+            g.periphery_view, g.fovea_view,
+            "Arm: one size for all four views"
+        );
         assert!(
             (g.periphery_hole_px - 366.0 * 0.35).abs() < 0.01,
             "Arm: the hole is view × ratio"
@@ -191,9 +239,56 @@ mod tests {
         .geometry(screen)
         .unwrap();
         assert_eq!(
-            (g.view.width, g.fovea_circle_px, g.periphery_hole_px),
+            (g.fovea_view.width, g.fovea_circle_px, g.periphery_hole_px),
             (512, 256.0, 128.0)
         );
+    }
+
+    /// The periphery's density is its own: the fovea keeps the ratio's window at the screen's
+    /// density, the periphery's views and hole scale with the density. Mutation: sizing the
+    /// periphery by the ratio fails it.
+    #[test]
+    fn periphery_density_is_independent_of_the_fovea() {
+        let screen = Resolution::square(1024);
+        let g = FoveationConfig {
+            ratio: 0.25,
+            periphery_density: Some(0.5),
+            blend_band_px: 0.0,
+            ..Default::default()
+        }
+        .geometry(screen)
+        .unwrap();
+        assert_eq!(g.fovea_view, Resolution::square(256));
+        assert_eq!(g.periphery_view, Resolution::square(512));
+        assert_eq!((g.fovea_circle_px, g.periphery_hole_px), (256.0, 128.0));
+        assert!(g.views_differ(4));
+        let same = FoveationConfig::default().geometry(screen).unwrap();
+        assert!(!same.views_differ(4));
+        let msaa = FoveationConfig {
+            periphery_msaa: Some(1),
+            ..Default::default()
+        }
+        .geometry(screen)
+        .unwrap();
+        assert!(msaa.views_differ(4) && !msaa.views_differ(1));
+        for (config, field) in [
+            (
+                FoveationConfig {
+                    periphery_density: Some(1.5),
+                    ..Default::default()
+                },
+                "periphery_density",
+            ),
+            (
+                FoveationConfig {
+                    periphery_msaa: Some(2),
+                    ..Default::default()
+                },
+                "periphery_msaa",
+            ),
+        ] {
+            assert_eq!(config.geometry(screen).unwrap_err().field, field);
+        }
     }
 
     #[test]

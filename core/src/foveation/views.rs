@@ -68,7 +68,8 @@ pub fn fovea_centre_px(periphery: FovTangents, fovea: FovTangents, screen: (u32,
 /// covers the view) and drop the fovea's hole, centred on the fovea window; fovea views keep
 /// their inset circle and drop nothing.
 pub fn mask_shapes(g: &FoveationGeometry, eyes: &EyeParams, fovea: &[FovTangents; 2]) -> [Vec4; 8] {
-    let (w, h) = (g.view.width as f32, g.view.height as f32);
+    let size = |r: crate::vocab::Resolution| (r.width as f32, r.height as f32);
+    let ((pw, ph), (fw, fh)) = (size(g.periphery_view), size(g.fovea_view));
     let mut shapes = [Vec4::ZERO; 8];
     for eye in Eye::BOTH {
         let i = eye.index();
@@ -76,12 +77,12 @@ pub fn mask_shapes(g: &FoveationGeometry, eyes: &EyeParams, fovea: &[FovTangents
         let window_centre = Vec2::new((f.right - f.left) / 2.0, (f.up - f.down) / 2.0);
         let hole = eyes.fov(eye).ndc(window_centre);
         shapes[i] = Vec4::new(0.0, 0.0, 2.0, 2.0);
-        shapes[2 + i] = Vec4::new(0.0, 0.0, g.fovea_circle_px / w, g.fovea_circle_px / h);
+        shapes[2 + i] = Vec4::new(0.0, 0.0, g.fovea_circle_px / fw, g.fovea_circle_px / fh);
         shapes[4 + i] = Vec4::new(
             hole.x,
             hole.y,
-            g.periphery_hole_px / w,
-            g.periphery_hole_px / h,
+            g.periphery_hole_px / pw,
+            g.periphery_hole_px / ph,
         );
     }
     shapes

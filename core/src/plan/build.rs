@@ -15,7 +15,7 @@ use super::pipeline::{PipelineDesc, StepContext};
 use super::probe::{add_probe, probe_pipeline};
 use super::radial_density::{add_radial_density, radial_mask_pipeline, reconstruct_pipeline};
 use super::steps::{DrawSet, OutputSource, Step};
-use super::stereo_scene::{scene_passes, scene_pipeline, FoveaPasses};
+use super::stereo_scene::{scene_passes, scene_pipeline, FoveaPasses, ViewSet};
 use super::validate::*;
 use super::{
     ConfigError, DeviceCaps, FoveaLayout, OutputStage, RenderConfig, Resolution, StereoMode,
@@ -42,7 +42,7 @@ pub fn plan(
         StereoMode::PerObject | StereoMode::Instanced => TargetLayout::SideBySide,
     };
     let mut attachments = Vec::new();
-    let render_resolution = e.foveation.map_or(e.eye_resolution, |f| f.view);
+    let render_resolution = e.foveation.map_or(e.eye_resolution, |f| f.periphery_view);
     let far = e
         .mffr
         .map(|g| far_pass(config, g.resolution, &mut attachments));
@@ -51,7 +51,8 @@ pub fn plan(
         .map(|p| p.resolve.unwrap_or(p.color).attachment);
     let fovea_layout = e.foveation.map(|f| {
         let cull = f.cull_fovea && e.mffr.is_none();
-        choose_fovea_layout(config.fovea_layout, cull, scene, f.view, caps)
+        let differ = f.views_differ(config.msaa);
+        choose_fovea_layout(config.fovea_layout, cull, differ, scene, f.fovea_view, caps)
     });
     let mut passes: Vec<PassPlan> = far.into_iter().collect();
     passes.extend(scene_passes(
@@ -59,10 +60,21 @@ pub fn plan(
         render_resolution,
         layout,
         far_colour,
-        fovea_layout.as_ref().map(|c| FoveaPasses {
-            layout: c.layout,
-            cull: c.cull,
-        }),
+        fovea_layout
+            .as_ref()
+            .zip(e.foveation.as_ref())
+            .map(|(c, f)| FoveaPasses {
+                layout: c.layout,
+                cull: c.cull,
+                periphery: ViewSet {
+                    resolution: f.periphery_view,
+                    samples: f.periphery_samples(config.msaa),
+                },
+                fovea: ViewSet {
+                    resolution: f.fovea_view,
+                    samples: config.msaa,
+                },
+            }),
         &mut attachments,
     ));
     let lens = config.output == OutputStage::Lens;
@@ -188,6 +200,9 @@ fn resolve_effects(
         .map(|f| f.geometry(eye_resolution))
         .transpose()?;
     validate_msaa(config, caps)?;
+    if let Some(f) = &foveation {
+        validate_view_sets(config, f, caps)?;
+    }
     validate_depth_range(config)?;
     validate_features(config, caps)?;
     validate_culling(config)?;
@@ -350,6 +365,7 @@ fn plan_queries(plan: &mut FramePlan, config: &RenderConfig, caps: &DeviceCaps) 
 fn choose_fovea_layout(
     asked: FoveaLayout,
     cull: bool,
+    views_differ: bool,
     scene: &Scene,
     view: Resolution,
     caps: &DeviceCaps,
@@ -358,6 +374,12 @@ fn choose_fovea_layout(
     let pixels = view.width as u64 * view.height as u64;
     let (layout, reason) = match asked {
         FoveaLayout::OnePass | FoveaLayout::TwoPass => (asked, format!("asked for ({asked})")),
+        FoveaLayout::Auto if views_differ => (
+            FoveaLayout::TwoPass,
+            "the periphery and fovea views differ in size or samples, so each pair renders into \
+             images of its own"
+                .to_string(),
+        ),
         FoveaLayout::Auto if !cull => (
             FoveaLayout::OnePass,
             "the fovea views draw what the periphery draws (fovea culling off, or MFFR's near \

@@ -313,3 +313,54 @@ fn culling_picks_each_pass_its_draw_set_and_adds_only_the_id_buffer() {
         assert_eq!(e.field, "draw distance");
     }
 }
+
+/// A periphery at its own density and sample count renders each view pair into images of its
+/// own, in two passes (auto picks it, one-pass is refused naming the field); the same density
+/// as the ratio plans exactly today's shared images. Mutation: sharing the scratch images
+/// whatever the sizes fails the first half.
+#[test]
+fn periphery_density_and_samples_give_each_view_pair_its_images() {
+    let split = |density, msaa, layout| RenderConfig {
+        foveation: foveated(true)
+            .foveation
+            .map(|f| crate::foveation::FoveationConfig {
+                periphery_density: density,
+                periphery_msaa: msaa,
+                ..f
+            }),
+        fovea_layout: layout,
+        ..foveated(true)
+    };
+    let plan = planned(&split(Some(0.25), Some(1), FoveaLayout::Auto));
+    let scene: Vec<&PassPlan> = plan
+        .passes
+        .iter()
+        .filter(|p| p.kind == PassKind::Scene)
+        .collect();
+    assert_eq!(scene.len(), 2, "a periphery and a fovea pass");
+    let (periphery, fovea) = (scene[0], scene[1]);
+    for u in periphery.uses() {
+        let a = attachment(&plan, u);
+        assert_eq!(
+            (a.width, a.samples),
+            (128, 1),
+            "{}: 512 x 0.25 at 1x",
+            a.name
+        );
+    }
+    assert!(periphery.resolve.is_none(), "1x: no resolve");
+    for u in fovea.uses() {
+        let a = attachment(&plan, u);
+        assert_eq!(
+            a.width, 256,
+            "{}: the 0.5 window at the screen's density",
+            a.name
+        );
+    }
+    assert_eq!(attachment(&plan, &fovea.color).samples, 4);
+    let e = plan_err(&split(Some(0.25), None, FoveaLayout::OnePass));
+    assert_eq!(e.field, "fovea_layout");
+    // Density equal to the ratio: the same plan as without it.
+    let coupled = |density| planned(&split(density, None, FoveaLayout::TwoPass)).attachments;
+    assert_eq!(coupled(Some(0.5)), coupled(None));
+}

@@ -86,9 +86,12 @@ impl FramePlan {
         if let Some(g) = &self.foveation {
             writeln!(
                 f,
-                "  foveation: ratio {}, 4 views of {}, fovea {:.0} px on screen ({:.1} px inset circle), periphery hole {:.1} px, blend band {} px, stencil masks {}",
+                "  foveation: ratio {}, periphery views {} at {}x MSAA, fovea views {} at {}x, fovea {:.0} px on screen ({:.1} px inset circle), periphery hole {:.1} px, blend band {} px, stencil masks {}",
                 g.ratio,
-                g.view,
+                g.periphery_view,
+                g.periphery_samples(self.samples),
+                g.fovea_view,
+                self.samples,
                 g.fovea_screen_px,
                 g.fovea_circle_px,
                 g.periphery_hole_px,

@@ -14,12 +14,21 @@ use crate::shaders::{
 };
 use crate::view::Eye;
 
-/// A foveated frame's views as planned: the resolved layout, and whether the fovea views draw
-/// only what their frusta see.
+/// A foveated frame's views as planned: the resolved layout, whether the fovea views draw
+/// only what their frusta see, and each view pair's size and samples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct FoveaPasses {
     pub layout: FoveaLayout,
     pub cull: bool,
+    pub periphery: ViewSet,
+    pub fovea: ViewSet,
+}
+
+/// The size and sample count of a pair of views.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct ViewSet {
+    pub resolution: Resolution,
+    pub samples: u32,
 }
 
 /// The images the scene passes render into.
@@ -153,6 +162,72 @@ fn scene_targets(
     }
 }
 
+/// The two-pass fovea layout's images when the periphery and the fovea differ in size or
+/// samples: each pair of views its own scratch images and its own 2-layer output.
+fn split_targets(fovea: FoveaPasses, attachments: &mut Vec<AttachmentPlan>) -> [SceneTargets; 2] {
+    let mut targets = |set: ViewSet, names: [&'static str; 3]| {
+        let mut add = |name, role, format, samples, read_after_frame| {
+            attachments.push(AttachmentPlan {
+                name,
+                role,
+                format,
+                samples,
+                width: set.resolution.width,
+                height: set.resolution.height,
+                layers: 2,
+                read_after_frame,
+                sampled: false,
+                transient: false,
+            });
+            attachments.len() - 1
+        };
+        let msaa = set.samples > 1;
+        let color = msaa.then(|| {
+            add(
+                names[0],
+                AttachmentRole::Color,
+                Format::Rgba8Srgb,
+                set.samples,
+                false,
+            )
+        });
+        let depth = add(
+            names[1],
+            AttachmentRole::Depth,
+            Format::D32,
+            set.samples,
+            false,
+        );
+        let role = if msaa {
+            AttachmentRole::Resolve
+        } else {
+            AttachmentRole::Color
+        };
+        let output = add(names[2], role, Format::Rgba8Srgb, 1, true);
+        SceneTargets {
+            color,
+            depth,
+            outputs: vec![output],
+            layers: 2,
+            output_layers: 2,
+        }
+    };
+    [
+        targets(
+            fovea.periphery,
+            [
+                "periphery colour (MSAA)",
+                "periphery depth",
+                "periphery views",
+            ],
+        ),
+        targets(
+            fovea.fovea,
+            ["fovea colour (MSAA)", "fovea depth", "fovea views"],
+        ),
+    ]
+}
+
 /// What one scene pass submits and draws.
 struct SceneStep {
     submission: Submission,
@@ -202,8 +277,21 @@ pub(super) fn scene_passes(
     fovea: Option<FoveaPasses>,
     attachments: &mut Vec<AttachmentPlan>,
 ) -> Vec<PassPlan> {
-    let targets = scene_targets(config, eye, layout, fovea, attachments);
-    let outputs = &targets.outputs;
+    // Each pass's targets and output: one set shared by every pass, or, for a two-pass
+    // foveated frame whose view pairs differ, one set per pair.
+    let split = fovea.filter(|f| f.layout == FoveaLayout::TwoPass && f.periphery != f.fovea);
+    let (targets, pair_targets) = match split {
+        Some(f) => {
+            let [periphery, fovea] = split_targets(f, attachments);
+            let outputs = vec![periphery.outputs[0], fovea.outputs[0]];
+            (periphery, Some((fovea, outputs)))
+        }
+        None => (scene_targets(config, eye, layout, fovea, attachments), None),
+    };
+    let outputs = pair_targets
+        .as_ref()
+        .map_or(&targets.outputs, |(_, outputs)| outputs);
+    let fovea_targets = pair_targets.as_ref().map_or(&targets, |(t, _)| t);
     // What the eye (periphery) views draw.
     let eye_set = |submission| match (far_field, config.culling, submission) {
         (Some(_), _, _) => DrawSet::NearField,
@@ -238,14 +326,19 @@ pub(super) fn scene_passes(
             } else {
                 eye_set(multiview)
             };
+            let scene = SceneStep {
+                submission: multiview,
+                draw_set: fovea_set,
+            };
             let fovea = PassPlan {
                 first_view: 2,
-                ..pass(
+                ..scene_pass(
+                    fovea_targets,
                     "scene (fovea views)",
                     0b11,
                     outputs[1],
-                    multiview,
-                    fovea_set,
+                    scene,
+                    far_field,
                 )
             };
             vec![periphery, fovea]

@@ -1,7 +1,10 @@
 //! Validation: a configuration the device or foveate cannot render is refused with the field,
 //! the value and the limit.
 
-use super::{ConfigError, DeviceCaps, RenderConfig, Resolution, StereoMode, MAX_VIEWS};
+use super::{
+    ConfigError, DeviceCaps, FoveaLayout, RenderConfig, Resolution, StereoMode, MAX_VIEWS,
+};
+use crate::foveation::FoveationGeometry;
 use crate::view::{EyeParams, HmdProfile};
 
 pub(super) fn validate_eyes(
@@ -121,6 +124,40 @@ pub(super) fn validate_msaa(config: &RenderConfig, caps: &DeviceCaps) -> Result<
             format!(
                 "1 or 4, and one the device supports (it supports {})",
                 device.join(", ")
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// A foveated frame whose periphery and fovea views differ in size or samples: only the
+/// two-pass layout gives them images of their own, and the device must have the samples.
+pub(super) fn validate_view_sets(
+    config: &RenderConfig,
+    foveation: &FoveationGeometry,
+    caps: &DeviceCaps,
+) -> Result<(), ConfigError> {
+    if let Some(m) = foveation.periphery_msaa {
+        if !caps.supports_samples(m) {
+            return Err(ConfigError::new(
+                "periphery_msaa",
+                m,
+                "a sample count the device supports",
+            ));
+        }
+    }
+    if foveation.views_differ(config.msaa) && config.fovea_layout == FoveaLayout::OnePass {
+        return Err(ConfigError::new(
+            "fovea_layout",
+            config.fovea_layout,
+            format!(
+                "two-pass or auto: periphery views {} at {}x and fovea views {} at {}x need images \
+                 of their own, and the one-pass layout renders all four views as layers of one \
+                 image (one size, one sample count)",
+                foveation.periphery_view,
+                foveation.periphery_samples(config.msaa),
+                foveation.fovea_view,
+                config.msaa
             ),
         ));
     }

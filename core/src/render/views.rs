@@ -64,7 +64,12 @@ impl FrameViews {
             views.extend(Eye::BOTH.map(|e| (world_from_eye[e.index()], fovea[e.index()])));
         }
         let eye_far = far.as_ref().map_or(plan.far, |f| f.split_m);
-        let view_pixels = plan.foveation.map_or(plan.eye_resolution, |f| f.view);
+        // Views 0, 1 are the eyes (a foveated frame's periphery), 2, 3 the fovea windows.
+        let view_pixels = |i: usize| match plan.foveation {
+            None => plan.eye_resolution,
+            Some(f) if i < 2 => f.periphery_view,
+            Some(f) => f.fovea_view,
+        };
         let mut block = ViewsBlock {
             view_proj: [Mat4::IDENTITY; SLOTS],
             light_dir: light_dir.extend(far.as_ref().map_or(0.0, |f| f.near)),
@@ -80,7 +85,7 @@ impl FrameViews {
         for (i, &(world_from_view, fov)) in views.iter().enumerate() {
             let view_proj =
                 reverse_z_projection(fov, plan.near, eye_far) * world_from_view.inverse();
-            let pixels = (view_pixels.width, view_pixels.height);
+            let pixels = (view_pixels(i).width, view_pixels(i).height);
             set(i, world_from_view, view_proj, fov, pixels);
         }
         if let Some(f) = &far {

@@ -162,10 +162,10 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
             triangles: last.triangles,
             counts,
         });
-        // Per pixel of the views the scene pass renders (the foveated views are smaller).
+        // Per pixel of the eye views the scene pass renders (a foveated frame's periphery).
         let pixels = plan
             .foveation
-            .map_or(plan.eye_resolution, |g| g.view)
+            .map_or(plan.eye_resolution, |g| g.periphery_view)
             .pixels();
         print_result(results.last().expect("just pushed"), pixels);
     }
