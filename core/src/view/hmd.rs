@@ -342,6 +342,8 @@ mod tests {
     /// one, per eye for hmdq's recordings. Mutation: a tangent from the wrong headset, a panel's
     /// width and height swapped, or a tracker on Quest 3 fails it.
     #[test]
+    // Tangents quoted digit for digit from their source.
+    #[allow(clippy::excessive_precision)]
     fn profiles_match_their_sources() {
         struct Published {
             name: &'static str,
