@@ -7,6 +7,7 @@ mod counts;
 mod csv_out;
 mod fovea_table;
 mod frame_args;
+mod frontier;
 mod gaze_arg;
 mod progress;
 mod side_by_side;

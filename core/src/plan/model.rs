@@ -504,6 +504,20 @@ impl FramePlan {
             .sum()
     }
 
+    /// Samples the frame's MSAA resolves average, over every in-pass resolve: the work a tile
+    /// GPU does on tile (nearly free there) and lavapipe does in memory.
+    pub fn resolved_samples(&self) -> u64 {
+        self.passes
+            .iter()
+            .filter_map(|p| p.resolve.map(|r| (p.color, r)))
+            .map(|(color, r)| {
+                let a = &self.attachments[r.attachment];
+                let samples = self.attachments[color.attachment].samples as u64;
+                a.width as u64 * a.height as u64 * r.layer_count as u64 * samples
+            })
+            .sum()
+    }
+
     /// Estimated external memory traffic per frame on a tile GPU: bytes loaded into tile
     /// memory, stored out of it, sampled by later passes, and read back as the output.
     pub fn external_traffic_bytes(&self) -> u64 {

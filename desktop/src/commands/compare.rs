@@ -10,9 +10,12 @@ use foveate::metrics::{ErrorSummary, RgbaImage};
 use foveate::plan::{RadialDensity, RenderConfig};
 use foveate::scene::{named_scene, Shading};
 
+use crate::commands::bench::accuracy::AccuracyPoint;
+use crate::commands::bench::plots::accuracy_plot;
 use crate::csv_out::{opt, CsvTable};
 use crate::fovea_table::{self, TableSettings};
 use crate::frame_args::ComparedFrame;
+use crate::frontier::{cheapest_within_error, most_accurate_within_time, pareto_frontier, Point};
 use crate::side_by_side::{sweep, Group, Measured};
 
 #[derive(Args)]
@@ -66,10 +69,27 @@ pub struct CompareArgs {
     /// Also compare each ratio with the periphery upscaled by Catmull-Rom, one row each.
     #[arg(long)]
     catmull_rom: bool,
-    /// Name the cheapest configuration measured whose eccentricity-aware FLIP (99th
-    /// percentile) stays within this budget.
-    #[arg(long)]
+    /// Also each foveated row with the periphery at these densities (fractions of the screen's
+    /// pixels per side, independent of the fovea's ratio), one row each.
+    #[arg(long, value_delimiter = ',')]
+    densities: Vec<f32>,
+    /// Also each foveated row with the periphery views at these MSAA counts (the fovea keeps
+    /// the row's), one row each.
+    #[arg(long, value_delimiter = ',')]
+    periphery_msaa: Vec<u32>,
+    /// Iso-error: name the cheapest configuration measured whose eccentricity-aware FLIP (99th
+    /// percentile) stays within this budget (`--recommend` is the same).
+    #[arg(long, alias = "iso-error")]
     recommend: Option<f64>,
+    /// Iso-time: name the most accurate configuration whose frame time stays within this
+    /// fraction of the reference's (stereo, MSAA 4).
+    #[arg(long)]
+    iso_time: Option<f64>,
+    /// Print the Pareto frontier of error against time (stereo and foveated rows marked), and
+    /// the cheapest foveated row as accurate as stereo without MSAA; with a path, also plot it
+    /// as PATH.png and PATH.svg.
+    #[arg(long, num_args = 0..=1, default_missing_value = "")]
+    pareto: Option<PathBuf>,
     /// The eccentricity-aware FLIP's acuity falloff: arcmin of minimum angle of resolution per
     /// degree of eccentricity (Guenter et al. 2012 measured 1.32–1.65).
     #[arg(long, default_value_t = Acuity::default().slope_arcmin_per_deg)]
@@ -157,6 +177,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             variants.push((format!("foveated {ratio}, catmull-rom"), f));
         }
     }
+    variants = with_view_sets(variants, &args.densities, &args.periphery_msaa);
     for (_, f) in &variants {
         f.geometry(screen)?;
     }
@@ -175,7 +196,11 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             };
             named.push((format!("radial density, MSAA {msaa}"), msaa, config));
         }
-        for (name, foveation) in &variants {
+        // A periphery sample count equal to the row's is the row itself.
+        let distinct = variants
+            .iter()
+            .filter(|(_, f)| f.periphery_msaa.is_none_or(|m| m != msaa));
+        for (name, foveation) in distinct {
             let config = RenderConfig {
                 views: 4,
                 foveation: Some(*foveation),
@@ -239,31 +264,84 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     );
     print_rows(&rows, &measured, reference.frame_ms);
     println!(
-        "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); on the output image ({}), both eyes, pixels the lens hides left out: PSNR in dB / SSIM per region against the reference (stereo rows: all periphery); FLIP: mean at the display's pixels per degree; eFLIP: the eccentricity-aware FLIP for the eye at the gaze (metrics::flip), mean and 99th percentile, then p99 per region)",
+        "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); the tile-GPU workload from the plan: samples the in-pass MSAA resolves average and external traffic (attachment loads and stores, sampling, readback); on the output image ({}), both eyes, pixels the lens hides left out: PSNR in dB / SSIM per region against the reference (stereo rows: all periphery); FLIP: mean at the display's pixels per degree; eFLIP: the eccentricity-aware FLIP for the eye at the gaze (metrics::flip), mean and 99th percentile, then p99 per region)",
         base.output
     );
     if let Some(dir) = &args.heatmaps {
         println!("wrote {} heat maps into {}", rows.len(), dir.display());
     }
+    let points: Vec<Point> = rows
+        .iter()
+        .zip(&measured)
+        .map(|(r, m)| Point {
+            time: r.run.frame_ms / reference.frame_ms,
+            error: m.perceptual.eccentric.map_or(0.0, |e| e.p99),
+        })
+        .collect();
+    let say = |what: &str, pick: Option<usize>| match pick {
+        Some(i) => println!(
+            "{what}: {} — {:.2} ms ({:.3}x the reference), eFLIP p99 {:.4}",
+            rows[i].name, rows[i].run.frame_ms, points[i].time, points[i].error
+        ),
+        None => println!("{what}: no configuration measured"),
+    };
     if let Some(budget) = args.recommend {
-        let candidates: Vec<Candidate> = rows
-            .iter()
-            .zip(&measured)
-            .map(|(r, m)| Candidate {
-                name: &r.name,
-                frame_ms: r.run.frame_ms,
-                eccentric_p99: m.perceptual.eccentric.map_or(0.0, |e| e.p99),
-            })
-            .collect();
-        match recommend(&candidates, budget) {
-            Some(c) => println!(
-                "recommended within eFLIP p99 ≤ {budget}: {} — {:.2} ms ({:.3}x the reference), eFLIP p99 {:.4}",
-                c.name,
-                c.frame_ms,
-                c.frame_ms / reference.frame_ms,
-                c.eccentric_p99
-            ),
-            None => println!("no configuration measured stays within eFLIP p99 ≤ {budget}"),
+        let what = format!("iso-error, the cheapest within eFLIP p99 ≤ {budget}");
+        say(&what, cheapest_within_error(&points, budget));
+    }
+    if let Some(budget) = args.iso_time {
+        let what = format!("iso-time, the most accurate within {budget}x the reference's time");
+        say(&what, most_accurate_within_time(&points, budget));
+    }
+    if let Some(plot) = &args.pareto {
+        print_frontier(&rows, &points);
+        // The target: foveation as accurate as aliased stereo, for less time.
+        let aliased = rows.iter().position(|r| r.name == "stereo, MSAA 1");
+        if let Some(s) = aliased {
+            let foveated: Vec<Point> = rows
+                .iter()
+                .zip(&points)
+                .map(|(r, p)| match r.run.plan.foveation {
+                    Some(_) => *p,
+                    None => Point {
+                        time: f64::INFINITY,
+                        ..*p
+                    },
+                })
+                .collect();
+            let what = format!(
+                "the cheapest foveated row as accurate as stereo without MSAA (eFLIP p99 ≤ {:.4}, {:.3}x)",
+                points[s].error, points[s].time
+            );
+            say(&what, cheapest_within_error(&foveated, points[s].error));
+        }
+        if !plot.as_os_str().is_empty() {
+            let family = |r: &Row| match r.run.plan.foveation {
+                Some(_) => "foveated",
+                None => "stereo",
+            };
+            let accuracy: Vec<AccuracyPoint> = rows
+                .iter()
+                .zip(&measured)
+                .zip(&points)
+                .map(|((r, m), p)| AccuracyPoint {
+                    family: family(r),
+                    name: r.name.clone(),
+                    frame_ms: r.run.frame_ms,
+                    ratio: p.time,
+                    psnr_db: None,
+                    ssim: 1.0,
+                    flip_mean: m.perceptual.flip.map_or(0.0, |f| f.mean),
+                    eccentric_flip_mean: m.perceptual.eccentric.map_or(0.0, |e| e.mean),
+                    eccentric_flip_p99: p.error,
+                })
+                .collect();
+            let caption = format!(
+                "{}: eFLIP p99 against frame time (stereo MSAA 4 = 1.0), frontier joined",
+                crate::frame_args::headset_line(&reference.plan)
+            );
+            accuracy_plot(&accuracy, &caption, plot)?;
+            println!("wrote {} and .svg", plot.with_extension("png").display());
         }
     }
     gpu.check_validation()?;
@@ -272,12 +350,14 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
 
 fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
     println!(
-        "\n{:<34} {:>9} {:>6} {:>11} {:>11} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
+        "\n{:<44} {:>9} {:>6} {:>11} {:>11} {:>11} {:>9} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
         "configuration",
         "frame ms",
         "ratio",
         "scene frags",
         "total frags",
+        "resolved",
+        "MiB moved",
         "fovea dB/SSIM",
         "band dB/SSIM",
         "perif. dB/SSIM",
@@ -301,12 +381,14 @@ fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
             |s: Option<ErrorSummary>| s.map_or("-".to_string(), |s| format!("{:.4}", s.mean));
         let p99 = |s: Option<ErrorSummary>| s.map_or("-".to_string(), |s| format!("{:.3}", s.p99));
         println!(
-            "{:<34} {:>9.2} {:>6.3} {:>11} {:>11} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
+            "{:<44} {:>9.2} {:>6.3} {:>11} {:>11} {:>11} {:>9.1} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
             row.name,
             row.run.frame_ms,
             row.run.frame_ms / reference_ms,
             row.run.scene_fragments(),
             row.run.total_fragments,
+            row.run.plan.resolved_samples(),
+            row.run.plan.external_traffic_bytes() as f64 / (1024.0 * 1024.0),
             cells[0],
             cells[1],
             cells[2],
@@ -318,6 +400,33 @@ fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
     }
 }
 
+/// The rows no other row beats on both time and error, fastest first, with the tile-GPU
+/// workload beside each time.
+fn print_frontier(rows: &[Row], points: &[Point]) {
+    println!("\nPareto frontier (eFLIP p99 against frame time; S stereo, F foveated):");
+    println!(
+        "  {:<44} {:>7} {:>8} {:>12} {:>12} {:>10}",
+        "configuration", "x ref", "p99", "fragments", "resolved", "MiB moved"
+    );
+    for i in pareto_frontier(points) {
+        let (r, p) = (&rows[i], points[i]);
+        let kind = if r.run.plan.foveation.is_some() {
+            "F"
+        } else {
+            "S"
+        };
+        println!(
+            "{kind} {:<44} {:>7.3} {:>8.4} {:>12} {:>12} {:>10.1}",
+            r.name,
+            p.time,
+            p.error,
+            r.run.total_fragments,
+            r.run.plan.resolved_samples(),
+            r.run.plan.external_traffic_bytes() as f64 / (1024.0 * 1024.0)
+        );
+    }
+}
+
 fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<CsvTable> {
     let mut csv = CsvTable::new(&[
         "config",
@@ -325,10 +434,14 @@ fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<Cs
         "ratio",
         "blend_band_px",
         "sharpen",
+        "periphery_density",
+        "periphery_msaa",
         "frame_ms",
         "time_ratio",
         "scene_fragments",
         "total_fragments",
+        "resolved_samples",
+        "external_traffic_bytes",
         "psnr_fovea",
         "psnr_band",
         "psnr_periphery",
@@ -353,10 +466,17 @@ fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<Cs
             &opt(f.map(|f| f.ratio as f64), 4),
             &opt(f.map(|f| f.blend_band_px as f64), 1),
             &opt(f.map(|f| f.periphery_sharpen as f64), 2),
+            &opt(
+                f.map(|f| f.periphery_view.width as f64 / row.run.plan.eye_resolution.width as f64),
+                4,
+            ),
+            &opt(f.map(|f| f.periphery_samples(row.msaa) as f64), 0),
             &format!("{:.3}", row.run.frame_ms),
             &format!("{:.4}", row.run.frame_ms / reference_ms),
             &row.run.scene_fragments(),
             &row.run.total_fragments,
+            &row.run.plan.resolved_samples(),
+            &row.run.plan.external_traffic_bytes(),
             &opt(m.region_psnr[0], 4),
             &opt(m.region_psnr[1], 4),
             &opt(m.region_psnr[2], 4),
@@ -375,22 +495,39 @@ fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<Cs
     Ok(csv)
 }
 
-/// A measured configuration `--recommend` chooses among.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Candidate<'a> {
-    pub name: &'a str,
-    pub frame_ms: f64,
-    pub eccentric_p99: f64,
-}
-
-/// The cheapest candidate whose eccentricity-aware FLIP p99 is within `budget` (the first of
-/// equally cheap ones); `None` if none is.
-pub fn recommend<'a>(candidates: &[Candidate<'a>], budget: f64) -> Option<Candidate<'a>> {
-    candidates
-        .iter()
-        .filter(|c| c.eccentric_p99 <= budget && c.frame_ms.is_finite())
-        .min_by(|a, b| a.frame_ms.total_cmp(&b.frame_ms))
-        .copied()
+/// Each foveated variant as it is, then with the periphery at each of `densities` and at each
+/// of `periphery_msaa`'s sample counts (every combination), named after what changed.
+fn with_view_sets(
+    variants: Vec<(String, FoveationConfig)>,
+    densities: &[f32],
+    periphery_msaa: &[u32],
+) -> Vec<(String, FoveationConfig)> {
+    let densities = std::iter::once(None).chain(densities.iter().map(|&d| Some(d)));
+    let densities: Vec<Option<f32>> = densities.collect();
+    let msaa: Vec<Option<u32>> = std::iter::once(None)
+        .chain(periphery_msaa.iter().map(|&m| Some(m)))
+        .collect();
+    let mut out = Vec::new();
+    for (name, f) in variants {
+        for &density in &densities {
+            for &samples in &msaa {
+                let mut name = name.clone();
+                if let Some(d) = density {
+                    name += &format!(", periphery {d}");
+                }
+                if let Some(m) = samples {
+                    name += &format!(" at {m}x");
+                }
+                let config = FoveationConfig {
+                    periphery_density: density,
+                    periphery_msaa: samples,
+                    ..f
+                };
+                out.push((name, config));
+            }
+        }
+    }
+    out
 }
 
 /// A file name for a configuration: lower case, runs of anything else as one '-'.
@@ -446,29 +583,6 @@ fn table(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn recommend_picks_the_cheapest_within_budget() {
-        let c = |name, frame_ms, eccentric_p99| Candidate {
-            name,
-            frame_ms,
-            eccentric_p99,
-        };
-        let table = [
-            c("reference", 100.0, 0.0),
-            c("stereo, MSAA 1", 60.0, 0.30),
-            c("foveated 0.5", 70.0, 0.12),
-            c("foveated 0.35", 50.0, 0.25),
-            c("foveated 0.25", 40.0, 0.41),
-        ];
-        let pick = |budget| recommend(&table, budget).map(|c| c.name);
-        assert_eq!(pick(0.26), Some("foveated 0.35"));
-        assert_eq!(pick(0.25), Some("foveated 0.35"), "the budget is inclusive");
-        assert_eq!(pick(0.2), Some("foveated 0.5"));
-        assert_eq!(pick(0.5), Some("foveated 0.25"));
-        assert_eq!(pick(0.05), Some("reference"));
-        assert_eq!(recommend(&table[1..], 0.05), None);
-    }
 
     #[test]
     fn slugs_are_file_names() {

@@ -3,9 +3,9 @@
 //! foveated — per-frame times and counts, the thesis' tables with ratios to the baseline,
 //! memory and traffic per configuration, the accuracy-vs-time curve, and plots.
 
-mod accuracy;
+pub(crate) mod accuracy;
 mod matrix;
-mod plots;
+pub(crate) mod plots;
 mod report;
 
 use std::path::PathBuf;

@@ -53,9 +53,31 @@ pub fn all(report: &Report, out: &Path) -> Result<()> {
     both!("rails-compare", (1400, 700), rails_compare);
     both!("ratios", (1200, 900), ratios);
     if !report.accuracy.is_empty() {
-        both!("accuracy", (1400, 900), accuracy);
+        accuracy_plot(
+            &report.accuracy,
+            "What accuracy costs: eccentricity-aware FLIP (99th percentile, lens-visible pixels) against frame time (reference = 1.0, error 0)",
+            &out.join("accuracy"),
+        )?;
     }
     Ok(())
+}
+
+/// The error-against-time plot of `points` (one colour per family, the frontier joined) as
+/// `<stem>.png` and `<stem>.svg`.
+pub fn accuracy_plot(points: &[AccuracyPoint], caption: &str, stem: &Path) -> Result<()> {
+    let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
+    let (png, svg) = (stem.with_extension("png"), stem.with_extension("svg"));
+    let size = (1400, 900);
+    accuracy(
+        points,
+        caption,
+        BitMapBackend::new(&png, size).into_drawing_area(),
+    )?;
+    accuracy(
+        points,
+        caption,
+        SVGBackend::new(&svg, size).into_drawing_area(),
+    )
 }
 
 fn frames_of(report: &Report, config: usize) -> Vec<&FrameSample> {
@@ -267,17 +289,17 @@ fn ratios<DB: DrawingBackend>(report: &Report, root: DrawingArea<DB, Shift>) -> 
 /// Error against time for every approximation: the eccentricity-aware FLIP's 99th percentile
 /// (what the eye at the gaze can see at its worst); the Pareto frontier joins the points no
 /// other point beats on both.
-fn accuracy<DB: DrawingBackend>(report: &Report, root: DrawingArea<DB, Shift>) -> Result<()> {
+fn accuracy<DB: DrawingBackend>(
+    points: &[AccuracyPoint],
+    caption: &str,
+    root: DrawingArea<DB, Shift>,
+) -> Result<()> {
     root.fill(&WHITE).map_err(plot_error)?;
-    let points = &report.accuracy;
     let y = |p: &AccuracyPoint| p.eccentric_flip_p99;
     let ymax = points.iter().map(y).fold(0.1, f64::max) * 1.1;
     let xmax = points.iter().map(|p| p.ratio).fold(1.1, f64::max) * 1.05;
     let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "What accuracy costs: eccentricity-aware FLIP (99th percentile, lens-visible pixels) against frame time (reference = 1.0, error 0)",
-            (FONT, 18),
-        )
+        .caption(caption, (FONT, 18))
         .margin(14)
         .x_label_area_size(44)
         .y_label_area_size(60)
@@ -296,8 +318,12 @@ fn accuracy<DB: DrawingBackend>(report: &Report, root: DrawingArea<DB, Shift>) -
             BLACK.mix(0.4).stroke_width(1),
         ))
         .map_err(plot_error)?;
-    let mut families: Vec<&str> = points.iter().map(|p| p.family).collect();
-    families.dedup();
+    let mut families: Vec<&str> = Vec::new();
+    for p in points {
+        if !families.contains(&p.family) {
+            families.push(p.family);
+        }
+    }
     for (k, family) in families.iter().enumerate() {
         let colour = PALETTE[k % PALETTE.len()];
         let mine: Vec<&AccuracyPoint> = points.iter().filter(|p| p.family == *family).collect();
@@ -324,50 +350,15 @@ fn accuracy<DB: DrawingBackend>(report: &Report, root: DrawingArea<DB, Shift>) -
 
 /// The points (time ratio, eFLIP p99) no other point beats on both, fastest first.
 fn pareto_frontier(points: &[AccuracyPoint]) -> Vec<(f64, f64)> {
-    let mut frontier: Vec<(f64, f64)> = points
+    let xy: Vec<crate::frontier::Point> = points
         .iter()
-        .map(|p| (p.ratio, p.eccentric_flip_p99))
+        .map(|p| crate::frontier::Point {
+            time: p.ratio,
+            error: p.eccentric_flip_p99,
+        })
         .collect();
-    frontier.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut best = f64::INFINITY;
-    frontier.retain(|&(_, e)| {
-        let keep = e < best;
-        best = best.min(e);
-        keep
-    });
-    frontier
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The frontier keeps the points nothing beats on both time and error, fastest first.
-    /// Mutation: keeping points by `<=`, or by PSNR's "higher is better", fails it.
-    #[test]
-    fn the_pareto_frontier_keeps_only_unbeaten_points() {
-        let point = |ratio, eccentric_flip_p99| AccuracyPoint {
-            family: "test",
-            name: String::new(),
-            frame_ms: ratio * 100.0,
-            ratio,
-            psnr_db: None,
-            ssim: 1.0,
-            flip_mean: 0.0,
-            eccentric_flip_mean: 0.0,
-            eccentric_flip_p99,
-        };
-        let points = [
-            point(1.0, 0.0),
-            point(0.4, 0.3),
-            point(0.6, 0.1),
-            point(0.7, 0.2),
-            point(0.5, 0.3),
-            point(0.3, 0.5),
-        ];
-        assert_eq!(
-            pareto_frontier(&points),
-            vec![(0.3, 0.5), (0.4, 0.3), (0.6, 0.1), (1.0, 0.0)]
-        );
-    }
+    crate::frontier::pareto_frontier(&xy)
+        .into_iter()
+        .map(|i| (xy[i].time, xy[i].error))
+        .collect()
 }
