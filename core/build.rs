@@ -58,6 +58,18 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
         "reconstruct_counting.frag.spv",
         &["COUNT_FRAGMENTS"],
     ),
+    ("accumulate.frag", "accumulate.frag.spv", &[]),
+    (
+        "accumulate.frag",
+        "accumulate_counting.frag.spv",
+        &["COUNT_FRAGMENTS"],
+    ),
+    ("store_history.frag", "store_history.frag.spv", &[]),
+    (
+        "store_history.frag",
+        "store_history_counting.frag.spv",
+        &["COUNT_FRAGMENTS"],
+    ),
     ("far_composite.frag", "far_composite.frag.spv", &[]),
     (
         "far_composite.frag",

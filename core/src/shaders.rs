@@ -101,6 +101,11 @@ pub const RADIAL_MASK_FRAG: ShaderBinary = spirv!("radial_mask.frag.spv");
 pub const RADIAL_MASK_FRAG_COUNTING: ShaderBinary = spirv!("radial_mask_counting.frag.spv");
 pub const RECONSTRUCT_FRAG: ShaderBinary = spirv!("reconstruct.frag.spv");
 pub const RECONSTRUCT_FRAG_COUNTING: ShaderBinary = spirv!("reconstruct_counting.frag.spv");
+/// Temporal accumulation of the periphery and the copy keeping its history, plain and counting.
+pub const ACCUMULATE_FRAG: ShaderBinary = spirv!("accumulate.frag.spv");
+pub const ACCUMULATE_FRAG_COUNTING: ShaderBinary = spirv!("accumulate_counting.frag.spv");
+pub const STORE_HISTORY_FRAG: ShaderBinary = spirv!("store_history.frag.spv");
+pub const STORE_HISTORY_FRAG_COUNTING: ShaderBinary = spirv!("store_history_counting.frag.spv");
 
 /// Vertices of one mask fan (128 triangles; see `shaders/mask.vert`).
 pub const MASK_VERTICES: u32 = 128 * 3;
@@ -129,4 +134,8 @@ pub const ALL: &[ShaderBinary] = &[
     RADIAL_MASK_FRAG_COUNTING,
     RECONSTRUCT_FRAG,
     RECONSTRUCT_FRAG_COUNTING,
+    ACCUMULATE_FRAG,
+    ACCUMULATE_FRAG_COUNTING,
+    STORE_HISTORY_FRAG,
+    STORE_HISTORY_FRAG_COUNTING,
 ];

@@ -3,7 +3,7 @@
 
 use anyhow::Result;
 use clap::Args;
-use foveate::foveation::{FoveationConfig, PeripheryFilter};
+use foveate::foveation::{FoveationConfig, PeripheryFilter, TemporalConfig};
 use foveate::mffr::MffrConfig;
 use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
 use foveate::scene::{named_scene, Scene, Shading};
@@ -64,6 +64,16 @@ pub struct ConfigArgs {
     /// MSAA samples of the periphery views (default: --msaa), e.g. 1 with a 4x fovea.
     #[arg(long)]
     pub periphery_msaa: Option<u32>,
+    /// Accumulate the periphery over frames: its views jittered (Halton), a history at the
+    /// screen's density reprojected by depth. Needs a 1x periphery (--periphery-msaa 1).
+    #[arg(long)]
+    pub temporal: bool,
+    /// With --temporal: a new sample's weight against the history (0 < w ≤ 1).
+    #[arg(long, default_value_t = TemporalConfig::default().blend)]
+    pub temporal_blend: f32,
+    /// With --temporal: frames in the jitter cycle (1: no jitter).
+    #[arg(long, default_value_t = TemporalConfig::default().jitter_cycle)]
+    pub jitter_cycle: u32,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -277,6 +287,11 @@ impl ConfigArgs {
             periphery_filter,
             periphery_density: self.periphery_density,
             periphery_msaa: self.periphery_msaa,
+            periphery_temporal: self.temporal.then(|| TemporalConfig {
+                blend: self.temporal_blend,
+                jitter_cycle: self.jitter_cycle,
+                ..TemporalConfig::default()
+            }),
         });
         let mffr = self
             .mffr

@@ -14,4 +14,5 @@ mod quirks;
 mod radial_density;
 mod shaders;
 mod stereo;
+mod temporal;
 mod zero_cost;

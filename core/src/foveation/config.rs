@@ -1,3 +1,4 @@
+use super::temporal::TemporalConfig;
 use crate::vocab::{named_enum, ConfigError, Resolution};
 
 /// How the output stage upscales the periphery to the screen.
@@ -47,6 +48,9 @@ pub struct FoveationConfig {
     /// The periphery views' MSAA sample count; default: the frame's (the fovea views always
     /// use the frame's).
     pub periphery_msaa: Option<u32>,
+    /// Temporal accumulation of the periphery (jittered views, a history at the screen's
+    /// density); `None`: each frame's periphery alone, upscaled by `periphery_filter`.
+    pub periphery_temporal: Option<TemporalConfig>,
 }
 
 impl Default for FoveationConfig {
@@ -63,6 +67,7 @@ impl Default for FoveationConfig {
             periphery_filter: PeripheryFilter::Bilinear,
             periphery_density: None,
             periphery_msaa: None,
+            periphery_temporal: None,
         }
     }
 }
@@ -91,6 +96,8 @@ pub struct FoveationGeometry {
     pub cull_fovea: bool,
     pub periphery_sharpen: f32,
     pub periphery_filter: PeripheryFilter,
+    /// Temporal accumulation of the periphery, when on.
+    pub temporal: Option<TemporalConfig>,
 }
 
 impl FoveationConfig {
@@ -170,6 +177,9 @@ impl FoveationConfig {
         if let Some(m) = self.periphery_msaa.filter(|m| !matches!(m, 1 | 4)) {
             return Err(ConfigError::new("periphery_msaa", m, "1 or 4"));
         }
+        if let Some(t) = &self.periphery_temporal {
+            t.validate()?;
+        }
         // Fovea-view pixels per screen pixel, and periphery pixels per screen pixel.
         let fovea_scale = view.width as f32 / window_px;
         let periphery_scale = periphery_view.width as f32 / screen.width as f32;
@@ -187,6 +197,7 @@ impl FoveationConfig {
             cull_fovea: self.cull_fovea,
             periphery_sharpen: self.periphery_sharpen,
             periphery_filter: self.periphery_filter,
+            temporal: self.periphery_temporal,
         })
     }
 }

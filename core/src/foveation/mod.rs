@@ -6,10 +6,12 @@ mod budget;
 mod config;
 mod gaze;
 mod inset;
+mod temporal;
 mod views;
 
 pub use budget::{arm_table, ArmRow, PixelBudget, ARM_PI, ARM_TABLE4_FOVEA};
 pub use config::{FoveationConfig, FoveationGeometry, PeripheryFilter};
 pub use gaze::{parse_gaze_csv, simulated_trace, GazeError, GazeFilter, GazeSample};
 pub use inset::{fovea_tangents, inset_fov_deg};
+pub use temporal::{halton, TemporalConfig};
 pub use views::{fovea_centre_px, fovea_views, gaze_tangent, mask_shapes};

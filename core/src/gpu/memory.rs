@@ -226,6 +226,27 @@ impl Image {
     /// A view of `count` layers from `base`: 2D for one layer, 2D array otherwise (multiview
     /// framebuffers need the array view even when the image has exactly its views' layers).
     pub fn view(&self, base: u32, count: u32, array: bool) -> Result<ImageView, GpuError> {
+        self.view_of(self.aspect, base, count, array)
+    }
+
+    /// A view for sampling: like [`Image::view`], but of the depth alone in a depth/stencil
+    /// image (a sampled view has one aspect).
+    pub fn sampled_view(&self, base: u32, count: u32, array: bool) -> Result<ImageView, GpuError> {
+        let aspect = if self.aspect.contains(vk::ImageAspectFlags::DEPTH) {
+            vk::ImageAspectFlags::DEPTH
+        } else {
+            self.aspect
+        };
+        self.view_of(aspect, base, count, array)
+    }
+
+    fn view_of(
+        &self,
+        aspect: vk::ImageAspectFlags,
+        base: u32,
+        count: u32,
+        array: bool,
+    ) -> Result<ImageView, GpuError> {
         let view_type = if array {
             vk::ImageViewType::TYPE_2D_ARRAY
         } else {
@@ -235,7 +256,10 @@ impl Image {
             .image(self.raw)
             .view_type(view_type)
             .format(self.format)
-            .subresource_range(self.range(base, count));
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: aspect,
+                ..self.range(base, count)
+            });
         let raw =
             unsafe { self.dev.device.create_image_view(&info, None) }.vk("vkCreateImageView")?;
         Ok(ImageView::from_raw(&self.dev, raw))

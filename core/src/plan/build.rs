@@ -16,6 +16,7 @@ use super::probe::{add_probe, probe_pipeline};
 use super::radial_density::{add_radial_density, radial_mask_pipeline, reconstruct_pipeline};
 use super::steps::{DrawSet, OutputSource, Step};
 use super::stereo_scene::{scene_passes, scene_pipeline, FoveaPasses, ViewSet};
+use super::temporal::{accumulate_pipeline, add_accumulation, store_history_pipeline};
 use super::validate::*;
 use super::{
     ConfigError, DeviceCaps, FoveaLayout, OutputStage, RenderConfig, Resolution, StereoMode,
@@ -169,6 +170,8 @@ fn step_pipelines(plan: &FramePlan, pass_index: usize) -> Vec<PipelineDesc> {
                 Step::Output(output) => output_pipeline(&ctx, output, plan.foveation.as_ref()),
                 Step::RadialMask { .. } => radial_mask_pipeline(&ctx, radial()),
                 Step::Reconstruct => reconstruct_pipeline(&ctx, radial()),
+                Step::Accumulate => accumulate_pipeline(&ctx),
+                Step::StoreHistory => store_history_pipeline(&ctx),
             }
         })
         .collect()
@@ -304,9 +307,21 @@ fn add_technique_steps(
         (None, TargetLayout::SideBySide) => Some(OutputSource::SideBySide),
     };
     if let Some(source) = source {
-        let images: Vec<AttachmentId> = (0..attachments.len())
+        let mut images: Vec<AttachmentId> = (0..attachments.len())
             .filter(|&i| attachments[i].read_after_frame)
             .collect();
+        // The output stage's periphery is the accumulated one; in the one-pass layout the
+        // fovea stays in layers 2 and 3 of the views' image.
+        let accumulation = foveation
+            .and_then(|f| f.temporal)
+            .and_then(|_| add_accumulation(passes, attachments, eye_resolution));
+        if let Some(a) = &accumulation {
+            if images.len() == 1 {
+                images.insert(0, a.accumulated);
+            } else {
+                images[0] = a.accumulated;
+            }
+        }
         passes.push(output_pass(
             images,
             source,
@@ -314,6 +329,7 @@ fn add_technique_steps(
             eye_resolution,
             attachments,
         ));
+        passes.extend(accumulation.map(|a| a.store));
     }
 }
 
@@ -467,7 +483,7 @@ fn draw_calls_estimate(scene: &Scene, plan: &FramePlan) -> u64 {
         .iter()
         .map(|p| {
             let scene_draws = match p.submission {
-                _ if matches!(p.kind, PassKind::Output | PassKind::Reconstruct) => 1,
+                _ if p.kind.is_full_view() => 1,
                 Submission::PerObject => 2 * scene.instance_count() as u64,
                 _ => meshes,
             };

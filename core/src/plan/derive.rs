@@ -6,8 +6,8 @@ use super::ops::{is_transient, Access, AttachmentId, ClearValue, Layout, LoadOp,
 use super::steps::assign_stencil_states;
 
 /// Fills in every use's store op and every attachment's transient flag from declared intent:
-/// a use stores only if a later pass keeps its contents or the frame's reader needs them and no
-/// later pass replaces them first.
+/// a use stores only if a later pass keeps its contents, the frame's reader or the next frame
+/// needs them, and no later pass replaces them first.
 pub(super) fn derive_ops(plan: &mut FramePlan) {
     let all_uses: Vec<(usize, Use)> = plan
         .passes
@@ -24,6 +24,8 @@ pub(super) fn derive_ops(plan: &mut FramePlan) {
                 .collect()
         })
         .collect();
+    // What the next frame samples before writing it (a history): its last writer stores it.
+    let next_frame = plan.sampled_before_written();
     for (i, pass) in plan.passes.iter_mut().enumerate() {
         let sky = if pass.kind == PassKind::FarField {
             [SKY[0], SKY[1], SKY[2], 0.0]
@@ -41,7 +43,9 @@ pub(super) fn derive_ops(plan: &mut FramePlan) {
                     Access::Keep => {}
                 }
             }
-            kept_later |= sampled_after[i].contains(&u.attachment);
+            let sampled_next_frame = next_frame.contains(&u.attachment) && !replaced_later;
+            let sampled_later = sampled_after[i].contains(&u.attachment) || sampled_next_frame;
+            kept_later |= sampled_later;
             let read_by_frame_reader =
                 plan.attachments[u.attachment].read_after_frame && !replaced_later;
             u.load = LoadOp::from_access(u.access);
@@ -52,13 +56,8 @@ pub(super) fn derive_ops(plan: &mut FramePlan) {
             } else {
                 Layout::ColorAttachment
             };
-            (u.initial_layout, u.final_layout) = Layout::around(
-                working,
-                u.load,
-                u.store,
-                a.read_after_frame,
-                sampled_after[i].contains(&u.attachment),
-            );
+            (u.initial_layout, u.final_layout) =
+                Layout::around(working, u.load, u.store, a.read_after_frame, sampled_later);
             // Reverse-Z: depth clears to the far plane, 0.
             u.clear = (u.load == LoadOp::Clear).then_some(if a.format.is_depth() {
                 ClearValue::DepthStencil {

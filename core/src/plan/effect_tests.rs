@@ -364,3 +364,82 @@ fn periphery_density_and_samples_give_each_view_pair_its_images() {
     let coupled = |density| planned(&split(density, None, FoveaLayout::TwoPass)).attachments;
     assert_eq!(coupled(Some(0.5)), coupled(None));
 }
+
+/// Temporal accumulation adds its two passes and two history-sized images only when asked:
+/// accumulate before the output stage (reading the periphery's colour, the history and the
+/// periphery's depth), store history after it; the history is stored for the next frame and
+/// ends ready to be sampled, and the output stage samples the accumulated periphery. Without it
+/// the plan is the same as it always was. Mutations: planning the passes unconditionally, or
+/// leaving the history's store op to the in-frame rule (DONT_CARE), fail it.
+#[test]
+fn temporal_accumulation_plans_its_passes_only_when_asked() {
+    let with = |temporal: Option<crate::foveation::TemporalConfig>, msaa| RenderConfig {
+        foveation: foveated(true)
+            .foveation
+            .map(|f| crate::foveation::FoveationConfig {
+                periphery_density: Some(0.25),
+                periphery_msaa: Some(msaa),
+                periphery_temporal: temporal,
+                ..f
+            }),
+        fovea_layout: FoveaLayout::Auto,
+        ..foveated(true)
+    };
+    let off = planned(&with(None, 1));
+    let temporal_kinds = [PassKind::Accumulate, PassKind::StoreHistory];
+    assert!(off.passes.iter().all(|p| !temporal_kinds.contains(&p.kind)));
+    assert!(off.attachments.iter().all(|a| a.format != Format::Rgba16F));
+    assert!(off.sampled_before_written().is_empty());
+
+    let on = planned(&with(Some(Default::default()), 1));
+    let kinds: Vec<PassKind> = on.passes.iter().map(|p| p.kind).collect();
+    assert_eq!(
+        kinds,
+        [
+            PassKind::Scene,
+            PassKind::Scene,
+            PassKind::Accumulate,
+            PassKind::Output,
+            PassKind::StoreHistory
+        ]
+    );
+    let (periphery, accumulate, output, store) =
+        (&on.passes[0], &on.passes[2], &on.passes[3], &on.passes[4]);
+    let history = store.color.attachment;
+    let depth = periphery.depth.unwrap();
+    assert_eq!(
+        accumulate.samples,
+        [periphery.color.attachment, history, depth.attachment]
+    );
+    assert_eq!(output.samples[0], accumulate.color.attachment);
+    assert_eq!(store.samples, [accumulate.color.attachment]);
+    assert_eq!(on.sampled_before_written(), [history]);
+    assert_eq!(
+        (store.color.store, store.color.final_layout),
+        (StoreOp::Store, Layout::ShaderReadOnly),
+        "kept for the next frame's accumulate pass"
+    );
+    assert_eq!(
+        (depth.store, depth.final_layout),
+        (StoreOp::Store, Layout::ShaderReadOnly)
+    );
+    for id in [history, accumulate.color.attachment] {
+        let a = &on.attachments[id];
+        assert_eq!(
+            (a.format, a.width, a.layers, a.transient),
+            (Format::Rgba16F, 512, 2, false),
+            "{}: the screen's density",
+            a.name
+        );
+    }
+    // The history is touched by the store pass last and the accumulate pass first: each waits
+    // on the other across the frame boundary.
+    assert!(accumulate
+        .barriers
+        .wait
+        .iter()
+        .any(|b| b.attachment == history && b.from == Touch::ColourAttachment));
+
+    let e = plan_err(&with(Some(Default::default()), 4));
+    assert_eq!(e.field, "periphery_msaa");
+}

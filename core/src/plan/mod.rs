@@ -20,6 +20,7 @@ mod probe;
 mod radial_density;
 mod steps;
 mod stereo_scene;
+mod temporal;
 mod validate;
 
 pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};

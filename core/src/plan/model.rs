@@ -14,6 +14,9 @@ use crate::view::{Eye, EyeParams, FovTangents, HmdProfile, LensRegion, RadialDis
 pub enum Format {
     /// Colour: 8-bit sRGB, so MSAA resolves and blending happen in linear light.
     Rgba8Srgb,
+    /// Colour in linear half floats: a temporal history, whose small steps 8 bits would lose
+    /// (and whose alpha holds each pixel's depth).
+    Rgba16F,
     /// Reverse-Z depth without stencil.
     D32,
     /// Reverse-Z depth with stencil, only when an effect writes stencil masks.
@@ -24,6 +27,7 @@ impl Format {
     pub fn bytes_per_pixel(self) -> u64 {
         match self {
             Format::Rgba8Srgb | Format::D32 => 4,
+            Format::Rgba16F => 8,
             // D32_SFLOAT_S8_UINT is commonly stored as 4 + 1 bytes (plus padding).
             Format::D32S8 => 5,
         }
@@ -145,6 +149,23 @@ pub enum PassKind {
     FarField,
     /// Radial density masking: the skipped quads filled from their neighbours.
     Reconstruct,
+    /// Temporal accumulation: this frame's jittered periphery gathered into the history.
+    Accumulate,
+    /// Temporal accumulation: the accumulated periphery kept as the next frame's history.
+    StoreHistory,
+}
+
+impl PassKind {
+    /// A pass of one full-view draw per eye sampling earlier images (not the scene).
+    pub fn is_full_view(self) -> bool {
+        matches!(
+            self,
+            PassKind::Output
+                | PassKind::Reconstruct
+                | PassKind::Accumulate
+                | PassKind::StoreHistory
+        )
+    }
 }
 
 /// One render pass of the frame.
@@ -473,10 +494,28 @@ impl FramePlan {
     /// How the frame's output holds the two eyes: one layer each after an output or
     /// reconstruction pass, else as the scene passes wrote them.
     pub fn output_layout(&self) -> TargetLayout {
-        match self.passes.last().map(|p| p.kind) {
-            Some(PassKind::Output | PassKind::Reconstruct) => TargetLayout::Layered,
-            _ => self.layout,
+        let full_view = |p: &PassPlan| matches!(p.kind, PassKind::Output | PassKind::Reconstruct);
+        if self.passes.iter().any(full_view) {
+            TargetLayout::Layered
+        } else {
+            self.layout
         }
+    }
+
+    /// Attachments a pass samples before any pass of the frame writes them: what the previous
+    /// frame left (a temporal history). The renderer makes them sampleable before the first
+    /// frame.
+    pub fn sampled_before_written(&self) -> Vec<AttachmentId> {
+        (0..self.attachments.len())
+            .filter(|&id| {
+                let first_sampled = self.passes.iter().position(|p| p.samples.contains(&id));
+                let first_written = self
+                    .passes
+                    .iter()
+                    .position(|p| p.uses().any(|u| u.attachment == id));
+                matches!((first_sampled, first_written), (Some(s), w) if w.is_none_or(|w| s < w))
+            })
+            .collect()
     }
 
     /// The attachments read after the frame, in eye order: the stereo image.

@@ -47,10 +47,7 @@ pub(super) fn sampling_pass(
     kind: PassKind,
     step: Step,
 ) -> PassPlan {
-    for &s in &sources {
-        attachments[s].read_after_frame = false;
-    }
-    attachments.push(AttachmentPlan {
+    let target = AttachmentPlan {
         name: "stereo colour",
         role: AttachmentRole::Color,
         format: Format::Rgba8Srgb,
@@ -61,7 +58,31 @@ pub(super) fn sampling_pass(
         read_after_frame: true,
         sampled: false,
         transient: false,
-    });
+    };
+    attachments.push(target);
+    full_view_pass(
+        sources,
+        attachments.len() - 1,
+        attachments,
+        name,
+        kind,
+        step,
+    )
+}
+
+/// A full-view pass per eye (multiview) that samples `sources` — which are then stored for it,
+/// not read after the frame — and overwrites both layers of `target`.
+pub(super) fn full_view_pass(
+    sources: Vec<AttachmentId>,
+    target: AttachmentId,
+    attachments: &mut [AttachmentPlan],
+    name: &'static str,
+    kind: PassKind,
+    step: Step,
+) -> PassPlan {
+    for &s in &sources {
+        attachments[s].read_after_frame = false;
+    }
     PassPlan {
         samples: sources,
         steps: vec![step],
@@ -70,7 +91,7 @@ pub(super) fn sampling_pass(
             kind,
             0b11,
             Submission::Multiview,
-            Use::new(attachments.len() - 1, 0, 2, Access::Overwrite),
+            Use::new(target, 0, 2, Access::Overwrite),
         )
     }
 }

@@ -71,6 +71,27 @@ fn configurations() -> Vec<(Scene, RenderConfig)> {
         foveated(FoveaLayout::OnePass, false),
         foveated(FoveaLayout::OnePass, true),
         foveated(FoveaLayout::TwoPass, true),
+        // Temporal accumulation, in both layouts, timed and counted.
+        RenderConfig {
+            msaa: 1,
+            foveation: foveated(FoveaLayout::OnePass, false)
+                .foveation
+                .map(|f| FoveationConfig {
+                    periphery_temporal: Some(Default::default()),
+                    ..f
+                }),
+            ..foveated(FoveaLayout::OnePass, false)
+        },
+        RenderConfig {
+            msaa: 1,
+            foveation: foveated(FoveaLayout::TwoPass, true)
+                .foveation
+                .map(|f| FoveationConfig {
+                    periphery_temporal: Some(Default::default()),
+                    ..f
+                }),
+            ..foveated(FoveaLayout::TwoPass, true)
+        },
         RenderConfig {
             radial_density: Some(RadialDensity::default()),
             count_fragments: true,

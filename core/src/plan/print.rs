@@ -1,6 +1,6 @@
 use std::fmt;
 
-use super::model::{FramePlan, PassKind, PassPlan, Submission, TargetLayout};
+use super::model::{FramePlan, PassPlan, Submission, TargetLayout};
 use super::steps::{DrawSet, Step};
 use crate::mffr::MffrOrder;
 
@@ -208,7 +208,7 @@ impl FramePlan {
     /// A pass: its views and submission, what it samples, its steps and their pipelines.
     fn write_pass(&self, f: &mut fmt::Formatter<'_>, p: &PassPlan) -> fmt::Result {
         let submission = match p.submission {
-            _ if matches!(p.kind, PassKind::Output | PassKind::Reconstruct) => {
+            _ if p.kind.is_full_view() => {
                 "a full-view triangle per eye, sampling the views".to_string()
             }
             Submission::Multiview => "scene once, broadcast by multiview".to_string(),
@@ -306,7 +306,16 @@ impl FramePlan {
                         )?;
                     }
                 }
-                Step::Output(_) | Step::Reconstruct => {}
+                Step::Accumulate => {
+                    if let Some(t) = self.foveation.and_then(|f| f.temporal) {
+                        writeln!(
+                            f,
+                            "    periphery jittered over a {}-frame Halton cycle, blended into the history reprojected by depth (new sample weight {}), clamped to its neighbourhood; reset on disocclusion, where the fovea covered it, and at cuts (> {} m, > {}°)",
+                            t.jitter_cycle, t.blend, t.cut_distance_m, t.cut_angle_deg
+                        )?;
+                    }
+                }
+                Step::Output(_) | Step::Reconstruct | Step::StoreHistory => {}
             }
         }
         Ok(())

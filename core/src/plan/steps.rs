@@ -43,6 +43,9 @@ pub enum CountedStep {
     /// Radial density masking's mask (a full-view draw) and its reconstruction.
     RadialMask,
     Reconstruct,
+    /// Temporal accumulation of the periphery, and the copy that keeps its history.
+    Accumulate,
+    StoreHistory,
 }
 
 impl CountedStep {
@@ -55,6 +58,8 @@ impl CountedStep {
             CountedStep::Output => "output",
             CountedStep::RadialMask => "radial mask",
             CountedStep::Reconstruct => "reconstruct",
+            CountedStep::Accumulate => "accumulate",
+            CountedStep::StoreHistory => "store history",
         }
     }
 }
@@ -115,6 +120,11 @@ pub enum Step {
     /// The output stage: a full-view draw per eye sampling what the frame rendered, composing a
     /// foveated frame's views and, for the lens, pre-distorting.
     Output(OutputStep),
+    /// Temporal accumulation: a full-view draw per eye gathering the jittered periphery into
+    /// the reprojected history, at the screen's density.
+    Accumulate,
+    /// A full-view draw per eye copying the accumulated periphery into the next frame's history.
+    StoreHistory,
 }
 
 /// What the output stage does.
@@ -173,6 +183,8 @@ impl Step {
             Step::Output(_) => CountedStep::Output,
             Step::RadialMask { .. } => CountedStep::RadialMask,
             Step::Reconstruct => CountedStep::Reconstruct,
+            Step::Accumulate => CountedStep::Accumulate,
+            Step::StoreHistory => CountedStep::StoreHistory,
         }
     }
 
@@ -182,7 +194,7 @@ impl Step {
             Step::FarComposite { stencil }
             | Step::Scene { stencil, .. }
             | Step::Probe { stencil } => stencil,
-            Step::Output(_) | Step::Reconstruct => None,
+            Step::Output(_) | Step::Reconstruct | Step::Accumulate | Step::StoreHistory => None,
         }
     }
 }
@@ -266,7 +278,7 @@ pub(crate) fn assign_stencil_states(steps: &mut [Step]) {
                     )
                 })
             }
-            Step::Output(_) | Step::Reconstruct => {}
+            Step::Output(_) | Step::Reconstruct | Step::Accumulate | Step::StoreHistory => {}
         }
     }
 }
@@ -316,6 +328,8 @@ impl fmt::Display for Step {
             ),
             Step::RadialMask { .. } => "radial mask".to_string(),
             Step::Reconstruct => "reconstruct".to_string(),
+            Step::Accumulate => "accumulate".to_string(),
+            Step::StoreHistory => "store history".to_string(),
         };
         match self.stencil() {
             Some(s) => write!(f, "{name} [{s}]"),

@@ -161,6 +161,27 @@ pub(super) fn validate_view_sets(
             ),
         ));
     }
+    if foveation.temporal.is_some() {
+        // The history reprojects each periphery pixel by its depth, read from the single-sample
+        // depth image; the jitter is the periphery's antialiasing.
+        let samples = foveation.periphery_samples(config.msaa);
+        if samples != 1 {
+            return Err(ConfigError::new(
+                "periphery_msaa",
+                samples,
+                "1 with temporal accumulation (its jitter antialiases the periphery, and its \
+                 reprojection reads single-sample depth)",
+            ));
+        }
+        if config.mffr.is_some() {
+            return Err(ConfigError::new(
+                "mffr",
+                "on",
+                "off with temporal accumulation (the far field leaves the periphery no depth to \
+                 reproject)",
+            ));
+        }
+    }
     Ok(())
 }
 

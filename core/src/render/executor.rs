@@ -15,10 +15,13 @@ pub(super) struct FrameInput<'a> {
     pub fovea: Option<&'a [FovTangents; 2]>,
     /// Every view of the frame, the MFFR far view included.
     pub views: &'a FrameViews,
+    /// The periphery views' sub-pixel offset this frame (periphery pixels, x right, y down),
+    /// when temporal accumulation jitters them.
+    pub jitter: Option<glam::Vec2>,
 }
 
-/// One technique's per-frame work. None keeps state across frames yet; one that does (a
-/// temporal history) owns it here and says in `update` when it resets.
+/// One technique's per-frame work. One that keeps state across frames (the periphery's
+/// temporal history) owns it and says in `update` when it resets.
 pub(super) trait Executor {
     /// Writes this frame's uniforms.
     fn update(&mut self, frame: &FrameInput);

@@ -23,6 +23,7 @@ mod scene_buffers;
 mod stats;
 mod stereo_scene;
 mod targets;
+mod temporal;
 mod views;
 mod vulkan_recorder;
 

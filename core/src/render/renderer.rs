@@ -18,6 +18,7 @@ use super::recorder::FrameDraws;
 use super::scene_buffers::SceneBuffers;
 use super::stats::{FrameStats, PassStatistics, StepFragments, PASS_STATISTICS};
 use super::targets::{compile_pass, create_images, CompiledPass};
+use super::temporal::{TemporalAccumulation, TemporalImages};
 use super::views::{FrameViews, ViewsBlock};
 use super::vulkan_recorder::{BoundStep, FrameObjects, VulkanRecorder};
 use crate::foveation::fovea_views;
@@ -113,6 +114,7 @@ impl<'g> Renderer<'g> {
             materials.as_ref(),
         )?;
         let images = create_images(gpu, plan)?;
+        make_sampleable(gpu, plan, &images)?;
         let mut executors = sampling_executors(gpu, plan, &images, counter.as_ref())?;
         executors.extend(masks.map(|m| Box::new(m) as Box<dyn Executor>));
         let sets = |step: &Step| executors.iter().find_map(|e| e.descriptors(step));
@@ -186,11 +188,23 @@ impl<'g> Renderer<'g> {
         let far = plan
             .mffr
             .map(|m| FarView::new(&m, &plan.eyes, world_from_head, self.frames_rendered));
-        let views = FrameViews::new(plan, world_from_head, fovea.as_ref(), far, self.light_dir);
+        let jitter = plan
+            .foveation
+            .and_then(|g| g.temporal)
+            .map(|t| t.jitter(self.frames_rendered));
+        let views = FrameViews::new(
+            plan,
+            world_from_head,
+            fovea.as_ref(),
+            far,
+            self.light_dir,
+            jitter,
+        );
         let input = FrameInput {
             plan,
             fovea: fovea.as_ref(),
             views: &views,
+            jitter,
         };
         for executor in &mut self.executors {
             executor.update(&input);
@@ -385,6 +399,24 @@ fn sampling_executors(
         let second = &images[p.samples[p.samples.len() - 1]];
         executors.push(Box::new(OutputStage::new(gpu, &[first, second], counter)?));
     }
+    let accumulate = plan.passes.iter().find(|p| p.kind == PassKind::Accumulate);
+    let store = plan
+        .passes
+        .iter()
+        .find(|p| p.kind == PassKind::StoreHistory);
+    if let (Some(a), Some(s), Some(t)) =
+        (accumulate, store, plan.foveation.and_then(|f| f.temporal))
+    {
+        let images = TemporalImages {
+            periphery: &images[a.samples[0]],
+            history: &images[a.samples[1]],
+            periphery_depth: &images[a.samples[2]],
+            accumulated: &images[s.samples[0]],
+        };
+        executors.push(Box::new(TemporalAccumulation::new(
+            gpu, t, images, counter,
+        )?));
+    }
     if let Some(p) = plan.far_pass() {
         let far_image = &images[p.resolve.unwrap_or(p.color).attachment];
         executors.push(Box::new(FarComposite::new(gpu, far_image, counter)?));
@@ -398,6 +430,92 @@ fn sampling_executors(
         executors.push(Box::new(Reconstruction::new(gpu, views, counter)?));
     }
     Ok(executors)
+}
+
+/// Images a frame samples before writing them (a history the previous frame leaves) start
+/// cleared to zero — a history with nothing in it — and in the layout sampling expects.
+fn make_sampleable(gpu: &Gpu, plan: &FramePlan, images: &[Image]) -> Result<(), GpuError> {
+    let ids = plan.sampled_before_written();
+    if ids.is_empty() {
+        return Ok(());
+    }
+    let barrier = |image: &Image, from, to, src, dst| {
+        vk::ImageMemoryBarrier::default()
+            .old_layout(from)
+            .new_layout(to)
+            .src_access_mask(src)
+            .dst_access_mask(dst)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(image.raw)
+            .subresource_range(image.range(0, image.layers))
+    };
+    let device = gpu.device();
+    gpu.one_shot(|cmd| {
+        let to_clear: Vec<_> = ids
+            .iter()
+            .map(|&id| {
+                let (from, to) = (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                );
+                barrier(
+                    &images[id],
+                    from,
+                    to,
+                    vk::AccessFlags::empty(),
+                    vk::AccessFlags::TRANSFER_WRITE,
+                )
+            })
+            .collect();
+        let to_sample: Vec<_> = ids
+            .iter()
+            .map(|&id| {
+                let (from, to) = (
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                );
+                barrier(
+                    &images[id],
+                    from,
+                    to,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                    vk::AccessFlags::SHADER_READ,
+                )
+            })
+            .collect();
+        // SAFETY: the images are alive and idle; recorded into the one-shot buffer.
+        unsafe {
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TOP_OF_PIPE,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &to_clear,
+            );
+            for &id in &ids {
+                let image = &images[id];
+                device.cmd_clear_color_image(
+                    cmd,
+                    image.raw,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &vk::ClearColorValue::default(),
+                    &[image.range(0, image.layers)],
+                );
+            }
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::FRAGMENT_SHADER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &to_sample,
+            );
+        }
+    })
 }
 
 /// The scene must be the one the plan was made for (its buffers are sized for it).

@@ -10,14 +10,15 @@ use crate::gpu::{Buffer, Gpu, GpuError, Image, ImageView, MemoryLocation, Sample
 pub(crate) struct SampledSet {
     /// The set, its layout and the pipeline layout around it.
     pub descriptors: DescriptorSet,
-    _sampler: Sampler,
+    _samplers: Vec<Sampler>,
     _views: Vec<ImageView>,
     pub uniforms: Buffer,
 }
 
 impl SampledSet {
     /// Binding 0: `images[0]` (every layer: an array view when it has more than one, or when
-    /// `arrays` asks for one), binding 3: `images[1]` when there is a second; binding 1: a
+    /// `arrays` asks for one; a depth image's depth), binding 3: `images[1]` when there is a
+    /// second, binding 4: `images[2]` when there is a third; binding 1: a
     /// uniform block of `uniform_bytes`; binding 2, in counting frames only, the fragment
     /// counter; `push_bytes` of fragment push constants (0 for none).
     pub fn new(
@@ -28,22 +29,35 @@ impl SampledSet {
         push_bytes: u32,
         counter: Option<&Buffer>,
     ) -> Result<Self, GpuError> {
-        let sampler_info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::LINEAR)
-            .min_filter(vk::Filter::LINEAR)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .max_lod(0.0);
-        // SAFETY: plain object creation; the sampler is owned by the returned value.
-        let sampler = Sampler::from_raw(
-            &gpu.dev,
-            unsafe { gpu.device().create_sampler(&sampler_info, None) }.vk("vkCreateSampler")?,
-        );
+        // Depth is read texel by texel: its formats need not filter linearly.
+        let sampler = |filter| {
+            let info = vk::SamplerCreateInfo::default()
+                .mag_filter(filter)
+                .min_filter(filter)
+                .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+                .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .max_lod(0.0);
+            // SAFETY: plain object creation; the sampler is owned by the returned value.
+            unsafe { gpu.device().create_sampler(&info, None) }
+                .vk("vkCreateSampler")
+                .map(|raw| Sampler::from_raw(&gpu.dev, raw))
+        };
+        let is_depth = |image: &Image| image.aspect.contains(vk::ImageAspectFlags::DEPTH);
+        let samplers = images
+            .iter()
+            .map(|&image| {
+                sampler(if is_depth(image) {
+                    vk::Filter::NEAREST
+                } else {
+                    vk::Filter::LINEAR
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let views = images
             .iter()
-            .map(|image| image.view(0, image.layers, arrays || image.layers > 1))
+            .map(|image| image.sampled_view(0, image.layers, arrays || image.layers > 1))
             .collect::<Result<Vec<_>, _>>()?;
         let uniforms = Buffer::new(
             gpu,
@@ -59,15 +73,13 @@ impl SampledSet {
             resource,
         };
         let mut bindings = vec![
-            binding(0, Resource::Sampled(&views[0], sampler.raw)),
+            binding(0, Resource::Sampled(&views[0], samplers[0].raw)),
             binding(1, Resource::Uniform(&uniforms)),
         ];
         bindings.extend(counter.map(|c| binding(2, Resource::Storage(c))));
-        bindings.extend(
-            views
-                .get(1)
-                .map(|v| binding(3, Resource::Sampled(v, sampler.raw))),
-        );
+        for (b, (view, sampler)) in [3, 4].into_iter().zip(views.iter().zip(&samplers).skip(1)) {
+            bindings.push(binding(b, Resource::Sampled(view, sampler.raw)));
+        }
         let push = (push_bytes > 0).then_some(vk::PushConstantRange {
             stage_flags: fragment,
             offset: 0,
@@ -76,7 +88,7 @@ impl SampledSet {
         let descriptors = DescriptorSet::new(gpu, &bindings, push)?;
         Ok(SampledSet {
             descriptors,
-            _sampler: sampler,
+            _samplers: samplers,
             _views: views,
             uniforms,
         })

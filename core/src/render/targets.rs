@@ -15,6 +15,7 @@ use crate::plan::{
 pub(crate) fn vk_format(format: Format) -> vk::Format {
     match format {
         Format::Rgba8Srgb => vk::Format::R8G8B8A8_SRGB,
+        Format::Rgba16F => vk::Format::R16G16B16A16_SFLOAT,
         Format::D32 => vk::Format::D32_SFLOAT,
         Format::D32S8 => vk::Format::D32_SFLOAT_S8_UINT,
     }
@@ -40,9 +41,17 @@ fn usage(a: &AttachmentPlan) -> vk::ImageUsageFlags {
 
 /// One image per planned attachment.
 pub(crate) fn create_images(gpu: &Gpu, plan: &FramePlan) -> Result<Vec<Image>, GpuError> {
+    // A history the first frame samples before any pass wrote it is cleared once at creation.
+    let cleared_once = plan.sampled_before_written();
     plan.attachments
         .iter()
-        .map(|a| {
+        .enumerate()
+        .map(|(id, a)| {
+            let cleared = if cleared_once.contains(&id) {
+                vk::ImageUsageFlags::TRANSFER_DST
+            } else {
+                vk::ImageUsageFlags::empty()
+            };
             Image::new(
                 gpu,
                 &ImageDesc {
@@ -53,7 +62,7 @@ pub(crate) fn create_images(gpu: &Gpu, plan: &FramePlan) -> Result<Vec<Image>, G
                     layers: a.layers,
                     samples: a.samples,
                     mip_levels: 1,
-                    usage: usage(a),
+                    usage: usage(a) | cleared,
                 },
             )
         })

@@ -1,7 +1,7 @@
 //! A frame's views as the shaders see them (`Views`, binding 0): the eyes, the fovea windows
 //! around the gaze, and the MFFR far view, with what lit shading needs of each.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::far_view::FarView;
 use crate::mffr::FAR_VIEW_INDEX;
@@ -54,6 +54,7 @@ impl FrameViews {
         fovea: Option<&[FovTangents; 2]>,
         far: Option<FarView>,
         light_dir: Vec3,
+        jitter: Option<Vec2>,
     ) -> Self {
         let world_from_eye = Eye::BOTH.map(|e| world_from_head * plan.eyes.head_from_eye(e));
         let mut views: Vec<(Mat4, FovTangents)> = Eye::BOTH
@@ -70,6 +71,13 @@ impl FrameViews {
             Some(f) if i < 2 => f.periphery_view,
             Some(f) => f.fovea_view,
         };
+        // Texture detail is chosen for the pixels the image ends in: an accumulated periphery
+        // gathers the screen's density over frames, so its textures are sampled at that
+        // density (the negative mip bias of temporal upsampling), not the view's.
+        let texture_pixels = |i: usize| match plan.foveation {
+            Some(f) if i < 2 && f.temporal.is_some() => plan.eye_resolution,
+            _ => view_pixels(i),
+        };
         let mut block = ViewsBlock {
             view_proj: [Mat4::IDENTITY; SLOTS],
             light_dir: light_dir.extend(far.as_ref().map_or(0.0, |f| f.near)),
@@ -83,10 +91,21 @@ impl FrameViews {
             (block.ray_dx[i], block.ray_dy[i]) = ray_steps(world_from_view, fov, pixels);
         };
         for (i, &(world_from_view, fov)) in views.iter().enumerate() {
-            let view_proj =
-                reverse_z_projection(fov, plan.near, eye_far) * world_from_view.inverse();
             let pixels = (view_pixels(i).width, view_pixels(i).height);
-            set(i, world_from_view, view_proj, fov, pixels);
+            let texels = (texture_pixels(i).width, texture_pixels(i).height);
+            let projection = reverse_z_projection(fov, plan.near, eye_far);
+            // Temporal accumulation shifts the periphery views (0, 1) by the frame's jitter: a
+            // clip-space translation scaled by w moves the image by that many pixels (NDC y
+            // points down, as pixel rows do).
+            let projection = match jitter {
+                Some(j) if i < 2 => {
+                    let ndc = 2.0 * j / Vec2::new(pixels.0 as f32, pixels.1 as f32);
+                    Mat4::from_translation(ndc.extend(0.0)) * projection
+                }
+                _ => projection,
+            };
+            let view_proj = projection * world_from_view.inverse();
+            set(i, world_from_view, view_proj, fov, texels);
         }
         if let Some(f) = &far {
             let pixels = (f.resolution.width, f.resolution.height);

@@ -1,0 +1,168 @@
+//! Temporal accumulation of the periphery (seed 001 §3.6; the technique of TAA and its
+//! upsampling variants: Yang, Nehab & Sander 2009, "Amortized supersampling"; Karis 2014,
+//! "High quality temporal supersampling"): each frame the periphery views are shifted by a
+//! sub-pixel offset from a Halton sequence, and the output pass's periphery comes from a history
+//! at the screen's density that gathers those samples over frames. The pure part lives here: the
+//! jitter sequence, its settings, and when a head movement is a cut that drops the history.
+
+use glam::{Mat4, Vec2};
+
+use crate::vocab::ConfigError;
+
+/// What a user chooses about the periphery's temporal accumulation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TemporalConfig {
+    /// The weight a fully trusted new sample gets against the history (an exponential moving
+    /// average: about `2 / blend − 1` frames remembered). 1 keeps no history.
+    pub blend: f32,
+    /// Frames in the jitter cycle (Halton 2, 3); 1 renders every frame at the pixel centres.
+    pub jitter_cycle: u32,
+    /// A head that moves farther than this between frames (metres) is a cut: the history is
+    /// dropped instead of reprojected.
+    pub cut_distance_m: f32,
+    /// Likewise for a head that turns more than this between frames (degrees).
+    pub cut_angle_deg: f32,
+}
+
+impl Default for TemporalConfig {
+    fn default() -> Self {
+        TemporalConfig {
+            blend: 0.125,
+            jitter_cycle: 8,
+            // A head moves ≈ 2 m/s and turns ≈ 300°/s at most: 90 Hz frames stay well inside.
+            cut_distance_m: 0.5,
+            cut_angle_deg: 30.0,
+        }
+    }
+}
+
+impl TemporalConfig {
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if !(self.blend > 0.0 && self.blend <= 1.0) {
+            return Err(ConfigError::new(
+                "temporal_blend",
+                self.blend,
+                "0 < blend ≤ 1",
+            ));
+        }
+        if !(1..=256).contains(&self.jitter_cycle) {
+            return Err(ConfigError::new(
+                "jitter_cycle",
+                self.jitter_cycle,
+                "1..=256 frames",
+            ));
+        }
+        // Infinity is allowed: it turns cut detection off.
+        for (field, value) in [
+            ("cut_distance_m", self.cut_distance_m),
+            ("cut_angle_deg", self.cut_angle_deg),
+        ] {
+            if value.is_nan() || value <= 0.0 {
+                return Err(ConfigError::new(field, value, "> 0 (infinity: never)"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Frame `frame`'s sub-pixel offset of the periphery views, in periphery pixels (x right,
+    /// y down), each axis in (−½, ½): the Halton (2, 3) point of the frame's place in the cycle.
+    pub fn jitter(&self, frame: u64) -> Vec2 {
+        if self.jitter_cycle == 1 {
+            return Vec2::ZERO;
+        }
+        // Index 0 of Halton is (0, 0): start at 1 so every point of the cycle is interior.
+        let i = frame % self.jitter_cycle as u64 + 1;
+        Vec2::new(halton(i, 2) - 0.5, halton(i, 3) - 0.5)
+    }
+
+    /// Whether the head's move from `previous` to `current` (world from eye) is a cut.
+    pub fn is_cut(&self, previous: Mat4, current: Mat4) -> bool {
+        let moved = (current.w_axis - previous.w_axis).truncate().length();
+        let forward = |m: Mat4| m.z_axis.truncate().normalize_or_zero();
+        let turned = forward(previous)
+            .dot(forward(current))
+            .clamp(-1.0, 1.0)
+            .acos()
+            .to_degrees();
+        moved > self.cut_distance_m || turned > self.cut_angle_deg
+    }
+}
+
+/// The radical inverse of `index` in `base`: the Halton sequence's coordinate.
+pub fn halton(mut index: u64, base: u64) -> f32 {
+    let (mut result, mut scale) = (0.0f64, 1.0f64);
+    while index > 0 {
+        scale /= base as f64;
+        result += scale * (index % base) as f64;
+        index /= base;
+    }
+    result as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// Halton's first points, from its definition (digits mirrored about the point).
+    #[test]
+    fn halton_matches_its_definition() {
+        let base2 = [0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875];
+        let base3 = [1.0 / 3.0, 2.0 / 3.0, 1.0 / 9.0, 4.0 / 9.0, 7.0 / 9.0];
+        for (i, &h) in base2.iter().enumerate() {
+            assert_eq!(halton(i as u64 + 1, 2), h);
+        }
+        for (i, &h) in base3.iter().enumerate() {
+            assert!((halton(i as u64 + 1, 3) - h as f32).abs() < 1e-7);
+        }
+    }
+
+    /// The cycle's offsets are distinct, inside the pixel, and centred: over a cycle their mean
+    /// is within a sixteenth of a pixel of the centre (a biased sequence would shift the image).
+    #[test]
+    fn jitter_covers_the_pixel_around_its_centre() {
+        let t = TemporalConfig::default();
+        let points: Vec<Vec2> = (0..t.jitter_cycle as u64).map(|f| t.jitter(f)).collect();
+        for (i, p) in points.iter().enumerate() {
+            assert!(p.x.abs() < 0.5 && p.y.abs() < 0.5, "{p}");
+            assert!(points[..i].iter().all(|q| q != p), "repeated {p}");
+        }
+        let mean = points.iter().copied().sum::<Vec2>() / points.len() as f32;
+        assert!(mean.length() < 1.0 / 16.0, "mean {mean}");
+        assert_eq!(t.jitter(3), t.jitter(3 + t.jitter_cycle as u64));
+        let still = TemporalConfig {
+            jitter_cycle: 1,
+            ..t
+        };
+        assert_eq!(still.jitter(5), Vec2::ZERO);
+    }
+
+    #[test]
+    fn a_teleport_is_a_cut_and_a_frame_of_walking_is_not() {
+        let t = TemporalConfig::default();
+        let at = |x: f32, yaw_deg: f32| {
+            Mat4::from_translation(Vec3::new(x, 1.6, 0.0))
+                * Mat4::from_rotation_y(yaw_deg.to_radians())
+        };
+        assert!(
+            !t.is_cut(at(0.0, 0.0), at(0.02, 3.0)),
+            "a 90 Hz frame of walking"
+        );
+        assert!(t.is_cut(at(0.0, 0.0), at(3.0, 0.0)), "teleport");
+        assert!(t.is_cut(at(0.0, 0.0), at(0.0, 90.0)), "snap turn");
+        let never = TemporalConfig {
+            cut_distance_m: f32::INFINITY,
+            cut_angle_deg: f32::INFINITY,
+            ..t
+        };
+        assert!(!never.is_cut(at(0.0, 0.0), at(3.0, 90.0)));
+        assert!(TemporalConfig { blend: 0.0, ..t }.validate().is_err());
+        assert!(TemporalConfig {
+            cut_distance_m: f32::NAN,
+            ..t
+        }
+        .validate()
+        .is_err());
+        assert!(never.validate().is_ok());
+    }
+}

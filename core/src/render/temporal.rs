@@ -1,0 +1,124 @@
+//! Temporal accumulation of the periphery in the renderer (builder: `plan/temporal.rs`; maths:
+//! `foveation/temporal.rs`; shaders: `accumulate.frag`, `store_history.frag`): the first
+//! executor with state across frames. It keeps the previous frame's eye poses, from which each
+//! frame it writes the reprojection into the previous frame's clip space, and decides when the
+//! history is dropped whole (the first frame, a cut).
+
+use glam::{Mat4, Vec2, Vec4};
+
+use super::descriptors::DescriptorSet;
+use super::executor::{Executor, FrameInput};
+use super::recorder::{Recorder, Rect};
+use super::sampled_set::SampledSet;
+use crate::foveation::TemporalConfig;
+use crate::gpu::{Buffer, Gpu, GpuError, Image};
+use crate::plan::{PassPlan, Step};
+use crate::view::{reverse_z_projection, Eye, FovTangents};
+
+/// The accumulate pass's uniform block (`Accumulate` in `shaders/accumulate.frag`, std140).
+#[repr(C)]
+#[derive(Clone, Copy)]
+struct AccumulateBlock {
+    previous_from_view: [Mat4; 2],
+    field: [Vec4; 2],
+    fovea: [Vec4; 2],
+    jitter: Vec4,
+    depth: Vec4,
+}
+
+/// The images the accumulation reads and writes, as the plan's passes name them.
+pub(crate) struct TemporalImages<'a> {
+    pub periphery: &'a Image,
+    pub history: &'a Image,
+    pub periphery_depth: &'a Image,
+    pub accumulated: &'a Image,
+}
+
+pub(crate) struct TemporalAccumulation {
+    config: TemporalConfig,
+    accumulate: SampledSet,
+    store: SampledSet,
+    /// Each eye's clip space from world space (unjittered) and the left eye's pose, of the
+    /// frame before; `None` until a frame was rendered.
+    previous: Option<([Mat4; 2], Mat4)>,
+    /// Frames rendered since the history was last dropped whole.
+    pub frames_accumulated: u64,
+}
+
+impl TemporalAccumulation {
+    pub fn new(
+        gpu: &Gpu,
+        config: TemporalConfig,
+        images: TemporalImages,
+        counter: Option<&Buffer>,
+    ) -> Result<Self, GpuError> {
+        let bytes = std::mem::size_of::<AccumulateBlock>() as u64;
+        let sources = [images.periphery, images.history, images.periphery_depth];
+        Ok(TemporalAccumulation {
+            config,
+            accumulate: SampledSet::new(gpu, &sources, true, bytes, 0, counter)?,
+            // The copy reads no uniforms: the smallest block the sampled set allows.
+            store: SampledSet::new(gpu, &[images.accumulated], true, 16, 0, counter)?,
+            previous: None,
+            frames_accumulated: 0,
+        })
+    }
+}
+
+impl Executor for TemporalAccumulation {
+    /// Writes the reprojection from this frame's eyes into the previous frame's clip space, and
+    /// drops the history on the first frame and at a cut.
+    fn update(&mut self, frame: &FrameInput) {
+        let plan = frame.plan;
+        let Some(g) = plan.foveation else { return };
+        let world_from_eye = Eye::BOTH.map(|e| frame.views.views[e.index()].0);
+        let projection =
+            Eye::BOTH.map(|e| reverse_z_projection(plan.eyes.fov(e), plan.near, plan.far));
+        let reset = self
+            .previous
+            .is_none_or(|(_, left)| self.config.is_cut(left, world_from_eye[0]));
+        let previous_clip = self.previous.map_or([Mat4::IDENTITY; 2], |(clip, _)| clip);
+        let tangents = |f: FovTangents| Vec4::from_array(f.as_array());
+        let field = Eye::BOTH.map(|e| tangents(plan.eyes.fov(e)));
+        let jitter = frame.jitter.unwrap_or(Vec2::ZERO);
+        // depth = b / distance − a, from the projection's third row.
+        let (a, b) = (projection[0].z_axis.z, projection[0].w_axis.z);
+        self.frames_accumulated = if reset {
+            1
+        } else {
+            self.frames_accumulated + 1
+        };
+        let block = AccumulateBlock {
+            previous_from_view: Eye::BOTH
+                .map(|e| previous_clip[e.index()] * world_from_eye[e.index()]),
+            field,
+            fovea: frame.fovea.map_or(field, |f| f.map(tangents)),
+            jitter: Vec4::new(jitter.x, jitter.y, self.config.blend, reset as u32 as f32),
+            depth: Vec4::new(
+                a,
+                b,
+                g.fovea_screen_px * 0.5 - g.blend_band_px,
+                1.0 / self.frames_accumulated as f32,
+            ),
+        };
+        self.accumulate.uniforms.write(&[block]);
+        self.previous = Some((
+            Eye::BOTH.map(|e| projection[e.index()] * world_from_eye[e.index()].inverse()),
+            world_from_eye[0],
+        ));
+    }
+
+    fn descriptors(&self, step: &Step) -> Option<&DescriptorSet> {
+        match step {
+            Step::Accumulate => Some(&self.accumulate.descriptors),
+            Step::StoreHistory => Some(&self.store.descriptors),
+            _ => None,
+        }
+    }
+}
+
+/// The accumulate and store-history steps: one full-view triangle per eye each.
+pub(super) fn record_temporal(pass: &PassPlan, area: Rect, rec: &mut dyn Recorder) {
+    rec.set_viewport(area, pass.guard_band);
+    rec.draw(3);
+}

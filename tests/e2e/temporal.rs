@@ -1,0 +1,287 @@
+//! Temporal accumulation of the periphery on the GPU: it converges towards a supersampled
+//! reference on a still frame, and drops its history where it would ghost (where the fovea
+//! covered the periphery before a gaze jump; everywhere after a teleport).
+
+use foveate::foveation::{fovea_centre_px, fovea_views, FoveationConfig, TemporalConfig};
+use foveate::metrics::RgbaImage;
+use foveate::plan::{FoveaLayout, FramePlan, OutputStage, RenderConfig, Resolution, StereoMode};
+use foveate::render::{Renderer, StereoImage};
+use foveate::scene::{atrium_scene, Scene};
+use foveate::view::Eye;
+use foveate_tests::{assert_validation_clean, gpu};
+use glam::{Mat4, Vec2, Vec3};
+
+const SCREEN: u32 = 128;
+
+fn config(screen: u32, temporal: Option<TemporalConfig>) -> RenderConfig {
+    RenderConfig {
+        stereo: StereoMode::Multiview,
+        views: 4,
+        msaa: 1,
+        resolution: Some(Resolution::square(screen)),
+        output: OutputStage::Undistorted,
+        fovea_layout: FoveaLayout::Auto,
+        foveation: Some(FoveationConfig {
+            ratio: 0.35,
+            periphery_density: Some(0.5),
+            periphery_temporal: temporal,
+            ..Default::default()
+        }),
+        ..RenderConfig::default()
+    }
+}
+
+/// Renders `poses` in order (each a head pose and a gaze), reading back after each frame that
+/// `read` asks for.
+fn render_sequence(
+    gpu: &foveate::gpu::Gpu,
+    scene: &Scene,
+    config: &RenderConfig,
+    poses: &[(Mat4, Vec2)],
+    read: impl Fn(usize) -> bool,
+) -> (FramePlan, Vec<StereoImage>) {
+    let plan = foveate::plan(scene, config, gpu.caps()).unwrap();
+    let mut renderer = Renderer::new(gpu, &plan, scene).unwrap();
+    let mut images = Vec::new();
+    for (frame, &(pose, gaze)) in poses.iter().enumerate() {
+        renderer.set_gaze([gaze; 2]);
+        renderer.render_frame(pose).unwrap();
+        if read(frame) {
+            images.push(renderer.readback().unwrap());
+        }
+    }
+    drop(renderer);
+    assert_validation_clean(gpu);
+    (plan, images)
+}
+
+/// Linear light of an 8-bit sRGB level.
+fn linear(v: u8) -> f64 {
+    let c = v as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// `image` averaged over `k`×`k` blocks in linear light: a supersampled reference.
+fn box_down(image: &RgbaImage, k: u32) -> Vec<[f64; 3]> {
+    let (w, h) = (image.width / k, image.height / k);
+    let mut out = vec![[0.0; 3]; (w * h) as usize];
+    for y in 0..h {
+        for x in 0..w {
+            let sum = &mut out[(y * w + x) as usize];
+            for dy in 0..k {
+                for dx in 0..k {
+                    let p = image.pixel(x * k + dx, y * k + dy);
+                    for c in 0..3 {
+                        sum[c] += linear(p[c]) / (k * k) as f64;
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Where the periphery alone shows: beyond the fovea circle (band included) by two pixels.
+fn periphery_only(plan: &FramePlan, gaze: Vec2) -> [Vec<bool>; 2] {
+    let g = plan.foveation.unwrap();
+    let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
+    let fovea = fovea_views(&plan.eyes, g.ratio, [gaze; 2], screen);
+    Eye::BOTH.map(|e| {
+        let centre = fovea_centre_px(plan.eyes.fov(e), fovea[e.index()], screen);
+        (0..screen.1)
+            .flat_map(|y| (0..screen.0).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                let p = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                p.distance(centre) > g.fovea_screen_px / 2.0 + 2.0
+            })
+            .collect()
+    })
+}
+
+/// Mean absolute error in linear light against the reference, over `region`, both eyes.
+fn periphery_error(
+    image: &StereoImage,
+    reference: &[Vec<[f64; 3]>; 2],
+    region: &[Vec<bool>; 2],
+) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for e in Eye::BOTH {
+        let img = image.eye(e);
+        for y in 0..img.height {
+            for x in 0..img.width {
+                let i = (y * img.width + x) as usize;
+                if !region[e.index()][i] {
+                    continue;
+                }
+                let p = img.pixel(x, y);
+                sum += (0..3)
+                    .map(|c| (linear(p[c]) - reference[e.index()][i][c]).abs())
+                    .sum::<f64>();
+                n += 3;
+            }
+        }
+    }
+    sum / n as f64
+}
+
+/// On a still frame the accumulated periphery approaches the supersampled reference (the
+/// scene at 4× the resolution, box-filtered) as frames go by, and ends closer to it than the
+/// bilinear periphery does. Negative control in the test: without jitter (a cycle of 1) the
+/// history gains nothing from frame to frame. Mutations: the jitter applied with the wrong sign
+/// in the shader (samples credited to the wrong pixels), or the history never blended, fail it.
+#[test]
+fn accumulation_converges_on_a_still_frame() {
+    let gpu = gpu();
+    let scene = atrium_scene();
+    let stereo = RenderConfig {
+        views: 2,
+        foveation: None,
+        resolution: Some(Resolution::square(SCREEN * 4)),
+        ..config(SCREEN, None)
+    };
+    let (_, big) = render_sequence(&gpu, &scene, &stereo, &[(scene.head, Vec2::ZERO)], |_| true);
+    let reference = Eye::BOTH.map(|e| box_down(big[0].eye(e), 4));
+    let frames = 24;
+    let still = vec![(scene.head, Vec2::ZERO); frames];
+    let error = |temporal| {
+        let (plan, images) =
+            render_sequence(&gpu, &scene, &config(SCREEN, temporal), &still, |f| {
+                f == 0 || f == frames - 1
+            });
+        let region = periphery_only(&plan, Vec2::ZERO);
+        images
+            .iter()
+            .map(|i| periphery_error(i, &reference, &region))
+            .collect::<Vec<f64>>()
+    };
+    let bilinear = error(None);
+    let accumulated = error(Some(TemporalConfig::default()));
+    let unjittered = error(Some(TemporalConfig {
+        jitter_cycle: 1,
+        ..Default::default()
+    }));
+    eprintln!("periphery error (first, last frame): bilinear {bilinear:?}, accumulated {accumulated:?}, unjittered {unjittered:?}");
+    assert!(
+        accumulated[0] <= bilinear[0],
+        "the first frame starts from the bilinear periphery (its textures at the screen's \
+         detail): {accumulated:?} vs {bilinear:?}"
+    );
+    assert!(
+        accumulated[1] < 0.85 * accumulated[0],
+        "the error falls with frames: {accumulated:?}"
+    );
+    assert!(
+        accumulated[1] < 0.75 * bilinear[1],
+        "{accumulated:?} vs {bilinear:?}"
+    );
+    assert!(
+        unjittered[1] > 0.9 * unjittered[0],
+        "negative control: without jitter nothing new arrives: {unjittered:?}"
+    );
+}
+
+/// Pixels more than one 8-bit level apart in some channel, over `region` (both eyes).
+fn differing(a: &StereoImage, b: &StereoImage, region: &[Vec<bool>; 2]) -> (usize, usize) {
+    let (mut off, mut n) = (0, 0);
+    for e in Eye::BOTH {
+        let (x, y) = (a.eye(e), b.eye(e));
+        for py in 0..x.height {
+            for px in 0..x.width {
+                if !region[e.index()][(py * x.width + px) as usize] {
+                    continue;
+                }
+                n += 1;
+                let (p, q) = (x.pixel(px, py), y.pixel(px, py));
+                off += (0..3).any(|c| p[c].abs_diff(q[c]) > 1) as usize;
+            }
+        }
+    }
+    (off, n)
+}
+
+/// After a gaze jump, where the fovea was the periphery has no history (nothing was rendered
+/// there): it shows exactly what a fresh renderer shows, not the hole's sky clamped into the
+/// scene. No jitter, so a fresh frame and a dropped history agree pixel for pixel. Mutation:
+/// the accumulate pass no longer marking the hole unusable (alpha 0) fails it.
+#[test]
+fn a_gaze_jump_leaves_no_ghost_of_the_fovea() {
+    let gpu = gpu();
+    let scene = atrium_scene();
+    let config = config(
+        SCREEN,
+        Some(TemporalConfig {
+            jitter_cycle: 1,
+            ..Default::default()
+        }),
+    );
+    let (from, to) = (Vec2::new(-0.3, 0.0), Vec2::new(0.3, 0.0));
+    let mut poses = vec![(scene.head, from); 6];
+    poses.push((scene.head, to));
+    let (plan, jumped) = render_sequence(&gpu, &scene, &config, &poses, |f| f == 6);
+    let (_, fresh) = render_sequence(&gpu, &scene, &config, &[(scene.head, to)], |_| true);
+    // The old hole, shrunk by two pixels, outside the new fovea.
+    let g = plan.foveation.unwrap();
+    let screen = (SCREEN, SCREEN);
+    let old = fovea_views(&plan.eyes, g.ratio, [from; 2], screen);
+    let new_periphery = periphery_only(&plan, to);
+    let hole = Eye::BOTH.map(|e| {
+        let centre = fovea_centre_px(plan.eyes.fov(e), old[e.index()], screen);
+        let radius = g.fovea_screen_px / 2.0 - g.blend_band_px - 2.0;
+        (0..SCREEN * SCREEN)
+            .map(|i| {
+                let p = Vec2::new((i % SCREEN) as f32 + 0.5, (i / SCREEN) as f32 + 0.5);
+                p.distance(centre) < radius && new_periphery[e.index()][i as usize]
+            })
+            .collect::<Vec<bool>>()
+    });
+    let (off, n) = differing(&jumped[0], &fresh[0], &hole);
+    assert!(n > 100, "the old hole covers {n} pixels");
+    assert_eq!(
+        off, 0,
+        "{off} of {n} pixels of the old hole differ from a fresh frame"
+    );
+}
+
+/// A teleport is a cut: the frame after it is exactly a fresh renderer's first frame there.
+/// Negative control in the test: with cut detection off, the reprojected history survives the
+/// teleport where depths happen to agree and the frame differs.
+#[test]
+fn a_teleport_drops_the_history() {
+    let gpu = gpu();
+    let scene = atrium_scene();
+    let elsewhere = scene.head
+        * Mat4::from_translation(Vec3::new(1.0, 0.0, -1.5))
+        * Mat4::from_rotation_y(40f32.to_radians());
+    let mut poses = vec![(scene.head, Vec2::ZERO); 6];
+    poses.push((elsewhere, Vec2::ZERO));
+    let unjittered = TemporalConfig {
+        jitter_cycle: 1,
+        ..Default::default()
+    };
+    let run = |t: TemporalConfig| {
+        let config = config(SCREEN, Some(t));
+        let (plan, after) = render_sequence(&gpu, &scene, &config, &poses, |f| f == 6);
+        let (_, fresh) =
+            render_sequence(&gpu, &scene, &config, &[(elsewhere, Vec2::ZERO)], |_| true);
+        let region = periphery_only(&plan, Vec2::ZERO);
+        differing(&after[0], &fresh[0], &region)
+    };
+    let (off, n) = run(unjittered);
+    assert_eq!(
+        off, 0,
+        "{off} of {n} periphery pixels differ from a fresh frame"
+    );
+    let (kept, n) = run(TemporalConfig {
+        cut_distance_m: f32::INFINITY,
+        cut_angle_deg: f32::INFINITY,
+        ..unjittered
+    });
+    assert!(
+        kept > n / 100,
+        "negative control: without the cut only {kept} of {n} pixels kept history"
+    );
+}
