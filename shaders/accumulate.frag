@@ -61,7 +61,7 @@ void main() {
     vec4 f = c.fovea[eye];
     vec2 fovea_centre = vec2((f.y - f.x) * 0.5, (f.z - f.w) * 0.5);
     vec2 px_per_tangent = screen / vec2(p.x + p.y, p.z + p.w);
-    if (length((t - fovea_centre) * px_per_tangent) < -1.0) {
+    if (length((t - fovea_centre) * px_per_tangent) < c.depth.z) {
         out_color = vec4(0.0);
         return;
     }
@@ -69,7 +69,7 @@ void main() {
     ivec2 size = textureSize(periphery, 0).xy;
     vec2 q = uv * vec2(size);
     vec2 j = c.jitter.xy;
-    ivec2 texel = clamp(ivec2(floor(q - j)), ivec2(0), size - 1);
+    ivec2 texel = clamp(ivec2(floor(q + j)), ivec2(0), size - 1);
     vec3 nearest = texelFetch(periphery, ivec3(texel, eye), 0).rgb;
     vec3 lo = nearest;
     vec3 hi = nearest;
@@ -87,7 +87,7 @@ void main() {
     vec4 seen = sky ? vec4(t, -1.0, 0.0) : vec4(t * distance, -distance, 1.0);
 
     // The bilinear periphery at this pixel's centre (the jitter undone).
-    vec3 result = texture(periphery, vec3((q - j) / vec2(size), float(eye))).rgb;
+    vec3 result = texture(periphery, vec3((q + j) / vec2(size), float(eye))).rgb;
     vec4 clip = c.previous_from_view[eye] * seen;
     if (c.jitter.w < 0.5 && clip.w > 0.0) {
         float expected = sky ? SKY : clip.w;
@@ -113,7 +113,7 @@ void main() {
         if (weight > 0.01) {
             vec3 kept = clamp(sum / weight, lo, hi);
             // How far the new sample lies from this pixel's centre, in screen pixels.
-            vec2 off = (vec2(texel) + 0.5 + j - q) * screen / vec2(size);
+            vec2 off = (vec2(texel) + 0.5 - j - q) * screen / vec2(size);
             float trust = max(c.jitter.z, c.depth.w) * exp(-2.0 * dot(off, off));
             result = mix(kept, nearest, trust);
         }

@@ -50,7 +50,8 @@ pub struct Group<'a> {
 }
 
 /// Renders the group's frames, interleaved (the warm-up round not counted), and reads back the
-/// last frame of each configuration.
+/// last frame of each configuration; a configuration with a temporal history first lets it
+/// settle on the still frame, untimed.
 pub fn measure_group(gpu: &Gpu, group: &Group) -> Result<Vec<Measured>> {
     let Group {
         scene,
@@ -71,6 +72,13 @@ pub fn measure_group(gpu: &Gpu, group: &Group) -> Result<Vec<Measured>> {
             Ok(r)
         })
         .collect::<Result<Vec<_>>>()?;
+    // A temporal history settles on the still frame first (untimed): two jitter cycles.
+    for r in &mut renderers {
+        let settle = r.plan().foveation.and_then(|f| f.temporal);
+        for _ in 0..settle.map_or(0, |t| 2 * t.jitter_cycle) {
+            r.render_frame(scene.head)?;
+        }
+    }
     let mut samples = vec![Vec::new(); configs.len()];
     let bar = crate::progress::bar(label, rounds as u64);
     for round in 0..rounds {

@@ -2,7 +2,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use foveate::foveation::{FoveationConfig, PeripheryFilter};
+use foveate::foveation::{FoveationConfig, PeripheryFilter, TemporalConfig};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::{heat_map, FrameAccuracy};
@@ -77,6 +77,11 @@ pub struct CompareArgs {
     /// the row's), one row each.
     #[arg(long, value_delimiter = ',')]
     periphery_msaa: Vec<u32>,
+    /// Also each plain foveated row (every density) with its periphery accumulated over frames
+    /// (1x, jittered; the fovea keeps the row's MSAA), one row each. Such a row is judged after
+    /// its history has settled on the still frame (two jitter cycles, untimed).
+    #[arg(long)]
+    temporal: bool,
     /// Iso-error: name the cheapest configuration measured whose eccentricity-aware FLIP (99th
     /// percentile) stays within this budget (`--recommend` is the same).
     #[arg(long, alias = "iso-error")]
@@ -178,6 +183,9 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         }
     }
     variants = with_view_sets(variants, &args.densities, &args.periphery_msaa);
+    if args.temporal {
+        variants = with_temporal(variants);
+    }
     for (_, f) in &variants {
         f.geometry(screen)?;
     }
@@ -196,10 +204,10 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             };
             named.push((format!("radial density, MSAA {msaa}"), msaa, config));
         }
-        // A periphery sample count equal to the row's is the row itself.
-        let distinct = variants
-            .iter()
-            .filter(|(_, f)| f.periphery_msaa.is_none_or(|m| m != msaa));
+        // A periphery sample count equal to the row's is the row itself (unless accumulated).
+        let distinct = variants.iter().filter(|(_, f)| {
+            f.periphery_temporal.is_some() || f.periphery_msaa.is_none_or(|m| m != msaa)
+        });
         for (name, foveation) in distinct {
             let config = RenderConfig {
                 views: 4,
@@ -528,6 +536,29 @@ fn with_view_sets(
         }
     }
     out
+}
+
+/// The variants, and after them each plain one (no band, sharpening or other filter; its
+/// periphery at the row's samples) with its periphery accumulated over frames at 1x.
+fn with_temporal(variants: Vec<(String, FoveationConfig)>) -> Vec<(String, FoveationConfig)> {
+    let plain = |f: &FoveationConfig| {
+        f.periphery_msaa.is_none()
+            && f.periphery_sharpen == 0.0
+            && f.periphery_filter == PeripheryFilter::Bilinear
+    };
+    let temporal: Vec<(String, FoveationConfig)> = variants
+        .iter()
+        .filter(|(name, f)| plain(f) && !name.contains(", band "))
+        .map(|(name, f)| {
+            let config = FoveationConfig {
+                periphery_msaa: Some(1),
+                periphery_temporal: Some(TemporalConfig::default()),
+                ..*f
+            };
+            (format!("{name}, temporal"), config)
+        })
+        .collect();
+    variants.into_iter().chain(temporal).collect()
 }
 
 /// A file name for a configuration: lower case, runs of anything else as one '-'.
