@@ -10,7 +10,7 @@ use foveate::plan::{
 use foveate::render::{Renderer, StereoImage};
 use foveate::scene::{atrium_scene, default_scene, Scene};
 use foveate::view::{Eye, FovTangents};
-use foveate_tests::{gpu, render_plan};
+use foveate_tests::{gpu, linear, render_plan};
 use glam::Vec2;
 
 fn foveated(screen: u32, foveation: FoveationConfig, msaa: u32) -> RenderConfig {
@@ -389,16 +389,6 @@ fn the_fovea_is_the_full_resolution_reference() {
             "{case}: negative control, a window one pixel off, passes ({psnr:.1} dB, {:.3} %)",
             100.0 * off
         );
-    }
-}
-
-/// An 8-bit sRGB level in linear light.
-fn linear(v: u8) -> f64 {
-    let c = v as f64 / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
     }
 }
 

@@ -8,7 +8,7 @@ use foveate::plan::{FoveaLayout, FramePlan, OutputStage, RenderConfig, Resolutio
 use foveate::render::{Renderer, StereoImage};
 use foveate::scene::{atrium_scene, Scene};
 use foveate::view::Eye;
-use foveate_tests::{assert_validation_clean, gpu};
+use foveate_tests::{assert_validation_clean, gpu, linear};
 use glam::{Mat4, Vec2, Vec3};
 
 const SCREEN: u32 = 128;
@@ -53,16 +53,6 @@ fn render_sequence(
     drop(renderer);
     assert_validation_clean(gpu);
     (plan, images)
-}
-
-/// Linear light of an 8-bit sRGB level.
-fn linear(v: u8) -> f64 {
-    let c = v as f64 / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
 }
 
 /// `image` averaged over `k`×`k` blocks in linear light: a supersampled reference.

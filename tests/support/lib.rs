@@ -11,6 +11,16 @@ use foveate::render::{FrameStats, Renderer, StereoImage};
 use foveate::scene::Scene;
 
 /// The test GPU: validation always on (`FOVEATE_DEVICE` may pick the device).
+/// Linear light of an 8-bit sRGB level (IEC 61966-2-1).
+pub fn linear(v: u8) -> f64 {
+    let c = v as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 pub fn gpu() -> Gpu {
     gpu_with(None)
 }

@@ -414,7 +414,7 @@ fn sampling_executors(
             accumulated: &images[s.samples[0]],
         };
         executors.push(Box::new(TemporalAccumulation::new(
-            gpu, t, images, counter,
+            gpu, plan, t, images, counter,
         )?));
     }
     if let Some(p) = plan.far_pass() {
@@ -439,51 +439,36 @@ fn make_sampleable(gpu: &Gpu, plan: &FramePlan, images: &[Image]) -> Result<(), 
     if ids.is_empty() {
         return Ok(());
     }
-    let barrier = |image: &Image, from, to, src, dst| {
-        vk::ImageMemoryBarrier::default()
-            .old_layout(from)
-            .new_layout(to)
-            .src_access_mask(src)
-            .dst_access_mask(dst)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(image.raw)
-            .subresource_range(image.range(0, image.layers))
+    // Every such image from one layout to another, `src` done before `dst`.
+    let transition = |from, to, src, dst| -> Vec<vk::ImageMemoryBarrier> {
+        ids.iter()
+            .map(|&id| {
+                vk::ImageMemoryBarrier::default()
+                    .old_layout(from)
+                    .new_layout(to)
+                    .src_access_mask(src)
+                    .dst_access_mask(dst)
+                    .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                    .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                    .image(images[id].raw)
+                    .subresource_range(images[id].range(0, images[id].layers))
+            })
+            .collect()
     };
+    let to_clear = transition(
+        vk::ImageLayout::UNDEFINED,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        vk::AccessFlags::empty(),
+        vk::AccessFlags::TRANSFER_WRITE,
+    );
+    let to_sample = transition(
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        vk::AccessFlags::TRANSFER_WRITE,
+        vk::AccessFlags::SHADER_READ,
+    );
     let device = gpu.device();
     gpu.one_shot(|cmd| {
-        let to_clear: Vec<_> = ids
-            .iter()
-            .map(|&id| {
-                let (from, to) = (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                );
-                barrier(
-                    &images[id],
-                    from,
-                    to,
-                    vk::AccessFlags::empty(),
-                    vk::AccessFlags::TRANSFER_WRITE,
-                )
-            })
-            .collect();
-        let to_sample: Vec<_> = ids
-            .iter()
-            .map(|&id| {
-                let (from, to) = (
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                );
-                barrier(
-                    &images[id],
-                    from,
-                    to,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                    vk::AccessFlags::SHADER_READ,
-                )
-            })
-            .collect();
         // SAFETY: the images are alive and idle; recorded into the one-shot buffer.
         unsafe {
             device.cmd_pipeline_barrier(

@@ -12,7 +12,7 @@ use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use crate::foveation::TemporalConfig;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
-use crate::plan::{PassPlan, Step};
+use crate::plan::{FramePlan, PassPlan, Step};
 use crate::view::{reverse_z_projection, Eye, FovTangents};
 
 /// The accumulate pass's uniform block (`Accumulate` in `shaders/accumulate.frag`, std140).
@@ -36,18 +36,21 @@ pub(crate) struct TemporalImages<'a> {
 
 pub(crate) struct TemporalAccumulation {
     config: TemporalConfig,
+    /// Each eye's unjittered projection (the plan's field and depth range: fixed).
+    projection: [Mat4; 2],
     accumulate: SampledSet,
     store: SampledSet,
     /// Each eye's clip space from world space (unjittered) and the left eye's pose, of the
     /// frame before; `None` until a frame was rendered.
     previous: Option<([Mat4; 2], Mat4)>,
     /// Frames rendered since the history was last dropped whole.
-    pub frames_accumulated: u64,
+    frames_accumulated: u64,
 }
 
 impl TemporalAccumulation {
     pub fn new(
         gpu: &Gpu,
+        plan: &FramePlan,
         config: TemporalConfig,
         images: TemporalImages,
         counter: Option<&Buffer>,
@@ -56,6 +59,8 @@ impl TemporalAccumulation {
         let sources = [images.periphery, images.history, images.periphery_depth];
         Ok(TemporalAccumulation {
             config,
+            projection: Eye::BOTH
+                .map(|e| reverse_z_projection(plan.eyes.fov(e), plan.near, plan.far)),
             accumulate: SampledSet::new(gpu, &sources, true, bytes, 0, counter)?,
             // The copy reads no uniforms: the smallest block the sampled set allows.
             store: SampledSet::new(gpu, &[images.accumulated], true, 16, 0, counter)?,
@@ -72,8 +77,6 @@ impl Executor for TemporalAccumulation {
         let plan = frame.plan;
         let Some(g) = plan.foveation else { return };
         let world_from_eye = Eye::BOTH.map(|e| frame.views.views[e.index()].0);
-        let projection =
-            Eye::BOTH.map(|e| reverse_z_projection(plan.eyes.fov(e), plan.near, plan.far));
         let reset = self
             .previous
             .is_none_or(|(_, left)| self.config.is_cut(left, world_from_eye[0]));
@@ -82,7 +85,7 @@ impl Executor for TemporalAccumulation {
         let field = Eye::BOTH.map(|e| tangents(plan.eyes.fov(e)));
         let jitter = frame.jitter.unwrap_or(Vec2::ZERO);
         // depth = b / distance − a, from the projection's third row.
-        let (a, b) = (projection[0].z_axis.z, projection[0].w_axis.z);
+        let (a, b) = (self.projection[0].z_axis.z, self.projection[0].w_axis.z);
         self.frames_accumulated = if reset {
             1
         } else {
@@ -103,7 +106,7 @@ impl Executor for TemporalAccumulation {
         };
         self.accumulate.uniforms.write(&[block]);
         self.previous = Some((
-            Eye::BOTH.map(|e| projection[e.index()] * world_from_eye[e.index()].inverse()),
+            Eye::BOTH.map(|e| self.projection[e.index()] * world_from_eye[e.index()].inverse()),
             world_from_eye[0],
         ));
     }

@@ -213,6 +213,14 @@ fn rails_compare<DB: DrawingBackend>(report: &Report, root: DrawingArea<DB, Shif
             ))
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2)));
     }
+    legend_and_present(&mut chart, &root)
+}
+
+/// The series' legend in the upper right, then the picture written out.
+fn legend_and_present<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    root: &DrawingArea<DB, Shift>,
+) -> Result<()> {
     chart
         .configure_series_labels()
         .label_font((FONT, 14))
@@ -337,15 +345,7 @@ fn accuracy<DB: DrawingBackend>(
             .label(*family)
             .legend(move |(x, y)| Circle::new((x + 8, y), 5, colour.filled()));
     }
-    chart
-        .configure_series_labels()
-        .label_font((FONT, 14))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(plot_error)?;
-    root.present().map_err(plot_error)
+    legend_and_present(&mut chart, &root)
 }
 
 /// The points (time ratio, eFLIP p99) no other point beats on both, fastest first.
