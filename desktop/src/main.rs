@@ -11,6 +11,7 @@ mod frontier;
 mod gaze_arg;
 mod progress;
 mod side_by_side;
+mod variants;
 mod view_keys;
 
 use clap::Parser;

@@ -12,7 +12,7 @@ use foveate::metrics::{EyePixels, Stats};
 use foveate::plan::{FramePlan, RenderConfig};
 use foveate::render::{counting_frame, Renderer, StereoImage};
 use foveate::scene::Scene;
-use glam::Vec2;
+use glam::{Mat4, Vec2};
 
 /// One configuration's measurements over the counted rounds.
 pub struct Measured {
@@ -72,12 +72,8 @@ pub fn measure_group(gpu: &Gpu, group: &Group) -> Result<Vec<Measured>> {
             Ok(r)
         })
         .collect::<Result<Vec<_>>>()?;
-    // A temporal history settles on the still frame first (untimed): two jitter cycles.
     for r in &mut renderers {
-        let settle = r.plan().foveation.and_then(|f| f.temporal);
-        for _ in 0..settle.map_or(0, |t| 2 * t.jitter_cycle) {
-            r.render_frame(scene.head)?;
-        }
+        settle(r, scene.head)?;
     }
     let mut samples = vec![Vec::new(); configs.len()];
     let bar = crate::progress::bar(label, rounds as u64);
@@ -114,6 +110,16 @@ pub fn measure_group(gpu: &Gpu, group: &Group) -> Result<Vec<Measured>> {
             })
         })
         .collect()
+}
+
+/// Lets a renderer with a temporal history settle on the still frame at `head` before it is
+/// measured (two jitter cycles, untimed, unjudged); a renderer without one renders nothing.
+pub fn settle(renderer: &mut Renderer, head: Mat4) -> Result<()> {
+    let temporal = renderer.plan().foveation.and_then(|f| f.temporal);
+    for _ in 0..temporal.map_or(0, |t| 2 * t.jitter_cycle) {
+        renderer.render_frame(head)?;
+    }
+    Ok(())
 }
 
 /// A configuration of a sweep: measured, and its output judged against the reference's.

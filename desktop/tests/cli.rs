@@ -801,27 +801,41 @@ fn flicker_measures_each_approximation_along_both_motions() {
         "4",
         "--ratios",
         "0.5",
+        "--temporal",
+        "--flip",
         "--csv",
         csv.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let rows = read_csv(&csv, 8);
-    // Two motions × (stereo MSAA 1, foveated 0.5), three changes each.
-    assert_eq!(rows.len(), 4, "{rows:?}");
+    let rows = read_csv(&csv, 11);
+    // Two motions × (stereo MSAA 1, foveated 0.5, and accumulated), three changes each.
+    assert_eq!(rows.len(), 6, "{rows:?}");
     for r in &rows {
         assert_numeric(r, &["motion", "config"]);
         assert_eq!(r["changes"], "3");
     }
-    let at = |motion: &str, config: &str| -> f64 {
+    let at = |motion: &str, config: &str, column: &str| -> f64 {
         let r = rows
             .iter()
             .find(|r| r["motion"] == motion && r["config"] == config)
-            .unwrap();
-        r["flicker_mean"].parse().unwrap()
+            .unwrap_or_else(|| panic!("no row {motion}, {config}: {rows:?}"));
+        r[column].parse().unwrap()
     };
     // The stereo frame does not depend on the gaze: with the head still it cannot flicker.
-    assert_eq!(at("saccades", "stereo, MSAA 1"), 0.0);
-    assert!(at("saccades", "foveated 0.5, MSAA 4") > 0.0);
+    assert_eq!(at("saccades", "stereo, MSAA 1", "flicker_mean"), 0.0);
+    assert!(at("saccades", "foveated 0.5, MSAA 4", "flicker_mean") > 0.0);
+    // Every row is judged frame by frame; none equals the reference.
+    for r in &rows {
+        let name = r["config"].as_str();
+        assert!(at(r["motion"].as_str(), name, "eflip_mean") > 0.0, "{r:?}");
+        assert!(
+            at(r["motion"].as_str(), name, "eflip_p99_worst")
+                >= at(r["motion"].as_str(), name, "eflip_p99")
+        );
+    }
+    assert!(rows
+        .iter()
+        .any(|r| r["config"] == "foveated 0.5, temporal, MSAA 4"));
     let _ = std::fs::remove_file(&csv);
     let o = foveate(&["flicker", "--frames", "1"]);
     assert!(

@@ -2,7 +2,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use foveate::foveation::{FoveationConfig, PeripheryFilter, TemporalConfig};
+use foveate::foveation::{FoveationConfig, PeripheryFilter};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::{heat_map, FrameAccuracy};
@@ -17,6 +17,7 @@ use crate::fovea_table::{self, TableSettings};
 use crate::frame_args::ComparedFrame;
 use crate::frontier::{cheapest_within_error, most_accurate_within_time, pareto_frontier, Point};
 use crate::side_by_side::{sweep, Group, Measured};
+use crate::variants::{with_temporal, with_view_sets};
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -501,64 +502,6 @@ fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<Cs
         ])?;
     }
     Ok(csv)
-}
-
-/// Each foveated variant as it is, then with the periphery at each of `densities` and at each
-/// of `periphery_msaa`'s sample counts (every combination), named after what changed.
-fn with_view_sets(
-    variants: Vec<(String, FoveationConfig)>,
-    densities: &[f32],
-    periphery_msaa: &[u32],
-) -> Vec<(String, FoveationConfig)> {
-    let densities = std::iter::once(None).chain(densities.iter().map(|&d| Some(d)));
-    let densities: Vec<Option<f32>> = densities.collect();
-    let msaa: Vec<Option<u32>> = std::iter::once(None)
-        .chain(periphery_msaa.iter().map(|&m| Some(m)))
-        .collect();
-    let mut out = Vec::new();
-    for (name, f) in variants {
-        for &density in &densities {
-            for &samples in &msaa {
-                let mut name = name.clone();
-                if let Some(d) = density {
-                    name += &format!(", periphery {d}");
-                }
-                if let Some(m) = samples {
-                    name += &format!(" at {m}x");
-                }
-                let config = FoveationConfig {
-                    periphery_density: density,
-                    periphery_msaa: samples,
-                    ..f
-                };
-                out.push((name, config));
-            }
-        }
-    }
-    out
-}
-
-/// The variants, and after them each plain one (no band, sharpening or other filter; its
-/// periphery at the row's samples) with its periphery accumulated over frames at 1x.
-fn with_temporal(variants: Vec<(String, FoveationConfig)>) -> Vec<(String, FoveationConfig)> {
-    let plain = |f: &FoveationConfig| {
-        f.periphery_msaa.is_none()
-            && f.periphery_sharpen == 0.0
-            && f.periphery_filter == PeripheryFilter::Bilinear
-    };
-    let temporal: Vec<(String, FoveationConfig)> = variants
-        .iter()
-        .filter(|(name, f)| plain(f) && !name.contains(", band "))
-        .map(|(name, f)| {
-            let config = FoveationConfig {
-                periphery_msaa: Some(1),
-                periphery_temporal: Some(TemporalConfig::default()),
-                ..*f
-            };
-            (format!("{name}, temporal"), config)
-        })
-        .collect();
-    variants.into_iter().chain(temporal).collect()
 }
 
 /// A file name for a configuration: lower case, runs of anything else as one '-'.

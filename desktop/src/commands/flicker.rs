@@ -10,6 +10,8 @@ use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{simulated_trace, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::flip::Acuity;
+use foveate::metrics::perceptual::perceptual_error;
 use foveate::metrics::temporal::{Flicker, FlickerSummary};
 use foveate::metrics::{ErrorSummary, EyePixels};
 use foveate::plan::RenderConfig;
@@ -19,6 +21,8 @@ use glam::{Mat4, Vec2};
 
 use crate::csv_out::{opt, CsvTable};
 use crate::frame_args::ComparedFrame;
+use crate::side_by_side::settle;
+use crate::variants::{with_temporal, with_view_sets};
 
 #[derive(Args)]
 pub struct FlickerArgs {
@@ -36,6 +40,21 @@ pub struct FlickerArgs {
     /// Also each ratio with the periphery sharpened at these strengths.
     #[arg(long, value_delimiter = ',')]
     sharpen: Vec<f32>,
+    /// Also each foveated row with the periphery at these densities (fractions of the screen's
+    /// pixels per side, independent of the fovea's ratio), one row each.
+    #[arg(long, value_delimiter = ',')]
+    densities: Vec<f32>,
+    /// Also each plain foveated row (every density) with its periphery accumulated over frames
+    /// (1x, jittered; the fovea at 4x). Its history first settles on the motion's first frame
+    /// (two jitter cycles, not measured).
+    #[arg(long)]
+    temporal: bool,
+    /// Also judge frames against the reference's frame in eccentricity-aware FLIP at that
+    /// frame's gaze: every frame, or with a number N every Nth (FLIP is slow at a headset's
+    /// native resolution). Per motion: the mean over the judged frames of the mean and of the
+    /// 99th percentile, and the worst frame's.
+    #[arg(long, num_args = 0..=1, default_missing_value = "1", value_name = "EVERY")]
+    flip: Option<u32>,
     /// Frames of each motion, at 90 Hz.
     #[arg(long, default_value_t = 45)]
     frames: u32,
@@ -62,21 +81,19 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         "invalid frames = {}: at least 2 (flicker is a change between frames)",
         args.frames
     );
+    anyhow::ensure!(
+        args.flip != Some(0),
+        "invalid flip = 0: judge every Nth frame, N ≥ 1 (leave it out for none)"
+    );
     let scene = args.frame.scene(&args.scene)?;
     let screen = args.frame.screen(&args.res)?;
     let base = args.frame.base(&args.res)?;
-    let mut configs = vec![(
-        "stereo, MSAA 1".to_string(),
-        RenderConfig {
-            msaa: 1,
-            ..base.clone()
-        },
-    )];
+    let mut variants = Vec::new();
     for &ratio in &args.ratios {
         for sharpen in std::iter::once(0.0).chain(args.sharpen.iter().copied()) {
             let name = match sharpen {
-                0.0 => format!("foveated {ratio}, MSAA 4"),
-                s => format!("foveated {ratio}, sharpen {s}, MSAA 4"),
+                0.0 => format!("foveated {ratio}"),
+                s => format!("foveated {ratio}, sharpen {s}"),
             };
             let foveation = FoveationConfig {
                 ratio,
@@ -84,14 +101,29 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
                 periphery_sharpen: sharpen,
                 ..Default::default()
             };
-            foveation.geometry(screen)?;
-            let config = RenderConfig {
-                views: 4,
-                foveation: Some(foveation),
-                ..base.clone()
-            };
-            configs.push((name, config));
+            variants.push((name, foveation));
         }
+    }
+    variants = with_view_sets(variants, &args.densities, &[]);
+    if args.temporal {
+        variants = with_temporal(variants);
+    }
+    let mut configs = vec![(
+        "stereo, MSAA 1".to_string(),
+        RenderConfig {
+            msaa: 1,
+            ..base.clone()
+        },
+    )];
+    for (name, foveation) in variants {
+        foveation.geometry(screen)?;
+        let config = RenderConfig {
+            views: 4,
+            msaa: 4,
+            foveation: Some(foveation),
+            ..base.clone()
+        };
+        configs.push((format!("{name}, MSAA 4"), config));
     }
     let reference = RenderConfig {
         msaa: 4,
@@ -136,14 +168,19 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     let mut results = Vec::new();
     for motion in &motions {
         bar.set_message(motion.name);
-        let mut renderers = plans
-            .iter()
-            .map(|p| Renderer::new(&gpu, p, &scene))
-            .collect::<Result<Vec<_>, _>>()?;
+        let (first_pose, first_gaze) = motion.frames[0];
+        let mut renderers = Vec::new();
+        for plan in &plans {
+            let mut renderer = Renderer::new(&gpu, plan, &scene)?;
+            renderer.set_gaze([first_gaze; 2]);
+            settle(&mut renderer, first_pose)?;
+            renderers.push(renderer);
+        }
         let mut meters: Vec<Flicker> = configs.iter().map(|_| Flicker::default()).collect();
+        let mut judged: Vec<Vec<ErrorSummary>> = configs.iter().map(|_| Vec::new()).collect();
         // Each configuration's pixel map, made anew only when the gaze moves.
         let mut maps: Vec<Option<(Vec2, [EyePixels; 2])>> = configs.iter().map(|_| None).collect();
-        for &(pose, gaze) in &motion.frames {
+        for (frame, &(pose, gaze)) in motion.frames.iter().enumerate() {
             // Frames of every configuration interleaved, the reference first.
             let mut images = Vec::new();
             for renderer in &mut renderers {
@@ -158,11 +195,25 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
                 }
                 let (_, pixels) = map.as_ref().expect("just made");
                 meter.push(images[0].eyes(), images[i + 1].eyes(), pixels)?;
+                if args.flip.is_some_and(|every| frame % every as usize == 0) {
+                    let error = perceptual_error(
+                        images[0].eyes(),
+                        images[i + 1].eyes(),
+                        pixels,
+                        Acuity::default(),
+                    )?;
+                    judged[i].extend(error.eccentric);
+                }
             }
             bar.inc(1);
         }
-        for ((name, _), meter) in configs.iter().zip(&meters) {
-            results.push((motion.name, name.clone(), meter.summary()));
+        for (((name, _), meter), frames) in configs.iter().zip(&meters).zip(&judged) {
+            results.push(Row {
+                motion: motion.name,
+                name: name.clone(),
+                flicker: meter.summary(),
+                accuracy: AlongMotion::of(frames),
+            });
         }
     }
     bar.finish_and_clear();
@@ -177,34 +228,84 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         "flicker_mean_fovea",
         "flicker_mean_band",
         "flicker_mean_periphery",
+        "eflip_mean",
+        "eflip_p99",
+        "eflip_p99_worst",
     ])?;
-    for (motion, name, s) in &results {
+    for row in &results {
+        let (s, a) = (&row.flicker, row.accuracy);
         let mean = |e: Option<ErrorSummary>| opt(e.map(|e| e.mean), 6);
         csv.row(&[
-            motion,
-            name,
+            &row.motion,
+            &row.name,
             &s.changes,
             &mean(s.all),
             &opt(s.all.map(|e| e.p99), 6),
             &mean(s.regions[0]),
             &mean(s.regions[1]),
             &mean(s.regions[2]),
+            &opt(a.map(|a| a.mean), 6),
+            &opt(a.map(|a| a.p99), 6),
+            &opt(a.map(|a| a.worst_p99), 6),
         ])?;
     }
     csv.save(args.csv.as_deref())
 }
 
-fn print_table(results: &[(&str, String, FlickerSummary)]) {
+/// One configuration along one motion.
+struct Row {
+    motion: &'static str,
+    name: String,
+    flicker: FlickerSummary,
+    accuracy: Option<AlongMotion>,
+}
+
+/// The eccentricity-aware FLIP of a configuration's frames along a motion: the means over the
+/// frames of each frame's mean and 99th percentile, and the largest 99th percentile.
+#[derive(Clone, Copy)]
+struct AlongMotion {
+    mean: f64,
+    p99: f64,
+    worst_p99: f64,
+}
+
+impl AlongMotion {
+    /// `None` when no frame was judged.
+    fn of(frames: &[ErrorSummary]) -> Option<Self> {
+        let n = frames.len() as f64;
+        (!frames.is_empty()).then(|| AlongMotion {
+            mean: frames.iter().map(|e| e.mean).sum::<f64>() / n,
+            p99: frames.iter().map(|e| e.p99).sum::<f64>() / n,
+            worst_p99: frames.iter().map(|e| e.p99).fold(0.0, f64::max),
+        })
+    }
+}
+
+fn print_table(rows: &[Row]) {
+    let width = rows.iter().map(|r| r.name.len()).max().unwrap_or(0).max(13);
+    let judged = rows.iter().any(|r| r.accuracy.is_some());
+    let eflip = match judged {
+        true => format!(
+            " {:>10} {:>10} {:>10}",
+            "eFLIP mean", "eFLIP p99", "worst p99"
+        ),
+        false => String::new(),
+    };
     println!(
-        "\n{:<10} {:<34} {:>12} {:>10} {:>12} {:>12} {:>12}",
+        "\n{:<10} {:<width$} {:>10} {:>8} {:>10} {:>10} {:>10}{eflip}",
         "motion", "configuration", "mean", "p99", "fovea", "band", "periphery"
     );
     let mean = |e: Option<ErrorSummary>| e.map_or("-".to_string(), |e| format!("{:.5}", e.mean));
-    for (motion, name, s) in results {
+    for row in rows {
+        let s = &row.flicker;
+        let eflip = match row.accuracy {
+            Some(a) => format!(" {:>10.4} {:>10.4} {:>10.4}", a.mean, a.p99, a.worst_p99),
+            None => String::new(),
+        };
         println!(
-            "{:<10} {:<34} {:>12} {:>10} {:>12} {:>12} {:>12}",
-            motion,
-            name,
+            "{:<10} {:<width$} {:>10} {:>8} {:>10} {:>10} {:>10}{eflip}",
+            row.motion,
+            row.name,
             mean(s.all),
             s.all.map_or("-".to_string(), |e| format!("{:.4}", e.p99)),
             mean(s.regions[0]),
@@ -215,4 +316,9 @@ fn print_table(results: &[(&str, String, FlickerSummary)]) {
     println!(
         "(flicker: per pixel and frame, how much more the output's luma (0..1) changed from the previous frame than the reference's (stereo, MSAA 4) did — max(0, |ΔT| − |ΔR|) — over the pixels the lens shows, both eyes; mean and 99th percentile, then the mean per region at each frame's gaze; metrics::temporal)"
     );
+    if judged {
+        println!(
+            "(eFLIP: each frame against the reference's frame, the eccentricity-aware FLIP for the eye at that frame's gaze (metrics::flip); the mean over the frames of each frame's mean and 99th percentile, and the worst frame's 99th percentile)"
+        );
+    }
 }

@@ -97,6 +97,8 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         if let Some(g) = &args.config.gaze {
             renderer.set_gaze([crate::gaze_arg::gaze_from(g)?; 2]);
         }
+        // An accumulated periphery is timed and shown as it looks once its history settled.
+        crate::side_by_side::settle(&mut renderer, scene.head)?;
         let transient = plan.attachments.iter().filter(|a| a.transient).count();
         println!(
             "transient attachments in lazily allocated memory: {} of {transient}{}",
