@@ -4,10 +4,9 @@
 use foveate::foveation::FoveationConfig;
 use foveate::metrics::temporal::Flicker;
 use foveate::metrics::{EyePixels, Region};
-use foveate::plan::{FramePlan, RenderConfig, Resolution, StereoMode};
-use foveate::render::{Renderer, StereoImage};
-use foveate::scene::{default_scene, walking_pose, Scene};
-use foveate_tests::{assert_validation_clean, gpu};
+use foveate::plan::{RenderConfig, Resolution, StereoMode};
+use foveate::scene::{default_scene, walking_pose};
+use foveate_tests::{gpu, render_motion};
 use glam::{Mat4, Vec2};
 
 fn foveated(res: u32, sharpen: f32) -> RenderConfig {
@@ -24,27 +23,6 @@ fn foveated(res: u32, sharpen: f32) -> RenderConfig {
         }),
         ..RenderConfig::default()
     }
-}
-
-/// Renders `frames` (head pose, gaze) with one renderer, reading each frame back.
-fn frames(
-    gpu: &foveate::gpu::Gpu,
-    scene: &Scene,
-    plan: &FramePlan,
-    motion: &[(Mat4, Vec2)],
-) -> Vec<StereoImage> {
-    let mut renderer = Renderer::new(gpu, plan, scene).unwrap();
-    let images = motion
-        .iter()
-        .map(|&(pose, gaze)| {
-            renderer.set_gaze([gaze; 2]);
-            renderer.render_frame(pose).unwrap();
-            renderer.readback().unwrap()
-        })
-        .collect();
-    drop(renderer);
-    assert_validation_clean(gpu);
-    images
 }
 
 /// The flicker of a foveated output against a stereo reference is 0 when neither the gaze nor
@@ -68,8 +46,8 @@ fn flicker_is_zero_when_nothing_moves() {
     .unwrap();
     let flicker = |motion: &[(Mat4, Vec2)]| {
         let (r, t) = (
-            frames(&gpu, &scene, &reference, motion),
-            frames(&gpu, &scene, &plan, motion),
+            render_motion(&gpu, &scene, &reference, motion, |_| true),
+            render_motion(&gpu, &scene, &plan, motion, |_| true),
         );
         let mut f = Flicker::default();
         for (i, &(_, gaze)) in motion.iter().enumerate() {
@@ -97,7 +75,8 @@ fn sharpening_touches_the_periphery_only() {
     let scene = default_scene();
     let render = |sharpen| {
         let plan = foveate::plan(&scene, &foveated(96, sharpen), gpu.caps()).unwrap();
-        let image = frames(&gpu, &scene, &plan, &[(scene.head, Vec2::ZERO)]).remove(0);
+        let image =
+            render_motion(&gpu, &scene, &plan, &[(scene.head, Vec2::ZERO)], |_| true).remove(0);
         (plan, image)
     };
     let (plan, plain) = render(0.0);

@@ -5,10 +5,10 @@
 use foveate::foveation::{fovea_centre_px, fovea_views, FoveationConfig, TemporalConfig};
 use foveate::metrics::RgbaImage;
 use foveate::plan::{FoveaLayout, FramePlan, OutputStage, RenderConfig, Resolution, StereoMode};
-use foveate::render::{Renderer, StereoImage};
+use foveate::render::StereoImage;
 use foveate::scene::{atrium_scene, Scene};
 use foveate::view::Eye;
-use foveate_tests::{assert_validation_clean, gpu, linear};
+use foveate_tests::{gpu, linear, render_motion};
 use glam::{Mat4, Vec2, Vec3};
 
 const SCREEN: u32 = 128;
@@ -31,8 +31,8 @@ fn config(screen: u32, temporal: Option<TemporalConfig>) -> RenderConfig {
     }
 }
 
-/// Renders `poses` in order (each a head pose and a gaze), reading back after each frame that
-/// `read` asks for.
+/// Plans `config` and renders `poses` in order (each a head pose and a gaze), reading back
+/// after each frame that `read` asks for.
 fn render_sequence(
     gpu: &foveate::gpu::Gpu,
     scene: &Scene,
@@ -41,17 +41,7 @@ fn render_sequence(
     read: impl Fn(usize) -> bool,
 ) -> (FramePlan, Vec<StereoImage>) {
     let plan = foveate::plan(scene, config, gpu.caps()).unwrap();
-    let mut renderer = Renderer::new(gpu, &plan, scene).unwrap();
-    let mut images = Vec::new();
-    for (frame, &(pose, gaze)) in poses.iter().enumerate() {
-        renderer.set_gaze([gaze; 2]);
-        renderer.render_frame(pose).unwrap();
-        if read(frame) {
-            images.push(renderer.readback().unwrap());
-        }
-    }
-    drop(renderer);
-    assert_validation_clean(gpu);
+    let images = render_motion(gpu, scene, &plan, poses, read);
     (plan, images)
 }
 

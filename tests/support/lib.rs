@@ -9,6 +9,7 @@ use foveate::metrics::RgbaImage;
 use foveate::plan::{FramePlan, RenderConfig};
 use foveate::render::{FrameStats, Renderer, StereoImage};
 use foveate::scene::Scene;
+use glam::{Mat4, Vec2};
 
 /// The test GPU: validation always on (`FOVEATE_DEVICE` may pick the device).
 /// Linear light of an 8-bit sRGB level (IEC 61966-2-1).
@@ -59,6 +60,29 @@ pub fn render_plan(
     drop(renderer);
     assert_validation_clean(gpu);
     (image, stats)
+}
+
+/// Renders `motion` (head pose, gaze) frame by frame with one renderer, reading back the frames
+/// `read` asks for; validation must stay silent.
+pub fn render_motion(
+    gpu: &Gpu,
+    scene: &Scene,
+    plan: &FramePlan,
+    motion: &[(Mat4, Vec2)],
+    read: impl Fn(usize) -> bool,
+) -> Vec<StereoImage> {
+    let mut renderer = Renderer::new(gpu, plan, scene).expect("renderer");
+    let mut images = Vec::new();
+    for (frame, &(pose, gaze)) in motion.iter().enumerate() {
+        renderer.set_gaze([gaze; 2]);
+        renderer.render_frame(pose).expect("frame");
+        if read(frame) {
+            images.push(renderer.readback().expect("readback"));
+        }
+    }
+    drop(renderer);
+    assert_validation_clean(gpu);
+    images
 }
 
 pub fn render(gpu: &Gpu, scene: &Scene, config: &RenderConfig) -> (StereoImage, FrameStats) {

@@ -38,6 +38,8 @@ pub(crate) struct TemporalAccumulation {
     config: TemporalConfig,
     /// Each eye's unjittered projection (the plan's field and depth range: fixed).
     projection: [Mat4; 2],
+    /// Each eye's rendered field as tangents (left, right, up, down): fixed by the plan.
+    field: [Vec4; 2],
     accumulate: SampledSet,
     store: SampledSet,
     /// Each eye's clip space from world space (unjittered) and the left eye's pose, of the
@@ -56,9 +58,11 @@ impl TemporalAccumulation {
         counter: Option<&Buffer>,
     ) -> Result<Self, GpuError> {
         let bytes = std::mem::size_of::<AccumulateBlock>() as u64;
+        let field = Eye::BOTH.map(|e| tangents(plan.eyes.fov(e)));
         let sources = [images.periphery, images.history, images.periphery_depth];
         Ok(TemporalAccumulation {
             config,
+            field,
             projection: Eye::BOTH
                 .map(|e| reverse_z_projection(plan.eyes.fov(e), plan.near, plan.far)),
             accumulate: SampledSet::new(gpu, &sources, true, bytes, 0, counter)?,
@@ -81,8 +85,6 @@ impl Executor for TemporalAccumulation {
             .previous
             .is_none_or(|(_, left)| self.config.is_cut(left, world_from_eye[0]));
         let previous_clip = self.previous.map_or([Mat4::IDENTITY; 2], |(clip, _)| clip);
-        let tangents = |f: FovTangents| Vec4::from_array(f.as_array());
-        let field = Eye::BOTH.map(|e| tangents(plan.eyes.fov(e)));
         let jitter = frame.jitter.unwrap_or(Vec2::ZERO);
         // depth = b / distance − a, from the projection's third row.
         let (a, b) = (self.projection[0].z_axis.z, self.projection[0].w_axis.z);
@@ -94,8 +96,8 @@ impl Executor for TemporalAccumulation {
         let block = AccumulateBlock {
             previous_from_view: Eye::BOTH
                 .map(|e| previous_clip[e.index()] * world_from_eye[e.index()]),
-            field,
-            fovea: frame.fovea.map_or(field, |f| f.map(tangents)),
+            field: self.field,
+            fovea: frame.fovea.map_or(self.field, |f| f.map(tangents)),
             jitter: Vec4::new(jitter.x, jitter.y, self.config.blend, reset as u32 as f32),
             depth: Vec4::new(
                 a,
@@ -118,6 +120,10 @@ impl Executor for TemporalAccumulation {
             _ => None,
         }
     }
+}
+
+fn tangents(f: FovTangents) -> Vec4 {
+    Vec4::from_array(f.as_array())
 }
 
 /// The accumulate and store-history steps: one full-view triangle per eye each.
