@@ -845,6 +845,56 @@ fn flicker_measures_each_approximation_along_both_motions() {
     );
 }
 
+/// The latency sweep: every latency without prediction, the others with each prediction, one
+/// row per configuration, judged frames after a saccade; a bad latency is an error naming it.
+#[test]
+fn compare_sweeps_the_trackers_latency() {
+    let csv = std::env::temp_dir().join(format!("foveate-latency-{}.csv", std::process::id()));
+    let o = foveate(&[
+        "compare",
+        "--scene",
+        "default",
+        "--res",
+        "48",
+        "--ratios",
+        "0.5",
+        "--frames",
+        "2",
+        "--gaze-latency",
+        "0,50",
+        "--gaze-predict",
+        "saccade-landing",
+        "--trace-s",
+        "2",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("the smallest fovea"), "{out}");
+    let rows = read_csv(&csv, 11);
+    let keys: Vec<(&str, &str)> = rows
+        .iter()
+        .map(|r| (r["latency_ms"].as_str(), r["prediction"].as_str()))
+        .collect();
+    assert_eq!(
+        keys,
+        [("0", "none"), ("50", "none"), ("50", "saccade-landing")]
+    );
+    for r in &rows {
+        assert_numeric(r, &["prediction", "config"]);
+        let worst: f64 = r["eflip_p99_worst_after_landing"].parse().unwrap();
+        assert!(worst > 0.0 && worst <= 1.0, "{r:?}");
+    }
+    let _ = std::fs::remove_file(&csv);
+    let o = foveate(&["compare", "--res", "48", "--gaze-latency", "-5"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("gaze-latency = -5"),
+        "{}",
+        stderr(&o)
+    );
+}
+
 #[test]
 fn render_reference_stacks_both_frames_and_prices_the_foveated_one() {
     let out = std::env::temp_dir().join(format!("foveate-ref-{}.png", std::process::id()));

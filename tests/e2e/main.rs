@@ -8,6 +8,7 @@ mod foveation;
 mod fragment_counter;
 mod gltf;
 mod golden;
+mod latency;
 mod mffr;
 mod perception;
 mod quirks;

@@ -101,9 +101,14 @@ impl GazeFilter {
         }
     }
 
-    pub fn update(&mut self, s: &GazeSample) -> [Vec2; 2] {
+    /// Whether a sample is one the filter passes through: valid, finite and inside −1…1.
+    pub fn is_good(s: &GazeSample) -> bool {
         let ok = |v: Vec2| v.is_finite() && v.x.abs() <= 1.0 && v.y.abs() <= 1.0;
-        if s.valid && ok(s.left) && ok(s.right) {
+        s.valid && ok(s.left) && ok(s.right)
+    }
+
+    pub fn update(&mut self, s: &GazeSample) -> [Vec2; 2] {
+        if Self::is_good(s) {
             self.last_good = Some((s.t, [s.left, s.right]));
             return [s.left, s.right];
         }
@@ -115,15 +120,11 @@ impl GazeFilter {
 }
 
 /// A deterministic simulated trace at `rate` Hz for `seconds`: fixations of 200–400 ms joined by
-/// 40 ms saccades, both eyes together.
+/// 40 ms linear saccades, both eyes together — the simple trace `flicker` measures along (its
+/// published figures were made with it); `EyeMovementModel` is the realistic eye.
 pub fn simulated_trace(seconds: f64, rate: f64, seed: u32) -> Vec<GazeSample> {
-    let mut state = seed.wrapping_mul(2_654_435_761).max(1);
-    let mut next = || {
-        state ^= state << 13;
-        state ^= state >> 17;
-        state ^= state << 5;
-        state as f32 / u32::MAX as f32
-    };
+    let mut rng = super::SeededRng::new(seed);
+    let mut next = || rng.uniform();
     let mut target = Vec2::ZERO;
     let mut from = Vec2::ZERO;
     let (mut fixation_end, mut saccade_end) = (0.0, 0.0);

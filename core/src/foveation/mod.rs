@@ -1,17 +1,26 @@
 //! Foveation maths that needs no GPU (Arm whitepaper, seed 001 §3): the inset field of view,
 //! where the fovea views look for a gaze, the analytic pixel budget of Tables 2–4, and gaze
-//! input that never panics on bad samples.
+//! input that never panics on bad samples, a simulated eye, and the tracker's latency.
 
 mod budget;
 mod config;
+mod eye_movement;
 mod gaze;
 mod inset;
+mod latency;
 mod temporal;
 mod views;
 
 pub use budget::{arm_table, ArmRow, PixelBudget, ARM_PI, ARM_TABLE4_FOVEA};
 pub use config::{FoveationConfig, FoveationGeometry, PeripheryFilter};
+pub use eye_movement::{
+    amplitude_for_peak_velocity, saccade_duration_s, saccade_peak_velocity, EyeMovementModel,
+    EyeTrace, GazeSpace, SaccadeEvent, SeededRng, TRUTH_HZ,
+};
 pub use gaze::{parse_gaze_csv, simulated_trace, GazeError, GazeFilter, GazeSample};
 pub use inset::{fovea_tangents, inset_fov_deg};
+pub use latency::{
+    detect_saccades, DelayedGaze, GazeLatency, Prediction, MAX_LATENCY_MS, SACCADE_THRESHOLD_DEG_S,
+};
 pub use temporal::{halton, TemporalConfig};
 pub use views::{fovea_centre_px, fovea_views, gaze_tangent, mask_shapes};

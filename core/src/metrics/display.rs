@@ -59,6 +59,19 @@ impl EyePixels {
         gaze: Vec2,
         foveation: Option<&FoveationGeometry>,
     ) -> EyePixels {
+        Self::seen(plan, eye, gaze, gaze, foveation)
+    }
+
+    /// As [`EyePixels::new`], for an eye looking at `gaze` while the frame's fovea was placed
+    /// at `fovea_gaze` (the tracker's latency): eccentricities from the one, regions from the
+    /// other.
+    pub fn seen(
+        plan: &FramePlan,
+        eye: Eye,
+        gaze: Vec2,
+        fovea_gaze: Vec2,
+        foveation: Option<&FoveationGeometry>,
+    ) -> EyePixels {
         let fov = plan.eyes.fov(eye);
         let screen = plan.eye_resolution;
         let (w, h) = (screen.width, screen.height);
@@ -67,7 +80,7 @@ impl EyePixels {
         let gaze_dir = DVec3::new(g.x as f64, g.y as f64, -1.0).normalize();
         // The fovea circle is centred on the fovea window, which stays inside the periphery.
         let fovea = foveation.map(|f| {
-            let views = fovea_views(&plan.eyes, f.ratio, [gaze; 2], (w, h));
+            let views = fovea_views(&plan.eyes, f.ratio, [fovea_gaze; 2], (w, h));
             let centre = fovea_centre_px(fov, views[eye.index()], (w, h));
             (centre, f.fovea_screen_px / 2.0, f.blend_band_px)
         });

@@ -12,6 +12,7 @@ use foveate::scene::{named_scene, Shading};
 
 use crate::commands::bench::accuracy::AccuracyPoint;
 use crate::commands::bench::plots::accuracy_plot;
+use crate::commands::latency::{latency_sweep, LatencyArgs, Sweep};
 use crate::csv_out::{opt, CsvTable};
 use crate::fovea_table::{self, TableSettings};
 use crate::frame_args::ComparedFrame;
@@ -114,6 +115,8 @@ pub struct CompareArgs {
     /// Also write the table as CSV to this file.
     #[arg(long)]
     csv: Option<PathBuf>,
+    #[command(flatten)]
+    latency: LatencyArgs,
 }
 
 /// One measured configuration of `compare`.
@@ -142,6 +145,9 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     };
     if args.table {
         return table(options, args);
+    }
+    if !args.latency.gaze_latency.is_empty() {
+        return latency(options, args, acuity);
     }
     anyhow::ensure!(
         args.frames >= 2,
@@ -505,6 +511,62 @@ fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<Cs
 }
 
 /// A file name for a configuration: lower case, runs of anything else as one '-'.
+/// `--gaze-latency`: each ratio (and band) foveated at the last of `--msaa`, swept over the
+/// tracker's latency along a gaze trace (`commands::latency`).
+fn latency(options: &GpuOptions, args: &CompareArgs, acuity: Acuity) -> Result<()> {
+    anyhow::ensure!(
+        args.frames >= 2,
+        "invalid frames = {}: at least 2 (the first is a warm-up)",
+        args.frames
+    );
+    let scene = args.frame.scene(&args.scene)?;
+    let screen = args.frame.screen(&args.res)?;
+    let base = args.frame.base(&args.res)?;
+    let msaa = *args
+        .msaa
+        .last()
+        .context("invalid msaa: give at least one")?;
+    let bands = std::iter::once(args.blend_band.unwrap_or(-1.0)).chain(args.bands.iter().copied());
+    let bands: Vec<f32> = bands.collect();
+    let mut foveated = Vec::new();
+    for &ratio in args.ratios.as_deref().unwrap_or(&[0.7, 0.5, 0.35]) {
+        for (i, &band) in bands.iter().enumerate() {
+            let foveation = FoveationConfig {
+                ratio,
+                blend_band_px: band,
+                ..Default::default()
+            };
+            foveation.geometry(screen)?;
+            let name = match i {
+                0 => format!("foveated {ratio}, MSAA {msaa}"),
+                _ => format!("foveated {ratio}, band {band}, MSAA {msaa}"),
+            };
+            let config = RenderConfig {
+                views: 4,
+                msaa,
+                foveation: Some(foveation),
+                ..base.clone()
+            };
+            foveated.push((name, ratio, config));
+        }
+    }
+    let profile = crate::frame_args::profile(&args.frame.hmd)?;
+    let gpu = Gpu::new(options)?;
+    let sweep = Sweep {
+        scene: &scene,
+        scene_name: &args.scene,
+        base: &base,
+        foveated,
+        budget: args.recommend,
+        acuity,
+        timing_rounds: args.frames,
+        csv: args.csv.clone(),
+        hmd_refresh_hz: profile.refresh_hz,
+        hmd_tracker_hz: profile.eye_tracker.and_then(|t| t.rate_hz),
+    };
+    latency_sweep(&gpu, &args.latency, &sweep)
+}
+
 fn slug(name: &str) -> String {
     let mut out = String::new();
     for c in name.chars() {

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod compare;
 pub mod cull;
 pub mod flicker;
+pub mod latency;
 pub mod mask;
 pub mod mffr;
 pub mod pixels;

@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::Args;
+use foveate::foveation::{DelayedGaze, GazeLatency, GazeSample, GazeSpace, Prediction};
 use foveate::gpu::{Gpu, GpuOptions, Presented, Swapchain};
 use foveate::metrics::{PerSecond, RgbaImage};
 use foveate::render::{FrameStats, Renderer};
@@ -37,6 +38,18 @@ pub struct ViewArgs {
     /// Window size in pixels, WxH (default: the two eyes side by side, at most 1600 wide).
     #[arg(long)]
     pub window: Option<String>,
+    /// The mouse as an eye tracker with this latency (ms): the fovea follows where the mouse
+    /// was this long ago, so the lag after a jump can be seen.
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "MS",
+        allow_hyphen_values = true
+    )]
+    pub gaze_latency: f64,
+    /// How the late gaze is predicted forward: none, linear or saccade-landing.
+    #[arg(long, default_value = "none")]
+    pub gaze_predict: Prediction,
 }
 
 pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
@@ -56,6 +69,11 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
         args.config.shading.as_deref(),
         &args.config.head,
     )?;
+    let latency =
+        GazeLatency::new(args.gaze_latency, args.gaze_predict).map_err(anyhow::Error::msg)?;
+    let space = GazeSpace {
+        fov: crate::frame_args::profile(&args.config.hmd)?.left_fov,
+    };
     let settings = ViewSettings::new(
         args.config.config(args.config.stereo.parse()?)?,
         scene.shading(),
@@ -76,6 +94,13 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
             .collect::<Vec<_>>()
             .join(", ")
     );
+    if latency != GazeLatency::NONE {
+        println!(
+            "gaze: the mouse through {} ms of tracker latency, predicted {}",
+            args.gaze_latency,
+            args.gaze_predict.name()
+        );
+    }
     let mut viewer = Viewer {
         gpu: &gpu,
         scene,
@@ -87,6 +112,9 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
         window: None,
         frame: None,
         gaze: Vec2::ZERO,
+        tracker: DelayedGaze::new(latency, space),
+        clock: Instant::now(),
+        shown_gaze: Vec2::ZERO,
         presented: 0,
         second: PerSecond::default(),
         capture: None,
@@ -145,7 +173,12 @@ struct Viewer<'g> {
     frame: Option<Frame<'g>>,
     swapchain: Option<Swapchain>,
     window: Option<Window>,
+    /// Where the mouse points.
     gaze: Vec2,
+    /// The mouse as a tracker with latency, sampled each frame; the fovea follows it.
+    tracker: DelayedGaze,
+    clock: Instant,
+    shown_gaze: Vec2,
     presented: u64,
     second: PerSecond,
     capture: Option<RgbaImage>,
@@ -202,7 +235,15 @@ impl<'g> Viewer<'g> {
     }
 
     fn draw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
-        let gaze = [self.gaze; 2];
+        let now = self.clock.elapsed().as_secs_f64();
+        self.tracker.push(GazeSample {
+            t: now,
+            left: self.gaze,
+            right: self.gaze,
+            valid: true,
+        });
+        self.shown_gaze = self.tracker.gaze_at(now);
+        let gaze = [self.shown_gaze; 2];
         let capture = self.save.is_some()
             && (self.finishing || self.frames_wanted == Some(self.presented + 1));
         let started = Instant::now();
@@ -240,7 +281,7 @@ impl<'g> Viewer<'g> {
         let Some(second) = self.second.take() else {
             return Ok(());
         };
-        let gaze = [self.gaze; 2];
+        let gaze = [self.shown_gaze; 2];
         let summary = self.settings.summary();
         let frame = self.frame()?;
         frame.counting.set_gaze(gaze);
