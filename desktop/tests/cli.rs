@@ -850,8 +850,11 @@ fn flicker_measures_each_approximation_along_both_motions() {
 #[test]
 fn compare_sweeps_the_trackers_latency() {
     let csv = std::env::temp_dir().join(format!("foveate-latency-{}.csv", std::process::id()));
+    let frames_csv = csv.with_extension("frames.csv");
     let o = foveate(&[
         "compare",
+        "--frames-csv",
+        frames_csv.to_str().unwrap(),
         "--scene",
         "default",
         "--res",
@@ -886,7 +889,14 @@ fn compare_sweeps_the_trackers_latency() {
         let worst: f64 = r["eflip_p99_worst_after_landing"].parse().unwrap();
         assert!(worst > 0.0 && worst <= 1.0, "{r:?}");
     }
+    // Every judged frame of every row, with its eFLIP per region where the fovea was placed.
+    let frames = read_csv(&frames_csv, 14);
+    assert!(!frames.is_empty() && frames.len() % rows.len() == 0);
+    for f in &frames {
+        assert_numeric(f, &["prediction", "config"]);
+    }
     let _ = std::fs::remove_file(&csv);
+    let _ = std::fs::remove_file(&frames_csv);
     let o = foveate(&["compare", "--res", "48", "--gaze-latency", "-5"]);
     assert!(
         !o.status.success() && stderr(&o).contains("gaze-latency = -5"),

@@ -567,7 +567,7 @@ fn latency(options: &GpuOptions, args: &CompareArgs, acuity: Acuity) -> Result<(
     latency_sweep(&gpu, &args.latency, &sweep)
 }
 
-fn slug(name: &str) -> String {
+pub(crate) fn slug(name: &str) -> String {
     let mut out = String::new();
     for c in name.chars() {
         if c.is_ascii_alphanumeric() || c == '.' {

@@ -24,7 +24,8 @@ use foveate::scene::Scene;
 use foveate::view::Eye;
 use glam::Vec2;
 
-use crate::csv_out::CsvTable;
+use crate::commands::bench::plots::{latency_plot, LatencyCurve};
+use crate::csv_out::{opt, CsvTable};
 use crate::side_by_side::{measure_group, Group};
 
 /// The latency sweep's own settings (the rest are `compare`'s).
@@ -64,9 +65,14 @@ pub struct LatencyArgs {
     /// Saccadic suppression's window after landing (ms), reported apart, never discounted.
     #[arg(long, default_value_t = 50.0)]
     pub suppression_ms: f64,
-    /// Also write every judged frame (time, true and displayed gaze, eFLIP) as CSV here.
+    /// Also write every judged frame (time, true and displayed gaze, eFLIP p99, mean and p99 per
+    /// region) as CSV here.
     #[arg(long)]
     pub frames_csv: Option<PathBuf>,
+    /// Also plot each configuration's eFLIP p99 against time since landing, every tracking a
+    /// colour, as PATH-<configuration>.png and .svg.
+    #[arg(long, value_name = "PATH")]
+    pub latency_plot: Option<PathBuf>,
 }
 
 /// What the sweep needs from `compare`'s arguments.
@@ -98,11 +104,23 @@ struct Frame {
     truth: Vec2,
 }
 
-/// One configuration's eFLIP p99 per judged frame under one tracking.
+/// One configuration's eFLIP per judged frame under one tracking: the 99th percentile, and the
+/// mean and the p99 per region (where the fovea was placed).
 struct Judged {
     p99: Vec<f64>,
-    mean: Vec<f64>,
+    detail: Vec<Detail>,
 }
+
+#[derive(Clone, Copy)]
+struct Detail {
+    mean: f64,
+    regions: [Option<f64>; 3],
+}
+
+const UNJUDGED: Detail = Detail {
+    mean: f64::NAN,
+    regions: [None; 3],
+};
 
 pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()> {
     let trackings = trackings(args)?;
@@ -227,18 +245,25 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
             Eye::BOTH.map(|e| EyePixels::seen(&plans[0], e, truth, fovea, plan.foveation.as_ref()));
         let error = perceptual_error(reference.eyes(), image.eyes(), &pixels, sweep.acuity)?;
         let e = error.eccentric.context("no visible pixel to judge")?;
-        Ok::<_, anyhow::Error>((e.p99, e.mean))
+        let regions = error.regions.map(|r| r.map(|r| r.p99));
+        Ok::<_, anyhow::Error>((
+            e.p99,
+            Detail {
+                mean: e.mean,
+                regions,
+            },
+        ))
     };
     // Aliased stereo at every frame's true gaze: the row foveation is held to.
     let bar = crate::progress::bar("latency: FLIP", frames.len() as u64);
     let mut stereo = Judged {
         p99: Vec::new(),
-        mean: Vec::new(),
+        detail: Vec::new(),
     };
     for f in &frames {
-        let (p99, mean) = judge(&measured[1].image, &plans[1], f.truth, f.truth)?;
+        let (p99, detail) = judge(&measured[1].image, &plans[1], f.truth, f.truth)?;
         stereo.p99.push(p99);
-        stereo.mean.push(mean);
+        stereo.detail.push(detail);
         bar.inc(1);
     }
     bar.finish_and_clear();
@@ -265,7 +290,7 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
             .iter()
             .map(|_| Judged {
                 p99: vec![f64::NAN; frames.len()],
-                mean: vec![f64::NAN; frames.len()],
+                detail: vec![UNJUDGED; frames.len()],
             })
             .collect();
         for key in keys {
@@ -274,8 +299,8 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
             renderer.render_frame(sweep.scene.head)?;
             let image = renderer.readback()?;
             for &(k, i) in &by_gaze[&key] {
-                let (p99, mean) = judge(&image, plan, frames[i].truth, g)?;
-                (rows[k].p99[i], rows[k].mean[i]) = (p99, mean);
+                let (p99, detail) = judge(&image, plan, frames[i].truth, g)?;
+                (rows[k].p99[i], rows[k].detail[i]) = (p99, detail);
             }
             bar.inc(1);
         }
@@ -335,6 +360,37 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
         }
     }
     csv.save(sweep.csv.as_deref())?;
+    if let Some(stem) = &args.latency_plot {
+        for (c, (name, ..)) in sweep.foveated.iter().enumerate() {
+            let curves: Vec<LatencyCurve> = trackings
+                .iter()
+                .enumerate()
+                .map(|(k, tracking)| LatencyCurve {
+                    label: format!("{} ms, {}", tracking.latency_ms, tracking.prediction.name()),
+                    saccades: (0..saccades.len())
+                        .map(|s| {
+                            let mine = frames.iter().zip(&judged[c][k].p99);
+                            mine.filter(|(f, _)| f.saccade == s)
+                                .map(|(f, &p)| ((f.t - saccades[s].landing_s) * 1000.0, p))
+                                .collect()
+                        })
+                        .collect(),
+                })
+                .collect();
+            let caption = format!("{name}: the error at the true gaze around each saccade, per tracker latency and prediction");
+            let file = format!(
+                "{}-{}",
+                stem.display(),
+                crate::commands::compare::slug(name)
+            );
+            latency_plot(&curves, budget, &caption, std::path::Path::new(&file))?;
+        }
+        println!(
+            "wrote {} latency plots as {}-*.png/svg",
+            sweep.foveated.len(),
+            stem.display()
+        );
+    }
     if let Some(path) = &args.frames_csv {
         let mut per_frame = CsvTable::new(&[
             "latency_ms",
@@ -348,10 +404,14 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
             "fovea_y",
             "eflip_p99",
             "eflip_mean",
+            "eflip_p99_fovea",
+            "eflip_p99_band",
+            "eflip_p99_periphery",
         ])?;
         for (k, tracking) in trackings.iter().enumerate() {
             for (c, (name, _, _)) in sweep.foveated.iter().enumerate() {
                 for (i, f) in frames.iter().enumerate() {
+                    let detail = judged[c][k].detail[i];
                     let since = (f.t - saccades[f.saccade].landing_s) * 1000.0;
                     per_frame.row(&[
                         &tracking.latency_ms,
@@ -364,7 +424,10 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
                         &shown[k][i].x,
                         &shown[k][i].y,
                         &format!("{:.6}", judged[c][k].p99[i]),
-                        &format!("{:.6}", judged[c][k].mean[i]),
+                        &format!("{:.6}", detail.mean),
+                        &opt(detail.regions[0], 6),
+                        &opt(detail.regions[1], 6),
+                        &opt(detail.regions[2], 6),
                     ])?;
                 }
             }
@@ -621,7 +684,7 @@ mod tests {
         // Above budget until t = 0.08 (frame 8), then within.
         let p99: Vec<f64> = (0..12).map(|i| if i <= 8 { 0.5 } else { 0.1 }).collect();
         let j = Judged {
-            mean: p99.clone(),
+            detail: vec![UNJUDGED; p99.len()],
             p99,
         };
         let w = Windows {

@@ -362,3 +362,92 @@ fn pareto_frontier(points: &[AccuracyPoint]) -> Vec<(f64, f64)> {
         .map(|i| (xy[i].time, xy[i].error))
         .collect()
 }
+
+/// One line of [`latency_plot`]: a tracking's error after each saccade, (ms since landing,
+/// eFLIP p99) per saccade.
+pub struct LatencyCurve {
+    pub label: String,
+    pub saccades: Vec<Vec<(f64, f64)>>,
+}
+
+/// eFLIP p99 against time since landing, one colour per tracking (every saccade a line of it),
+/// the budget dashed, as `<stem>.png` and `<stem>.svg`.
+pub fn latency_plot(
+    curves: &[LatencyCurve],
+    budget: f64,
+    caption: &str,
+    stem: &Path,
+) -> Result<()> {
+    let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
+    let size = (1400, 900);
+    // Appended, not `with_extension`: a stem may hold a dot (`foveated-0.5-…`).
+    let png = format!("{}.png", stem.display());
+    latency(
+        curves,
+        budget,
+        caption,
+        BitMapBackend::new(&png, size).into_drawing_area(),
+    )?;
+    let svg = format!("{}.svg", stem.display());
+    latency(
+        curves,
+        budget,
+        caption,
+        SVGBackend::new(&svg, size).into_drawing_area(),
+    )
+}
+
+fn latency<DB: DrawingBackend>(
+    curves: &[LatencyCurve],
+    budget: f64,
+    caption: &str,
+    root: DrawingArea<DB, Shift>,
+) -> Result<()> {
+    root.fill(&WHITE).map_err(plot_error)?;
+    let points = || curves.iter().flat_map(|c| c.saccades.iter().flatten());
+    let (x0, x1) = points().fold((0.0, 0.0), |(lo, hi): (f64, f64), p| {
+        (lo.min(p.0), hi.max(p.0))
+    });
+    let ymax = points().map(|p| p.1).fold(budget, f64::max) * 1.1;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(caption, (FONT, 18))
+        .margin(14)
+        .x_label_area_size(44)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x0..x1, 0.0..ymax)
+        .map_err(plot_error)?;
+    chart
+        .configure_mesh()
+        .x_desc("ms since the saccade landed (negative: during it)")
+        .y_desc("eccentricity-aware FLIP p99 at the true gaze")
+        .label_style((FONT, 14))
+        .draw()
+        .map_err(plot_error)?;
+    chart
+        .draw_series(DashedLineSeries::new(
+            [(x0, budget), (x1, budget)],
+            8,
+            6,
+            BLACK.stroke_width(1),
+        ))
+        .map_err(plot_error)?
+        .label(format!("budget {budget:.3}"))
+        .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK.stroke_width(1)));
+    for (k, curve) in curves.iter().enumerate() {
+        let colour = PALETTE[k % PALETTE.len()];
+        for (i, saccade) in curve.saccades.iter().enumerate() {
+            let series = chart
+                .draw_series(LineSeries::new(
+                    saccade.iter().copied(),
+                    colour.stroke_width(2),
+                ))
+                .map_err(plot_error)?;
+            if i == 0 {
+                series.label(curve.label.clone()).legend(move |(x, y)| {
+                    PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+            }
+        }
+    }
+    legend_and_present(&mut chart, &root)
+}
