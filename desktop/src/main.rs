@@ -5,6 +5,7 @@ mod cli;
 mod commands;
 mod counts;
 mod csv_out;
+mod file_names;
 mod fovea_table;
 mod frame_args;
 mod frontier;

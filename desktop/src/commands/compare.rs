@@ -14,6 +14,7 @@ use crate::commands::bench::accuracy::AccuracyPoint;
 use crate::commands::bench::plots::accuracy_plot;
 use crate::commands::latency::{latency_sweep, LatencyArgs, Sweep};
 use crate::csv_out::{opt, CsvTable};
+use crate::file_names::slug;
 use crate::fovea_table::{self, TableSettings};
 use crate::frame_args::ComparedFrame;
 use crate::frontier::{cheapest_within_error, most_accurate_within_time, pareto_frontier, Point};
@@ -567,18 +568,6 @@ fn latency(options: &GpuOptions, args: &CompareArgs, acuity: Acuity) -> Result<(
     latency_sweep(&gpu, &args.latency, &sweep)
 }
 
-pub(crate) fn slug(name: &str) -> String {
-    let mut out = String::new();
-    for c in name.chars() {
-        if c.is_ascii_alphanumeric() || c == '.' {
-            out.push(c.to_ascii_lowercase());
-        } else if !out.ends_with('-') {
-            out.push('-');
-        }
-    }
-    out.trim_matches('-').to_string()
-}
-
 /// `compare --table`: the foveation table (see `fovea_table`).
 fn table(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     let gpu = Gpu::new(options)?;
@@ -614,17 +603,4 @@ fn table(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         "(x stereo: frame time to the same scene's stereo row in this run; fragments and primitives from separate counting frames; (auto): the layout `--fovea-layout auto` picks on this device)"
     );
     fovea_table::csv(&rows)?.save(args.csv.as_deref())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn slugs_are_file_names() {
-        assert_eq!(
-            slug("foveated 0.35, sharpen 0.5, MSAA 4"),
-            "foveated-0.35-sharpen-0.5-msaa-4"
-        );
-    }
 }

@@ -378,11 +378,7 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
                 })
                 .collect();
             let caption = format!("{name}: the error at the true gaze around each saccade, per tracker latency and prediction");
-            let file = format!(
-                "{}-{}",
-                stem.display(),
-                crate::commands::compare::slug(name)
-            );
+            let file = format!("{}-{}", stem.display(), crate::file_names::slug(name));
             latency_plot(&curves, budget, &caption, std::path::Path::new(&file))?;
         }
         println!(
