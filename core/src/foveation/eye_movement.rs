@@ -212,12 +212,11 @@ impl EyeMovementModel {
             if t >= phase_end {
                 (movement, phase_end) = match movement {
                     Movement::Fixating => self.next_shift(&mut rng, space, gaze, t),
-                    Movement::Saccade { to, .. } => {
-                        gaze = to;
-                        let d = rng.between(self.fixation_s.0, self.fixation_s.1);
-                        (Movement::Fixating, t + d)
-                    }
-                    Movement::Pursuit { .. } => {
+                    // A saccade or a pursuit ends in a fixation (a saccade exactly on target).
+                    ended => {
+                        if let Movement::Saccade { to, .. } = ended {
+                            gaze = to;
+                        }
                         let d = rng.between(self.fixation_s.0, self.fixation_s.1);
                         (Movement::Fixating, t + d)
                     }

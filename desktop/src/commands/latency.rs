@@ -104,20 +104,17 @@ struct Frame {
     truth: Vec2,
 }
 
-/// One configuration's eFLIP per judged frame under one tracking: the 99th percentile, and the
-/// mean and the p99 per region (where the fovea was placed).
-struct Judged {
-    p99: Vec<f64>,
-    detail: Vec<Detail>,
-}
-
+/// One judged frame's eFLIP at the true gaze: the 99th percentile, the mean, and the p99 per
+/// region (where the fovea was placed).
 #[derive(Clone, Copy)]
-struct Detail {
+struct FrameError {
+    p99: f64,
     mean: f64,
     regions: [Option<f64>; 3],
 }
 
-const UNJUDGED: Detail = Detail {
+const UNJUDGED: FrameError = FrameError {
+    p99: f64::NAN,
     mean: f64::NAN,
     regions: [None; 3],
 };
@@ -245,62 +242,49 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
             Eye::BOTH.map(|e| EyePixels::seen(&plans[0], e, truth, fovea, plan.foveation.as_ref()));
         let error = perceptual_error(reference.eyes(), image.eyes(), &pixels, sweep.acuity)?;
         let e = error.eccentric.context("no visible pixel to judge")?;
-        let regions = error.regions.map(|r| r.map(|r| r.p99));
-        Ok::<_, anyhow::Error>((
-            e.p99,
-            Detail {
-                mean: e.mean,
-                regions,
-            },
-        ))
+        Ok::<_, anyhow::Error>(FrameError {
+            p99: e.p99,
+            mean: e.mean,
+            regions: error.regions.map(|r| r.map(|r| r.p99)),
+        })
     };
     // Aliased stereo at every frame's true gaze: the row foveation is held to.
     let bar = crate::progress::bar("latency: FLIP", frames.len() as u64);
-    let mut stereo = Judged {
-        p99: Vec::new(),
-        detail: Vec::new(),
-    };
+    let mut stereo = Vec::new();
     for f in &frames {
-        let (p99, detail) = judge(&measured[1].image, &plans[1], f.truth, f.truth)?;
-        stereo.p99.push(p99);
-        stereo.detail.push(detail);
+        stereo.push(judge(&measured[1].image, &plans[1], f.truth, f.truth)?);
         bar.inc(1);
     }
     bar.finish_and_clear();
-    let post = |j: &Judged| worst_after_landing(j, &frames, &saccades);
-    let budget = sweep.budget.unwrap_or(post(&stereo));
-    // Every foveated configuration, rendered once per distinct displayed gaze.
-    let mut judged: Vec<Vec<Judged>> = Vec::new();
+    let budget = sweep
+        .budget
+        .unwrap_or(worst_after_landing(&stereo, &frames, &saccades));
+    // Which (tracking, frame) showed each distinct gaze: every configuration renders each once.
+    let mut by_gaze: HashMap<[u32; 2], Vec<(usize, usize)>> = HashMap::new();
+    for (k, gazes) in shown.iter().enumerate() {
+        for (i, g) in gazes.iter().enumerate() {
+            by_gaze
+                .entry(g.to_array().map(f32::to_bits))
+                .or_default()
+                .push((k, i));
+        }
+    }
+    let mut gazes: Vec<[u32; 2]> = by_gaze.keys().copied().collect();
+    gazes.sort();
+    // Per configuration, per tracking, per judged frame.
+    let mut judged: Vec<Vec<Vec<FrameError>>> = Vec::new();
     for (c, (name, _, _)) in sweep.foveated.iter().enumerate() {
         let plan = &plans[c + 2];
         let mut renderer = Renderer::new(gpu, plan, sweep.scene)?;
-        let mut by_gaze: HashMap<[u32; 2], Vec<(usize, usize)>> = HashMap::new();
-        for (k, gazes) in shown.iter().enumerate() {
-            for (i, g) in gazes.iter().enumerate() {
-                by_gaze
-                    .entry(g.to_array().map(f32::to_bits))
-                    .or_default()
-                    .push((k, i));
-            }
-        }
-        let mut keys: Vec<[u32; 2]> = by_gaze.keys().copied().collect();
-        keys.sort();
-        let bar = crate::progress::bar(&format!("latency: {name}"), keys.len() as u64);
-        let mut rows: Vec<Judged> = trackings
-            .iter()
-            .map(|_| Judged {
-                p99: vec![f64::NAN; frames.len()],
-                detail: vec![UNJUDGED; frames.len()],
-            })
-            .collect();
-        for key in keys {
+        let bar = crate::progress::bar(&format!("latency: {name}"), gazes.len() as u64);
+        let mut rows = vec![vec![UNJUDGED; frames.len()]; trackings.len()];
+        for key in &gazes {
             let g = Vec2::from_array(key.map(f32::from_bits));
             renderer.set_gaze([g; 2]);
             renderer.render_frame(sweep.scene.head)?;
             let image = renderer.readback()?;
-            for &(k, i) in &by_gaze[&key] {
-                let (p99, detail) = judge(&image, plan, frames[i].truth, g)?;
-                (rows[k].p99[i], rows[k].detail[i]) = (p99, detail);
+            for &(k, i) in &by_gaze[key] {
+                rows[k][i] = judge(&image, plan, frames[i].truth, g)?;
             }
             bar.inc(1);
         }
@@ -316,6 +300,11 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
         frame_s: 1.0 / display_hz,
     };
     let stereo_row = windows.summary(&stereo);
+    // Per configuration, per tracking.
+    let summaries: Vec<Vec<Summary>> = judged
+        .iter()
+        .map(|rows| rows.iter().map(|j| windows.summary(j)).collect())
+        .collect();
     println!(
         "reference: stereo, MSAA 4, {:.2} ms; budget: eFLIP p99 ≤ {budget:.4} on every frame after landing ({})",
         measured[0].frame_ms,
@@ -327,7 +316,7 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
             ),
         }
     );
-    print_table(&trackings, sweep, &judged, &windows, &times, stereo_row);
+    print_table(&trackings, sweep, &summaries, &windows, &times, stereo_row);
     let mut csv = CsvTable::new(&[
         "latency_ms",
         "prediction",
@@ -343,7 +332,7 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
     ])?;
     for (k, tracking) in trackings.iter().enumerate() {
         for (c, (name, ratio, _)) in sweep.foveated.iter().enumerate() {
-            let s = windows.summary(&judged[c][k]);
+            let s = summaries[c][k];
             csv.row(&[
                 &tracking.latency_ms,
                 &tracking.prediction.name(),
@@ -369,9 +358,9 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
                     label: format!("{} ms, {}", tracking.latency_ms, tracking.prediction.name()),
                     saccades: (0..saccades.len())
                         .map(|s| {
-                            let mine = frames.iter().zip(&judged[c][k].p99);
+                            let mine = frames.iter().zip(&judged[c][k]);
                             mine.filter(|(f, _)| f.saccade == s)
-                                .map(|(f, &p)| ((f.t - saccades[s].landing_s) * 1000.0, p))
+                                .map(|(f, e)| ((f.t - saccades[s].landing_s) * 1000.0, e.p99))
                                 .collect()
                         })
                         .collect(),
@@ -407,7 +396,7 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
         for (k, tracking) in trackings.iter().enumerate() {
             for (c, (name, _, _)) in sweep.foveated.iter().enumerate() {
                 for (i, f) in frames.iter().enumerate() {
-                    let detail = judged[c][k].detail[i];
+                    let e = judged[c][k][i];
                     let since = (f.t - saccades[f.saccade].landing_s) * 1000.0;
                     per_frame.row(&[
                         &tracking.latency_ms,
@@ -419,11 +408,11 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
                         &f.truth.y,
                         &shown[k][i].x,
                         &shown[k][i].y,
-                        &format!("{:.6}", judged[c][k].p99[i]),
-                        &format!("{:.6}", detail.mean),
-                        &opt(detail.regions[0], 6),
-                        &opt(detail.regions[1], 6),
-                        &opt(detail.regions[2], 6),
+                        &format!("{:.6}", e.p99),
+                        &format!("{:.6}", e.mean),
+                        &opt(e.regions[0], 6),
+                        &opt(e.regions[1], 6),
+                        &opt(e.regions[2], 6),
                     ])?;
                 }
             }
@@ -503,12 +492,12 @@ fn displayed(
 }
 
 /// The worst p99 of the frames at or after a saccade's landing.
-fn worst_after_landing(j: &Judged, frames: &[Frame], saccades: &[SaccadeEvent]) -> f64 {
+fn worst_after_landing(j: &[FrameError], frames: &[Frame], saccades: &[SaccadeEvent]) -> f64 {
     frames
         .iter()
-        .zip(&j.p99)
+        .zip(j)
         .filter(|(f, _)| f.t >= saccades[f.saccade].landing_s)
-        .map(|(_, &p)| p)
+        .map(|(_, e)| e.p99)
         .fold(0.0, f64::max)
 }
 
@@ -534,10 +523,10 @@ struct Summary {
 }
 
 impl Windows<'_> {
-    fn summary(&self, j: &Judged) -> Summary {
+    fn summary(&self, j: &[FrameError]) -> Summary {
         let mut above: Vec<f64> = vec![0.0; self.saccades.len()];
         let mut worst_during: f64 = 0.0;
-        for (f, &p) in self.frames.iter().zip(&j.p99) {
+        for (f, p) in self.frames.iter().zip(j.iter().map(|e| e.p99)) {
             let landing = self.saccades[f.saccade].landing_s;
             if f.t < landing {
                 worst_during = worst_during.max(p);
@@ -550,7 +539,7 @@ impl Windows<'_> {
         Summary {
             worst_after: worst_after_landing(j, self.frames, self.saccades),
             worst_during,
-            mean_p99: j.p99.iter().sum::<f64>() / j.p99.len().max(1) as f64,
+            mean_p99: j.iter().map(|e| e.p99).sum::<f64>() / j.len().max(1) as f64,
             above_ms: above_s * 1000.0,
             beyond_suppression_ms: (above_s - self.suppression_s).max(0.0) * 1000.0,
         }
@@ -571,7 +560,7 @@ fn smallest_within(candidates: &[(f32, f64, f64)], budget: f64) -> Option<usize>
 fn print_table(
     trackings: &[Tracking],
     sweep: &Sweep,
-    judged: &[Vec<Judged>],
+    summaries: &[Vec<Summary>],
     windows: &Windows,
     times: &[f64],
     stereo: Summary,
@@ -606,7 +595,7 @@ fn print_table(
     for (k, tracking) in trackings.iter().enumerate() {
         let mut candidates = Vec::new();
         for (c, (name, ratio, _)) in sweep.foveated.iter().enumerate() {
-            let s = windows.summary(&judged[c][k]);
+            let s = summaries[c][k];
             let latency = format!("{} ms", tracking.latency_ms);
             line(&latency, tracking.prediction.name(), name, times[c + 2], s);
             candidates.push((*ratio, times[c + 2], s.worst_after));
@@ -678,11 +667,12 @@ mod tests {
             })
             .collect();
         // Above budget until t = 0.08 (frame 8), then within.
-        let p99: Vec<f64> = (0..12).map(|i| if i <= 8 { 0.5 } else { 0.1 }).collect();
-        let j = Judged {
-            detail: vec![UNJUDGED; p99.len()],
-            p99,
-        };
+        let j: Vec<FrameError> = (0..12)
+            .map(|i| FrameError {
+                p99: if i <= 8 { 0.5 } else { 0.1 },
+                ..UNJUDGED
+            })
+            .collect();
         let w = Windows {
             frames: &frames,
             saccades: &saccades,
