@@ -72,11 +72,7 @@ impl Cli {
             Command::Devices => devices(),
             Command::Plan(args) => {
                 let gpu = Gpu::new(&self.gpu_options())?;
-                let scene = crate::frame_args::scene_from(
-                    &args.scene,
-                    args.shading.as_deref(),
-                    &args.head,
-                )?;
+                let scene = args.scene()?;
                 for mode in args.stereo_modes()? {
                     let plan = foveate::plan(&scene, &args.config(mode)?, gpu.caps())?;
                     println!("{plan}\n");

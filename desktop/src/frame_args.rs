@@ -6,7 +6,7 @@ use clap::Args;
 use foveate::foveation::{FoveationConfig, PeripheryFilter, TemporalConfig};
 use foveate::mffr::MffrConfig;
 use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
-use foveate::scene::{named_scene, Scene, Shading};
+use foveate::scene::{named_scene, ClusterSettings, Scene, Shading};
 use foveate::view::{look_at_head, HmdProfile};
 use glam::Vec3;
 
@@ -126,6 +126,40 @@ pub struct ConfigArgs {
     pub shading: Option<String>,
     #[command(flatten)]
     pub head: HeadArgs,
+    #[command(flatten)]
+    pub clusters: ClusterArgs,
+}
+
+impl ConfigArgs {
+    /// The scene `--scene` names, shaded, clustered and its head placed as asked.
+    pub fn scene(&self) -> Result<Scene> {
+        scene_from(
+            &self.scene,
+            self.shading.as_deref(),
+            &self.head,
+            &self.clusters,
+        )
+    }
+}
+
+/// Whether the scene's large meshes are split into clusters culled per draw set.
+#[derive(Args, Clone, Default)]
+pub struct ClusterArgs {
+    /// Split meshes of more triangles than N into clusters of at most N (default 124; a
+    /// multiple of 4 in 32..=256), each culled per draw set against the set's own frustum and
+    /// back-face cones wherever the frame culls (foveation's fovea pass, `--cull`, MFFR).
+    #[arg(long, value_name = "N", num_args = 0..=1, default_missing_value = "124")]
+    pub clusters: Option<u32>,
+}
+
+impl ClusterArgs {
+    /// `scene` clustered as asked.
+    pub fn apply(&self, scene: Scene) -> Result<Scene> {
+        Ok(match self.clusters {
+            Some(n) => scene.with_clusters(ClusterSettings::new(n)?)?,
+            None => scene,
+        })
+    }
 }
 
 /// Where the head is: the scene's own pose (a file's first camera, or framing its bounds)
@@ -171,12 +205,17 @@ impl HeadArgs {
 
 /// A built-in scene or glTF file by name, shaded as asked (or as it was built), the head
 /// where asked.
-pub fn scene_from(name: &str, shading: Option<&str>, head: &HeadArgs) -> Result<Scene> {
+pub fn scene_from(
+    name: &str,
+    shading: Option<&str>,
+    head: &HeadArgs,
+    clusters: &ClusterArgs,
+) -> Result<Scene> {
     let scene = named_scene(name)?;
-    head.apply(match shading {
+    clusters.apply(head.apply(match shading {
         Some(s) => scene.with_shading(s.parse::<Shading>()?),
         None => scene,
-    })
+    })?)
 }
 
 /// A per-eye resolution as the command line gives it: N (square), WxH, or `native` (`None`:
@@ -244,12 +283,14 @@ pub struct ComparedFrame {
     pub fovea_layout: String,
     #[command(flatten)]
     pub head: HeadArgs,
+    #[command(flatten)]
+    pub clusters: ClusterArgs,
 }
 
 impl ComparedFrame {
-    /// The scene `name`, shaded and its head placed as asked.
+    /// The scene `name`, shaded, clustered and its head placed as asked.
     pub fn scene(&self, name: &str) -> Result<Scene> {
-        scene_from(name, self.shading.as_deref(), &self.head)
+        scene_from(name, self.shading.as_deref(), &self.head, &self.clusters)
     }
 
     /// The per-eye screen of `res` (N, WxH or `native`) on this frame's headset.

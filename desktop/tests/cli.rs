@@ -891,7 +891,7 @@ fn compare_sweeps_the_trackers_latency() {
     }
     // Every judged frame of every row, with its eFLIP per region where the fovea was placed.
     let frames = read_csv(&frames_csv, 14);
-    assert!(!frames.is_empty() && frames.len() % rows.len() == 0);
+    assert!(!frames.is_empty() && frames.len().is_multiple_of(rows.len()));
     for f in &frames {
         assert_numeric(f, &["prediction", "config"]);
     }

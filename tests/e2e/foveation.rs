@@ -10,7 +10,7 @@ use foveate::plan::{
 use foveate::render::{Renderer, StereoImage};
 use foveate::scene::{atrium_scene, default_scene, Scene};
 use foveate::view::{Eye, FovTangents};
-use foveate_tests::{gpu, linear, render_plan};
+use foveate_tests::{gpu, linear, render_at, render_plan};
 use glam::Vec2;
 
 fn foveated(screen: u32, foveation: FoveationConfig, msaa: u32) -> RenderConfig {
@@ -253,22 +253,6 @@ fn foveated_frame(screen: u32, ratio: f32, band: f32) -> RenderConfig {
             4,
         )
     }
-}
-
-fn render_at(
-    gpu: &foveate::gpu::Gpu,
-    scene: &Scene,
-    config: &RenderConfig,
-    gaze: Vec2,
-) -> StereoImage {
-    let plan = foveate::plan(scene, config, gpu.caps()).unwrap();
-    let mut renderer = Renderer::new(gpu, &plan, scene).unwrap();
-    renderer.set_gaze([gaze; 2]);
-    renderer.render_frame(scene.head).unwrap();
-    let image = renderer.readback().unwrap();
-    drop(renderer);
-    foveate_tests::assert_validation_clean(gpu);
-    image
 }
 
 /// The fovea (band excluded) against the reference, both eyes: the lower PSNR and the larger

@@ -2,6 +2,7 @@
 //! message fails the test that caused it.
 
 mod caches;
+mod clusters;
 mod config_errors;
 mod culling;
 mod foveation;

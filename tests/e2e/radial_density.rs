@@ -24,7 +24,7 @@ fn skipped(g: &RadialDensityGeometry, eye: Eye, quad: (u32, u32)) -> Option<bool
     } else if r < outer {
         (quad.0 + quad.1) % 2 == 1
     } else {
-        quad.0 % 2 != 0 || quad.1 % 2 != 0
+        !quad.0.is_multiple_of(2) || !quad.1.is_multiple_of(2)
     })
 }
 

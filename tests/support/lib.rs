@@ -85,6 +85,18 @@ pub fn render_motion(
     images
 }
 
+/// One frame of `config` with both eyes gazing at `gaze`; validation must stay silent.
+pub fn render_at(gpu: &Gpu, scene: &Scene, config: &RenderConfig, gaze: Vec2) -> StereoImage {
+    let plan = foveate::plan(scene, config, gpu.caps()).unwrap();
+    let mut renderer = Renderer::new(gpu, &plan, scene).unwrap();
+    renderer.set_gaze([gaze; 2]);
+    renderer.render_frame(scene.head).unwrap();
+    let image = renderer.readback().unwrap();
+    drop(renderer);
+    assert_validation_clean(gpu);
+    image
+}
+
 pub fn render(gpu: &Gpu, scene: &Scene, config: &RenderConfig) -> (StereoImage, FrameStats) {
     let plan = foveate::plan(scene, config, gpu.caps()).expect("valid config");
     render_plan(gpu, scene, &plan, 1)

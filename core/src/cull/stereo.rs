@@ -378,7 +378,7 @@ pub struct RoundRobin {
 
 impl RoundRobin {
     pub fn new(frusta: &StereoFrusta, frame: u64) -> Self {
-        let eye = if frame % 2 == 0 {
+        let eye = if frame.is_multiple_of(2) {
             Eye::Left
         } else {
             Eye::Right

@@ -116,6 +116,7 @@ pub fn plan(
         culling: config.culling,
         radial_density: e.radial_density,
         cull_slots: Vec::new(),
+        clusters: None,
         scene_instances: scene.instance_count(),
         fovea_layout,
         lit: scene.shading() == Shading::Lit,
@@ -128,10 +129,20 @@ pub fn plan(
     plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
     plan_queries(&mut plan, config, caps);
     if !plan.cull_slots.is_empty() {
-        // Near and far sets of one frame, each at most every instance.
+        plan.clusters = cluster_plan(scene).map(|c| ClusterPlan {
+            drawn_whole: clusters_drawn_whole(&plan, caps),
+            ..c
+        });
+        let entries = if plan.clusters.is_some_and(|c| c.culled()) {
+            scene.cull_entries()
+        } else {
+            scene.instance_count()
+        };
+        // Near and far sets of one frame, each at most every instance (every cluster of a
+        // clustered one).
         plan.buffers.push(BufferPlan {
             name: INSTANCE_IDS,
-            bytes: 2 * 4 * (scene.instance_count().max(1) as u64),
+            bytes: 2 * 4 * (entries.max(1) as u64),
         });
     }
     assign_stencil(&mut plan);
@@ -143,6 +154,47 @@ pub fn plan(
         plan.passes[pass].pipelines = step_pipelines(&plan, pass);
     }
     Ok(plan)
+}
+
+/// The scene's clusters, when it has any.
+pub(crate) fn cluster_plan(scene: &Scene) -> Option<ClusterPlan> {
+    let (clusters, meshes) = scene.cluster_counts();
+    let max_triangles = scene
+        .meshes
+        .iter()
+        .flat_map(|m| &m.clusters)
+        .map(|c| c.index_count / 3)
+        .max()?;
+    Some(ClusterPlan {
+        clusters,
+        meshes,
+        max_triangles,
+        drawn_whole: None,
+    })
+}
+
+/// Why a plan's clusters must be drawn whole: lavapipe 22.3's multiview clipping bug
+/// (`DriverQuirks::multiview_clipping_drops_views`) draws a mesh split into several draws
+/// differently from the mesh in one (measured on the atrium: up to 1.5k pixels of a 128² eye
+/// change, whether or not any cluster is culled; identical on 25.0), so a multiview pass that
+/// culls keeps whole meshes there.
+fn clusters_drawn_whole(plan: &FramePlan, caps: &DeviceCaps) -> Option<&'static str> {
+    let multiview_culls = plan
+        .passes
+        .iter()
+        .filter(|p| p.view_mask.count_ones() > 1)
+        .flat_map(|p| &p.steps)
+        .any(|s| {
+            matches!(
+                s,
+                Step::Scene {
+                    cull_slot: Some(_),
+                    ..
+                }
+            )
+        });
+    (caps.quirks.multiview_clipping_drops_views && multiview_culls)
+        .then_some("this driver's multiview clipping bug draws a mesh split into draws differently")
 }
 
 /// Each step's pipeline, as the builder that added the step states it.

@@ -24,14 +24,16 @@ mod temporal;
 mod validate;
 
 pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
+pub(crate) use build::cluster_plan;
 pub use build::plan;
 pub use config::{
     CullConfig, FoveaLayout, OutputStage, RadialDensity, RadialDensityGeometry, RenderConfig,
     StereoMode, MAX_VIEWS,
 };
 pub use model::{
-    AttachmentPlan, AttachmentRole, BufferPlan, CountedSlot, Format, FoveaLayoutChoice, FramePlan,
-    LensOutput, PassKind, PassPlan, Submission, TargetLayout, Use, COUNTER_SLOTS_PER_STEP, SKY,
+    AttachmentPlan, AttachmentRole, BufferPlan, ClusterPlan, CountedSlot, Format,
+    FoveaLayoutChoice, FramePlan, LensOutput, PassKind, PassPlan, Submission, TargetLayout, Use,
+    COUNTER_SLOTS_PER_STEP, SKY,
 };
 pub use ops::{
     Access, AttachmentId, Barrier, ClearValue, Layout, LoadOp, PassBarriers, StoreOp, Touch,

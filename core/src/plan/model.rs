@@ -361,6 +361,9 @@ pub struct FramePlan {
     /// The sets culled each frame, in order; a scene step's `cull_slot` indexes this (empty
     /// when every pass draws every instance).
     pub cull_slots: Vec<DrawSet>,
+    /// The scene's clusters, culled per draw set; `None` when its meshes are whole or no pass
+    /// draws a culled set (a clustered mesh is then drawn whole).
+    pub clusters: Option<ClusterPlan>,
     /// Instances of the scene the plan was made for: buffers are sized for them, and a
     /// renderer refuses another scene.
     pub scene_instances: usize,
@@ -377,6 +380,25 @@ pub struct FramePlan {
     pub anisotropy: Option<f32>,
     /// Lens distortion in the output stage, when the output is for the lens.
     pub lens: Option<LensOutput>,
+}
+
+/// Clusters in the plan: what the culled draw sets test per cluster, and what the id buffer
+/// is sized for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ClusterPlan {
+    pub clusters: usize,
+    pub meshes: usize,
+    /// Triangles in the largest cluster.
+    pub max_triangles: u32,
+    /// Why the clusters are drawn whole rather than culled, when they are.
+    pub drawn_whole: Option<&'static str>,
+}
+
+impl ClusterPlan {
+    /// Whether the culled draw sets cull cluster by cluster.
+    pub fn culled(&self) -> bool {
+        self.drawn_whole.is_none()
+    }
 }
 
 /// How a foveated frame renders its four views, and why.

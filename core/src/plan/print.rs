@@ -177,6 +177,17 @@ impl FramePlan {
                 c.draw_distance
             )?;
         }
+        if let Some(c) = &self.clusters {
+            let how = c.drawn_whole.map_or(
+                "culled per draw set against its own frustum, reach and back-face cones".into(),
+                |why| format!("drawn whole: {why}"),
+            );
+            writeln!(
+                f,
+                "  clusters: {} in {} meshes (at most {} triangles each), {how}; level of detail: off",
+                c.clusters, c.meshes, c.max_triangles
+            )?;
+        }
         Ok(())
     }
 

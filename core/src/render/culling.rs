@@ -6,11 +6,13 @@
 
 use glam::{Mat4, Vec3};
 
+use super::cluster_cull::ClusterTest;
+use super::scene_buffers::SceneBuffers;
 use crate::cull::{
     CullHierarchy, CullView, Frustum, HierarchyParams, StereoFrusta, Strategy, Superfrustum,
 };
 use crate::plan::{DrawSet, FramePlan};
-use crate::scene::{Draw, Scene};
+use crate::scene::{Cluster, Draw, PlacedClusters, Scene};
 use crate::view::{Eye, EyeParams, FovTangents, LensRegion};
 
 /// The top bit of a culled id in the one-pass fovea layout: the fovea superfrustum keeps the
@@ -21,6 +23,10 @@ pub(crate) struct FrameCulling {
     hierarchy: CullHierarchy,
     /// Which of the scene's draws (meshes) each instance belongs to.
     draw_of: Vec<u32>,
+    /// Each instance of a clustered mesh placed (`None`: its mesh is drawn whole).
+    placed: Vec<Option<PlacedClusters>>,
+    /// Each draw's buckets: the whole mesh first, then one per cluster of its mesh.
+    draw_buckets: Vec<DrawBuckets>,
     lens_regions: [LensRegion; 2],
     /// Distance culling radius: the configured draw distance, or without one the eyes'
     /// frusta's far corners, so nothing in them is dropped.
@@ -28,22 +34,62 @@ pub(crate) struct FrameCulling {
     /// With MFFR, how far from the head the near field reaches: everything in front of the
     /// split, whose far corners lie farther from the head than the split itself.
     near_reach: Option<f32>,
+    /// Culled ids by bucket ([`FrameCulling::draw_buckets`]), each bucket one draw.
     buckets: Vec<Vec<u32>>,
     /// This frame's fovea set, by instance (one-pass fovea layout).
     in_fovea: Vec<bool>,
+    /// Which clusters of one instance the fovea views see (one-pass fovea layout).
+    seen_by_fovea: Vec<bool>,
     /// This frame's ids: slot 0's, then slot 1's.
     pub ids: Vec<u32>,
     /// This frame's draws of each of the plan's cull slots, each indexing its part of `ids`.
     pub sets: Vec<Vec<Draw>>,
+    /// Clusters kept over all slots this frame (0 without clusters).
+    pub clusters_kept: usize,
+}
+
+/// Where one draw's ids go: bucket `first` draws the whole mesh (range `mesh`), buckets
+/// `first + 1 + j` its cluster j (range `first_cluster + j`).
+struct DrawBuckets {
+    first: usize,
+    mesh: usize,
+    first_cluster: usize,
+    clusters: Vec<Cluster>,
 }
 
 impl FrameCulling {
-    pub fn new(scene: &Scene, draws: &[Draw], plan: &FramePlan) -> Self {
+    pub fn new(scene: &Scene, buffers: &SceneBuffers, plan: &FramePlan) -> Self {
+        let draws = &buffers.draws;
         let mut draw_of = vec![0; scene.instance_count()];
         for (k, d) in draws.iter().enumerate() {
             let range = d.first_instance as usize..(d.first_instance + d.instance_count) as usize;
             draw_of[range].fill(k as u32);
         }
+        let mut first = 0;
+        let draw_buckets: Vec<DrawBuckets> = draws
+            .iter()
+            .map(|d| {
+                let clusters = scene.meshes[d.mesh].clusters.clone();
+                let b = DrawBuckets {
+                    first,
+                    mesh: d.mesh,
+                    first_cluster: buffers.first_cluster[d.mesh],
+                    clusters,
+                };
+                first += 1 + b.clusters.len();
+                b
+            })
+            .collect();
+        let culled = plan.clusters.is_some_and(|c| c.culled());
+        let placed = scene
+            .flat_instances()
+            .iter()
+            .zip(&draw_of)
+            .map(|(i, &k)| {
+                let clustered = culled && !draw_buckets[k as usize].clusters.is_empty();
+                clustered.then(|| PlacedClusters::new(i.model))
+            })
+            .collect();
         let draw_distance = plan.culling.map_or_else(
             || reach(&plan.eyes, plan.near, plan.far),
             |c| c.draw_distance,
@@ -51,21 +97,26 @@ impl FrameCulling {
         FrameCulling {
             hierarchy: CullHierarchy::build(&scene.instance_spheres(), HierarchyParams::default()),
             draw_of,
+            placed,
+            draw_buckets,
             lens_regions: Eye::BOTH.map(|e| plan.hmd.lens_region(plan.eyes.fov(e))),
             draw_distance,
             near_reach: plan
                 .mffr
                 .map(|m| reach(&plan.eyes, plan.near, m.split_m).min(draw_distance)),
-            buckets: vec![Vec::new(); draws.len()],
+            buckets: vec![Vec::new(); first],
             in_fovea: Vec::new(),
+            seen_by_fovea: Vec::new(),
             ids: Vec::new(),
             sets: vec![Vec::new(); plan.cull_slots.len()],
+            clusters_kept: 0,
         }
     }
 
     /// Culls one frame into [`FrameCulling::sets`], one set per cull slot of the plan. `far` is
     /// the MFFR far view's frustum, when MFFR is planned; `fovea` the fovea views' tangents,
-    /// when foveation is.
+    /// when foveation is. Instances of clustered meshes are then culled cluster by cluster
+    /// against the slot's own frustum.
     pub fn cull(
         &mut self,
         plan: &FramePlan,
@@ -73,18 +124,21 @@ impl FrameCulling {
         frame: u64,
         far: Option<&Frustum>,
         fovea: Option<&[FovTangents; 2]>,
-        draws: &[Draw],
     ) {
         let FrameCulling {
             hierarchy: h,
             draw_of,
+            placed,
+            draw_buckets,
             lens_regions,
             draw_distance,
             near_reach,
             buckets,
             in_fovea,
+            seen_by_fovea,
             ids,
             sets,
+            clusters_kept,
         } = self;
         let draw_distance = *draw_distance;
         let centre = world_from_head.transform_point3(Vec3::ZERO);
@@ -97,80 +151,145 @@ impl FrameCulling {
             frame,
             lens_regions,
         };
-        // Both eyes' frusta once a frame, when a slot culls per eye.
-        let frusta = plan
-            .cull_slots
-            .iter()
-            .any(|s| matches!(s, DrawSet::VisibleToEye(_)))
-            .then(|| StereoFrusta::new(&plan.eyes, world_from_head, plan.near, draw_distance));
+        let clustered = placed.iter().any(Option::is_some);
+        // Both eyes' frusta once a frame, when a slot culls per eye or clusters are culled.
+        let frusta = (clustered
+            || plan
+                .cull_slots
+                .iter()
+                .any(|s| matches!(s, DrawSet::VisibleToEye(_))))
+        .then(|| StereoFrusta::new(&plan.eyes, world_from_head, plan.near, draw_distance));
+        let eyes = || {
+            let frusta = frusta.as_ref().expect("computed with clusters");
+            frusta.eyes.map(|f| f.origin)
+        };
+        let superfrustum = |eyes: &EyeParams, distance| {
+            Superfrustum::new(eyes, world_from_head, plan.near, distance).frustum
+        };
         // The superfrustum around both fovea frusta (the fovea windows as the eyes' fields).
-        let fovea_cull = || {
+        let fovea_frustum = || {
             let fovea = fovea.expect("fovea sets are planned with foveation");
             let eyes = EyeParams {
                 left_fov: fovea[0],
                 right_fov: fovea[1],
                 ..plan.eyes
             };
-            let sf = Superfrustum::new(&eyes, world_from_head, plan.near, draw_distance);
-            h.cull(&sf.frustum, centre, draw_distance)
+            superfrustum(&eyes, draw_distance)
+        };
+        let test = |frustum, eyes, distance| ClusterTest {
+            frustum,
+            eyes,
+            centre,
+            distance,
         };
         ids.clear();
+        *clusters_kept = 0;
         for (set, draw_set) in sets.iter_mut().zip(&plan.cull_slots) {
-            // What the slot draws (`None`: every instance), and whether ids carry fovea tags.
-            let (kept, tagged) = match draw_set {
-                DrawSet::Visible | DrawSet::All => {
-                    (Some(strategy.cull(h, &view(draw_distance))), false)
-                }
+            // What the slot draws (`None`: every instance), its clusters' test, and the test
+            // whose failure tags a cluster as unseen by the fovea views.
+            let mut fovea_tags = None;
+            let (kept, clusters) = match draw_set {
+                DrawSet::Visible | DrawSet::All => (
+                    Some(strategy.cull(h, &view(draw_distance))),
+                    clustered.then(|| {
+                        test(
+                            superfrustum(&plan.eyes, draw_distance),
+                            eyes(),
+                            draw_distance,
+                        )
+                    }),
+                ),
                 DrawSet::VisibleToEye(e) => {
                     let frusta = frusta.as_ref().expect("computed for per-eye slots");
+                    let frustum = frusta.eyes[e.index()];
                     (
-                        Some(h.cull(&frusta.eyes[e.index()], centre, draw_distance)),
-                        false,
+                        Some(h.cull(&frustum, centre, draw_distance)),
+                        clustered.then(|| test(frustum, [frustum.origin; 2], draw_distance)),
                     )
                 }
                 DrawSet::NearField => {
                     let reach = near_reach.expect("a near field is planned with MFFR");
-                    (Some(strategy.cull(h, &view(reach))), false)
+                    (
+                        Some(strategy.cull(h, &view(reach))),
+                        clustered.then(|| test(superfrustum(&plan.eyes, reach), eyes(), reach)),
+                    )
                 }
                 DrawSet::FarField => {
                     let far = far.expect("a far field is planned with MFFR");
-                    (Some(h.cull(far, centre, draw_distance)), false)
+                    (
+                        Some(h.cull(far, centre, draw_distance)),
+                        clustered.then(|| test(*far, [far.origin; 2], draw_distance)),
+                    )
                 }
-                DrawSet::Fovea => (Some(fovea_cull()), false),
+                DrawSet::Fovea => {
+                    let frustum = fovea_frustum();
+                    (
+                        Some(h.cull(&frustum, centre, draw_distance)),
+                        clustered.then(|| test(frustum, eyes(), draw_distance)),
+                    )
+                }
                 DrawSet::FoveaTagged => {
+                    let frustum = fovea_frustum();
                     in_fovea.clear();
                     in_fovea.resize(draw_of.len(), false);
-                    for i in fovea_cull().visible.indices() {
+                    for i in h.cull(&frustum, centre, draw_distance).visible.indices() {
                         in_fovea[h.ids[i as usize] as usize] = true;
                     }
+                    fovea_tags = clustered.then(|| test(frustum, eyes(), draw_distance));
                     let periphery = plan.culling.map(|_| strategy.cull(h, &view(draw_distance)));
-                    (periphery, true)
+                    let periphery_clusters = clustered.then(|| {
+                        test(
+                            superfrustum(&plan.eyes, draw_distance),
+                            eyes(),
+                            draw_distance,
+                        )
+                    });
+                    (periphery, periphery_clusters)
                 }
             };
+            let tagged = *draw_set == DrawSet::FoveaTagged;
             buckets.iter_mut().for_each(Vec::clear);
             let mut keep = |id: u32| {
-                let tag = if tagged && in_fovea[id as usize] {
-                    FOVEA_TAG
-                } else {
-                    0
-                };
-                buckets[draw_of[id as usize] as usize].push(id | tag);
+                let i = id as usize;
+                let tag = |seen: bool| if tagged && seen { FOVEA_TAG } else { 0 };
+                let draw = &draw_buckets[draw_of[i] as usize];
+                let instance_in_fovea = in_fovea.get(i) == Some(&true);
+                match (placed[i].as_ref(), clusters.as_ref()) {
+                    (Some(p), Some(test)) => {
+                        seen_by_fovea.clear();
+                        seen_by_fovea.resize(draw.clusters.len(), false);
+                        if let Some(f) = fovea_tags.as_ref().filter(|_| instance_in_fovea) {
+                            f.kept(p, &draw.clusters)
+                                .for_each(|j| seen_by_fovea[j] = true);
+                        }
+                        for j in test.kept(p, &draw.clusters) {
+                            buckets[draw.first + 1 + j].push(id | tag(seen_by_fovea[j]));
+                        }
+                    }
+                    _ => buckets[draw.first].push(id | tag(instance_in_fovea)),
+                }
             };
             match &kept {
                 Some(r) => r.visible.indices().for_each(|i| keep(h.ids[i as usize])),
                 None => (0..draw_of.len() as u32).for_each(keep),
             }
             set.clear();
-            for (bucket, draw) in buckets.iter().zip(draws) {
-                if bucket.is_empty() {
-                    continue;
+            for draw in draw_buckets.iter() {
+                let ranges = std::iter::once(draw.mesh)
+                    .chain((0..draw.clusters.len()).map(|j| draw.first_cluster + j));
+                for (b, range) in ranges.enumerate() {
+                    let bucket = &buckets[draw.first + b];
+                    if bucket.is_empty() {
+                        continue;
+                    }
+                    *clusters_kept += (b > 0) as usize;
+                    set.push(Draw {
+                        mesh: range,
+                        first_instance: ids.len() as u32,
+                        instance_count: bucket.len() as u32,
+                    });
+                    ids.extend_from_slice(bucket);
                 }
-                set.push(Draw {
-                    mesh: draw.mesh,
-                    first_instance: ids.len() as u32,
-                    instance_count: bucket.len() as u32,
-                });
-                ids.extend_from_slice(bucket);
             }
         }
     }

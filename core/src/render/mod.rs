@@ -1,6 +1,7 @@
 //! The renderer: compiles a [`FramePlan`](crate::plan::FramePlan) into Vulkan objects and
 //! records, submits and measures frames.
 
+mod cluster_cull;
 mod command_log;
 mod counting;
 mod culling;

@@ -143,7 +143,7 @@ impl<'g> Renderer<'g> {
             executors,
             culling: instance_ids
                 .is_some()
-                .then(|| FrameCulling::new(scene, &scene_buffers.draws, plan)),
+                .then(|| FrameCulling::new(scene, &scene_buffers, plan)),
             instance_ids,
             images,
             _bindings: bindings,
@@ -218,7 +218,6 @@ impl<'g> Renderer<'g> {
                 self.frames_rendered,
                 views.far.as_ref().map(FarView::frustum),
                 fovea.as_ref(),
-                &self.scene.draws,
             );
             ids.write(&culling.ids);
             cpu_cull_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -513,6 +512,17 @@ fn check_scene(plan: &FramePlan, scene: &Scene) -> Result<(), GpuError> {
                 "the scene the plan was made for ({} instances): plan the frame for this scene",
                 plan.scene_instances
             ),
+        )
+        .into());
+    }
+    let counts = |c: crate::plan::ClusterPlan| (c.clusters, c.meshes, c.max_triangles);
+    if !plan.cull_slots.is_empty()
+        && plan.clusters.map(counts) != crate::plan::cluster_plan(scene).map(counts)
+    {
+        return Err(crate::vocab::ConfigError::new(
+            "scene",
+            format!("{} clusters", scene.cluster_counts().0),
+            "the clusters the plan was made for: plan the frame for this scene",
         )
         .into());
     }

@@ -17,7 +17,10 @@ pub(crate) struct SceneBuffers {
     pub vertices: Buffer,
     pub indices: Buffer,
     pub instances: Buffer,
+    /// The ranges a [`Draw`]'s `mesh` names: each whole mesh, then each mesh's clusters.
     pub meshes: Vec<MeshRange>,
+    /// Where each mesh's clusters start in `meshes`.
+    pub first_cluster: Vec<usize>,
     pub draws: Vec<Draw>,
 }
 
@@ -25,7 +28,7 @@ impl SceneBuffers {
     pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
         let mut vertices: Vec<Vertex> = Vec::new();
         let mut indices: Vec<u32> = Vec::new();
-        let meshes = scene
+        let mut meshes: Vec<MeshRange> = scene
             .meshes
             .iter()
             .map(|m| {
@@ -39,6 +42,16 @@ impl SceneBuffers {
                 range
             })
             .collect();
+        let mut first_cluster = Vec::with_capacity(scene.meshes.len());
+        for (k, mesh) in scene.meshes.iter().enumerate() {
+            first_cluster.push(meshes.len());
+            let whole = meshes[k];
+            meshes.extend(mesh.clusters.iter().map(|c| MeshRange {
+                first_index: whole.first_index + c.first_index,
+                index_count: c.index_count,
+                vertex_offset: whole.vertex_offset,
+            }));
+        }
         let instances = scene.flat_instances();
         Ok(SceneBuffers {
             vertices: upload(
@@ -60,6 +73,7 @@ impl SceneBuffers {
                 vk::BufferUsageFlags::STORAGE_BUFFER,
             )?,
             meshes,
+            first_cluster,
             draws: scene.draws().collect(),
         })
     }

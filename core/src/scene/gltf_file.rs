@@ -334,6 +334,7 @@ impl Loader<'_> {
                     name: what.clone(),
                     vertices,
                     indices,
+                    clusters: Vec::new(),
                 };
                 if double_sided {
                     add_back_faces(&mut mesh);

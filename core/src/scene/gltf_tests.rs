@@ -37,7 +37,7 @@ impl Asset {
 
     /// An accessor over `bytes` (a view of its own).
     fn accessor(&mut self, bytes: &[u8], component: u32, count: usize, ty: &str) -> usize {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let view = self.push(
@@ -107,11 +107,11 @@ impl Asset {
             json["buffers"] = json!([{"byteLength": self.bin.len()}]);
         }
         let mut text = serde_json::to_vec(&json).unwrap();
-        while text.len() % 4 != 0 {
+        while !text.len().is_multiple_of(4) {
             text.push(b' ');
         }
         let mut bin = self.bin.clone();
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         let total = 12 + 8 + text.len() + 8 + bin.len();

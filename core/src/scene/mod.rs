@@ -2,6 +2,7 @@
 
 mod atrium;
 mod city;
+mod clusters;
 mod default_scene;
 mod gltf_file;
 mod materials;
@@ -12,6 +13,10 @@ mod thesis;
 
 pub use atrium::atrium_scene;
 pub use city::city_scene;
+pub use clusters::{
+    Cluster, ClusterError, ClusterSettings, NormalCone, PlacedClusters, CLUSTER_TRIANGLES_RANGE,
+    DEFAULT_CLUSTER_TRIANGLES,
+};
 pub use default_scene::{default_scene, fill_scene};
 pub use gltf_file::{gltf_from_slice, is_scene_file, load_gltf, SceneFileError};
 pub use materials::{Material, Pattern, PointLight, Shading, Surface, MAX_POINT_LIGHTS};
@@ -84,6 +89,9 @@ pub struct Mesh {
     pub name: String,
     pub vertices: Vec<Vertex>,
     pub indices: Vec<u32>,
+    /// Its triangles in clusters, each a contiguous run of `indices`; empty: drawn and culled
+    /// whole ([`Scene::with_clusters`]).
+    pub clusters: Vec<Cluster>,
 }
 
 impl Mesh {

@@ -33,6 +33,7 @@ pub fn cube() -> Mesh {
         name: "cube".into(),
         vertices,
         indices,
+        clusters: Vec::new(),
     }
 }
 
@@ -77,6 +78,7 @@ pub fn uv_sphere(segments: u32, rings: u32) -> Mesh {
         name: "sphere".into(),
         vertices,
         indices,
+        clusters: Vec::new(),
     }
 }
 
@@ -123,6 +125,7 @@ pub fn ground_grid(half_extent: f32, first_cell: f32) -> Mesh {
         name: "ground".into(),
         vertices,
         indices,
+        clusters: Vec::new(),
     }
 }
 
@@ -183,6 +186,7 @@ pub fn cylinder(segments: u32) -> Mesh {
         name: "cylinder".into(),
         vertices,
         indices,
+        clusters: Vec::new(),
     }
 }
 
@@ -201,6 +205,7 @@ pub fn ground_quad() -> Mesh {
         name: "ground".into(),
         vertices,
         indices: vec![0, 1, 2, 0, 2, 3],
+        clusters: Vec::new(),
     }
 }
 

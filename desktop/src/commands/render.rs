@@ -59,11 +59,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         args.frames
     );
     let gpu = Gpu::new(options)?;
-    let scene = crate::frame_args::scene_from(
-        &args.config.scene,
-        args.config.shading.as_deref(),
-        &args.config.head,
-    )?;
+    let scene = args.config.scene()?;
     let modes = args.config.stereo_modes()?;
     anyhow::ensure!(
         !args.reference || (args.config.foveate.is_some() && modes.len() == 1),

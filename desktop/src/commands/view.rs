@@ -22,7 +22,7 @@ use winit::keyboard::{Key, NamedKey};
 use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::window::{Window, WindowId};
 
-use crate::frame_args::{scene_from, ConfigArgs};
+use crate::frame_args::ConfigArgs;
 use crate::view_keys::{KeyAction, ViewSettings, KEYS};
 
 #[derive(Args)]
@@ -64,11 +64,7 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
         Some(s) => parse_size(s)?,
         None => None,
     };
-    let scene = scene_from(
-        &args.config.scene,
-        args.config.shading.as_deref(),
-        &args.config.head,
-    )?;
+    let scene = args.config.scene()?;
     let latency =
         GazeLatency::new(args.gaze_latency, args.gaze_predict).map_err(anyhow::Error::msg)?;
     let space = GazeSpace {

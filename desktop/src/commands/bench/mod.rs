@@ -160,7 +160,7 @@ pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
     let counted: Vec<u64> = rail_frames
         .iter()
         .enumerate()
-        .filter(|(i, _)| args.pixels_every > 0 && *i as u64 % args.pixels_every == 0)
+        .filter(|(i, _)| args.pixels_every > 0 && (*i as u64).is_multiple_of(args.pixels_every))
         .map(|(_, &f)| f)
         .collect();
     let total = rows.len() as u64 * (args.warmup + args.frames + counted.len() as u64);
