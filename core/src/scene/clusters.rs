@@ -178,7 +178,7 @@ mod build {
     use crate::scene::Vertex;
 
     pub(super) fn cluster(mesh: &mut Mesh, settings: ClusterSettings) -> Result<(), ClusterError> {
-        let bytes = crate::gpu::pod_bytes(&mesh.vertices);
+        let bytes = meshopt::typed_to_bytes(&mesh.vertices);
         let stride = std::mem::size_of::<Vertex>();
         let positions = meshopt::VertexDataAdapter::new(bytes, stride, 0)
             .expect("Vertex is a whole number of strides with its position first");
