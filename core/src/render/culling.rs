@@ -44,8 +44,6 @@ pub(crate) struct FrameCulling {
     pub ids: Vec<u32>,
     /// This frame's draws of each of the plan's cull slots, each indexing its part of `ids`.
     pub sets: Vec<Vec<Draw>>,
-    /// Clusters kept over all slots this frame (0 without clusters).
-    pub clusters_kept: usize,
 }
 
 /// Where one draw's ids go: bucket `first` draws the whole mesh (range `mesh`), buckets
@@ -109,7 +107,6 @@ impl FrameCulling {
             seen_by_fovea: Vec::new(),
             ids: Vec::new(),
             sets: vec![Vec::new(); plan.cull_slots.len()],
-            clusters_kept: 0,
         }
     }
 
@@ -138,7 +135,6 @@ impl FrameCulling {
             seen_by_fovea,
             ids,
             sets,
-            clusters_kept,
         } = self;
         let draw_distance = *draw_distance;
         let centre = world_from_head.transform_point3(Vec3::ZERO);
@@ -151,7 +147,7 @@ impl FrameCulling {
             frame,
             lens_regions,
         };
-        let clustered = placed.iter().any(Option::is_some);
+        let clustered = plan.clusters.is_some_and(|c| c.culled());
         // Both eyes' frusta once a frame, when a slot culls per eye or clusters are culled.
         let frusta = (clustered
             || plan
@@ -182,23 +178,25 @@ impl FrameCulling {
             centre,
             distance,
         };
+        // Both eyes' clusters within the draw distance (the stereo sets and the periphery's).
+        let stereo_test = || {
+            clustered.then(|| {
+                test(
+                    superfrustum(&plan.eyes, draw_distance),
+                    eyes(),
+                    draw_distance,
+                )
+            })
+        };
         ids.clear();
-        *clusters_kept = 0;
         for (set, draw_set) in sets.iter_mut().zip(&plan.cull_slots) {
             // What the slot draws (`None`: every instance), its clusters' test, and the test
             // whose failure tags a cluster as unseen by the fovea views.
             let mut fovea_tags = None;
             let (kept, clusters) = match draw_set {
-                DrawSet::Visible | DrawSet::All => (
-                    Some(strategy.cull(h, &view(draw_distance))),
-                    clustered.then(|| {
-                        test(
-                            superfrustum(&plan.eyes, draw_distance),
-                            eyes(),
-                            draw_distance,
-                        )
-                    }),
-                ),
+                DrawSet::Visible | DrawSet::All => {
+                    (Some(strategy.cull(h, &view(draw_distance))), stereo_test())
+                }
                 DrawSet::VisibleToEye(e) => {
                     let frusta = frusta.as_ref().expect("computed for per-eye slots");
                     let frustum = frusta.eyes[e.index()];
@@ -237,14 +235,7 @@ impl FrameCulling {
                     }
                     fovea_tags = clustered.then(|| test(frustum, eyes(), draw_distance));
                     let periphery = plan.culling.map(|_| strategy.cull(h, &view(draw_distance)));
-                    let periphery_clusters = clustered.then(|| {
-                        test(
-                            superfrustum(&plan.eyes, draw_distance),
-                            eyes(),
-                            draw_distance,
-                        )
-                    });
-                    (periphery, periphery_clusters)
+                    (periphery, stereo_test())
                 }
             };
             let tagged = *draw_set == DrawSet::FoveaTagged;
@@ -282,7 +273,6 @@ impl FrameCulling {
                     if bucket.is_empty() {
                         continue;
                     }
-                    *clusters_kept += (b > 0) as usize;
                     set.push(Draw {
                         mesh: range,
                         first_instance: ids.len() as u32,

@@ -82,7 +82,9 @@ pub struct DriverQuirks {
     /// In a multiview pass, primitives the driver has to clip are rasterised into the first
     /// view's layer, whatever their view (lavapipe 22.3: every primitive crossing the viewport
     /// edge or the eye plane; fixed in 25.0). The planner works around it with an emulated guard
-    /// band; the test `lavapipe_multiview_clipping_quirk_is_real` measures the bug itself.
+    /// band; the test `lavapipe_multiview_clipping_quirk_is_real` measures the bug itself. The
+    /// same driver draws a mesh split into several draws differently from the mesh in one draw,
+    /// so a multiview pass that culls keeps clustered meshes whole there.
     pub multiview_clipping_drops_views: bool,
     /// A multiview pass runs its views one after another, vertex work included (lavapipe 22.3
     /// and 25.0: a CPU rasteriser replays the draws per view; its pipeline statistics count
