@@ -6,7 +6,7 @@ use clap::Args;
 use foveate::foveation::{FoveationConfig, PeripheryFilter, TemporalConfig};
 use foveate::mffr::MffrConfig;
 use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
-use foveate::scene::{named_scene, ClusterSettings, Scene, Shading};
+use foveate::scene::{named_scene, ClusterSettings, LodSettings, Scene, Shading};
 use foveate::view::{look_at_head, HmdProfile};
 use glam::Vec3;
 
@@ -142,7 +142,8 @@ impl ConfigArgs {
     }
 }
 
-/// Whether the scene's large meshes are split into clusters culled per draw set.
+/// Whether the scene's large meshes are split into clusters culled per draw set, and given
+/// simplified levels chosen per draw set.
 #[derive(Args, Clone, Default)]
 pub struct ClusterArgs {
     /// Split meshes of more triangles than N into clusters of at most N (default 124; a
@@ -150,15 +151,30 @@ pub struct ClusterArgs {
     /// back-face cones wherever the frame culls (foveation's fovea pass, `--cull`, MFFR).
     #[arg(long, value_name = "N", num_args = 0..=1, default_missing_value = "124")]
     pub clusters: Option<u32>,
+    /// Simplify meshes of 64 triangles or more into up to 4 coarser levels (meshoptimizer);
+    /// each draw set draws per instance the coarsest whose measured error projects within PX of
+    /// its views' pixels (default 1; 0.125..=8), so the periphery's coarse pixels take coarser
+    /// levels.
+    #[arg(long, value_name = "PX", num_args = 0..=1, default_missing_value = "1")]
+    pub lod: Option<f32>,
 }
 
 impl ClusterArgs {
-    /// `scene` clustered as asked.
+    /// `scene` clustered and simplified as asked.
     pub fn apply(&self, scene: Scene) -> Result<Scene> {
-        Ok(match self.clusters {
+        let scene = match self.clusters {
             Some(n) => scene.with_clusters(ClusterSettings::new(n)?)?,
             None => scene,
+        };
+        Ok(match self.lod {
+            Some(_) => scene.with_lod()?,
+            None => scene,
         })
+    }
+
+    /// The level-of-detail bound asked for.
+    pub fn lod(&self) -> Result<Option<LodSettings>> {
+        Ok(self.lod.map(LodSettings::new).transpose()?)
     }
 }
 
@@ -306,6 +322,7 @@ impl ComparedFrame {
             stereo: StereoMode::Multiview,
             output: self.output.parse()?,
             fovea_layout: self.fovea_layout.parse()?,
+            lod: self.clusters.lod()?,
             ..RenderConfig::default()
         })
     }
@@ -365,6 +382,7 @@ impl ConfigArgs {
             cant_deg: self.cant,
             output: self.output.parse()?,
             fovea_layout: self.fovea_layout.parse()?,
+            lod: self.clusters.lod()?,
             ..RenderConfig::default()
         })
     }

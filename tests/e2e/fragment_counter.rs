@@ -213,6 +213,7 @@ fn pixel_triangles(triangles: &[[(f64, f64); 3]]) -> Scene {
         vertices: Vec::new(),
         indices: Vec::new(),
         clusters: Vec::new(),
+        lods: Vec::new(),
     };
     for t in triangles {
         // Counter-clockwise in the world (y up) is clockwise in pixels (y down).

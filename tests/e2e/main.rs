@@ -10,6 +10,7 @@ mod fragment_counter;
 mod gltf;
 mod golden;
 mod latency;
+mod lod;
 mod mffr;
 mod perception;
 mod quirks;

@@ -117,6 +117,7 @@ pub fn plan(
         radial_density: e.radial_density,
         cull_slots: Vec::new(),
         clusters: None,
+        lod: lod_plan(config, scene),
         scene_instances: scene.instance_count(),
         fovea_layout,
         lit: scene.shading() == Shading::Lit,
@@ -154,6 +155,16 @@ pub fn plan(
         plan.passes[pass].pipelines = step_pipelines(&plan, pass);
     }
     Ok(plan)
+}
+
+/// Level of detail, when asked for and the scene has levels.
+pub(crate) fn lod_plan(config: &RenderConfig, scene: &Scene) -> Option<LodPlan> {
+    let (levels, meshes) = scene.lod_counts();
+    config.lod.filter(|_| levels > 0).map(|l| LodPlan {
+        max_error_px: l.max_error_px,
+        levels,
+        meshes,
+    })
 }
 
 /// The scene's clusters, when it has any.
@@ -217,7 +228,11 @@ fn step_pipelines(plan: &FramePlan, pass_index: usize) -> Vec<PipelineDesc> {
             match step {
                 Step::MaskFans { .. } => mask_pipeline(&ctx),
                 Step::FarComposite { .. } => far_composite_pipeline(&ctx, plan, pass),
-                Step::Scene { draw_set, .. } => scene_pipeline(&ctx, plan, pass, *draw_set),
+                Step::Scene {
+                    draw_set,
+                    cull_slot,
+                    ..
+                } => scene_pipeline(&ctx, plan, pass, *draw_set, cull_slot.is_some()),
                 Step::Probe { .. } => probe_pipeline(&ctx),
                 Step::Output(output) => output_pipeline(&ctx, output, plan.foveation.as_ref()),
                 Step::RadialMask { .. } => radial_mask_pipeline(&ctx, radial()),
@@ -487,7 +502,8 @@ fn choose_fovea_layout(
 
 /// One cull slot per distinct culled draw set, in pass order (at most two: both eyes' set,
 /// each eye's own, MFFR's near and far fields, or the periphery's and the fovea's), and each
-/// scene step pointed at its slot.
+/// scene step pointed at its slot. With level of detail every set is chosen per frame, so the
+/// unculled set (`All`) has a slot too.
 fn assign_cull_slots(plan: &mut FramePlan) {
     let mut slots: Vec<DrawSet> = Vec::new();
     for pass in &mut plan.passes {
@@ -498,7 +514,7 @@ fn assign_cull_slots(plan: &mut FramePlan) {
                 ..
             } = step
             {
-                if *draw_set == DrawSet::All {
+                if *draw_set == DrawSet::All && plan.lod.is_none() {
                     continue;
                 }
                 let slot = slots.iter().position(|s| s == draw_set).unwrap_or_else(|| {

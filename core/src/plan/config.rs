@@ -164,6 +164,10 @@ pub struct RenderConfig {
     pub output: OutputStage,
     /// A foveated frame's pass layout.
     pub fovea_layout: FoveaLayout,
+    /// Level of detail: each draw set draws the coarsest of a mesh's simplified levels
+    /// ([`Scene::with_lod`](crate::scene::Scene::with_lod)) whose error projects within the
+    /// bound in its views' pixels; `None` draws every mesh in full.
+    pub lod: Option<crate::scene::LodSettings>,
 }
 
 impl Default for RenderConfig {
@@ -189,6 +193,7 @@ impl Default for RenderConfig {
             culling: None,
             output: OutputStage::Undistorted,
             fovea_layout: FoveaLayout::Auto,
+            lod: None,
         }
     }
 }

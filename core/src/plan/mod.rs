@@ -32,8 +32,8 @@ pub use config::{
 };
 pub use model::{
     AttachmentPlan, AttachmentRole, BufferPlan, ClusterPlan, CountedSlot, Format,
-    FoveaLayoutChoice, FramePlan, LensOutput, PassKind, PassPlan, Submission, TargetLayout, Use,
-    COUNTER_SLOTS_PER_STEP, SKY,
+    FoveaLayoutChoice, FramePlan, LensOutput, LodPlan, PassKind, PassPlan, Submission,
+    TargetLayout, Use, COUNTER_SLOTS_PER_STEP, SKY,
 };
 pub use ops::{
     Access, AttachmentId, Barrier, ClearValue, Layout, LoadOp, PassBarriers, StoreOp, Touch,

@@ -364,6 +364,8 @@ pub struct FramePlan {
     /// The scene's clusters, culled per draw set; `None` when its meshes are whole or no pass
     /// draws a culled set (a clustered mesh is then drawn whole).
     pub clusters: Option<ClusterPlan>,
+    /// Level of detail as planned: `None` when off, or when no mesh of the scene has levels.
+    pub lod: Option<LodPlan>,
     /// Instances of the scene the plan was made for: buffers are sized for them, and a
     /// renderer refuses another scene.
     pub scene_instances: usize,
@@ -399,6 +401,16 @@ impl ClusterPlan {
     pub fn culled(&self) -> bool {
         self.drawn_whole.is_none()
     }
+}
+
+/// Level of detail per draw set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LodPlan {
+    /// The most a drawn level's error projects to, in each drawing view's pixels.
+    pub max_error_px: f32,
+    /// Simplified levels over all meshes, and the meshes that have them.
+    pub levels: usize,
+    pub meshes: usize,
 }
 
 /// How a foveated frame renders its four views, and why.

@@ -184,8 +184,15 @@ impl FramePlan {
             );
             writeln!(
                 f,
-                "  clusters: {} in {} meshes (at most {} triangles each), {how}; level of detail: off",
+                "  clusters: {} in {} meshes (at most {} triangles each), {how}",
                 c.clusters, c.meshes, c.max_triangles
+            )?;
+        }
+        if let Some(l) = &self.lod {
+            writeln!(
+                f,
+                "  level of detail: {} simplified levels in {} meshes; each draw set draws, per instance, the coarsest whose measured error projects within {} px in every view that draws it",
+                l.levels, l.meshes, l.max_error_px
             )?;
         }
         Ok(())

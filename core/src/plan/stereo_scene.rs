@@ -394,18 +394,19 @@ pub(super) fn scene_passes(
 }
 
 /// The scene's meshes: depth tested and written, back faces culled; the vertex shader reads
-/// culled instance ids unless the step draws every instance, the fragment shader shades as the
-/// scene's materials ask (flat, lit, lit with alpha masks).
+/// the instance ids chosen per frame when the step has a cull slot (`ids`), the fragment
+/// shader shades as the scene's materials ask (flat, lit, lit with alpha masks).
 pub(super) fn scene_pipeline(
     ctx: &StepContext,
     plan: &FramePlan,
     pass: &PassPlan,
     draw_set: DrawSet,
+    ids: bool,
 ) -> PipelineDesc {
-    let vertex = if draw_set == DrawSet::All {
-        &SCENE_VERT
-    } else {
+    let vertex = if ids {
         &SCENE_VERT_INDIRECT
+    } else {
+        &SCENE_VERT
     };
     let desc = if plan.alpha_mask {
         ctx.pipeline(vertex, &SCENE_MASKED_FRAG, &SCENE_MASKED_FRAG_COUNTING)

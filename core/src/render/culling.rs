@@ -2,18 +2,21 @@
 //! hierarchy, culled into the plan's cull slots — both eyes' set, each eye's own set (per-eye
 //! culling of a two-pass frame), MFFR's near and far fields, or a foveated frame's fovea set
 //! (alone, or as tags on the periphery's) — and written as the instance ids the indirect scene
-//! shader reads.
+//! shader reads. With level of detail each set also chooses, per instance, the level its views'
+//! pixels cannot tell from the full mesh.
 
 use glam::{Mat4, Vec3};
 
 use super::cluster_cull::ClusterTest;
+use super::lod_select::{lod_level, LodView};
 use super::scene_buffers::SceneBuffers;
 use crate::cull::{
-    CullHierarchy, CullView, Frustum, HierarchyParams, StereoFrusta, Strategy, Superfrustum,
+    CullHierarchy, CullView, Frustum, HierarchyParams, Sphere, StereoFrusta, Strategy, Superfrustum,
 };
 use crate::plan::{DrawSet, FramePlan};
 use crate::scene::{Cluster, Draw, PlacedClusters, Scene};
 use crate::view::{Eye, EyeParams, FovTangents, LensRegion};
+use crate::vocab::Resolution;
 
 /// The top bit of a culled id in the one-pass fovea layout: the fovea superfrustum keeps the
 /// instance (`FOVEA_TAG` in `shaders/scene.vert`).
@@ -25,6 +28,9 @@ pub(crate) struct FrameCulling {
     draw_of: Vec<u32>,
     /// Each instance of a clustered mesh placed (`None`: its mesh is drawn whole).
     placed: Vec<Option<PlacedClusters>>,
+    /// Each instance of a mesh with levels: its bounding sphere and its longest axis's scale
+    /// (empty without level of detail).
+    lod_bounds: Vec<Option<(Sphere, f32)>>,
     /// Each draw's buckets: the whole mesh first, then one per cluster of its mesh.
     draw_buckets: Vec<DrawBuckets>,
     lens_regions: [LensRegion; 2],
@@ -47,12 +53,30 @@ pub(crate) struct FrameCulling {
 }
 
 /// Where one draw's ids go: bucket `first` draws the whole mesh (range `mesh`), buckets
-/// `first + 1 + j` its cluster j (range `first_cluster + j`).
+/// `first + 1 + j` its cluster j (range `first_cluster + j`), then one per simplified level
+/// (ranges from `first_lod`).
 struct DrawBuckets {
     first: usize,
     mesh: usize,
     first_cluster: usize,
     clusters: Vec<Cluster>,
+    first_lod: usize,
+    /// Its mesh's levels' errors, finer first.
+    lod_errors: Vec<f32>,
+}
+
+impl DrawBuckets {
+    /// The bucket of simplified level `level` (1: the first).
+    fn lod_bucket(&self, level: usize) -> usize {
+        self.first + self.clusters.len() + level
+    }
+
+    /// The mesh ranges its buckets draw, in bucket order.
+    fn ranges(&self) -> impl Iterator<Item = usize> + '_ {
+        std::iter::once(self.mesh)
+            .chain((0..self.clusters.len()).map(|j| self.first_cluster + j))
+            .chain((0..self.lod_errors.len()).map(|k| self.first_lod + k))
+    }
 }
 
 impl FrameCulling {
@@ -67,25 +91,41 @@ impl FrameCulling {
         let draw_buckets: Vec<DrawBuckets> = draws
             .iter()
             .map(|d| {
-                let clusters = scene.meshes[d.mesh].clusters.clone();
+                let mesh = &scene.meshes[d.mesh];
                 let b = DrawBuckets {
                     first,
                     mesh: d.mesh,
                     first_cluster: buffers.first_cluster[d.mesh],
-                    clusters,
+                    clusters: mesh.clusters.clone(),
+                    first_lod: buffers.first_lod[d.mesh],
+                    lod_errors: if plan.lod.is_some() {
+                        mesh.lods.iter().map(|l| l.error).collect()
+                    } else {
+                        Vec::new()
+                    },
                 };
-                first += 1 + b.clusters.len();
+                first += b.ranges().count();
                 b
             })
             .collect();
         let culled = plan.clusters.is_some_and(|c| c.culled());
-        let placed = scene
-            .flat_instances()
+        let instances = scene.flat_instances();
+        let spheres = scene.instance_spheres();
+        let placed = instances
             .iter()
             .zip(&draw_of)
             .map(|(i, &k)| {
                 let clustered = culled && !draw_buckets[k as usize].clusters.is_empty();
-                clustered.then(|| PlacedClusters::new(i.model))
+                clustered.then(|| PlacedClusters::new(i))
+            })
+            .collect();
+        let lod_bounds = instances
+            .iter()
+            .zip(&draw_of)
+            .zip(&spheres)
+            .map(|((i, &k), &s)| {
+                let levels = !draw_buckets[k as usize].lod_errors.is_empty();
+                levels.then(|| (s, i.max_scale()))
             })
             .collect();
         let draw_distance = plan.culling.map_or_else(
@@ -93,9 +133,10 @@ impl FrameCulling {
             |c| c.draw_distance,
         );
         FrameCulling {
-            hierarchy: CullHierarchy::build(&scene.instance_spheres(), HierarchyParams::default()),
+            hierarchy: CullHierarchy::build(&spheres, HierarchyParams::default()),
             draw_of,
             placed,
+            lod_bounds,
             draw_buckets,
             lens_regions: Eye::BOTH.map(|e| plan.hmd.lens_region(plan.eyes.fov(e))),
             draw_distance,
@@ -126,6 +167,7 @@ impl FrameCulling {
             hierarchy: h,
             draw_of,
             placed,
+            lod_bounds,
             draw_buckets,
             lens_regions,
             draw_distance,
@@ -148,8 +190,11 @@ impl FrameCulling {
             lens_regions,
         };
         let clustered = plan.clusters.is_some_and(|c| c.culled());
-        // Both eyes' frusta once a frame, when a slot culls per eye or clusters are culled.
+        let lod = plan.lod.map(|l| l.max_error_px);
+        // Both eyes' frusta once a frame, when a slot culls per eye, clusters are culled or
+        // levels chosen.
         let frusta = (clustered
+            || lod.is_some()
             || plan
                 .cull_slots
                 .iter()
@@ -162,15 +207,40 @@ impl FrameCulling {
         let superfrustum = |eyes: &EyeParams, distance| {
             Superfrustum::new(eyes, world_from_head, plan.near, distance).frustum
         };
-        // The superfrustum around both fovea frusta (the fovea windows as the eyes' fields).
-        let fovea_frustum = || {
+        // The fovea views as eyes whose fields are the fovea windows.
+        let fovea_eyes = || {
             let fovea = fovea.expect("fovea sets are planned with foveation");
-            let eyes = EyeParams {
+            EyeParams {
                 left_fov: fovea[0],
                 right_fov: fovea[1],
                 ..plan.eyes
-            };
-            superfrustum(&eyes, draw_distance)
+            }
+        };
+        // The superfrustum around both fovea frusta.
+        let fovea_frustum = || superfrustum(&fovea_eyes(), draw_distance);
+        // The views a set's level of detail must satisfy (none without level of detail): the
+        // eyes at the scene passes' pixels (a foveated frame's periphery's), the fovea views
+        // at theirs, the MFFR far view at its own.
+        let lod_views = |frusta: &[Frustum], pixels: Resolution| -> Vec<LodView> {
+            match lod {
+                Some(_) => frusta.iter().map(|f| LodView::new(f, pixels)).collect(),
+                None => Vec::new(),
+            }
+        };
+        let eye_views = || {
+            let frusta = frusta.as_ref().expect("computed with level of detail");
+            let pixels = plan
+                .foveation
+                .map_or(plan.eye_resolution, |g| g.periphery_view);
+            lod_views(&frusta.eyes, pixels)
+        };
+        let fovea_views = || match (lod, plan.foveation) {
+            (Some(_), Some(g)) => {
+                let frusta =
+                    StereoFrusta::new(&fovea_eyes(), world_from_head, plan.near, draw_distance);
+                lod_views(&frusta.eyes, g.fovea_view)
+            }
+            _ => Vec::new(),
         };
         let test = |frustum, eyes, distance| ClusterTest {
             frustum,
@@ -190,19 +260,29 @@ impl FrameCulling {
         };
         ids.clear();
         for (set, draw_set) in sets.iter_mut().zip(&plan.cull_slots) {
-            // What the slot draws (`None`: every instance), its clusters' test, and the test
-            // whose failure tags a cluster as unseen by the fovea views.
+            // What the slot draws (`None`: every instance), its clusters' test, the views its
+            // levels are chosen for, the test whose failure tags a cluster as unseen by the
+            // fovea views, and the views a tagged instance's level must also satisfy.
             let mut fovea_tags = None;
-            let (kept, clusters) = match draw_set {
-                DrawSet::Visible | DrawSet::All => {
-                    (Some(strategy.cull(h, &view(draw_distance))), stereo_test())
-                }
+            let mut tagged_views = Vec::new();
+            let (kept, clusters, views) = match draw_set {
+                DrawSet::All => (None, None, eye_views()),
+                DrawSet::Visible => (
+                    Some(strategy.cull(h, &view(draw_distance))),
+                    stereo_test(),
+                    eye_views(),
+                ),
                 DrawSet::VisibleToEye(e) => {
                     let frusta = frusta.as_ref().expect("computed for per-eye slots");
                     let frustum = frusta.eyes[e.index()];
+                    let mut views = eye_views();
+                    if !views.is_empty() {
+                        views = vec![views[e.index()]];
+                    }
                     (
                         Some(h.cull(&frustum, centre, draw_distance)),
                         clustered.then(|| test(frustum, [frustum.origin; 2], draw_distance)),
+                        views,
                     )
                 }
                 DrawSet::NearField => {
@@ -210,13 +290,16 @@ impl FrameCulling {
                     (
                         Some(strategy.cull(h, &view(reach))),
                         clustered.then(|| test(superfrustum(&plan.eyes, reach), eyes(), reach)),
+                        eye_views(),
                     )
                 }
                 DrawSet::FarField => {
                     let far = far.expect("a far field is planned with MFFR");
+                    let pixels = plan.mffr.map_or(plan.eye_resolution, |m| m.resolution);
                     (
                         Some(h.cull(far, centre, draw_distance)),
                         clustered.then(|| test(*far, [far.origin; 2], draw_distance)),
+                        lod_views(std::slice::from_ref(far), pixels),
                     )
                 }
                 DrawSet::Fovea => {
@@ -224,6 +307,7 @@ impl FrameCulling {
                     (
                         Some(h.cull(&frustum, centre, draw_distance)),
                         clustered.then(|| test(frustum, eyes(), draw_distance)),
+                        fovea_views(),
                     )
                 }
                 DrawSet::FoveaTagged => {
@@ -235,7 +319,9 @@ impl FrameCulling {
                     }
                     fovea_tags = clustered.then(|| test(frustum, eyes(), draw_distance));
                     let periphery = plan.culling.map(|_| strategy.cull(h, &view(draw_distance)));
-                    (periphery, stereo_test())
+                    let views = eye_views();
+                    tagged_views = [views.clone(), fovea_views()].concat();
+                    (periphery, stereo_test(), views)
                 }
             };
             let tagged = *draw_set == DrawSet::FoveaTagged;
@@ -245,6 +331,21 @@ impl FrameCulling {
                 let tag = |seen: bool| if tagged && seen { FOVEA_TAG } else { 0 };
                 let draw = &draw_buckets[draw_of[i] as usize];
                 let instance_in_fovea = in_fovea.get(i) == Some(&true);
+                let level = match (lod, lod_bounds.get(i).and_then(Option::as_ref)) {
+                    (Some(px), Some((bounds, scale))) => {
+                        let views = if tagged && instance_in_fovea {
+                            &tagged_views
+                        } else {
+                            &views
+                        };
+                        lod_level(views, px, bounds, *scale, &draw.lod_errors)
+                    }
+                    _ => 0,
+                };
+                if level > 0 {
+                    buckets[draw.lod_bucket(level)].push(id | tag(instance_in_fovea));
+                    return;
+                }
                 match (placed[i].as_ref(), clusters.as_ref()) {
                     (Some(p), Some(test)) => {
                         seen_by_fovea.clear();
@@ -266,9 +367,7 @@ impl FrameCulling {
             }
             set.clear();
             for draw in draw_buckets.iter() {
-                let ranges = std::iter::once(draw.mesh)
-                    .chain((0..draw.clusters.len()).map(|j| draw.first_cluster + j));
-                for (b, range) in ranges.enumerate() {
+                for (b, range) in draw.ranges().enumerate() {
                     let bucket = &buckets[draw.first + b];
                     if bucket.is_empty() {
                         continue;

@@ -526,6 +526,15 @@ fn check_scene(plan: &FramePlan, scene: &Scene) -> Result<(), GpuError> {
         )
         .into());
     }
+    let levels = |l: crate::plan::LodPlan| (l.levels, l.meshes);
+    if plan.lod.is_some() && plan.lod.map(levels) != Some(scene.lod_counts()) {
+        return Err(crate::vocab::ConfigError::new(
+            "scene",
+            format!("{} simplified levels", scene.lod_counts().0),
+            "the levels of detail the plan was made for: plan the frame for this scene",
+        )
+        .into());
+    }
     if scene.shading() == Shading::Lit && !plan.lit || scene.shading() == Shading::Flat && plan.lit
     {
         return Err(crate::vocab::ConfigError::new(

@@ -17,10 +17,13 @@ pub(crate) struct SceneBuffers {
     pub vertices: Buffer,
     pub indices: Buffer,
     pub instances: Buffer,
-    /// The ranges a [`Draw`]'s `mesh` names: each whole mesh, then each mesh's clusters.
+    /// The ranges a [`Draw`]'s `mesh` names: each whole mesh, then each mesh's clusters, then
+    /// each mesh's simplified levels.
     pub meshes: Vec<MeshRange>,
     /// Where each mesh's clusters start in `meshes`.
     pub first_cluster: Vec<usize>,
+    /// Where each mesh's simplified levels start in `meshes`.
+    pub first_lod: Vec<usize>,
     pub draws: Vec<Draw>,
 }
 
@@ -52,6 +55,18 @@ impl SceneBuffers {
                 vertex_offset: whole.vertex_offset,
             }));
         }
+        let mut first_lod = Vec::with_capacity(scene.meshes.len());
+        for (k, mesh) in scene.meshes.iter().enumerate() {
+            first_lod.push(meshes.len());
+            for level in &mesh.lods {
+                meshes.push(MeshRange {
+                    first_index: indices.len() as u32,
+                    index_count: level.indices.len() as u32,
+                    vertex_offset: meshes[k].vertex_offset,
+                });
+                indices.extend_from_slice(&level.indices);
+            }
+        }
         let instances = scene.flat_instances();
         Ok(SceneBuffers {
             vertices: upload(
@@ -74,6 +89,7 @@ impl SceneBuffers {
             )?,
             meshes,
             first_cluster,
+            first_lod,
             draws: scene.draws().collect(),
         })
     }

@@ -8,7 +8,7 @@
 
 use glam::{DMat4, DVec3, Mat4, Vec3};
 
-use super::{Mesh, Scene};
+use super::{Instance, Mesh, Scene};
 use crate::cull::Sphere;
 use crate::vocab::ConfigError;
 
@@ -76,7 +76,7 @@ impl Default for ClusterSettings {
 /// Why a scene could not be clustered.
 #[derive(Debug, thiserror::Error)]
 pub enum ClusterError {
-    #[error("clusters: this build of foveate has no cluster builder (the `clusters` feature, meshoptimizer, is off; the Android library is built without it)")]
+    #[error("clusters and level of detail: this build of foveate has no meshoptimizer to build them (the `clusters` feature is off; the Android library is built without it)")]
     NotBuilt,
 }
 
@@ -125,12 +125,12 @@ pub struct PlacedClusters {
 }
 
 impl PlacedClusters {
-    pub fn new(model: Mat4) -> Self {
-        let axes = [model.x_axis, model.y_axis, model.z_axis].map(|a| a.truncate().length());
+    pub fn new(instance: &Instance) -> Self {
+        let model = instance.model;
         let model64 = model.as_dmat4();
         PlacedClusters {
             model,
-            scale: axes[0].max(axes[1]).max(axes[2]),
+            scale: instance.max_scale(),
             mesh_from_world: (model64.determinant() > 0.0).then(|| model64.inverse()),
         }
     }
@@ -172,15 +172,15 @@ impl PlacedClusters {
 const CONE_SLACK: f64 = 1e-3;
 
 #[cfg(feature = "clusters")]
+pub(super) use build::positions;
+
+#[cfg(feature = "clusters")]
 mod build {
     use super::*;
     use crate::scene::Vertex;
 
     pub(super) fn cluster(mesh: &mut Mesh, settings: ClusterSettings) -> Result<(), ClusterError> {
-        let bytes = meshopt::typed_to_bytes(&mesh.vertices);
-        let stride = std::mem::size_of::<Vertex>();
-        let positions = meshopt::VertexDataAdapter::new(bytes, stride, 0)
-            .expect("Vertex is a whole number of strides with its position first");
+        let positions = positions(mesh);
         let meshlets = meshopt::build_meshlets(
             &mesh.indices,
             &positions,
@@ -220,6 +220,13 @@ mod build {
         mesh.indices = indices;
         mesh.clusters = clusters;
         Ok(())
+    }
+
+    /// The mesh's vertex positions as meshoptimizer reads them.
+    pub(in crate::scene) fn positions(mesh: &Mesh) -> meshopt::VertexDataAdapter<'_> {
+        let bytes = meshopt::typed_to_bytes(&mesh.vertices);
+        meshopt::VertexDataAdapter::new(bytes, std::mem::size_of::<Vertex>(), 0)
+            .expect("Vertex is a whole number of strides with its position first")
     }
 
     /// The vertices a cluster may reference: about what a patch of `max_triangles` on a
@@ -348,7 +355,7 @@ mod tests {
             let scale = Vec3::new(scale.0, scale.1, if mirror { -scale.2 } else { scale.2 });
             let rotation = Quat::from_axis_angle(Vec3::new(axis.0, axis.1, axis.2).normalize(), angle);
             let model = Mat4::from_scale_rotation_translation(scale, rotation, Vec3::new(1.0, -2.0, 0.5));
-            let placed = PlacedClusters::new(model);
+            let placed = PlacedClusters::new(&Instance::new(model, Vec3::ONE));
             // One eye on a cluster's own plane, nudged by `grazing`, the other anywhere.
             let c0 = &mesh.clusters[0];
             let t0 = &mesh.indices[c0.first_index as usize..c0.first_index as usize + 3];
@@ -381,7 +388,10 @@ mod tests {
     #[test]
     fn cones_cull_the_far_side() {
         let mesh = clustered(uv_sphere(32, 16));
-        let placed = PlacedClusters::new(Mat4::from_scale(Vec3::splat(2.0)));
+        let placed = PlacedClusters::new(&Instance::new(
+            Mat4::from_scale(Vec3::splat(2.0)),
+            Vec3::ONE,
+        ));
         let local = placed.local_eyes(&[Vec3::new(0.0, 0.0, 20.0), Vec3::new(0.1, 0.0, 20.0)]);
         let away: Vec<&Cluster> = mesh
             .clusters

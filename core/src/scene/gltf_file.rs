@@ -335,6 +335,7 @@ impl Loader<'_> {
                     vertices,
                     indices,
                     clusters: Vec::new(),
+                    lods: Vec::new(),
                 };
                 if double_sided {
                     add_back_faces(&mut mesh);

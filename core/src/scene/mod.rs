@@ -4,7 +4,10 @@ mod atrium;
 mod city;
 mod clusters;
 mod default_scene;
+#[cfg_attr(not(feature = "clusters"), allow(dead_code))]
+mod deviation;
 mod gltf_file;
+mod lod;
 mod materials;
 mod motion;
 mod shapes;
@@ -19,6 +22,10 @@ pub use clusters::{
 };
 pub use default_scene::{default_scene, fill_scene};
 pub use gltf_file::{gltf_from_slice, is_scene_file, load_gltf, SceneFileError};
+pub use lod::{
+    LodError, LodLevel, LodSettings, DEFAULT_LOD_ERROR_PX, LOD_ERROR_PX_RANGE, LOD_MIN_TRIANGLES,
+    MAX_LOD_LEVELS,
+};
 pub use materials::{Material, Pattern, PointLight, Shading, Surface, MAX_POINT_LIGHTS};
 pub use motion::{walking_pose, TURN_DEG_S, WALK_SPEED_M_S};
 pub use textures::{MaterialTextures, Texture, TEXTURE_SIZE};
@@ -92,6 +99,9 @@ pub struct Mesh {
     /// Its triangles in clusters, each a contiguous run of `indices`; empty: drawn and culled
     /// whole ([`Scene::with_clusters`]).
     pub clusters: Vec<Cluster>,
+    /// Simplified versions, coarser one after another, for views that cannot resolve the
+    /// detail; empty: only the full mesh ([`Scene::with_lod`]).
+    pub lods: Vec<LodLevel>,
 }
 
 impl Mesh {
@@ -138,6 +148,15 @@ impl Instance {
     /// The same instance with material `material`.
     pub fn with_material(self, material: u32) -> Self {
         Self { material, ..self }
+    }
+
+    /// The most its model matrix stretches any length: its longest axis.
+    pub fn max_scale(&self) -> f32 {
+        let m = self.model;
+        [m.x_axis, m.y_axis, m.z_axis]
+            .map(|a| a.truncate().length())
+            .into_iter()
+            .fold(0.0, f32::max)
     }
 }
 
@@ -253,14 +272,7 @@ impl Scene {
             .flat_map(|b| {
                 let s = mesh_spheres[b.mesh];
                 b.instances.iter().map(move |i| {
-                    let m = i.model;
-                    let scale = m
-                        .x_axis
-                        .truncate()
-                        .length()
-                        .max(m.y_axis.truncate().length())
-                        .max(m.z_axis.truncate().length());
-                    Sphere::new(m.transform_point3(s.center), s.radius * scale)
+                    Sphere::new(i.model.transform_point3(s.center), s.radius * i.max_scale())
                 })
             })
             .collect()

@@ -34,6 +34,7 @@ pub fn cube() -> Mesh {
         vertices,
         indices,
         clusters: Vec::new(),
+        lods: Vec::new(),
     }
 }
 
@@ -79,6 +80,7 @@ pub fn uv_sphere(segments: u32, rings: u32) -> Mesh {
         vertices,
         indices,
         clusters: Vec::new(),
+        lods: Vec::new(),
     }
 }
 
@@ -126,6 +128,7 @@ pub fn ground_grid(half_extent: f32, first_cell: f32) -> Mesh {
         vertices,
         indices,
         clusters: Vec::new(),
+        lods: Vec::new(),
     }
 }
 
@@ -187,6 +190,7 @@ pub fn cylinder(segments: u32) -> Mesh {
         vertices,
         indices,
         clusters: Vec::new(),
+        lods: Vec::new(),
     }
 }
 
@@ -206,6 +210,7 @@ pub fn ground_quad() -> Mesh {
         vertices,
         indices: vec![0, 1, 2, 0, 2, 3],
         clusters: Vec::new(),
+        lods: Vec::new(),
     }
 }
 

@@ -201,8 +201,13 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let gpu = Gpu::new(options)?;
-    // The reference first, then every row: all measured side by side in one group.
-    let mut named = vec![("reference".to_string(), 4, base.clone())];
+    // The reference first (full meshes, whatever `--lod` asks of the rows), then every row:
+    // all measured side by side in one group.
+    let reference = RenderConfig {
+        lod: None,
+        ..base.clone()
+    };
+    let mut named = vec![("reference".to_string(), 4, reference)];
     for &msaa in &args.msaa {
         named.push((format!("stereo, MSAA {msaa}"), msaa, base.clone()));
         if args.radial_density {
