@@ -13,7 +13,7 @@ use super::scene_buffers::SceneBuffers;
 use crate::cull::{
     CullHierarchy, CullView, Frustum, HierarchyParams, Sphere, StereoFrusta, Strategy, Superfrustum,
 };
-use crate::plan::{DrawSet, FramePlan};
+use crate::plan::{DrawSet, FramePlan, Step};
 use crate::scene::{Cluster, Draw, PlacedClusters, Scene};
 use crate::view::{Eye, EyeParams, FovTangents, LensRegion};
 use crate::vocab::Resolution;
@@ -33,6 +33,10 @@ pub(crate) struct FrameCulling {
     lod_bounds: Vec<Option<(Sphere, f32)>>,
     /// Each draw's buckets: the whole mesh first, then one per cluster of its mesh.
     draw_buckets: Vec<DrawBuckets>,
+    /// Each cull slot: whether fovea views draw it untagged (a foveated frame's unculled set,
+    /// drawn by all four views of the one-pass layout or by both passes of the two-pass one),
+    /// so its levels must satisfy their pixels too.
+    fovea_draws: Vec<bool>,
     lens_regions: [LensRegion; 2],
     /// Distance culling radius: the configured draw distance, or without one the eyes'
     /// frusta's far corners, so nothing in them is dropped.
@@ -133,6 +137,9 @@ impl FrameCulling {
             |c| c.draw_distance,
         );
         FrameCulling {
+            fovea_draws: (0..plan.cull_slots.len())
+                .map(|slot| fovea_draws(plan, slot))
+                .collect(),
             hierarchy: CullHierarchy::build(&spheres, HierarchyParams::default()),
             draw_of,
             placed,
@@ -169,6 +176,7 @@ impl FrameCulling {
             placed,
             lod_bounds,
             draw_buckets,
+            fovea_draws,
             lens_regions,
             draw_distance,
             near_reach,
@@ -259,18 +267,26 @@ impl FrameCulling {
             })
         };
         ids.clear();
-        for (set, draw_set) in sets.iter_mut().zip(&plan.cull_slots) {
+        for (slot, (set, draw_set)) in sets.iter_mut().zip(&plan.cull_slots).enumerate() {
+            // The eyes' (or periphery's) views, and the fovea views where they draw the set.
+            let stereo_views = || {
+                let mut views = eye_views();
+                if fovea_draws[slot] {
+                    views.extend(fovea_views());
+                }
+                views
+            };
             // What the slot draws (`None`: every instance), its clusters' test, the views its
             // levels are chosen for, the test whose failure tags a cluster as unseen by the
             // fovea views, and the views a tagged instance's level must also satisfy.
             let mut fovea_tags = None;
             let mut tagged_views = Vec::new();
             let (kept, clusters, views) = match draw_set {
-                DrawSet::All => (None, None, eye_views()),
+                DrawSet::All => (None, None, stereo_views()),
                 DrawSet::Visible => (
                     Some(strategy.cull(h, &view(draw_distance))),
                     stereo_test(),
-                    eye_views(),
+                    stereo_views(),
                 ),
                 DrawSet::VisibleToEye(e) => {
                     let frusta = frusta.as_ref().expect("computed for per-eye slots");
@@ -384,6 +400,20 @@ impl FrameCulling {
     }
 }
 
+/// Whether a foveated frame's fovea views draw cull slot `slot` without tags: a scene step of
+/// the slot in a pass that renders a fovea view (frame views 2 and 3).
+fn fovea_draws(plan: &FramePlan, slot: usize) -> bool {
+    plan.foveation.is_some()
+        && plan.cull_slots[slot] != DrawSet::FoveaTagged
+        && plan.passes.iter().any(|p| {
+            let views = p.view_mask.max(1) << p.first_view;
+            views >> 2 != 0
+                && p.steps
+                    .iter()
+                    .any(|s| matches!(s, Step::Scene { cull_slot: Some(k), .. } if *k == slot))
+        })
+}
+
 /// The farthest any point of the eyes' frusta up to depth `depth` lies from the head.
 fn reach(eyes: &EyeParams, near: f32, depth: f32) -> f32 {
     StereoFrusta::new(eyes, Mat4::IDENTITY, near, depth)
@@ -392,4 +422,53 @@ fn reach(eyes: &EyeParams, near: f32, depth: f32) -> f32 {
         .flat_map(Frustum::world_corners)
         .map(Vec3::length)
         .fold(depth, f32::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::foveation::FoveationConfig;
+    use crate::plan::{DeviceCaps, FoveaLayout, RenderConfig};
+    use crate::scene::{default_scene, LodSettings};
+
+    /// With level of detail, a set's levels must satisfy the fovea views wherever they draw it
+    /// untagged: the one-pass layout's unculled set (all four views), and the two-pass layout's
+    /// when the fovea pass draws the periphery's set too (fovea culling off), and the fovea's
+    /// own culled set; not the two-pass layout's periphery set beside it. Mutation: deciding by the
+    /// pass's view mask alone (without its first view) misses the two-pass fovea pass.
+    #[test]
+    fn fovea_views_choose_the_levels_of_the_sets_they_draw() {
+        let scene = default_scene().with_lod().unwrap();
+        let plan = |layout, cull_fovea| {
+            let config = RenderConfig {
+                views: 4,
+                foveation: Some(FoveationConfig {
+                    ratio: 0.35,
+                    cull_fovea,
+                    ..FoveationConfig::default()
+                }),
+                fovea_layout: layout,
+                lod: Some(LodSettings::default()),
+                ..RenderConfig::default()
+            };
+            crate::plan(&scene, &config, &DeviceCaps::generic()).unwrap()
+        };
+        let slots = |plan: &FramePlan| {
+            (0..plan.cull_slots.len())
+                .map(|k| (plan.cull_slots[k], fovea_draws(plan, k)))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(
+            slots(&plan(FoveaLayout::OnePass, false)),
+            [(DrawSet::All, true)]
+        );
+        assert_eq!(
+            slots(&plan(FoveaLayout::TwoPass, false)),
+            [(DrawSet::All, true)]
+        );
+        assert_eq!(
+            slots(&plan(FoveaLayout::TwoPass, true)),
+            [(DrawSet::All, false), (DrawSet::Fovea, true)]
+        );
+    }
 }
