@@ -73,7 +73,7 @@ fn render_writes_a_stereo_png_and_prints_plan_times_and_counts() {
         "frame plan:",
         "frame time median",
         "no counters",
-        "CPU record",
+        "CPU cull",
         "draw calls",
         "triangles recorded",
         "fragments (a separate counting frame): scene",

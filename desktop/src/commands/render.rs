@@ -45,6 +45,8 @@ struct ModeResult {
     /// Median GPU time per pass, with the pass's name.
     passes: Vec<(&'static str, f64)>,
     record: Stats,
+    /// CPU time culling and choosing levels per frame (0 when nothing is culled).
+    cull: Stats,
     /// Draw commands and triangles the last timed frame recorded.
     draw_calls: u64,
     triangles: u64,
@@ -144,6 +146,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
             frame: Stats::of(&series(|f| f.frame_ms)).expect("at least one frame"),
             gpu: Stats::of(&frames.iter().filter_map(|f| f.gpu_ms).collect::<Vec<_>>()),
             record: Stats::of(&series(|f| f.cpu_record_ms)).expect("at least one frame"),
+            cull: Stats::of(&series(|f| f.cpu_cull_ms)).expect("at least one frame"),
             passes: plan
                 .passes
                 .iter()
@@ -227,8 +230,8 @@ fn print_result(r: &ModeResult, eye_pixels: u64) {
         .gpu
         .map_or("n/a".to_string(), |g| format!("{:.2} ms", g.median));
     println!(
-        "{}: frame time median {:.2} ms (mean {:.2}, p95 {:.2}, {} frames, no counters); GPU {gpu}; CPU record {:.3} ms; {} draw calls, {} triangles recorded",
-        r.label, r.frame.median, r.frame.mean, r.frame.p95, r.frame.count, r.record.median, r.draw_calls, r.triangles
+        "{}: frame time median {:.2} ms (mean {:.2}, p95 {:.2}, {} frames, no counters); GPU {gpu}; CPU cull {:.3} ms, record {:.3} ms; {} draw calls, {} triangles recorded",
+        r.label, r.frame.median, r.frame.mean, r.frame.p95, r.frame.count, r.cull.median, r.record.median, r.draw_calls, r.triangles
     );
     for (name, ms) in &r.passes {
         println!("  GPU {name}: {ms:.2} ms");
