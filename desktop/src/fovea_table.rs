@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::Gpu;
 use foveate::plan::{FoveaLayout, OutputStage, RenderConfig, Resolution};
-use foveate::scene::{Scene, Shading};
+use foveate::scene::{LodSettings, Scene, Shading};
 
 use crate::csv_out::CsvTable;
 use crate::side_by_side::{measure_group, Group};
@@ -28,6 +28,8 @@ pub struct TableSettings {
     pub output: OutputStage,
     /// Timed frames per row (after one warm-up frame each).
     pub frames: u32,
+    /// Level of detail on every row, stereo included (`None`: full meshes).
+    pub lod: Option<LodSettings>,
 }
 
 /// One measured row.
@@ -76,6 +78,7 @@ pub fn measure(
         hmd: settings.hmd.clone(),
         msaa: settings.msaa,
         output: settings.output,
+        lod: settings.lod,
         ..RenderConfig::default()
     };
     let mut variants: Vec<Option<(f32, FoveaLayout)>> = vec![None];

@@ -235,12 +235,14 @@ impl FrameCulling {
                 None => Vec::new(),
             }
         };
-        let eye_views = || {
-            let frusta = frusta.as_ref().expect("computed with level of detail");
-            let pixels = plan
-                .foveation
-                .map_or(plan.eye_resolution, |g| g.periphery_view);
-            lod_views(&frusta.eyes, pixels)
+        let eye_views = || match (lod, frusta.as_ref()) {
+            (Some(_), Some(frusta)) => {
+                let pixels = plan
+                    .foveation
+                    .map_or(plan.eye_resolution, |g| g.periphery_view);
+                lod_views(&frusta.eyes, pixels)
+            }
+            _ => Vec::new(),
         };
         let fovea_views = || match (lod, plan.foveation) {
             (Some(_), Some(g)) => {

@@ -35,7 +35,8 @@ pub struct CompareArgs {
     #[arg(long, value_delimiter = ',')]
     ratios: Option<Vec<f32>>,
     /// The foveation table instead: stereo against each ratio in both fovea layouts, on every
-    /// scene of --scenes, flat and lit, MSAA 4 (the first of --msaa), side by side in one run.
+    /// scene of --scenes, flat and lit, MSAA 4 (the first of --msaa), side by side in one run
+    /// (with --clusters and --lod on every row, stereo included).
     #[arg(long)]
     table: bool,
     /// Scenes of the table.
@@ -590,18 +591,23 @@ fn table(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         msaa: *args.msaa.last().unwrap_or(&4),
         output: args.frame.output.parse()?,
         frames: args.frames,
+        lod: args.frame.clusters.lod()?,
     };
     println!(
-        "device: {}; {} {} per eye, MSAA {}, output {}, gaze centred; {} timed frames per row, rows interleaved",
+        "device: {}; {} {} per eye, MSAA {}, output {}, gaze centred; {} timed frames per row, rows interleaved; clusters {}, level of detail {} on every row",
         gpu.info().name,
         args.frame.hmd,
         settings.resolution,
         settings.msaa,
         settings.output,
-        settings.frames
+        settings.frames,
+        args.frame.clusters.clusters.map_or("off".into(), |n| format!("of {n} triangles")),
+        settings.lod.map_or("off".into(), |l| format!("within {} px", l.max_error_px)),
     );
     let rows = fovea_table::measure(&gpu, &settings, &|name, shading| {
-        Ok(named_scene(name)?.with_shading(shading))
+        args.frame
+            .clusters
+            .apply(named_scene(name)?.with_shading(shading))
     })?;
     fovea_table::print(&rows);
     println!(

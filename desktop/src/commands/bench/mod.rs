@@ -255,6 +255,7 @@ fn foveation_table(gpu: &Gpu, args: &BenchArgs) -> Result<()> {
         msaa: args.msaa,
         output: OutputStage::Lens,
         frames: args.foveation_frames,
+        lod: None,
     };
     let rows = crate::fovea_table::measure(gpu, &settings, &|name, shading| {
         Ok(foveate::scene::named_scene(name)?.with_shading(shading))
