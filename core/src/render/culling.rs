@@ -235,14 +235,13 @@ impl FrameCulling {
                 None => Vec::new(),
             }
         };
-        let eye_views = || match (lod, frusta.as_ref()) {
-            (Some(_), Some(frusta)) => {
-                let pixels = plan
-                    .foveation
-                    .map_or(plan.eye_resolution, |g| g.periphery_view);
-                lod_views(&frusta.eyes, pixels)
-            }
-            _ => Vec::new(),
+        let eye_pixels = plan
+            .foveation
+            .map_or(plan.eye_resolution, |g| g.periphery_view);
+        let eye_views = || {
+            frusta
+                .as_ref()
+                .map_or(Vec::new(), |f| lod_views(&f.eyes, eye_pixels))
         };
         let fovea_views = || match (lod, plan.foveation) {
             (Some(_), Some(g)) => {

@@ -154,6 +154,9 @@ mod tests {
     use super::*;
     use crate::scene::{cube, cylinder, uv_sphere};
 
+    /// How deep inside a shape's true surface a point lies.
+    type Depth<'a> = dyn Fn(Vec3) -> f32 + 'a;
+
     fn with_lod(mesh: Mesh) -> Mesh {
         let scene = Scene {
             meshes: vec![mesh],
@@ -196,9 +199,6 @@ mod tests {
     /// measurement) lies deeper inside the true surface than its error plus the full mesh's own
     /// deepest point. Mutation: meshoptimizer's estimate alone fails (1.65× deeper on the
     /// sphere, 3.5× on the cylinder).
-    /// How deep inside a shape's true surface a point lies.
-    type Depth<'a> = dyn Fn(Vec3) -> f32 + 'a;
-
     #[test]
     fn level_error_bounds_the_surface() {
         let radius = 5.0;
