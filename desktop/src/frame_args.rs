@@ -104,6 +104,12 @@ pub struct ConfigArgs {
     /// (`40m`).
     #[arg(long, default_value = "1px")]
     pub split: String,
+    /// MFFR's far pass's MSAA samples, 1 or 4 (default: the frame's `--msaa`).
+    #[arg(long)]
+    pub far_msaa: Option<u32>,
+    /// MFFR's far image's pixel density, a fraction of the eyes' in 0.25..=1.
+    #[arg(long, default_value_t = 1.0)]
+    pub far_density: f32,
     /// Radial density masking: 2x2 quads skipped in the periphery (every other past
     /// `--radial-inner`, three in four past `--radial-outer`), reconstructed after the pass.
     #[arg(long)]
@@ -354,8 +360,18 @@ impl ConfigArgs {
         let mffr = self
             .mffr
             .as_deref()
-            .map(|name| MffrConfig::named(name, self.split.parse()?))
+            .map(|name| {
+                Ok::<_, anyhow::Error>(MffrConfig {
+                    far_msaa: self.far_msaa,
+                    far_density: self.far_density,
+                    ..MffrConfig::named(name, self.split.parse()?)?
+                })
+            })
             .transpose()?;
+        anyhow::ensure!(
+            self.mffr.is_some() || (self.far_msaa.is_none() && self.far_density == 1.0),
+            "--far-msaa and --far-density set MFFR's far pass: add --mffr"
+        );
         let radial_density = self.radial_density.then(|| {
             let default = RadialDensity::default();
             RadialDensity {

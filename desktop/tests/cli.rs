@@ -585,7 +585,7 @@ fn mffr_prices_every_variant_against_stereo() {
         csv.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let rows = read_csv(&csv, 18);
+    let rows = read_csv(&csv, 20);
     assert_eq!(rows.len(), 2 * 5, "stereo and four variants per split");
     for r in &rows {
         assert_numeric(r, &["variant", "split"]);
@@ -603,6 +603,35 @@ fn mffr_prices_every_variant_against_stereo() {
     ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }
+    let o = foveate(&[
+        "mffr",
+        "--res",
+        "48",
+        "--frames",
+        "2",
+        "--splits",
+        "2px",
+        "--variants",
+        "near-first",
+        "--far-msaa",
+        "4,1",
+        "--far-density",
+        "1,0.5",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = read_csv(&csv, 20);
+    let far: Vec<(&str, &str)> = rows[1..]
+        .iter()
+        .map(|r| (r["far_msaa"].as_str(), r["far_density"].as_str()))
+        .collect();
+    assert_eq!(
+        far,
+        [("4", "1"), ("4", "0.5"), ("1", "1"), ("1", "0.5")],
+        "one row per far pass's samples and density"
+    );
+    let _ = std::fs::remove_file(&csv);
     let o = foveate(&["mffr", "--res", "48", "--frames", "2", "--splits", "0px"]);
     assert!(
         !o.status.success() && stderr(&o).contains("mffr split"),

@@ -65,6 +65,7 @@ fn clustered_frames_equal_whole_mesh_frames() {
             split: SplitDistance::Metres(6.0),
             order: MffrOrder::NearFirst,
             variant: MffrVariant::Centre,
+            ..MffrConfig::default()
         }),
         ..base()
     };

@@ -84,6 +84,47 @@ fn near_first_and_far_first_give_the_same_image() {
     }
 }
 
+/// The far pass at its own samples and density: validation clean (its pipeline is built for
+/// its own samples, not the frame's), far fragments that follow its pixels (half the density:
+/// a quarter of the far image's pixels, and measured, a quarter of its fragments), and an
+/// image that still matches the reference within the disparity bound plus a far pixel nearly
+/// everywhere. Mutation: a far image that ignores its density shades as many fragments.
+#[test]
+fn far_pass_takes_its_own_samples_and_density() {
+    let gpu = gpu();
+    let scene = city_scene();
+    let (reference, _) = render(&gpu, &scene, &config(None, StereoMode::Multiview));
+    let far = |density| {
+        let m = MffrConfig {
+            far_msaa: Some(1),
+            far_density: density,
+            ..mffr("near-first", "2px").unwrap()
+        };
+        let c = config(Some(m), StereoMode::Multiview);
+        let plan = foveate::plan(&scene, &c, gpu.caps()).unwrap();
+        let size = plan.mffr.unwrap().resolution;
+        let (image, stats) = render(&gpu, &scene, &c);
+        let fragments = stats.far_fragments.unwrap() as f64;
+        (image, fragments, size.width as f64 * size.height as f64)
+    };
+    let (_, full_fragments, full_pixels) = far(1.0);
+    let (image, half_fragments, half_pixels) = far(0.5);
+    let (measured, planned) = (half_fragments / full_fragments, half_pixels / full_pixels);
+    for share in [measured, planned] {
+        assert!(
+            (share / 0.25 - 1.0).abs() < 0.1,
+            "half density shades {measured:.3} of the far fragments; its image has {planned:.3} of the pixels"
+        );
+    }
+    for (got, want) in [
+        (&image.left, &reference.left),
+        (&image.right, &reference.right),
+    ] {
+        let within = got.matched_within(want, 3, 24).unwrap();
+        assert!(within > 0.98, "{within:.4} within 3 px");
+    }
+}
+
 /// A ground plane crossing the split: wherever the reference shows ground, MFFR shows ground
 /// too — no sky shows through a crack at the split, for parallel and canted eyes.
 #[test]
@@ -112,6 +153,7 @@ fn no_seam_at_the_split() {
                     split: SplitDistance::Metres(8.0),
                     order,
                     variant: MffrVariant::Centre,
+                    ..MffrConfig::default()
                 }),
                 ..base.clone()
             };

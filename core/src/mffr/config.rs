@@ -80,7 +80,15 @@ pub struct MffrConfig {
     pub split: SplitDistance,
     pub order: MffrOrder,
     pub variant: MffrVariant,
+    /// The far pass's MSAA samples (`None`: the frame's). Far edges move less than a pixel
+    /// between the eyes but alias like near ones: fewer samples are a price in accuracy.
+    pub far_msaa: Option<u32>,
+    /// The far image's pixel density, as a fraction of the eyes' ([`FAR_DENSITY_RANGE`]).
+    pub far_density: f32,
 }
+
+/// The far image's pixel densities a plan accepts, as fractions of the eyes'.
+pub const FAR_DENSITY_RANGE: std::ops::RangeInclusive<f32> = 0.25..=1.0;
 
 impl Default for MffrConfig {
     fn default() -> Self {
@@ -88,6 +96,8 @@ impl Default for MffrConfig {
             split: SplitDistance::DisparityPx(1.0),
             order: MffrOrder::NearFirst,
             variant: MffrVariant::Centre,
+            far_msaa: None,
+            far_density: 1.0,
         }
     }
 }
@@ -115,6 +125,7 @@ impl MffrConfig {
                 split,
                 order,
                 variant,
+                ..MffrConfig::default()
             })
             .ok_or_else(|| ConfigError::new("mffr", name, format!("one of {}", names.join(", "))))
     }

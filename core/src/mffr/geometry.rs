@@ -1,6 +1,6 @@
 use glam::{Mat4, Vec3, Vec4};
 
-use super::{MffrConfig, MffrVariant, SplitDistance};
+use super::{MffrConfig, MffrVariant, SplitDistance, FAR_DENSITY_RANGE};
 use crate::view::{Eye, EyeParams, FovTangents};
 use crate::vocab::{ConfigError, Resolution};
 
@@ -28,7 +28,7 @@ pub struct MffrGeometry {
     /// The far pass's near plane (≤ the split: canted eyes' split planes tilt towards it).
     pub far_near: f32,
     pub far: f32,
-    /// The far image's size at the eyes' pixel density.
+    /// The far image's size at the eyes' pixel density times the config's `far_density`.
     pub resolution: Resolution,
 }
 
@@ -42,6 +42,17 @@ impl MffrGeometry {
         near: f32,
         far: f32,
     ) -> Result<Option<Self>, ConfigError> {
+        if !FAR_DENSITY_RANGE.contains(&config.far_density) {
+            return Err(ConfigError::new(
+                "mffr far_density",
+                config.far_density,
+                format!(
+                    "a fraction of the eyes' pixel density in {}..={}",
+                    FAR_DENSITY_RANGE.start(),
+                    FAR_DENSITY_RANGE.end()
+                ),
+            ));
+        }
         let fov = eyes.left_fov;
         let focal_px = eye.width as f32 / (fov.left + fov.right);
         let split_m = match config.split {
@@ -79,10 +90,11 @@ impl MffrGeometry {
         };
         let (far_fov, far_near) = covering_view(eyes, split_m, far, &origins)
             .map_err(|why| ConfigError::new("mffr split", config.split, why))?;
-        // The far image at the eyes' pixel density (pixels per unit tangent).
-        let density_y = eye.height as f32 / (fov.up + fov.down);
+        // The far image at the eyes' pixel density (pixels per unit tangent), scaled.
+        let density_x = focal_px * config.far_density;
+        let density_y = config.far_density * eye.height as f32 / (fov.up + fov.down);
         let resolution = Resolution {
-            width: ((far_fov.left + far_fov.right) * focal_px).ceil() as u32,
+            width: ((far_fov.left + far_fov.right) * density_x).ceil() as u32,
             height: ((far_fov.up + far_fov.down) * density_y).ceil() as u32,
         };
         Ok(Some(MffrGeometry {

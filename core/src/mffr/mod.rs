@@ -8,7 +8,7 @@
 mod config;
 mod geometry;
 
-pub use config::{MffrConfig, MffrOrder, MffrVariant, SplitDistance};
+pub use config::{MffrConfig, MffrOrder, MffrVariant, SplitDistance, FAR_DENSITY_RANGE};
 pub use geometry::{
     far_view_from_head, split_for_disparity, FarReprojection, MffrGeometry, FAR_VIEW_INDEX,
 };

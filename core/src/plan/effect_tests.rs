@@ -187,6 +187,59 @@ fn mffr_plans_a_mono_far_pass_the_eye_pass_samples() {
     }
 }
 
+/// The far pass takes its own samples and density; the eye passes keep the frame's.
+#[test]
+fn the_far_pass_has_samples_and_density_of_its_own() {
+    let scene = crate::scene::city_scene();
+    let base = with_mffr(crate::mffr::MffrOrder::NearFirst);
+    let full = plan(&scene, &base, &caps()).unwrap();
+    let custom = RenderConfig {
+        mffr: base.mffr.map(|m| crate::mffr::MffrConfig {
+            far_msaa: Some(1),
+            far_density: 0.5,
+            ..m
+        }),
+        ..base.clone()
+    };
+    let cheap = plan(&scene, &custom, &caps()).unwrap();
+    let far = cheap.far_pass().unwrap();
+    assert!(far.resolve.is_none(), "one sample: nothing to resolve");
+    assert_eq!(attachment(&cheap, &far.color).samples, 1);
+    assert_eq!(attachment(&cheap, &far.depth.unwrap()).samples, 1);
+    let eye = &cheap.passes[1];
+    assert_eq!(attachment(&cheap, &eye.color).samples, 4);
+    let (a, b) = (full.mffr.unwrap(), cheap.mffr.unwrap());
+    assert_eq!(
+        a.split_m, b.split_m,
+        "the split stays at the eyes' disparity"
+    );
+    for (x, y) in [
+        (a.resolution.width, b.resolution.width),
+        (a.resolution.height, b.resolution.height),
+    ] {
+        assert!(y.abs_diff(x.div_ceil(2)) <= 1, "{x} → {y}");
+    }
+    assert!(cheap
+        .to_string()
+        .contains("at 1x MSAA and 0.5 the eyes' pixel density"));
+    for (msaa, density, field) in [
+        (Some(2), 1.0, "mffr far_msaa"),
+        (None, 0.2, "mffr far_density"),
+        (None, f32::NAN, "mffr far_density"),
+    ] {
+        let c = RenderConfig {
+            mffr: base.mffr.map(|m| crate::mffr::MffrConfig {
+                far_msaa: msaa,
+                far_density: density,
+                ..m
+            }),
+            ..base.clone()
+        };
+        let err = plan(&scene, &c, &caps()).unwrap_err();
+        assert!(err.to_string().contains(field), "{err}");
+    }
+}
+
 #[test]
 fn a_scene_without_far_content_pays_nothing_for_mffr() {
     // The default scene reaches a few hundred metres; a split past it (or past the far plane)

@@ -32,16 +32,17 @@ pub(super) fn far_pass(
         });
         attachments.len() - 1
     };
-    let msaa = config.msaa > 1;
+    let samples = far_samples(config);
+    let msaa = samples > 1;
     let color = msaa.then(|| {
         add(
             "far colour (MSAA)",
             AttachmentRole::Color,
             Format::Rgba8Srgb,
-            config.msaa,
+            samples,
         )
     });
-    let depth = add("far depth", AttachmentRole::Depth, Format::D32, config.msaa);
+    let depth = add("far depth", AttachmentRole::Depth, Format::D32, samples);
     let output_role = if msaa {
         AttachmentRole::Resolve
     } else {
@@ -61,6 +62,11 @@ pub(super) fn far_pass(
             whole(color.unwrap_or(output), Access::Clear),
         )
     }
+}
+
+/// The far pass's MSAA samples: MFFR's own, or the frame's.
+pub(super) fn far_samples(config: &RenderConfig) -> u32 {
+    config.mffr.and_then(|m| m.far_msaa).unwrap_or(config.msaa)
 }
 
 /// The far composite step of an eye pass, on the side of its scene step the order says.

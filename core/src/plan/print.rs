@@ -156,12 +156,14 @@ impl FramePlan {
         if let Some(m) = &self.mffr {
             writeln!(
                 f,
-                "  MFFR {}: split {:.2} m ({} → {:.2} px disparity there), far view {} covering both eyes (tangents l/r/u/d {:.3}/{:.3}/{:.3}/{:.3}), far pass near {:.2} m",
+                "  MFFR {}: split {:.2} m ({} → {:.2} px disparity there), far view {} at {}x MSAA and {} the eyes' pixel density covering both eyes (tangents l/r/u/d {:.3}/{:.3}/{:.3}/{:.3}), far pass near {:.2} m",
                 m.config.name(),
                 m.split_m,
                 m.config.split,
                 m.disparity_at_split_px,
                 m.resolution,
+                m.config.far_msaa.unwrap_or(self.samples),
+                m.config.far_density,
                 m.far_fov.left,
                 m.far_fov.right,
                 m.far_fov.up,

@@ -116,11 +116,20 @@ pub(super) fn validate_views(config: &RenderConfig, caps: &DeviceCaps) -> Result
 }
 
 pub(super) fn validate_msaa(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), ConfigError> {
+    check_samples("msaa", config.msaa, caps)?;
+    match config.mffr.and_then(|m| m.far_msaa) {
+        Some(far) => check_samples("mffr far_msaa", far, caps),
+        None => Ok(()),
+    }
+}
+
+/// A sample count the frame's passes are built for (1 or 4) that the device supports.
+fn check_samples(field: &'static str, samples: u32, caps: &DeviceCaps) -> Result<(), ConfigError> {
     let device: Vec<String> = caps.sample_counts().iter().map(u32::to_string).collect();
-    if !matches!(config.msaa, 1 | 4) || !caps.supports_samples(config.msaa) {
+    if !matches!(samples, 1 | 4) || !caps.supports_samples(samples) {
         return Err(ConfigError::new(
-            "msaa",
-            config.msaa,
+            field,
+            samples,
             format!(
                 "1 or 4, and one the device supports (it supports {})",
                 device.join(", ")

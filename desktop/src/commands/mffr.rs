@@ -12,6 +12,7 @@ use foveate::scene::named_scene;
 use glam::Vec2;
 
 use crate::csv_out::CsvTable;
+use crate::frame_args::ClusterArgs;
 use crate::side_by_side::{sweep, Group};
 
 #[derive(Args)]
@@ -38,12 +39,20 @@ pub struct MffrArgs {
     /// MSAA samples.
     #[arg(long, default_value_t = 4)]
     msaa: u32,
+    /// The far pass's MSAA samples to compare, each 1 or 4 (default: the frame's `--msaa`).
+    #[arg(long, value_delimiter = ',')]
+    far_msaa: Vec<u32>,
+    /// The far image's pixel densities to compare, fractions of the eyes' in 0.25..=1.
+    #[arg(long, value_delimiter = ',', default_value = "1")]
+    far_density: Vec<f32>,
     /// Frames per configuration, rendered in interleaved rounds (the first is a warm-up).
     #[arg(long, default_value_t = 6)]
     frames: u32,
     /// Also write the table as CSV to this file.
     #[arg(long)]
     csv: Option<PathBuf>,
+    #[command(flatten)]
+    clusters: ClusterArgs,
 }
 
 /// The sky's clear colour as the sRGB image stores it.
@@ -73,12 +82,13 @@ fn sky_through(image: &RgbaImage, reference: &RgbaImage) -> u64 {
 }
 
 pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
-    let scene = named_scene(&args.scene)?;
+    let scene = args.clusters.apply(named_scene(&args.scene)?)?;
     let gpu = Gpu::new(options)?;
     let base = RenderConfig {
         hmd: crate::frame_args::profile(&args.hmd)?.name.to_string(),
         resolution: Some(crate::frame_args::screen(&args.hmd, &args.res)?),
         msaa: args.msaa,
+        lod: args.clusters.lod()?,
         ..RenderConfig::default()
     };
     println!(
@@ -91,10 +101,12 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         args.frames
     );
     println!(
-        "\n{:<14} {:>9} {:>7} {:>9} {:>6} {:>8} {:>8} {:>10} {:>10} {:>10} {:>6} {:>6} {:>7} {:>7} {:>7} {:>8} {:>7}",
+        "\n{:<14} {:>9} {:>7} {:>4} {:>5} {:>9} {:>6} {:>8} {:>8} {:>10} {:>10} {:>10} {:>6} {:>6} {:>7} {:>7} {:>7} {:>8} {:>7}",
         "variant",
         "split",
         "disp px",
+        "far×",
+        "dens",
         "frame ms",
         "ratio",
         "far ms",
@@ -115,6 +127,8 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         "split",
         "split_m",
         "disparity_px",
+        "far_msaa",
+        "far_density",
         "frame_ms",
         "ratio",
         "gpu_far_ms",
@@ -132,12 +146,24 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
     ])?;
     for split_text in &args.splits {
         let split: SplitDistance = split_text.parse()?;
+        let far_msaa: Vec<Option<u32>> = match args.far_msaa.as_slice() {
+            [] => vec![None],
+            m => m.iter().copied().map(Some).collect(),
+        };
         let mut configs = vec![base.clone()];
         for name in &args.variants {
-            configs.push(RenderConfig {
-                mffr: Some(MffrConfig::named(name, split)?),
-                ..base.clone()
-            });
+            for &msaa in &far_msaa {
+                for &density in &args.far_density {
+                    configs.push(RenderConfig {
+                        mffr: Some(MffrConfig {
+                            far_msaa: msaa,
+                            far_density: density,
+                            ..MffrConfig::named(name, split)?
+                        }),
+                        ..base.clone()
+                    });
+                }
+            }
         }
         let label = format!("split {split}");
         let group = Group {
@@ -164,6 +190,12 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
                 None if i == 0 => ("stereo", f32::NAN, f32::NAN, 0.0),
                 None => ("(no far field)", f32::NAN, f32::NAN, 0.0),
             };
+            let (far_samples, far_density) = plan.mffr.map_or((0, f32::NAN), |g| {
+                (
+                    g.config.far_msaa.unwrap_or(plan.samples),
+                    g.config.far_density,
+                )
+            });
             let psnr = accuracy.psnr.unwrap_or(f64::NAN);
             let ssim = accuracy.ssim.unwrap_or(f64::NAN);
             let e = &accuracy.perceptual;
@@ -189,10 +221,12 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
             };
             let ratio = m.frame_ms / reference.frame_ms;
             println!(
-                "{:<14} {:>9} {:>7.2} {:>9.2} {:>6.3} {:>8.2} {:>8.2} {:>10} {:>10} {:>10} {:>6} {:>6.4} {:>7.4} {:>7.3} {:>7.2} {:>7.2}% {:>7}",
+                "{:<14} {:>9} {:>7.2} {:>4} {:>5.2} {:>9.2} {:>6.3} {:>8.2} {:>8.2} {:>10} {:>10} {:>10} {:>6} {:>6.4} {:>7.4} {:>7.3} {:>7.2} {:>7.2}% {:>7}",
                 name,
                 if i == 0 { "-".to_string() } else { format!("{split_m:.1}m") },
                 disparity,
+                far_samples,
+                far_density,
                 m.frame_ms,
                 ratio,
                 far_ms,
@@ -213,6 +247,8 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
                 split_text,
                 &split_m,
                 &disparity,
+                &far_samples,
+                &far_density,
                 &format!("{:.3}", m.frame_ms),
                 &format!("{ratio:.4}"),
                 &format!("{far_ms:.3}"),
@@ -231,7 +267,7 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         }
         println!();
     }
-    println!("(ratio: frame time to the stereo row of the same split, measured in the same rounds; PSNR/SSIM, FLIP (mean) and eFLIP (the eccentricity-aware FLIP's 99th percentile, gaze ahead): both eyes against that stereo reference, over the pixels the lens shows; bound: the disparity error the variant allows at the split, in eye pixels; matched: pixels equal to a reference pixel at most `bound` away along the row; sky px: pixels showing sky where the reference does not — a crack at the split would show here, as do silhouettes moved by up to `bound`)");
+    println!("(far×, dens: the far pass's MSAA samples and its pixel density as a fraction of the eyes'; ratio: frame time to the stereo row of the same split, measured in the same rounds; PSNR/SSIM, FLIP (mean) and eFLIP (the eccentricity-aware FLIP's 99th percentile, gaze ahead): both eyes against that stereo reference, over the pixels the lens shows; bound: the disparity error the variant allows at the split, in eye pixels; matched: pixels equal to a reference pixel at most `bound` away along the row; sky px: pixels showing sky where the reference does not — a crack at the split would show here, as do silhouettes moved by up to `bound`)");
     gpu.check_validation()?;
     csv.save(args.csv.as_deref())
 }
