@@ -41,6 +41,43 @@ impl GpuOptions {
     }
 }
 
+/// Who makes the Vulkan instance and device and picks the physical device, when foveate must
+/// not do it alone: an OpenXR runtime (`XR_KHR_vulkan_enable2`) adds the instance and device
+/// extensions it needs to share images with its compositor, and chooses the GPU the headset is
+/// on. Given foveate's create infos (layers, extensions, features, validation), it answers with
+/// the handles it made from them.
+pub trait VulkanCreator {
+    /// `vkCreateInstance` with `info`, plus what the creator needs.
+    ///
+    /// # Safety
+    /// `info` must be a valid create info.
+    unsafe fn create_instance(
+        &self,
+        entry: &ash::Entry,
+        info: &vk::InstanceCreateInfo,
+    ) -> Result<vk::Instance, GpuError>;
+
+    /// The physical device to render on.
+    ///
+    /// # Safety
+    /// `instance` must come from [`VulkanCreator::create_instance`].
+    unsafe fn physical_device(
+        &self,
+        instance: vk::Instance,
+    ) -> Result<vk::PhysicalDevice, GpuError>;
+
+    /// `vkCreateDevice` on `physical` with `info`, plus what the creator needs.
+    ///
+    /// # Safety
+    /// `info` must be a valid create info for `physical`.
+    unsafe fn create_device(
+        &self,
+        entry: &ash::Entry,
+        physical: vk::PhysicalDevice,
+        info: &vk::DeviceCreateInfo,
+    ) -> Result<vk::Device, GpuError>;
+}
+
 /// Validation messages the debug messenger collected, for the owner to inspect.
 #[derive(Default)]
 struct ValidationLog {
@@ -98,7 +135,10 @@ impl Drop for InstanceOwner {
 }
 
 impl InstanceOwner {
-    fn new(options: &GpuOptions) -> Result<Arc<Self>, GpuError> {
+    fn new(
+        options: &GpuOptions,
+        creator: Option<&dyn VulkanCreator>,
+    ) -> Result<Arc<Self>, GpuError> {
         // SAFETY: loading the system Vulkan loader library.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::Loader(e.to_string()))?;
         let mut layers = Vec::new();
@@ -130,12 +170,20 @@ impl InstanceOwner {
         // best-practices checks on top of the core checks: any message they raise fails the
         // caller. VK_EXT_validation_features is the layer's own extension, offered by every
         // layer version since 1.2 (newer ones also read it as layer settings).
-        let checks = [
+        // Best practices judge style, not correctness: on a device an OpenXR runtime made, they
+        // judge the runtime's own choices (the promoted extensions it enables, the barriers its
+        // compositor records on its images), which no application can change, so there only
+        // the core and synchronization checks run.
+        let all_checks = [
             vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION,
             vk::ValidationFeatureEnableEXT::BEST_PRACTICES,
         ];
-        let mut features =
-            vk::ValidationFeaturesEXT::default().enabled_validation_features(&checks);
+        let checks = if creator.is_some() {
+            &all_checks[..1]
+        } else {
+            &all_checks[..]
+        };
+        let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(checks);
         if options.validation {
             extensions.push(ash::ext::validation_features::NAME.as_ptr());
         }
@@ -148,8 +196,15 @@ impl InstanceOwner {
         } else {
             info
         };
-        // SAFETY: the create info only points at locals that outlive the call.
-        let instance = unsafe { entry.create_instance(&info, None) }.vk("vkCreateInstance")?;
+        // SAFETY: the create info only points at locals that outlive the call; a creator's
+        // instance is loaded from the same loader.
+        let instance = match creator {
+            None => unsafe { entry.create_instance(&info, None) }.vk("vkCreateInstance")?,
+            Some(c) => unsafe {
+                let raw = c.create_instance(&entry, &info)?;
+                ash::Instance::load(entry.static_fn(), raw)
+            },
+        };
         let mut owner = InstanceOwner {
             entry,
             instance,
@@ -243,6 +298,16 @@ struct Candidate {
     score: u32,
 }
 
+/// Raw handles of an opened [`Gpu`], for an OpenXR session's graphics binding.
+#[derive(Clone, Copy, Debug)]
+pub struct RawHandles {
+    pub instance: vk::Instance,
+    pub physical: vk::PhysicalDevice,
+    pub device: vk::Device,
+    pub queue_family: u32,
+    pub queue_index: u32,
+}
+
 /// The opened GPU: device, graphics queue, capabilities.
 pub struct Gpu {
     pub(crate) dev: Arc<DeviceOwner>,
@@ -265,9 +330,39 @@ impl Gpu {
     /// Opens the best device (discrete > integrated > virtual > CPU, so lavapipe where nothing
     /// else exists), or the one `options.device` names.
     pub fn new(options: &GpuOptions) -> Result<Self, GpuError> {
-        let instance = InstanceOwner::new(options)?;
+        Self::open(options, None)
+    }
+
+    /// Opens the device `creator` picks, with the instance and device it makes from foveate's
+    /// create infos (an OpenXR runtime's, see [`VulkanCreator`]); `options.device` is ignored.
+    pub fn with_creator(
+        options: &GpuOptions,
+        creator: &dyn VulkanCreator,
+    ) -> Result<Self, GpuError> {
+        Self::open(options, Some(creator))
+    }
+
+    fn open(options: &GpuOptions, creator: Option<&dyn VulkanCreator>) -> Result<Self, GpuError> {
+        let instance = InstanceOwner::new(options, creator)?;
         let candidates = candidates(&instance.instance)?;
-        let chosen = choose(&candidates, options.device.as_deref())?;
+        let chosen = match creator {
+            None => choose(&candidates, options.device.as_deref())?,
+            Some(c) => {
+                // SAFETY: the instance is the creator's.
+                let physical = unsafe { c.physical_device(instance.instance.handle()) }?;
+                let chosen = candidates
+                    .iter()
+                    .find(|c| c.physical == physical)
+                    .ok_or(GpuError::NoDevice)?;
+                if let Some(why) = &chosen.info.unusable {
+                    return Err(GpuError::Unusable {
+                        name: chosen.info.name.clone(),
+                        why: why.clone(),
+                    });
+                }
+                chosen
+            }
+        };
         let queue_family = chosen.queue_family.ok_or(GpuError::NoDevice)?;
         let physical = chosen.physical;
         let vk_instance = &instance.instance;
@@ -310,9 +405,17 @@ impl Gpu {
             .enabled_features(&features)
             .enabled_extension_names(&device_extensions)
             .push_next(&mut multiview);
-        // SAFETY: the create info points at locals that outlive the call.
-        let device =
-            unsafe { vk_instance.create_device(physical, &info, None) }.vk("vkCreateDevice")?;
+        // SAFETY: the create info points at locals that outlive the call; a creator's device is
+        // loaded through this instance.
+        let device = match creator {
+            None => {
+                unsafe { vk_instance.create_device(physical, &info, None) }.vk("vkCreateDevice")?
+            }
+            Some(c) => unsafe {
+                let raw = c.create_device(&instance.entry, physical, &info)?;
+                ash::Device::load(vk_instance.fp_v1_0(), raw)
+            },
+        };
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: vk_instance.clone(),
@@ -423,11 +526,22 @@ impl Gpu {
 
     /// Every physical device with what foveate needs to know of it.
     pub fn list_devices() -> Result<Vec<DeviceInfo>, GpuError> {
-        let instance = InstanceOwner::new(&GpuOptions::default())?;
+        let instance = InstanceOwner::new(&GpuOptions::default(), None)?;
         Ok(candidates(&instance.instance)?
             .into_iter()
             .map(|c| c.info)
             .collect())
+    }
+
+    /// The handles an OpenXR session binds to (`XrGraphicsBindingVulkanKHR`).
+    pub fn raw_handles(&self) -> RawHandles {
+        RawHandles {
+            instance: self.dev.instance.instance.handle(),
+            physical: self.physical,
+            device: self.dev.device.handle(),
+            queue_family: self.queue_family,
+            queue_index: 0,
+        }
     }
 
     pub fn caps(&self) -> &DeviceCaps {

@@ -14,6 +14,10 @@ pub enum GpuError {
     },
     #[error("no usable Vulkan device (Vulkan 1.1 with a graphics queue and multiview); install `mesa-vulkan-drivers` for lavapipe")]
     NoDevice,
+    #[error("the Vulkan device {name} cannot run foveate: {why}")]
+    Unusable { name: String, why: String },
+    #[error("the OpenXR runtime could not make Vulkan objects: {0}")]
+    Runtime(String),
     #[error("no Vulkan device matches `{wanted}`; available: {available}")]
     DeviceNotFound { wanted: String, available: String },
     #[error("validation was requested but VK_LAYER_KHRONOS_validation is not installed (`apt-get install vulkan-validationlayers`)")]
@@ -26,6 +30,10 @@ pub enum GpuError {
     PipelineCache { path: String, error: String },
     #[error("cannot present to the window: {0}")]
     NoPresentation(String),
+    #[error("the plan renders into output images handed in per frame (an OpenXR swapchain's), but none were given")]
+    NoOutputImages,
+    #[error("output image {index} asked for, but {count} were handed in")]
+    NoSuchOutputImage { index: usize, count: usize },
     #[error("readback asked for before any frame was rendered")]
     NoFrameRendered,
     #[error("Vulkan validation reported {} message(s):\n{}", .0.len(), .0.join("\n"))]

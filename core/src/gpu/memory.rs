@@ -130,6 +130,8 @@ pub struct Image {
     /// Whether its memory is lazily allocated.
     pub lazy: bool,
     memory: Option<ImageMemory>,
+    /// Someone else's image (an OpenXR swapchain's): viewed and rendered to, never destroyed.
+    borrowed: bool,
 }
 
 /// What to create an image with.
@@ -189,6 +191,7 @@ impl Image {
             aspect,
             lazy: false,
             memory: None,
+            borrowed: false,
         };
         let requirements = unsafe { dev.device.get_image_memory_requirements(raw) };
         let lazy_type = desc
@@ -221,6 +224,28 @@ impl Image {
         image.memory = Some(kind);
         unsafe { dev.device.bind_image_memory(raw, memory, offset) }.vk("vkBindImageMemory")?;
         Ok(image)
+    }
+
+    /// Someone else's colour image (an OpenXR runtime's swapchain image) described by `desc`,
+    /// to view and render to; dropping it destroys nothing.
+    ///
+    /// # Safety
+    /// `raw` must be an image of `gpu`'s device made as `desc` says, alive while this value is.
+    pub unsafe fn borrowed(gpu: &Gpu, raw: vk::Image, desc: &ImageDesc<'_>) -> Self {
+        Image {
+            dev: gpu.dev.clone(),
+            raw,
+            format: desc.format,
+            width: desc.width,
+            height: desc.height,
+            layers: desc.layers,
+            samples: desc.samples,
+            mip_levels: desc.mip_levels,
+            aspect: vk::ImageAspectFlags::COLOR,
+            lazy: false,
+            memory: None,
+            borrowed: true,
+        }
     }
 
     /// A view of `count` layers from `base`: 2D for one layer, 2D array otherwise (multiview
@@ -278,6 +303,9 @@ impl Image {
 
 impl Drop for Image {
     fn drop(&mut self) {
+        if self.borrowed {
+            return;
+        }
         // SAFETY: owned handle; views die before (they are separate owned values whose users
         // drop them first) and GPU work using the image has completed.
         unsafe { self.dev.device.destroy_image(self.raw, None) };

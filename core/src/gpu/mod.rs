@@ -10,7 +10,7 @@ mod memory;
 mod submit;
 mod swapchain;
 
-pub use context::{DeviceInfo, Gpu, GpuOptions};
+pub use context::{DeviceInfo, Gpu, GpuOptions, RawHandles, VulkanCreator};
 pub use error::{GpuError, VkResultExt};
 pub use handles::{
     CommandPool, DescriptorPool, DescriptorSetLayout, Fence, Framebuffer, ImageView, Pipeline,

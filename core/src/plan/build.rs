@@ -125,7 +125,9 @@ pub fn plan(
         anisotropy: (caps.max_anisotropy >= 2.0 && !caps.quirks.anisotropic_filtering_is_slow)
             .then(|| caps.max_anisotropy.min(8.0)),
         lens: lens.then(|| LensOutput::new(e.hmd.distortion, &e.eyes)),
+        external_output: config.external_output,
     };
+    check_external_output(&plan)?;
     assign_cull_slots(&mut plan);
     plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
     plan_queries(&mut plan, config, caps);
@@ -155,6 +157,20 @@ pub fn plan(
         plan.passes[pass].pipelines = step_pipelines(&plan, pass);
     }
     Ok(plan)
+}
+
+/// An output handed in per frame must be the one two-layer image a stereo swapchain holds.
+fn check_external_output(plan: &FramePlan) -> Result<(), ConfigError> {
+    let outputs = plan.outputs();
+    let layered = matches!(outputs[..], [id] if plan.attachments[id].layers == 2);
+    if plan.external_output && !layered {
+        return Err(ConfigError::new(
+            "external_output",
+            format!("{:?}", plan.output_layout()),
+            "a layered output (one two-layer image): multiview, or any foveated frame",
+        ));
+    }
+    Ok(())
 }
 
 /// Level of detail, when asked for and the scene has levels.

@@ -168,6 +168,10 @@ pub struct RenderConfig {
     /// ([`Scene::with_lod`](crate::scene::Scene::with_lod)) whose error projects within the
     /// bound in its views' pixels; `None` draws every mesh in full.
     pub lod: Option<crate::scene::LodSettings>,
+    /// The frame's output image is handed in per frame (an OpenXR runtime's swapchain image)
+    /// instead of made by the renderer: the output is one two-layer image, left in
+    /// `COLOR_ATTACHMENT_OPTIMAL` as a runtime's compositor takes it.
+    pub external_output: bool,
 }
 
 impl Default for RenderConfig {
@@ -194,6 +198,7 @@ impl Default for RenderConfig {
             output: OutputStage::Undistorted,
             fovea_layout: FoveaLayout::Auto,
             lod: None,
+            external_output: false,
         }
     }
 }

@@ -58,6 +58,10 @@ pub(super) fn derive_ops(plan: &mut FramePlan) {
             };
             (u.initial_layout, u.final_layout) =
                 Layout::around(working, u.load, u.store, a.read_after_frame, sampled_later);
+            // A runtime's compositor takes its swapchain images as colour attachments.
+            if plan.external_output && u.final_layout == Layout::TransferSrc {
+                u.final_layout = Layout::ColorAttachment;
+            }
             // Reverse-Z: depth clears to the far plane, 0.
             u.clear = (u.load == LoadOp::Clear).then_some(if a.format.is_depth() {
                 ClearValue::DepthStencil {

@@ -382,6 +382,8 @@ pub struct FramePlan {
     pub anisotropy: Option<f32>,
     /// Lens distortion in the output stage, when the output is for the lens.
     pub lens: Option<LensOutput>,
+    /// The output image is handed in per frame (see [`RenderConfig::external_output`]).
+    pub external_output: bool,
 }
 
 /// Clusters in the plan: what the culled draw sets test per cluster, and what the id buffer

@@ -3,7 +3,9 @@
 use ash::vk;
 
 use super::renderer::Renderer;
-use crate::gpu::{memory_barrier, BlitSource, Buffer, GpuError, MemoryLocation};
+use crate::gpu::{
+    memory_barrier, transition_image, BlitSource, Buffer, GpuError, ImageState, MemoryLocation,
+};
 use crate::metrics::RgbaImage;
 use crate::plan::{AttachmentId, TargetLayout};
 use crate::view::Eye;
@@ -53,7 +55,6 @@ impl Renderer<'_> {
                 MemoryLocation::GpuToCpu,
             )?);
         }
-        let buffer = self.readback.as_mut().expect("created above");
         // Every layer of every output, one after the other.
         let mut copies = Vec::new();
         let mut offset = 0;
@@ -72,14 +73,43 @@ impl Renderer<'_> {
                     height: a.height,
                     depth: 1,
                 });
-            copies.push((self.images[id].raw, region));
+            copies.push((self.output_image(id), region));
             offset += a.bytes();
         }
         let device = self.gpu.device();
-        let buffer_raw = buffer.raw;
+        let buffer_raw = self.readback.as_ref().expect("created above").raw;
+        // The outputs' render passes left them in TRANSFER_SRC_OPTIMAL; an image handed in
+        // (a runtime's) in COLOR_ATTACHMENT_OPTIMAL, where it goes back after the copy.
+        let external = self.plan.external_output;
+        let range = vk::ImageSubresourceRange {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: self.plan.attachments[outputs[0]].layers,
+        };
+        let attachment: ImageState = (
+            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        );
+        let (copy_src, copy_read): (ImageState, ImageState) = (
+            (
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_READ,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            ),
+            (
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::empty(),
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            ),
+        );
         self.gpu.one_shot(|cmd| unsafe {
             for (image, region) in &copies {
-                // The outputs' render passes left them in TRANSFER_SRC_OPTIMAL.
+                if external {
+                    transition_image(device, cmd, *image, range, attachment, copy_src);
+                }
                 device.cmd_copy_image_to_buffer(
                     cmd,
                     *image,
@@ -87,6 +117,9 @@ impl Renderer<'_> {
                     buffer_raw,
                     &[*region],
                 );
+                if external {
+                    transition_image(device, cmd, *image, range, copy_read, attachment);
+                }
             }
             memory_barrier(
                 device,
@@ -98,6 +131,7 @@ impl Renderer<'_> {
                 (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
             );
         })?;
+        let buffer = self.readback.as_mut().expect("created above");
         let bytes = &buffer.mapped()[..size as usize];
         let first = &self.plan.attachments[outputs[0]];
         let (w, h) = (first.width, first.height);

@@ -11,6 +11,7 @@ use super::masks::MaskShapes;
 use super::materials::MaterialSet;
 use super::mffr::FarComposite;
 use super::output::OutputStage;
+use super::output_targets::OutputTargets;
 use super::pipelines::{compile_pipeline, scene_bindings};
 use super::radial_density::Reconstruction;
 use super::record::record_frame;
@@ -25,8 +26,9 @@ use crate::foveation::fovea_views;
 use crate::gpu::{
     Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, QueryPool, VkResultExt,
 };
-use crate::plan::{BufferPlan, FramePlan, PassKind, PassPlan, RenderConfig, Step};
+use crate::plan::{BufferPlan, ConfigError, FramePlan, PassKind, PassPlan, RenderConfig, Step};
 use crate::scene::{Draw, Scene, Shading};
+use crate::view::{Eye, EyeParams};
 
 /// A [`FramePlan`] compiled into Vulkan objects for one scene.
 ///
@@ -38,6 +40,8 @@ pub struct Renderer<'g> {
     // Passes (framebuffers, views) go before the images they view.
     /// Each pass compiled.
     passes: Vec<CompiledPass>,
+    /// Output images handed in (an OpenXR swapchain's), with their passes.
+    output_targets: Option<OutputTargets>,
     /// Each pass's steps as recorded: pipeline, layout and descriptor set (the sets belong to
     /// the fields below).
     steps: Vec<Vec<BoundStep>>,
@@ -66,13 +70,90 @@ pub struct Renderer<'g> {
     light_dir: Vec3,
     /// Each eye's gaze, normalised (−1…1, x right, y up); moves the fovea views.
     gaze: [Vec2; 2],
+    /// The eyes the plan was made for: the bounds of [`Renderer::set_eyes`].
+    planned_eyes: EyeParams,
     pub(super) frames_rendered: u64,
+}
+
+/// Whether `eyes` fit `planned` (see [`Renderer::set_eyes`]).
+fn eyes_fit(eyes: &EyeParams, planned: &EyeParams) -> Result<(), ConfigError> {
+    // A thousandth of a tangent (0.06° at the axis): runtimes report the same field with
+    // rounding from frame to frame.
+    const SLACK: f32 = 1e-3;
+    for eye in Eye::BOTH {
+        let (fov, bound) = (eyes.fov(eye), planned.fov(eye));
+        let inside = fov
+            .as_array()
+            .iter()
+            .zip(bound.as_array())
+            .all(|(t, b)| t.is_finite() && *t <= b + SLACK);
+        if !inside {
+            return Err(ConfigError::new(
+                if eye == Eye::Left {
+                    "left fov"
+                } else {
+                    "right fov"
+                },
+                format!("{:?}", fov.as_array()),
+                format!(
+                    "within the planned tangents {:?} (replan for a wider field)",
+                    bound.as_array()
+                ),
+            ));
+        }
+    }
+    if !eyes.ipd_m.is_finite() || eyes.ipd_m < 0.0 || eyes.ipd_m > planned.ipd_m + 1e-4 {
+        return Err(ConfigError::new(
+            "ipd",
+            eyes.ipd_m,
+            format!(
+                "0 ≤ ipd ≤ the planned {} m (replan for a wider one)",
+                planned.ipd_m
+            ),
+        ));
+    }
+    if (eyes.cant_rad - planned.cant_rad).abs() > 1e-4 {
+        return Err(ConfigError::new(
+            "cant",
+            eyes.cant_rad.to_degrees(),
+            format!(
+                "the planned {}° (replan for another)",
+                planned.cant_rad.to_degrees()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 impl<'g> Renderer<'g> {
     /// Builds everything `plan` calls for, and nothing else: no counter buffer without fragment
     /// counting, no query pool without timestamps, no MSAA images at 1×.
     pub fn new(gpu: &'g Gpu, plan: &FramePlan, scene: &Scene) -> Result<Self, GpuError> {
+        Self::build(gpu, plan, scene, &[])
+    }
+
+    /// A renderer whose frames end in one of `output_images` (an OpenXR runtime's swapchain
+    /// images, each made as [`super::output_image_desc`] says) instead of an image of its own:
+    /// `plan` must have [`RenderConfig::external_output`]; [`Renderer::select_output`] picks
+    /// the image before each frame.
+    pub fn with_output_images(
+        gpu: &'g Gpu,
+        plan: &FramePlan,
+        scene: &Scene,
+        output_images: &[vk::Image],
+    ) -> Result<Self, GpuError> {
+        if output_images.is_empty() {
+            return Err(GpuError::NoOutputImages);
+        }
+        Self::build(gpu, plan, scene, output_images)
+    }
+
+    fn build(
+        gpu: &'g Gpu,
+        plan: &FramePlan,
+        scene: &Scene,
+        output_images: &[vk::Image],
+    ) -> Result<Self, GpuError> {
         check_scene(plan, scene)?;
         let scene_buffers = SceneBuffers::upload(gpu, scene)?;
         let materials = plan
@@ -113,7 +194,11 @@ impl<'g> Renderer<'g> {
             instance_ids.as_ref(),
             materials.as_ref(),
         )?;
-        let images = create_images(gpu, plan)?;
+        let images = create_images(gpu, plan, output_images)?;
+        let output_targets = plan
+            .external_output
+            .then(|| OutputTargets::new(gpu, plan, output_images, &images))
+            .transpose()?;
         make_sampleable(gpu, plan, &images)?;
         let mut executors = sampling_executors(gpu, plan, &images, counter.as_ref())?;
         executors.extend(masks.map(|m| Box::new(m) as Box<dyn Executor>));
@@ -139,6 +224,7 @@ impl<'g> Renderer<'g> {
             gpu,
             plan: plan.clone(),
             passes,
+            output_targets,
             steps,
             executors,
             culling: instance_ids
@@ -159,12 +245,41 @@ impl<'g> Renderer<'g> {
             fence: gpu.fence()?,
             light_dir: scene.light_dir,
             gaze: [Vec2::ZERO; 2],
+            planned_eyes: plan.eyes,
             frames_rendered: 0,
         })
     }
 
     pub fn plan(&self) -> &FramePlan {
         &self.plan
+    }
+
+    /// The image output `id` of the last frame lies in: the selected one of those handed in,
+    /// or the renderer's own.
+    pub(super) fn output_image(&self, id: usize) -> vk::Image {
+        match &self.output_targets {
+            Some(t) => t.image().raw,
+            None => self.images[id].raw,
+        }
+    }
+
+    /// The output image the next frames end in, by its index among those handed to
+    /// [`Renderer::with_output_images`].
+    pub fn select_output(&mut self, index: usize) -> Result<(), GpuError> {
+        match &mut self.output_targets {
+            Some(t) => t.select(index),
+            None => Err(GpuError::NoOutputImages),
+        }
+    }
+
+    /// This frame's eyes (an OpenXR runtime's located views), without replanning: they must
+    /// fit the plan's — each field-of-view tangent and the IPD at most the planned ones, the
+    /// cant the planned one — so every image size, culling reach and far view the plan fixed
+    /// still covers them. Anything else needs a new plan (and renderer); the error says which.
+    pub fn set_eyes(&mut self, eyes: EyeParams) -> Result<(), ConfigError> {
+        eyes_fit(&eyes, &self.planned_eyes)?;
+        self.plan.eyes = eyes;
+        Ok(())
     }
 
     /// Sets each eye's gaze (normalised −1…1, x right, y up) for the following frames. Filter
@@ -245,6 +360,7 @@ impl<'g> Renderer<'g> {
             let objects = FrameObjects {
                 device,
                 passes: &self.passes,
+                retargeted: self.output_targets.as_ref().map_or(&[], |t| t.passes()),
                 steps: &self.steps,
                 timestamps: self.queries.as_ref().map(|q| q.raw),
                 statistics: self.statistics.as_ref().map(|q| q.raw),
@@ -587,7 +703,7 @@ fn compile_passes<'s>(
     let mut passes = Vec::with_capacity(plan.passes.len());
     let mut steps = Vec::with_capacity(plan.passes.len());
     for (i, p) in plan.passes.iter().enumerate() {
-        let compiled = compile_pass(gpu, plan, i, images)?;
+        let compiled = compile_pass(gpu, plan, i, &|id| &images[id])?;
         let samples = plan.attachments[p.color.attachment].samples;
         let bound = p
             .steps

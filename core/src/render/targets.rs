@@ -9,7 +9,7 @@ use crate::gpu::{
     Description, Framebuffer, Gpu, GpuError, Image, ImageDesc, ImageView, RenderPass, VkResultExt,
 };
 use crate::plan::{
-    AttachmentPlan, Barrier, Format, FramePlan, Layout, LoadOp, StoreOp, Touch, Use,
+    AttachmentId, AttachmentPlan, Barrier, Format, FramePlan, Layout, LoadOp, StoreOp, Touch, Use,
 };
 
 pub(crate) fn vk_format(format: Format) -> vk::Format {
@@ -39,32 +39,46 @@ fn usage(a: &AttachmentPlan) -> vk::ImageUsageFlags {
     usage
 }
 
-/// One image per planned attachment.
-pub(crate) fn create_images(gpu: &Gpu, plan: &FramePlan) -> Result<Vec<Image>, GpuError> {
+/// What the image of `attachment` is made as: an external output image (an OpenXR swapchain's)
+/// must be made the same way.
+pub(crate) fn image_desc(plan: &FramePlan, id: AttachmentId) -> ImageDesc<'static> {
+    let a = &plan.attachments[id];
     // A history the first frame samples before any pass wrote it is cleared once at creation.
-    let cleared_once = plan.sampled_before_written();
-    plan.attachments
-        .iter()
-        .enumerate()
-        .map(|(id, a)| {
-            let cleared = if cleared_once.contains(&id) {
-                vk::ImageUsageFlags::TRANSFER_DST
+    let cleared = if plan.sampled_before_written().contains(&id) {
+        vk::ImageUsageFlags::TRANSFER_DST
+    } else {
+        vk::ImageUsageFlags::empty()
+    };
+    ImageDesc {
+        name: a.name,
+        format: vk_format(a.format),
+        width: a.width,
+        height: a.height,
+        layers: a.layers,
+        samples: a.samples,
+        mip_levels: 1,
+        usage: usage(a) | cleared,
+    }
+}
+
+/// One image per planned attachment; an external output borrows `external[0]` (which must be
+/// made as [`image_desc`] says).
+pub(crate) fn create_images(
+    gpu: &Gpu,
+    plan: &FramePlan,
+    external: &[vk::Image],
+) -> Result<Vec<Image>, GpuError> {
+    let outputs = plan.outputs();
+    (0..plan.attachments.len())
+        .map(|id| {
+            let desc = image_desc(plan, id);
+            if plan.external_output && outputs.contains(&id) {
+                let raw = *external.first().ok_or(GpuError::NoOutputImages)?;
+                // SAFETY: the caller made `raw` as `desc` says, for this device.
+                Ok(unsafe { Image::borrowed(gpu, raw, &desc) })
             } else {
-                vk::ImageUsageFlags::empty()
-            };
-            Image::new(
-                gpu,
-                &ImageDesc {
-                    name: a.name,
-                    format: vk_format(a.format),
-                    width: a.width,
-                    height: a.height,
-                    layers: a.layers,
-                    samples: a.samples,
-                    mip_levels: 1,
-                    usage: usage(a) | cleared,
-                },
-            )
+                Image::new(gpu, &desc)
+            }
         })
         .collect()
 }
@@ -172,11 +186,13 @@ fn dependency(barriers: &[Barrier], src: u32, dst: u32) -> Option<vk::SubpassDep
         })
 }
 
-pub(crate) fn compile_pass(
+/// Pass `pass_index` of the plan as a render pass and a framebuffer of the images `image`
+/// gives for each attachment.
+pub(crate) fn compile_pass<'i>(
     gpu: &Gpu,
     plan: &FramePlan,
     pass_index: usize,
-    images: &[Image],
+    image: &dyn Fn(AttachmentId) -> &'i Image,
 ) -> Result<CompiledPass, GpuError> {
     let pass = &plan.passes[pass_index];
     let uses: Vec<&Use> = pass.uses().collect();
@@ -264,7 +280,7 @@ pub(crate) fn compile_pass(
     let array = pass.view_mask != 0;
     let views = uses
         .iter()
-        .map(|u| images[u.attachment].view(u.base_layer, u.layer_count, array))
+        .map(|u| image(u.attachment).view(u.base_layer, u.layer_count, array))
         .collect::<Result<Vec<_>, _>>()?;
     let raw_views: Vec<vk::ImageView> = views.iter().map(|v| v.raw).collect();
     let color = &plan.attachments[pass.color.attachment];

@@ -24,6 +24,9 @@ pub(super) struct BoundStep {
 pub(super) struct FrameObjects<'r> {
     pub device: &'r ash::Device,
     pub passes: &'r [CompiledPass],
+    /// Passes compiled for this frame's output image, replacing the plan's (an OpenXR
+    /// swapchain's image: see `OutputTargets`).
+    pub retargeted: &'r [(usize, CompiledPass)],
     /// Each pass's steps, in plan order.
     pub steps: &'r [Vec<BoundStep>],
     pub timestamps: Option<vk::QueryPool>,
@@ -158,7 +161,12 @@ impl Recorder for VulkanRecorder<'_> {
     // The barriers are the compiled render pass's external dependencies (`targets.rs`):
     // beginning and ending it executes them.
     fn begin_pass(&mut self, pass: usize, clears: &[ClearValue], _wait: &[Barrier]) {
-        let compiled = &self.objects.passes[pass];
+        let objects = &self.objects;
+        let compiled = objects
+            .retargeted
+            .iter()
+            .find(|(i, _)| *i == pass)
+            .map_or(&objects.passes[pass], |(_, c)| c);
         let clears: Vec<vk::ClearValue> = clears
             .iter()
             .map(|c| match *c {
