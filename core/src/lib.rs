@@ -16,5 +16,6 @@ pub mod scene;
 pub mod shaders;
 pub mod view;
 pub mod vocab;
+pub mod xr;
 
 pub use plan::{plan, ConfigError, FramePlan, RenderConfig, StereoMode};

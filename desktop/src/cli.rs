@@ -54,6 +54,9 @@ enum Command {
     /// multiview, stencil mask and MFFR (and the multiview ones foveated), its tables with
     /// ratios to the baseline, memory and traffic, accuracy against time, and plots.
     Bench(crate::commands::bench::BenchArgs),
+    /// The frame on an OpenXR runtime's headset (Monado's simulated one in CI): the runtime
+    /// makes the Vulkan device, places the eyes each frame and takes the output stage's images.
+    Xr(crate::commands::xr::XrArgs),
 }
 
 impl Cli {
@@ -103,6 +106,7 @@ impl Cli {
             Command::Mffr(args) => crate::commands::mffr::mffr(&self.gpu_options(), args),
             Command::Mask(args) => crate::commands::mask::mask(&self.gpu_options(), args),
             Command::Bench(args) => crate::commands::bench::bench(&self.gpu_options(), args),
+            Command::Xr(args) => crate::commands::xr::xr(&self.gpu_options(), args),
         }
     }
 }

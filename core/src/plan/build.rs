@@ -126,6 +126,7 @@ pub fn plan(
             .then(|| caps.max_anisotropy.min(8.0)),
         lens: lens.then(|| LensOutput::new(e.hmd.distortion, &e.eyes)),
         external_output: config.external_output,
+        hidden_area_mesh: config.hidden_area_mesh,
     };
     check_external_output(&plan)?;
     assign_cull_slots(&mut plan);

@@ -172,6 +172,10 @@ pub struct RenderConfig {
     /// instead of made by the renderer: the output is one two-layer image, left in
     /// `COLOR_ATTACHMENT_OPTIMAL` as a runtime's compositor takes it.
     pub external_output: bool,
+    /// The HMD mask drops the runtime's hidden-area mesh, handed in per frame
+    /// ([`Renderer::set_hidden_area`](crate::render::Renderer::set_hidden_area)), instead of
+    /// keeping the ellipse fitted to the profile; needs `hmd_mask`.
+    pub hidden_area_mesh: bool,
 }
 
 impl Default for RenderConfig {
@@ -199,6 +203,7 @@ impl Default for RenderConfig {
             fovea_layout: FoveaLayout::Auto,
             lod: None,
             external_output: false,
+            hidden_area_mesh: false,
         }
     }
 }

@@ -384,6 +384,9 @@ pub struct FramePlan {
     pub lens: Option<LensOutput>,
     /// The output image is handed in per frame (see [`RenderConfig::external_output`]).
     pub external_output: bool,
+    /// The HMD mask drops a hidden-area mesh handed in per frame (see
+    /// [`RenderConfig::hidden_area_mesh`]).
+    pub hidden_area_mesh: bool,
 }
 
 /// Clusters in the plan: what the culled draw sets test per cluster, and what the id buffer

@@ -137,7 +137,14 @@ impl FramePlan {
             )?;
         }
 
-        if let Some(regions) = &self.hmd_mask {
+        if self.hidden_area_mesh {
+            writeln!(
+                f,
+                "  HMD stencil mask: the runtime's hidden-area mesh, handed in per frame (at most {} triangles per eye); the profile's ellipse would hide {}",
+                crate::view::MAX_HIDDEN_TRIANGLES,
+                self.hmd_mask.iter().flatten().map(|r| format!("{:.1} %", 100.0 * r.hidden_fraction())).collect::<Vec<_>>().join(" / ")
+            )?;
+        } else if let Some(regions) = &self.hmd_mask {
             let hidden: Vec<String> = regions
                 .iter()
                 .map(|r| format!("{:.1} %", 100.0 * r.hidden_fraction()))
@@ -270,7 +277,9 @@ impl FramePlan {
             match step {
                 Step::MaskFans { .. } => {
                     let mut masks = Vec::new();
-                    if self.hmd_mask.is_some() {
+                    if self.hidden_area_mesh {
+                        masks.push("everything but the runtime's hidden-area mesh in the eye (periphery) views");
+                    } else if self.hmd_mask.is_some() {
                         masks.push("the lens-visible ellipse in the eye (periphery) views");
                     }
                     if self.foveation.is_some_and(|g| g.stencil) {

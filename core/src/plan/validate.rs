@@ -228,6 +228,17 @@ pub(super) fn validate_culling(config: &RenderConfig) -> Result<(), ConfigError>
             c.strategy.name(),
             "lens-region culling needs the HMD mask on (hmd_mask, --hmd-mask): it drops what only the mask hides",
         )),
+        // The cones follow the fitted ellipse, which a runtime's mesh need not contain.
+        Some(c) if c.strategy.culls_to_lens() && config.hidden_area_mesh => Err(ConfigError::new(
+            "culling",
+            c.strategy.name(),
+            "lens-region culling follows the fitted ellipse, and the runtime's hidden-area mesh may show more: use another strategy",
+        )),
+        _ if config.hidden_area_mesh && !config.hmd_mask => Err(ConfigError::new(
+            "hidden_area_mesh",
+            true,
+            "the runtime's mesh shapes the HMD mask: turn hmd_mask on",
+        )),
         _ => Ok(()),
     }
 }

@@ -6,7 +6,7 @@
 use super::descriptors::DescriptorSet;
 use super::views::FrameViews;
 use crate::plan::{FramePlan, Step};
-use crate::view::FovTangents;
+use crate::view::{FovTangents, HiddenArea};
 
 /// What every executor sees of a frame before it is recorded.
 pub(super) struct FrameInput<'a> {
@@ -18,6 +18,8 @@ pub(super) struct FrameInput<'a> {
     /// The periphery views' sub-pixel offset this frame (periphery pixels, x right, y down),
     /// when temporal accumulation jitters them.
     pub jitter: Option<glam::Vec2>,
+    /// Each eye's hidden-area mesh, when the plan's HMD mask takes one and one was handed in.
+    pub hidden_area: Option<&'a [HiddenArea; 2]>,
 }
 
 /// One technique's per-frame work. One that keeps state across frames (the periphery's

@@ -10,7 +10,18 @@ use crate::foveation::mask_shapes;
 use crate::gpu::{Buffer, Gpu, GpuError, MemoryLocation};
 use crate::plan::{FramePlan, PassPlan, StencilState, Step};
 use crate::shaders::MASK_VERTICES;
-use crate::view::{Eye, FovTangents};
+use crate::view::{Eye, FovTangents, HiddenArea, MAX_HIDDEN_TRIANGLES};
+
+/// Each eye's hidden triangles' corners in NDC, two corners per element (`Masks.hidden`).
+const HIDDEN_ELEMENTS: usize = MAX_HIDDEN_TRIANGLES * 3;
+
+/// The stencil masks' uniform block (`Masks` in `shaders/mask.vert`, std140).
+#[repr(C)]
+#[derive(Clone, Copy)]
+struct MasksBlock {
+    shapes: [Vec4; 8],
+    hidden: [Vec4; HIDDEN_ELEMENTS],
+}
 
 /// The stencil masks' shapes, rewritten each frame from the gaze (the scene's bindings read
 /// them as binding 3).
@@ -20,7 +31,7 @@ pub(crate) struct MaskShapes {
 
 impl MaskShapes {
     pub fn new(gpu: &Gpu) -> Result<Self, GpuError> {
-        let bytes = std::mem::size_of::<[Vec4; 8]>() as u64;
+        let bytes = std::mem::size_of::<MasksBlock>() as u64;
         let usage = ash::vk::BufferUsageFlags::UNIFORM_BUFFER;
         Ok(MaskShapes {
             buffer: Buffer::new(gpu, "stencil masks", bytes, usage, MemoryLocation::CpuToGpu)?,
@@ -30,7 +41,11 @@ impl MaskShapes {
 
 impl Executor for MaskShapes {
     fn update(&mut self, frame: &FrameInput) {
-        self.buffer.write(&stencil_shapes(frame.plan, frame.fovea));
+        let block = MasksBlock {
+            shapes: stencil_shapes(frame.plan, frame.fovea),
+            hidden: hidden_corners(frame.plan, frame.hidden_area),
+        };
+        self.buffer.write(&[block]);
     }
 
     fn descriptors(&self, _step: &Step) -> Option<&DescriptorSet> {
@@ -39,8 +54,9 @@ impl Executor for MaskShapes {
 }
 
 /// The mask fans step: every view's keep shapes set the bits the step writes, then its drop
-/// shapes clear them.
+/// shapes clear them, then a runtime's hidden triangles clear them too (when planned).
 pub(super) fn record_mask_fans(
+    plan: &FramePlan,
     pass: &PassPlan,
     stencil: StencilState,
     area: Rect,
@@ -52,6 +68,34 @@ pub(super) fn record_mask_fans(
         rec.push_vertex(shape_set);
         rec.draw(MASK_VERTICES);
     }
+    if plan.hidden_area_mesh {
+        rec.push_vertex(2);
+        rec.draw(HIDDEN_ELEMENTS as u32);
+    }
+}
+
+/// The hidden triangles of each eye in its view's NDC (none until a mesh is handed in).
+fn hidden_corners(plan: &FramePlan, hidden: Option<&[HiddenArea; 2]>) -> [Vec4; HIDDEN_ELEMENTS] {
+    let mut out = [Vec4::ZERO; HIDDEN_ELEMENTS];
+    let Some(areas) = hidden.filter(|_| plan.hidden_area_mesh) else {
+        return out;
+    };
+    for eye in Eye::BOTH {
+        let corners: Vec<glam::Vec2> = areas[eye.index()]
+            .ndc(plan.eyes.fov(eye))
+            .into_iter()
+            .flatten()
+            .collect();
+        let half = HIDDEN_ELEMENTS / 2;
+        for (slot, pair) in out[eye.index() * half..][..half]
+            .iter_mut()
+            .zip(corners.chunks(2))
+        {
+            let second = pair.get(1).copied().unwrap_or(glam::Vec2::ZERO);
+            *slot = Vec4::new(pair[0].x, pair[0].y, second.x, second.y);
+        }
+    }
+    out
 }
 
 /// The stencil shapes of a frame (see `shaders/mask.vert`): per view, what it keeps ([0..4)) and
@@ -69,6 +113,8 @@ fn stencil_shapes(plan: &FramePlan, fovea: Option<&[FovTangents; 2]>) -> [Vec4; 
     }
     for eye in Eye::BOTH {
         shapes[eye.index()] = match &plan.hmd_mask {
+            // A runtime's mesh drops what it hides; the eye keeps everything else.
+            Some(_) if plan.hidden_area_mesh => full,
             Some(lens) => lens[eye.index()].ndc_ellipse(),
             None => full,
         };

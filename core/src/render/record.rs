@@ -43,7 +43,7 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
             rec.bind_step(index, step_index);
             match *step {
                 Step::MaskFans { stencil } => {
-                    super::masks::record_mask_fans(pass, stencil, area, rec)
+                    super::masks::record_mask_fans(plan, pass, stencil, area, rec)
                 }
                 Step::FarComposite { .. } => super::mffr::record_far_composite(pass, area, rec),
                 Step::Scene { cull_slot, .. } => {

@@ -28,7 +28,7 @@ use crate::gpu::{
 };
 use crate::plan::{BufferPlan, ConfigError, FramePlan, PassKind, PassPlan, RenderConfig, Step};
 use crate::scene::{Draw, Scene, Shading};
-use crate::view::{Eye, EyeParams};
+use crate::view::{Eye, EyeParams, HiddenArea};
 
 /// A [`FramePlan`] compiled into Vulkan objects for one scene.
 ///
@@ -72,6 +72,8 @@ pub struct Renderer<'g> {
     gaze: [Vec2; 2],
     /// The eyes the plan was made for: the bounds of [`Renderer::set_eyes`].
     planned_eyes: EyeParams,
+    /// Each eye's hidden-area mesh (a runtime's), when handed in.
+    hidden_area: Option<[HiddenArea; 2]>,
     pub(super) frames_rendered: u64,
 }
 
@@ -246,6 +248,7 @@ impl<'g> Renderer<'g> {
             light_dir: scene.light_dir,
             gaze: [Vec2::ZERO; 2],
             planned_eyes: plan.eyes,
+            hidden_area: None,
             frames_rendered: 0,
         })
     }
@@ -279,6 +282,21 @@ impl<'g> Renderer<'g> {
     pub fn set_eyes(&mut self, eyes: EyeParams) -> Result<(), ConfigError> {
         eyes_fit(&eyes, &self.planned_eyes)?;
         self.plan.eyes = eyes;
+        Ok(())
+    }
+
+    /// Each eye's hidden-area mesh (a runtime's `XR_KHR_visibility_mask`) for the following
+    /// frames: the HMD mask drops it. The plan must have taken one
+    /// ([`RenderConfig::hidden_area_mesh`]).
+    pub fn set_hidden_area(&mut self, areas: [HiddenArea; 2]) -> Result<(), ConfigError> {
+        if !self.plan.hidden_area_mesh {
+            return Err(ConfigError::new(
+                "hidden_area_mesh",
+                false,
+                "a hidden-area mesh needs a plan that takes one (hmd_mask and hidden_area_mesh on)",
+            ));
+        }
+        self.hidden_area = Some(areas);
         Ok(())
     }
 
@@ -320,6 +338,7 @@ impl<'g> Renderer<'g> {
             fovea: fovea.as_ref(),
             views: &views,
             jitter,
+            hidden_area: self.hidden_area.as_ref(),
         };
         for executor in &mut self.executors {
             executor.update(&input);

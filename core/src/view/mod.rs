@@ -6,11 +6,13 @@
 //! where f32 needs it; the depth test is `GREATER` and depth clears to 0.
 
 mod distortion;
+mod hidden_area;
 mod hmd;
 mod lens;
 mod projection;
 
 pub use distortion::RadialDistortion;
+pub use hidden_area::{HiddenArea, MAX_HIDDEN_TRIANGLES};
 pub use hmd::{EyeTracker, HmdProfile, CARDBOARD_2015_LENS, DEFAULT_IPD_M, HMD_PROFILES};
 pub use lens::LensRegion;
 pub use projection::reverse_z_projection;

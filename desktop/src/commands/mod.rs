@@ -10,3 +10,4 @@ pub mod mffr;
 pub mod pixels;
 pub mod render;
 pub mod view;
+pub mod xr;

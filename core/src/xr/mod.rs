@@ -1,0 +1,21 @@
+//! OpenXR: foveate on a headset runtime. The session's lifecycle and the conversion of the
+//! runtime's views are pure and tested on every host; the runtime itself (instance, Vulkan
+//! through the runtime, swapchains the output stage renders into, the frame loop) needs the
+//! `xr` feature (the `openxr` crate, its loader opened at run time).
+
+mod lifecycle;
+#[cfg(feature = "xr")]
+mod pixels;
+#[cfg(feature = "xr")]
+mod runtime;
+mod views;
+
+pub use lifecycle::{Ended, FrameOutcome, Lifecycle, RuntimeEvent, SessionBackend, SessionState};
+#[cfg(feature = "xr")]
+pub use pixels::PixelCheck;
+#[cfg(feature = "xr")]
+pub use runtime::{
+    GazeSource, MaskFractions, Pacing, RuntimeReport, XrError, XrRuntime, XrSession, XrSettings,
+    XrSummary,
+};
+pub use views::{fit_eyes, fov_tangents, FittedEyes, Pose};

@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# `foveate xr` against a real OpenXR runtime: Monado's simulated headset, headless (null
+# compositor, lavapipe), prepared by scripts/xr-runtime.sh in a Debian trixie chroot. Each run
+# has validation on and checks the first submitted frame's pixels against `foveate render`'s
+# path (--check-pixels): stereo; foveated with the HMD mask from the runtime's hidden-area mesh
+# (FOVEATE_XR_FRAMES frames, 300 by default); MFFR. Any failure, validation message or pixel
+# difference fails the script. Root only (chroot). FOVEATE_XR_PROFILE=release times a release
+# build. Logs: $FOVEATE_XR_DIR (default ~/.cache/foveate/xr), run-*.log and monado.log.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+[ -f "$HOME/.cargo/env" ] && source "$HOME/.cargo/env"
+# shellcheck source=scripts/xr-runtime.sh
+source scripts/xr-runtime.sh
+
+frames=${FOVEATE_XR_FRAMES:-300}
+profile=${FOVEATE_XR_PROFILE:-dev}
+if [ "$profile" = release ]; then
+    cargo build --release -q -p foveate-desktop
+    bin=target/release/foveate
+else
+    cargo build -q -p foveate-desktop
+    bin=target/debug/foveate
+fi
+root=$(xr_root)
+mkdir -p "$root/opt/foveate" "$root/tmp/foveate"
+cp "$bin" "$root/opt/foveate/foveate"
+trap xr_stop EXIT
+xr_start "$root"
+
+status=0
+run() {
+    local name=$1
+    shift
+    local log
+    log="$(xr_dir)/run-$name.log"
+    echo "=== foveate xr $*"
+    if xr_run "$root" FOVEATE_VALIDATION=1 RUST_LOG=foveate=info \
+        /opt/foveate/foveate xr --check-pixels --save "/tmp/foveate/$name.png" "$@" >"$log" 2>&1; then
+        # The application's own lines (Monado's client logs to the same streams).
+        grep -E '^(runtime|  |device|eyes|HMD mask|pixel check|[0-9]+ frames)|foveate::xr::runtime\] [0-9.]+ ms/frame' "$log" |
+            grep -vE '^\s+(VK_|quirks|result|vulkan|external|timeline|extensions)' | tail -n 14
+        cp "$root/tmp/foveate/$name.png" "$(xr_dir)/$name.png"
+    else
+        tail -n 30 "$log"
+        echo "foveate xr ($name) FAILED: see $log" >&2
+        status=1
+    fi
+}
+run stereo --frames 60
+run foveated-masked --frames "$frames" --foveate 0.5 --hmd-mask
+run mffr --frames 60 --mffr near-first
+[ $status -eq 0 ] && echo "xr: every run submitted its frames, validation clean, pixels equal"
+exit $status
