@@ -5,6 +5,7 @@ mod caches;
 mod clusters;
 mod config_errors;
 mod culling;
+mod external_output;
 mod foveation;
 mod fragment_counter;
 mod gltf;

@@ -520,3 +520,73 @@ fn parsing_resolution_and_mode() {
     );
     assert_eq!("stereo".parse::<StereoMode>().unwrap_err().field, "stereo");
 }
+
+/// An output handed in per frame (an OpenXR swapchain's image) ends every frame where a
+/// runtime's compositor takes it: stored, in `COLOR_ATTACHMENT_OPTIMAL`; otherwise the frame
+/// ends ready for readback. Mutation: leaving `TransferSrc` hands the runtime the wrong layout.
+#[test]
+fn an_external_output_ends_as_a_colour_attachment() {
+    for config in [
+        config(StereoMode::Multiview, 4),
+        config(StereoMode::TwoPass, 1),
+        foveated(true),
+        with_mffr(crate::mffr::MffrOrder::NearFirst),
+    ] {
+        let own = planned(&config);
+        let external = planned(&RenderConfig {
+            external_output: true,
+            ..config.clone()
+        });
+        // Every use of the output (the two-pass layout writes a layer per pass).
+        let output_uses = |plan: &FramePlan| -> Vec<Use> {
+            let output = plan.outputs()[0];
+            plan.passes
+                .iter()
+                .flat_map(|p| p.uses().copied())
+                .filter(|u| u.attachment == output)
+                .collect()
+        };
+        for u in output_uses(&own) {
+            assert_eq!(u.final_layout, Layout::TransferSrc);
+        }
+        for u in output_uses(&external) {
+            assert_eq!(
+                (u.final_layout, u.store),
+                (Layout::ColorAttachment, StoreOp::Store)
+            );
+            assert_eq!(external.attachments[u.attachment].layers, 2);
+        }
+        assert_eq!(own.passes.len(), external.passes.len(), "the same passes");
+    }
+}
+
+/// A swapchain image holds both eyes as two layers: both eyes side by side in one image are
+/// refused with the field named.
+#[test]
+fn an_external_output_must_be_layered() {
+    for stereo in [StereoMode::PerObject, StereoMode::Instanced] {
+        let err = plan_err(&RenderConfig {
+            external_output: true,
+            ..config(stereo, 4)
+        });
+        assert_eq!(err.field, "external_output", "{stereo:?}: {err}");
+    }
+}
+
+#[test]
+fn the_hidden_area_mesh_needs_the_hmd_mask() {
+    let err = plan_err(&RenderConfig {
+        hidden_area_mesh: true,
+        ..config(StereoMode::Multiview, 4)
+    });
+    assert_eq!(err.field, "hidden_area_mesh");
+    let plan = planned(&RenderConfig {
+        hidden_area_mesh: true,
+        hmd_mask: true,
+        ..config(StereoMode::Multiview, 4)
+    });
+    assert!(
+        plan.to_string().contains("the runtime's hidden-area mesh"),
+        "{plan}"
+    );
+}
