@@ -81,6 +81,12 @@ CARGO_TARGET_AARCH64_LINUX_ANDROID_LINKER=$clang \
 CARGO_TARGET_AARCH64_LINUX_ANDROID_RUSTFLAGS="-Cpanic=abort -Dwarnings $linker_args" \
     "${cargo_cmd[@]}" build -p foveate-android --profile "$profile" --target $target \
     "${build_std[@]}" --target-dir "$out/cargo"
+# The OpenXR path (`foveate::xr`, the `xr` feature) compiles for the device too; its loader is
+# C++ and needs the NDK's C++ runtime, which Debian lacks, so it is checked, not linked.
+step "compile-checking foveate's OpenXR path for $target"
+CARGO_TARGET_AARCH64_LINUX_ANDROID_RUSTFLAGS="-Cpanic=abort -Dwarnings" \
+    "${cargo_cmd[@]}" check -q -p foveate --features xr --target $target \
+    "${build_std[@]}" --target-dir "$out/cargo"
 [ "$profile" = dev ] && profile_dir=debug || profile_dir=$profile
 library=$out/cargo/$target/$profile_dir/libfoveate_android.so
 

@@ -15,7 +15,7 @@ pub use lifecycle::{Ended, FrameOutcome, Lifecycle, RuntimeEvent, SessionBackend
 pub use pixels::PixelCheck;
 #[cfg(feature = "xr")]
 pub use runtime::{
-    GazeSource, MaskFractions, Pacing, RuntimeReport, XrError, XrRuntime, XrSession, XrSettings,
-    XrSummary,
+    GazeSource, MaskFractions, Pacing, Platform, RuntimeReport, XrError, XrRuntime, XrSession,
+    XrSettings, XrSummary,
 };
 pub use views::{fit_eyes, fov_tangents, FittedEyes, Pose};

@@ -79,6 +79,13 @@ pub struct RuntimeReport {
     pub eye_gaze: bool,
 }
 
+/// What the OpenXR loader needs of the platform: nothing on desktops; on Android the JavaVM
+/// and the activity (`XR_KHR_loader_init_android`, `XR_KHR_android_create_instance`).
+#[cfg(not(target_os = "android"))]
+pub type Platform = ();
+#[cfg(target_os = "android")]
+pub type Platform = xr::AndroidPlatformInfo;
+
 /// The runtime: loader, instance, the headset's system.
 pub struct XrRuntime {
     instance: xr::Instance,
@@ -88,17 +95,22 @@ pub struct XrRuntime {
 }
 
 impl XrRuntime {
-    /// Loads the OpenXR loader and opens the active runtime's headset.
-    pub fn new() -> Result<Self, XrError> {
+    /// Loads the OpenXR loader and opens the active runtime's headset (`&()` for `platform`
+    /// on desktops).
+    pub fn new(platform: &Platform) -> Result<Self, XrError> {
         // SAFETY: the system's OpenXR loader, a conforming library.
         let entry =
-            unsafe { xr::Entry::load(&()) }.map_err(|e| XrError::NoLoader(e.to_string()))?;
+            unsafe { xr::Entry::load(platform) }.map_err(|e| XrError::NoLoader(e.to_string()))?;
         let offered = entry.enumerate_extensions().map_err(XrError::NoRuntime)?;
         if !offered.khr_vulkan_enable2 {
             return Err(XrError::NoVulkan);
         }
         let mut enabled = xr::ExtensionSet::default();
         enabled.khr_vulkan_enable2 = true;
+        #[cfg(target_os = "android")]
+        {
+            enabled.khr_android_create_instance = true;
+        }
         enabled.khr_visibility_mask = offered.khr_visibility_mask;
         enabled.ext_eye_gaze_interaction = offered.ext_eye_gaze_interaction;
         let of_interest = [
@@ -131,7 +143,7 @@ impl XrRuntime {
             api_version: xr::Version::new(1, 0, 0),
         };
         let instance = entry
-            .create_instance(&app, &enabled, &[], &())
+            .create_instance(&app, &enabled, &[], platform)
             .map_err(XrError::NoRuntime)?;
         let props = instance.properties().xr("xrGetInstanceProperties")?;
         let system = instance

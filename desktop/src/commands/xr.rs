@@ -56,7 +56,7 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
     );
     let scene = args.config.scene()?;
     let config = args.config.config(args.config.stereo.parse()?)?;
-    let runtime = XrRuntime::new()?;
+    let runtime = XrRuntime::new(&())?;
     let report = &runtime.report;
     println!("runtime: {} — {}", report.runtime, report.system);
     println!(
