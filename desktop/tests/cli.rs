@@ -962,3 +962,43 @@ fn render_reference_stacks_both_frames_and_prices_the_foveated_one() {
     assert_eq!((image.width, image.height), (96, 96));
     let _ = std::fs::remove_file(&out);
 }
+
+/// Without a runtime (none installed on the host, or none running), `foveate xr` says what is
+/// missing and exits non-zero; bad arguments are refused before any runtime is asked.
+#[test]
+fn xr_without_a_runtime_or_with_bad_arguments_is_a_clear_error() {
+    let empty = std::env::temp_dir().join(format!("foveate-xr-{}", std::process::id()));
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .args(["--validation", "xr", "--frames", "1"])
+        .env("XDG_RUNTIME_DIR", &empty)
+        .env("XR_RUNTIME_JSON", empty.join("no-runtime.json"))
+        .output()
+        .unwrap();
+    let err = stderr(&out);
+    assert!(!out.status.success() && !err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("no OpenXR loader") || err.contains("no OpenXR runtime"),
+        "{err}"
+    );
+    for (args, expected) in [
+        (&["xr", "--frames", "0"][..], "invalid frames = 0"),
+        (
+            &["xr", "--save", "x.png"],
+            "--save writes the checked frame",
+        ),
+        (
+            &["xr", "--gaze-source", "sideways"],
+            "invalid gaze-source = sideways",
+        ),
+        (&["xr", "--gaze", "0.2,0"], "add --gaze-source fixed"),
+    ] {
+        let out = foveate(args);
+        let err = stderr(&out);
+        assert!(
+            !out.status.success() && err.contains(expected),
+            "{args:?}: {err}"
+        );
+    }
+    std::fs::remove_dir_all(&empty).unwrap();
+}

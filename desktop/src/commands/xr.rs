@@ -56,6 +56,7 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
     );
     let scene = args.config.scene()?;
     let config = args.config.config(args.config.stereo.parse()?)?;
+    let gaze = gaze_source(args)?;
     let runtime = XrRuntime::new(&())?;
     let report = &runtime.report;
     println!("runtime: {} — {}", report.runtime, report.system);
@@ -85,16 +86,14 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
     {
         println!("  XR_KHR_composition_layer_depth offered, not used: the output stage writes colour only");
     }
-    let gaze = if report.eye_gaze {
+    if report.eye_gaze {
         println!("  eye gaze: the system has an eye tracker, but foveate does not read XR_EXT_eye_gaze_interaction yet; using --gaze-source {}", args.gaze_source);
-        gaze_source(args)?
     } else {
         println!(
             "  eye gaze: none from the runtime; using --gaze-source {}",
             args.gaze_source
         );
-        gaze_source(args)?
-    };
+    }
     let gpu = runtime.gpu(options)?;
     println!("device (chosen by the runtime): {}", gpu.info().name);
     let settings = XrSettings {
