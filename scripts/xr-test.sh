@@ -38,7 +38,7 @@ run() {
         /opt/foveate/foveate xr --check-pixels --save "/tmp/foveate/$name.png" "$@" >"$log" 2>&1; then
         # The application's own lines (Monado's client logs to the same streams).
         grep -E '^(runtime|  |device|eyes|HMD mask|pixel check|[0-9]+ frames)|foveate::xr::runtime\] [0-9.]+ ms/frame' "$log" |
-            grep -vE '^\s+(VK_|quirks|result|vulkan|external|timeline|extensions)' | tail -n 14
+            grep -vP '^\t' | tail -n 14
         cp "$root/tmp/foveate/$name.png" "$(xr_dir)/$name.png"
     else
         tail -n 30 "$log"

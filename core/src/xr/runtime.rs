@@ -400,6 +400,9 @@ pub struct XrSummary {
     /// Median wall time of a rendered frame (wait excluded: locate, render, submit), ms.
     pub frame_ms: Vec<f64>,
     pub replans: u64,
+    /// The last rendered frame's draw calls and triangles recorded (the workload beside the
+    /// times).
+    pub draws: (u64, u64),
     /// How far the runtime's eyes lay from foveate's eye model (largest over the run).
     pub eye_fit_error: (f32, f32),
     pub pixels: Option<PixelCheck>,
@@ -567,13 +570,9 @@ impl<'g> XrSession<'g> {
         }
     }
 
-    /// Renders a frame of the located `views` into swapchain image and returns the layer's
-    /// views.
-    fn render(
-        &mut self,
-        views: &[xr::View],
-        display_time: xr::Time,
-    ) -> Result<Option<Vec<f64>>, XrError> {
+    /// Renders a frame of the located `views` into the next swapchain image (planning first
+    /// when there is no plan, or the eyes outgrew it); each pass's GPU time.
+    fn render(&mut self, views: &[xr::View]) -> Result<Vec<f64>, XrError> {
         let pose = |v: &xr::View| {
             Pose {
                 orientation: [
@@ -680,8 +679,8 @@ impl<'g> XrSession<'g> {
             log::info!("{check}");
             self.summary.pixels = Some(check);
         }
-        let _ = display_time;
-        Ok(Some(stats.gpu_pass_ms))
+        self.summary.draws = (stats.draw_calls, stats.triangles);
+        Ok(stats.gpu_pass_ms)
     }
 
     /// Whether the HMD mask takes the runtime's mesh: asked for, and offered.
@@ -768,9 +767,7 @@ impl SessionBackend for XrSession<'_> {
                 .xr("xrEndFrame")?;
             return Ok(FrameOutcome::Skipped);
         };
-        let gpu_pass_ms = self
-            .render(&views, state.predicted_display_time)?
-            .unwrap_or_default();
+        let gpu_pass_ms = self.render(&views)?;
         let r = self.recommended;
         let rect = xr::Rect2Di {
             offset: xr::Offset2Di { x: 0, y: 0 },

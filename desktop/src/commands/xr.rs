@@ -151,6 +151,10 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
         summary.pacing.display_period_ms, summary.pacing.late
     );
     println!(
+        "workload: {} draw calls, {} triangles recorded per frame (the last one)",
+        summary.draws.0, summary.draws.1
+    );
+    println!(
         "eyes: {} replan(s); the runtime's eyes lie within {:.2} mm and {:.3}° of foveate's eye model",
         summary.replans,
         summary.eye_fit_error.0 * 1e3,
