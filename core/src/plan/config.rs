@@ -173,7 +173,7 @@ pub struct RenderConfig {
     /// `COLOR_ATTACHMENT_OPTIMAL` as a runtime's compositor takes it.
     pub external_output: bool,
     /// The HMD mask drops the runtime's hidden-area mesh, handed in per frame
-    /// ([`Renderer::set_hidden_area`](crate::render::Renderer::set_hidden_area)), instead of
+    /// (`Renderer::set_hidden_area`), instead of
     /// keeping the ellipse fitted to the profile; needs `hmd_mask`.
     pub hidden_area_mesh: bool,
 }
