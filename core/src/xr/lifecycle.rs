@@ -135,7 +135,9 @@ impl<B: SessionBackend> Lifecycle<B> {
         match event {
             RuntimeEvent::InstanceLossPending => self.abandon(Ended::InstanceLost),
             RuntimeEvent::State(state) => {
-                log::info!("OpenXR session: {:?} -> {state:?}", self.state);
+                if state != self.state {
+                    log::info!("OpenXR session: {:?} -> {state:?}", self.state);
+                }
                 self.state = state;
                 match state {
                     SessionState::Ready if !self.running => {

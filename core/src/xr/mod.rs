@@ -3,19 +3,24 @@
 //! through the runtime, swapchains the output stage renders into, the frame loop) needs the
 //! `xr` feature (the `openxr` crate, its loader opened at run time).
 
+#[cfg(feature = "xr")]
+mod error;
 mod lifecycle;
 #[cfg(feature = "xr")]
 mod pixels;
 #[cfg(feature = "xr")]
 mod runtime;
+#[cfg(feature = "xr")]
+mod session;
 mod views;
 
+#[cfg(feature = "xr")]
+pub use error::XrError;
 pub use lifecycle::{Ended, FrameOutcome, Lifecycle, RuntimeEvent, SessionBackend, SessionState};
 #[cfg(feature = "xr")]
 pub use pixels::PixelCheck;
 #[cfg(feature = "xr")]
-pub use runtime::{
-    GazeSource, MaskFractions, Pacing, Platform, RuntimeReport, XrError, XrRuntime, XrSession,
-    XrSettings, XrSummary,
-};
+pub use runtime::{Platform, RuntimeReport, XrRuntime};
+#[cfg(feature = "xr")]
+pub use session::{GazeSource, MaskFractions, Pacing, XrSession, XrSettings, XrSummary};
 pub use views::{fit_eyes, fov_tangents, FittedEyes, Pose};

@@ -1,0 +1,520 @@
+//! A session with the runtime: its array swapchain, into which the frame's last pass renders
+//! directly, the runtime's hidden-area mesh, and the frame loop ([`XrSession`] is the
+//! lifecycle's backend).
+
+use std::time::Instant;
+
+use ash::vk::{self, Handle};
+use glam::Vec2;
+use openxr as xr;
+
+use super::error::{XrError, XrResultExt};
+use super::lifecycle::{FrameOutcome, SessionBackend};
+use super::pixels::{check_pixels, PixelCheck};
+use super::runtime::{XrRuntime, STEREO};
+use super::views::{fit_eyes, fov_tangents, Pose};
+use crate::foveation::{GazeFilter, GazeSample};
+use crate::gpu::Gpu;
+use crate::metrics::PerSecond;
+use crate::plan::{FramePlan, OutputStage, RenderConfig, Resolution};
+use crate::render::{output_image_desc, Renderer};
+use crate::scene::Scene;
+use crate::view::{Eye, FovTangents, HiddenArea};
+
+/// The swapchain's format and usage, which the plan's output image must have: rendered into,
+/// and read back by `--check-pixels`.
+const SWAPCHAIN_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+const SWAPCHAIN_USAGE: vk::ImageUsageFlags = vk::ImageUsageFlags::from_raw(
+    vk::ImageUsageFlags::COLOR_ATTACHMENT.as_raw() | vk::ImageUsageFlags::TRANSFER_SRC.as_raw(),
+);
+
+/// Each eye's hidden-area mesh (`XR_KHR_visibility_mask`).
+fn hidden_areas(session: &xr::Session<xr::Vulkan>) -> Result<[HiddenArea; 2], XrError> {
+    let area = |view: u32| {
+        let mask = session
+            .get_visibility_mask_khr(
+                STEREO,
+                view,
+                xr::VisibilityMaskTypeKHR::HIDDEN_TRIANGLE_MESH,
+            )
+            .xr("xrGetVisibilityMaskKHR")?;
+        let vertices: Vec<Vec2> = mask.vertices.iter().map(|v| Vec2::new(v.x, v.y)).collect();
+        HiddenArea::from_indexed(&vertices, &mask.indices).map_err(XrError::Mask)
+    };
+    Ok([area(0)?, area(1)?])
+}
+
+/// Where each eye looks.
+pub enum GazeSource {
+    /// Both eyes at one normalised point (−1…1, x right, y up).
+    Fixed(Vec2),
+    /// A recorded or simulated trace, sampled at each frame's time through the gaze filter.
+    Trace(Vec<GazeSample>),
+}
+
+/// How `foveate xr` runs.
+pub struct XrSettings {
+    /// The frame as the user configured it; the runtime sets its size, fields and IPD.
+    pub config: RenderConfig,
+    pub gaze: GazeSource,
+    /// Check the first rendered frame's submitted image against a render of the same views.
+    pub check_pixels: bool,
+}
+
+/// The per-second line's extra: the runtime's frame timing.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Pacing {
+    /// The runtime's predicted display period (ms), as last said.
+    pub display_period_ms: f64,
+    /// Frames whose display time came more than one period after the previous one's: the
+    /// runtime skipped a display slot because the app was late.
+    pub late: u64,
+}
+
+/// What a finished run measured.
+#[derive(Clone, Debug, Default)]
+pub struct XrSummary {
+    pub frames_rendered: u64,
+    pub pacing: Pacing,
+    /// Median wall time of a rendered frame (wait excluded: locate, render, submit), ms.
+    pub frame_ms: Vec<f64>,
+    pub replans: u64,
+    /// The last rendered frame's draw calls and triangles recorded (the workload beside the
+    /// times).
+    pub draws: (u64, u64),
+    /// How far the runtime's eyes lay from foveate's eye model (largest over the run).
+    pub eye_fit_error: (f32, f32),
+    pub pixels: Option<PixelCheck>,
+    /// The HMD mask's hidden fractions, when it took the runtime's mesh.
+    pub mask_hidden: Option<MaskFractions>,
+}
+
+/// How much of each eye the HMD mask hides: the runtime's mesh against the profile's figures.
+#[derive(Clone, Copy, Debug)]
+pub struct MaskFractions {
+    /// Each eye's fraction under the runtime's mesh (its area, clipped to the view).
+    pub mesh: [f64; 2],
+    /// Each eye's fraction under the profile's fitted ellipse, at the runtime's field.
+    pub ellipse: [f64; 2],
+    /// The profile's published fraction, if it has one.
+    pub published: Option<f32>,
+    pub profile: &'static str,
+}
+
+/// A session with the runtime on `gpu`: the lifecycle's backend.
+pub struct XrSession<'g> {
+    gpu: &'g Gpu,
+    scene: &'g Scene,
+    settings: XrSettings,
+    session: xr::Session<xr::Vulkan>,
+    waiter: xr::FrameWaiter,
+    stream: xr::FrameStream<xr::Vulkan>,
+    local: xr::Space,
+    recommended: Resolution,
+    /// The runtime offers `XR_KHR_visibility_mask`.
+    visibility_mask: bool,
+    /// Each eye's hidden-area mesh, when the HMD mask takes the runtime's.
+    hidden_area: Option<[HiddenArea; 2]>,
+    // Declared in drop order: the renderer's framebuffers view the swapchain's images.
+    renderer: Option<Renderer<'g>>,
+    swapchain: Option<xr::Swapchain<xr::Vulkan>>,
+    filter: GazeFilter,
+    started: Option<Instant>,
+    last_display_time: Option<i64>,
+    second: PerSecond,
+    pub summary: XrSummary,
+}
+
+impl<'g> XrSession<'g> {
+    pub fn new(
+        runtime: &XrRuntime,
+        gpu: &'g Gpu,
+        scene: &'g Scene,
+        settings: XrSettings,
+    ) -> Result<Self, XrError> {
+        let h = gpu.raw_handles();
+        let info = xr::vulkan::SessionCreateInfo {
+            instance: h.instance.as_raw() as _,
+            physical_device: h.physical.as_raw() as _,
+            device: h.device.as_raw() as _,
+            queue_family_index: h.queue_family,
+            queue_index: h.queue_index,
+        };
+        // SAFETY: the handles are the runtime's own (made through it) and outlive the session:
+        // the `Gpu` is borrowed for the session's life.
+        let (session, waiter, stream) = unsafe {
+            runtime
+                .instance
+                .create_session::<xr::Vulkan>(runtime.system, &info)
+        }
+        .xr("xrCreateSession")?;
+        let local = session
+            .create_reference_space(xr::ReferenceSpaceType::LOCAL, xr::Posef::IDENTITY)
+            .xr("xrCreateReferenceSpace")?;
+        Ok(XrSession {
+            gpu,
+            scene,
+            settings,
+            session,
+            waiter,
+            stream,
+            local,
+            recommended: runtime.report.recommended,
+            visibility_mask: runtime.visibility_mask,
+            hidden_area: None,
+            renderer: None,
+            swapchain: None,
+            filter: GazeFilter::new(0.1),
+            started: None,
+            last_display_time: None,
+            second: PerSecond::default(),
+            summary: XrSummary::default(),
+        })
+    }
+
+    /// An array swapchain of two layers, made as the plan's output image.
+    fn make_swapchain(&self) -> Result<xr::Swapchain<xr::Vulkan>, XrError> {
+        let formats = self
+            .session
+            .enumerate_swapchain_formats()
+            .xr("xrEnumerateSwapchainFormats")?;
+        let wanted = SWAPCHAIN_FORMAT.as_raw() as u32;
+        if !formats.contains(&wanted) {
+            return Err(XrError::NoSwapchainFormat(formats));
+        }
+        let r = self.recommended;
+        let swapchain = self
+            .session
+            .create_swapchain(&xr::SwapchainCreateInfo {
+                create_flags: xr::SwapchainCreateFlags::EMPTY,
+                // SWAPCHAIN_USAGE in OpenXR's bits (which are not Vulkan's).
+                usage_flags: xr::SwapchainUsageFlags::COLOR_ATTACHMENT
+                    | xr::SwapchainUsageFlags::TRANSFER_SRC,
+                format: wanted,
+                sample_count: 1,
+                width: r.width,
+                height: r.height,
+                face_count: 1,
+                array_size: 2,
+                mip_count: 1,
+            })
+            .xr("xrCreateSwapchain")?;
+        Ok(swapchain)
+    }
+
+    /// The frame's configuration for eyes `fitted`: the runtime's size, fields and IPD, into
+    /// the runtime's images.
+    fn config(&self, eyes: &crate::view::EyeParams) -> RenderConfig {
+        let (l, r) = (eyes.left_fov, eyes.right_fov.mirrored());
+        // One field for both eyes (the right mirrors the left): the union of the two.
+        let fov = FovTangents {
+            left: l.left.max(r.left),
+            right: l.right.max(r.right),
+            up: l.up.max(r.up),
+            down: l.down.max(r.down),
+        };
+        RenderConfig {
+            resolution: Some(self.recommended),
+            fov: Some(fov),
+            ipd_m: Some(eyes.ipd_m),
+            cant_deg: Some(eyes.cant_rad.to_degrees()),
+            output: OutputStage::Undistorted,
+            external_output: true,
+            hidden_area_mesh: self.mesh_mask(),
+            ..self.settings.config.clone()
+        }
+    }
+
+    fn plan_for(&self, eyes: &crate::view::EyeParams) -> Result<FramePlan, XrError> {
+        let config = self.config(eyes);
+        let plan = crate::plan(self.scene, &config, self.gpu.caps())?;
+        // The swapchain was made before the plan: what the plan renders must be what it holds.
+        let desc = output_image_desc(&plan);
+        let r = self.recommended;
+        let swapchain = (r.width, r.height, 2, SWAPCHAIN_FORMAT, SWAPCHAIN_USAGE);
+        let output = (
+            desc.width,
+            desc.height,
+            desc.layers,
+            desc.format,
+            desc.usage,
+        );
+        if output != swapchain {
+            return Err(XrError::OutputMismatch(format!(
+                "the plan's output {output:?} against the swapchain's {swapchain:?}"
+            )));
+        }
+        Ok(plan)
+    }
+
+    /// Each eye's gaze at `t` seconds into the run.
+    fn gaze(&mut self, t: f64) -> [Vec2; 2] {
+        match &self.settings.gaze {
+            GazeSource::Fixed(g) => [*g; 2],
+            GazeSource::Trace(samples) => {
+                let i = samples.partition_point(|s| s.t <= t).saturating_sub(1);
+                match samples.get(i) {
+                    Some(s) => self.filter.update(s),
+                    None => [Vec2::ZERO; 2],
+                }
+            }
+        }
+    }
+
+    /// Renders a frame of the located `views` into the next swapchain image (planning first
+    /// when there is no plan, or the eyes outgrew it); each pass's GPU time.
+    fn render(&mut self, views: &[xr::View]) -> Result<Vec<f64>, XrError> {
+        let pose = |v: &xr::View| {
+            Pose {
+                orientation: [
+                    v.pose.orientation.x,
+                    v.pose.orientation.y,
+                    v.pose.orientation.z,
+                    v.pose.orientation.w,
+                ],
+                position: [v.pose.position.x, v.pose.position.y, v.pose.position.z],
+            }
+            .matrix()
+        };
+        let fov = |v: &xr::View| {
+            fov_tangents(
+                v.fov.angle_left,
+                v.fov.angle_right,
+                v.fov.angle_up,
+                v.fov.angle_down,
+            )
+        };
+        let fitted = fit_eyes(
+            [pose(&views[0]), pose(&views[1])],
+            [fov(&views[0]), fov(&views[1])],
+        );
+        let error = &mut self.summary.eye_fit_error;
+        if fitted.position_error_m > 1e-3 && error.0 <= 1e-3 {
+            log::warn!(
+                "the runtime's eyes lie {:.1} mm, {:.2}° from foveate's eye model (IPD and cant only)",
+                fitted.position_error_m * 1e3,
+                fitted.angle_error_deg
+            );
+        }
+        error.0 = error.0.max(fitted.position_error_m);
+        error.1 = error.1.max(fitted.angle_error_deg);
+        let fits = self.renderer.as_mut().map(|r| r.set_eyes(fitted.eyes));
+        if !matches!(fits, Some(Ok(()))) {
+            if let Some(Err(why)) = fits {
+                log::info!("replanning: this frame's eyes do not fit the plan ({why})");
+                self.summary.replans += 1;
+            }
+            self.renderer = None;
+            let plan = self.plan_for(&fitted.eyes)?;
+            log::info!("{}", plan.to_string().lines().next().unwrap_or_default());
+            log::debug!("{plan}");
+            let swapchain = self.swapchain.as_ref().expect("made at begin");
+            let images: Vec<vk::Image> = swapchain
+                .enumerate_images()
+                .xr("xrEnumerateSwapchainImages")?
+                .into_iter()
+                .map(vk::Image::from_raw)
+                .collect();
+            let mut renderer = Renderer::with_output_images(self.gpu, &plan, self.scene, &images)?;
+            renderer.set_eyes(fitted.eyes)?;
+            if let Some(areas) = &self.hidden_area {
+                renderer.set_hidden_area(areas.clone())?;
+                let hidden =
+                    Eye::BOTH.map(|e| areas[e.index()].hidden_fraction(fitted.eyes.fov(e)));
+                let ellipse = plan.hmd_mask.map(|r| r.map(|l| l.hidden_fraction()));
+                self.summary.mask_hidden = Some(MaskFractions {
+                    mesh: hidden,
+                    ellipse: ellipse.unwrap_or_default(),
+                    published: plan.hmd.hidden_area_fraction,
+                    profile: plan.hmd.name,
+                });
+            }
+            self.renderer = Some(renderer);
+        }
+        let t = self
+            .started
+            .get_or_insert_with(Instant::now)
+            .elapsed()
+            .as_secs_f64();
+        let gaze = self.gaze(t);
+        let world_from_head = self.scene.head * fitted.world_from_head;
+        let config = self.config(&fitted.eyes);
+        let swapchain = self.swapchain.as_mut().expect("made at begin");
+        let index = swapchain.acquire_image().xr("xrAcquireSwapchainImage")?;
+        swapchain
+            .wait_image(xr::Duration::INFINITE)
+            .xr("xrWaitSwapchainImage")?;
+        let renderer = self.renderer.as_mut().expect("made above");
+        renderer.select_output(index as usize)?;
+        renderer.set_gaze(gaze);
+        let stats = renderer.render_frame(world_from_head);
+        let checked = match (
+            &stats,
+            self.settings.check_pixels && self.summary.pixels.is_none(),
+        ) {
+            (Ok(_), true) => Some(check_pixels(
+                self.gpu,
+                self.scene,
+                &config,
+                renderer,
+                self.hidden_area.as_ref(),
+                world_from_head,
+            )),
+            _ => None,
+        };
+        // The image goes back to the runtime whatever happened to the frame.
+        swapchain.release_image().xr("xrReleaseSwapchainImage")?;
+        let stats = stats?;
+        if let Some(check) = checked {
+            let check = check?;
+            log::info!("{check}");
+            self.summary.pixels = Some(check);
+        }
+        self.summary.draws = (stats.draw_calls, stats.triangles);
+        Ok(stats.gpu_pass_ms)
+    }
+
+    /// Whether the HMD mask takes the runtime's mesh: asked for, and offered.
+    fn mesh_mask(&self) -> bool {
+        self.settings.config.hmd_mask && self.visibility_mask
+    }
+
+    /// Fetches each eye's hidden-area mesh (at the session's start, and again when the
+    /// runtime says it changed) and hands it to the renderer.
+    pub fn load_hidden_area(&mut self) -> Result<(), XrError> {
+        if !self.mesh_mask() {
+            return Ok(());
+        }
+        let areas = hidden_areas(&self.session)?;
+        log::info!(
+            "the runtime's hidden-area meshes: {} and {} triangles",
+            areas[0].triangles.len(),
+            areas[1].triangles.len()
+        );
+        if let Some(r) = &mut self.renderer {
+            r.set_hidden_area(areas.clone())?;
+        }
+        self.hidden_area = Some(areas);
+        Ok(())
+    }
+
+    fn pass_names(&self) -> Vec<&'static str> {
+        self.renderer.as_ref().map_or(Vec::new(), |r| {
+            r.plan().passes.iter().map(|p| p.name).collect()
+        })
+    }
+}
+
+impl SessionBackend for XrSession<'_> {
+    type Error = XrError;
+
+    fn begin(&mut self) -> Result<(), XrError> {
+        self.session.begin(STEREO).xr("xrBeginSession")?;
+        self.load_hidden_area()?;
+        self.swapchain = Some(self.make_swapchain()?);
+        Ok(())
+    }
+
+    fn end(&mut self) -> Result<(), XrError> {
+        self.gpu.wait_idle()?;
+        self.renderer = None;
+        self.swapchain = None;
+        self.session.end().xr("xrEndSession")?;
+        Ok(())
+    }
+
+    fn frame(&mut self) -> Result<FrameOutcome, XrError> {
+        let state = self.waiter.wait().xr("xrWaitFrame")?;
+        let start = Instant::now();
+        let period_ms = state.predicted_display_period.as_nanos() as f64 / 1e6;
+        let time = state.predicted_display_time.as_nanos();
+        if let Some(last) = self.last_display_time {
+            let gap = (time - last) as f64 / 1e6;
+            if period_ms > 0.0 && gap > 1.5 * period_ms {
+                self.summary.pacing.late += ((gap / period_ms).round() as u64).saturating_sub(1);
+            }
+        }
+        self.last_display_time = Some(time);
+        self.summary.pacing.display_period_ms = period_ms;
+        self.stream.begin().xr("xrBeginFrame")?;
+        let located = if state.should_render {
+            let (flags, views) = self
+                .session
+                .locate_views(STEREO, state.predicted_display_time, &self.local)
+                .xr("xrLocateViews")?;
+            let valid = flags.contains(xr::ViewStateFlags::ORIENTATION_VALID)
+                && flags.contains(xr::ViewStateFlags::POSITION_VALID);
+            valid.then_some(views)
+        } else {
+            None
+        };
+        let Some(views) = located else {
+            self.stream
+                .end(
+                    state.predicted_display_time,
+                    xr::EnvironmentBlendMode::OPAQUE,
+                    &[],
+                )
+                .xr("xrEndFrame")?;
+            return Ok(FrameOutcome::Skipped);
+        };
+        let gpu_pass_ms = self.render(&views)?;
+        let r = self.recommended;
+        let rect = xr::Rect2Di {
+            offset: xr::Offset2Di { x: 0, y: 0 },
+            extent: xr::Extent2Di {
+                width: r.width as i32,
+                height: r.height as i32,
+            },
+        };
+        let swapchain = self.swapchain.as_ref().expect("made at begin");
+        let projection_views = [0u32, 1].map(|i| {
+            let v = &views[i as usize];
+            xr::CompositionLayerProjectionView::new()
+                .pose(v.pose)
+                .fov(v.fov)
+                .sub_image(
+                    xr::SwapchainSubImage::new()
+                        .swapchain(swapchain)
+                        .image_array_index(i)
+                        .image_rect(rect),
+                )
+        });
+        let layer = xr::CompositionLayerProjection::new()
+            .space(&self.local)
+            .views(&projection_views);
+        self.stream
+            .end(
+                state.predicted_display_time,
+                xr::EnvironmentBlendMode::OPAQUE,
+                &[&layer],
+            )
+            .xr("xrEndFrame")?;
+        self.summary.frames_rendered += 1;
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        self.summary.frame_ms.push(ms);
+        self.second.push(ms, gpu_pass_ms);
+        if self.second.due() {
+            if let Some(second) = self.second.take() {
+                let pacing = self.summary.pacing;
+                log::info!(
+                    "{}; display period {:.1} ms, {} late so far",
+                    second.describe(&self.pass_names()),
+                    pacing.display_period_ms,
+                    pacing.late
+                );
+            }
+        }
+        Ok(FrameOutcome::Submitted)
+    }
+
+    fn request_exit(&mut self) -> Result<(), XrError> {
+        self.session.request_exit().xr("xrRequestExitSession")
+    }
+
+    fn abandon(&mut self) {
+        let _ = self.gpu.wait_idle();
+        self.renderer = None;
+        self.swapchain = None;
+    }
+}
