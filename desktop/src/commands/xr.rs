@@ -133,16 +133,6 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
         }
     }
     let wall = started.elapsed().as_secs_f64();
-    match life.ended() {
-        Some(Ended::Exited) => {}
-        Some(Ended::SessionLost) => bail!(
-            "the runtime lost the session (XR_SESSION_STATE_LOSS_PENDING): the headset went away"
-        ),
-        Some(Ended::InstanceLost) => {
-            bail!("the runtime is going away (XrEventDataInstanceLossPending)")
-        }
-        None => unreachable!("the loop ends with the run"),
-    }
     let summary = &life.backend().summary;
     let (rendered, skipped) = life.frames();
     let median = Stats::of(&summary.frame_ms).map_or(0.0, |s| s.median);
@@ -173,20 +163,31 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
         None if args.config.hmd_mask => println!("HMD mask: the profile's ellipse (the runtime offers no visibility mask)"),
         None => {}
     }
+    // What the run made is written before any verdict: a lost session keeps its picture.
+    if let (Some(check), Some(path)) = (&summary.pixels, &args.save) {
+        check
+            .submitted
+            .side_by_side()
+            .save_png(path)
+            .with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {} (the checked frame as submitted)", path.display());
+    }
+    match life.ended() {
+        Some(Ended::Exited) => {}
+        Some(Ended::SessionLost) => bail!(
+            "the runtime lost the session (XR_SESSION_STATE_LOSS_PENDING): the headset went away"
+        ),
+        Some(Ended::InstanceLost) => {
+            bail!("the runtime is going away (XrEventDataInstanceLossPending)")
+        }
+        None => unreachable!("the loop ends with the run"),
+    }
     gpu.check_validation()?;
     if args.check_pixels {
         let Some(check) = &summary.pixels else {
             bail!("--check-pixels: no frame was rendered to check");
         };
         println!("{check}");
-        if let Some(path) = &args.save {
-            check
-                .submitted
-                .side_by_side()
-                .save_png(path)
-                .with_context(|| format!("writing {}", path.display()))?;
-            println!("wrote {}", path.display());
-        }
         anyhow::ensure!(check.passed(), "the pixel check failed: {check}");
     }
     Ok(())
