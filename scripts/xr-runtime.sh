@@ -87,5 +87,7 @@ xr_stop() {
 xr_run() {
     local root=$1
     shift
-    chroot "$root" /usr/bin/env XDG_RUNTIME_DIR=/run/xr "$@"
+    # The host's driver selection (scripts/drivers.sh) names host paths: the chroot has its own.
+    chroot "$root" /usr/bin/env -u VK_ICD_FILENAMES -u VK_DRIVER_FILES -u VK_LAYER_PATH \
+        XDG_RUNTIME_DIR=/run/xr "$@"
 }
