@@ -5,6 +5,7 @@
 
 #[cfg(feature = "xr")]
 mod error;
+mod gaze;
 mod lifecycle;
 #[cfg(feature = "xr")]
 mod pixels;
@@ -12,10 +13,13 @@ mod pixels;
 mod runtime;
 #[cfg(feature = "xr")]
 mod session;
+#[cfg(feature = "xr")]
+mod tracker;
 mod views;
 
 #[cfg(feature = "xr")]
 pub use error::XrError;
+pub use gaze::eye_gazes;
 pub use lifecycle::{Ended, FrameOutcome, Lifecycle, RuntimeEvent, SessionBackend, SessionState};
 #[cfg(feature = "xr")]
 pub use pixels::PixelCheck;

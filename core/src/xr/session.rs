@@ -9,10 +9,12 @@ use glam::Vec2;
 use openxr as xr;
 
 use super::error::{XrError, XrResultExt};
+use super::gaze::eye_gazes;
 use super::lifecycle::{FrameOutcome, SessionBackend};
 use super::pixels::{check_pixels, PixelCheck};
 use super::runtime::{XrRuntime, STEREO};
-use super::views::{fit_eyes, fov_tangents, Pose};
+use super::tracker::EyeTracker;
+use super::views::{fit_eyes, fov_tangents, FittedEyes, Pose};
 use crate::foveation::{GazeFilter, GazeSample};
 use crate::gpu::Gpu;
 use crate::metrics::PerSecond;
@@ -119,6 +121,8 @@ pub struct XrSession<'g> {
     renderer: Option<Renderer<'g>>,
     swapchain: Option<xr::Swapchain<xr::Vulkan>>,
     filter: GazeFilter,
+    /// The runtime's eye tracker, when the system has one and it could be set up.
+    tracker: Option<EyeTracker>,
     started: Option<Instant>,
     last_display_time: Option<i64>,
     second: PerSecond,
@@ -151,7 +155,18 @@ impl<'g> XrSession<'g> {
         let local = session
             .create_reference_space(xr::ReferenceSpaceType::LOCAL, xr::Posef::IDENTITY)
             .xr("xrCreateReferenceSpace")?;
+        let tracker = match runtime.report.eye_gaze {
+            false => None,
+            true => EyeTracker::new(&runtime.instance, &session)
+                .map_err(|e| {
+                    log::warn!(
+                        "the eye tracker could not be set up ({e}): using the configured gaze"
+                    )
+                })
+                .ok(),
+        };
         Ok(XrSession {
+            tracker,
             gpu,
             scene,
             settings,
@@ -248,7 +263,30 @@ impl<'g> XrSession<'g> {
     }
 
     /// Each eye's gaze at `t` seconds into the run.
-    fn gaze(&mut self, t: f64) -> [Vec2; 2] {
+    fn gaze(&mut self, t: f64, fitted: &FittedEyes, time: xr::Time) -> [Vec2; 2] {
+        if let Some(tracker) = &self.tracker {
+            // The gaze's direction in the runtime's space, turned into the fitted head's.
+            match tracker.direction(&self.session, &self.local, time) {
+                Ok(direction) => {
+                    let head = direction
+                        .map(|d| fitted.world_from_head.inverse().transform_vector3(d))
+                        .and_then(|d| eye_gazes(&fitted.eyes, d));
+                    let sample = GazeSample {
+                        t,
+                        left: head.map_or(Vec2::NAN, |g| g[0]),
+                        right: head.map_or(Vec2::NAN, |g| g[1]),
+                        valid: head.is_some(),
+                    };
+                    return self.filter.update(&sample);
+                }
+                Err(e) => {
+                    log::warn!(
+                        "the eye tracker failed ({e}): using the configured gaze from now on"
+                    );
+                    self.tracker = None;
+                }
+            }
+        }
         match &self.settings.gaze {
             GazeSource::Fixed(g) => [*g; 2],
             GazeSource::Trace(samples) => {
@@ -263,7 +301,7 @@ impl<'g> XrSession<'g> {
 
     /// Renders a frame of the located `views` into the next swapchain image (planning first
     /// when there is no plan, or the eyes outgrew it); each pass's GPU time.
-    fn render(&mut self, views: &[xr::View]) -> Result<Vec<f64>, XrError> {
+    fn render(&mut self, views: &[xr::View], time: xr::Time) -> Result<Vec<f64>, XrError> {
         let pose = |v: &xr::View| {
             Pose {
                 orientation: [
@@ -336,7 +374,7 @@ impl<'g> XrSession<'g> {
             .get_or_insert_with(Instant::now)
             .elapsed()
             .as_secs_f64();
-        let gaze = self.gaze(t);
+        let gaze = self.gaze(t, &fitted, time);
         let world_from_head = self.scene.head * fitted.world_from_head;
         let config = self.config(&fitted.eyes);
         let swapchain = self.swapchain.as_mut().expect("made at begin");
@@ -458,7 +496,7 @@ impl SessionBackend for XrSession<'_> {
                 .xr("xrEndFrame")?;
             return Ok(FrameOutcome::Skipped);
         };
-        let gpu_pass_ms = self.render(&views)?;
+        let gpu_pass_ms = self.render(&views, state.predicted_display_time)?;
         let r = self.recommended;
         let rect = xr::Rect2Di {
             offset: xr::Offset2Di { x: 0, y: 0 },

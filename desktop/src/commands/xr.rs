@@ -87,7 +87,7 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
         println!("  XR_KHR_composition_layer_depth offered, not used: the output stage writes colour only");
     }
     if report.eye_gaze {
-        println!("  eye gaze: the system has an eye tracker, but foveate does not read XR_EXT_eye_gaze_interaction yet; using --gaze-source {}", args.gaze_source);
+        println!("  eye gaze: the system's eye tracker (XR_EXT_eye_gaze_interaction) through the gaze filter");
     } else {
         println!(
             "  eye gaze: none from the runtime; using --gaze-source {}",
