@@ -77,8 +77,9 @@ xr_start() {
 
 xr_stop() {
     if [ -n "$XR_SERVICE_PID" ]; then
-        kill "$XR_SERVICE_PID" 2>/dev/null
-        wait "$XR_SERVICE_PID" 2>/dev/null
+        # The service ends by the signal (status 143): not a failure of the caller's script.
+        kill "$XR_SERVICE_PID" 2>/dev/null || true
+        wait "$XR_SERVICE_PID" 2>/dev/null || true
         XR_SERVICE_PID=""
     fi
     return 0
