@@ -21,7 +21,7 @@ use crate::metrics::PerSecond;
 use crate::plan::{FramePlan, OutputStage, RenderConfig, Resolution};
 use crate::render::{output_image_desc, Renderer};
 use crate::scene::Scene;
-use crate::view::{Eye, FovTangents, HiddenArea};
+use crate::view::{Eye, EyeParams, FovTangents, HiddenArea};
 
 /// The swapchain's format and usage, which the plan's output image must have: rendered into,
 /// and read back by `--check-pixels`.
@@ -219,7 +219,7 @@ impl<'g> XrSession<'g> {
 
     /// The frame's configuration for eyes `fitted`: the runtime's size, fields and IPD, into
     /// the runtime's images.
-    fn config(&self, eyes: &crate::view::EyeParams) -> RenderConfig {
+    fn config(&self, eyes: &EyeParams) -> RenderConfig {
         let (l, r) = (eyes.left_fov, eyes.right_fov.mirrored());
         // One field for both eyes (the right mirrors the left): the union of the two.
         let fov = FovTangents {
@@ -240,7 +240,7 @@ impl<'g> XrSession<'g> {
         }
     }
 
-    fn plan_for(&self, eyes: &crate::view::EyeParams) -> Result<FramePlan, XrError> {
+    fn plan_for(&self, eyes: &EyeParams) -> Result<FramePlan, XrError> {
         let config = self.config(eyes);
         let plan = crate::plan(self.scene, &config, self.gpu.caps())?;
         // The swapchain was made before the plan: what the plan renders must be what it holds.
@@ -299,28 +299,20 @@ impl<'g> XrSession<'g> {
         }
     }
 
-    /// Renders a frame of the located `views` into the next swapchain image (planning first
-    /// when there is no plan, or the eyes outgrew it); each pass's GPU time.
-    fn render(&mut self, views: &[xr::View], time: xr::Time) -> Result<Vec<f64>, XrError> {
+    /// The located `views` fitted to foveate's eye model; how far they lie from it is kept
+    /// (and said once when it exceeds a millimetre).
+    fn fit(&mut self, views: &[xr::View]) -> FittedEyes {
         let pose = |v: &xr::View| {
+            let (o, p) = (v.pose.orientation, v.pose.position);
             Pose {
-                orientation: [
-                    v.pose.orientation.x,
-                    v.pose.orientation.y,
-                    v.pose.orientation.z,
-                    v.pose.orientation.w,
-                ],
-                position: [v.pose.position.x, v.pose.position.y, v.pose.position.z],
+                orientation: [o.x, o.y, o.z, o.w],
+                position: [p.x, p.y, p.z],
             }
             .matrix()
         };
         let fov = |v: &xr::View| {
-            fov_tangents(
-                v.fov.angle_left,
-                v.fov.angle_right,
-                v.fov.angle_up,
-                v.fov.angle_down,
-            )
+            let f = v.fov;
+            fov_tangents(f.angle_left, f.angle_right, f.angle_up, f.angle_down)
         };
         let fitted = fit_eyes(
             [pose(&views[0]), pose(&views[1])],
@@ -336,39 +328,54 @@ impl<'g> XrSession<'g> {
         }
         error.0 = error.0.max(fitted.position_error_m);
         error.1 = error.1.max(fitted.angle_error_deg);
-        let fits = self.renderer.as_mut().map(|r| r.set_eyes(fitted.eyes));
-        if !matches!(fits, Some(Ok(()))) {
-            if let Some(Err(why)) = fits {
-                log::info!("replanning: this frame's eyes do not fit the plan ({why})");
-                self.summary.replans += 1;
-            }
-            self.renderer = None;
-            let plan = self.plan_for(&fitted.eyes)?;
-            log::info!("{}", plan.to_string().lines().next().unwrap_or_default());
-            log::debug!("{plan}");
-            let swapchain = self.swapchain.as_ref().expect("made at begin");
-            let images: Vec<vk::Image> = swapchain
-                .enumerate_images()
-                .xr("xrEnumerateSwapchainImages")?
-                .into_iter()
-                .map(vk::Image::from_raw)
-                .collect();
-            let mut renderer = Renderer::with_output_images(self.gpu, &plan, self.scene, &images)?;
-            renderer.set_eyes(fitted.eyes)?;
-            if let Some(areas) = &self.hidden_area {
-                renderer.set_hidden_area(areas.clone())?;
-                let hidden =
-                    Eye::BOTH.map(|e| areas[e.index()].hidden_fraction(fitted.eyes.fov(e)));
-                let ellipse = plan.hmd_mask.map(|r| r.map(|l| l.hidden_fraction()));
-                self.summary.mask_hidden = Some(MaskFractions {
-                    mesh: hidden,
-                    ellipse: ellipse.unwrap_or_default(),
-                    published: plan.hmd.hidden_area_fraction,
-                    profile: plan.hmd.name,
-                });
-            }
-            self.renderer = Some(renderer);
+        fitted
+    }
+
+    /// A renderer for `eyes`: the current one when they fit its plan, else a new plan and
+    /// renderer into the swapchain's images (a replan, counted).
+    fn renderer_for(&mut self, eyes: EyeParams) -> Result<(), XrError> {
+        let fits = self.renderer.as_mut().map(|r| r.set_eyes(eyes));
+        if let Some(Ok(())) = fits {
+            return Ok(());
         }
+        if let Some(Err(why)) = fits {
+            log::info!("replanning: this frame's eyes do not fit the plan ({why})");
+            self.summary.replans += 1;
+        }
+        self.renderer = None;
+        let plan = self.plan_for(&eyes)?;
+        log::info!("{}", plan.to_string().lines().next().unwrap_or_default());
+        log::debug!("{plan}");
+        let swapchain = self.swapchain.as_ref().expect("made at begin");
+        let images: Vec<vk::Image> = swapchain
+            .enumerate_images()
+            .xr("xrEnumerateSwapchainImages")?
+            .into_iter()
+            .map(vk::Image::from_raw)
+            .collect();
+        let mut renderer = Renderer::with_output_images(self.gpu, &plan, self.scene, &images)?;
+        renderer.set_eyes(eyes)?;
+        if let Some(areas) = &self.hidden_area {
+            renderer.set_hidden_area(areas.clone())?;
+            self.summary.mask_hidden = Some(MaskFractions {
+                mesh: Eye::BOTH.map(|e| areas[e.index()].hidden_fraction(eyes.fov(e))),
+                ellipse: plan
+                    .hmd_mask
+                    .map(|r| r.map(|l| l.hidden_fraction()))
+                    .unwrap_or_default(),
+                published: plan.hmd.hidden_area_fraction,
+                profile: plan.hmd.name,
+            });
+        }
+        self.renderer = Some(renderer);
+        Ok(())
+    }
+
+    /// Renders a frame of the located `views` into the next swapchain image (planning first
+    /// when there is no plan, or the eyes outgrew it); each pass's GPU time.
+    fn render(&mut self, views: &[xr::View], time: xr::Time) -> Result<Vec<f64>, XrError> {
+        let fitted = self.fit(views);
+        self.renderer_for(fitted.eyes)?;
         let t = self
             .started
             .get_or_insert_with(Instant::now)
