@@ -179,20 +179,7 @@ impl Image {
             vk::ImageAspectFlags::COLOR
         };
         dev.created("Image");
-        let mut image = Image {
-            dev: dev.clone(),
-            raw,
-            format: desc.format,
-            width: desc.width,
-            height: desc.height,
-            layers: desc.layers,
-            samples: desc.samples,
-            mip_levels: desc.mip_levels,
-            aspect,
-            lazy: false,
-            memory: None,
-            borrowed: false,
-        };
+        let mut image = Image::described(gpu, raw, desc, aspect, false);
         let requirements = unsafe { dev.device.get_image_memory_requirements(raw) };
         let lazy_type = desc
             .usage
@@ -232,6 +219,17 @@ impl Image {
     /// # Safety
     /// `raw` must be an image of `gpu`'s device made as `desc` says, alive while this value is.
     pub unsafe fn borrowed(gpu: &Gpu, raw: vk::Image, desc: &ImageDesc<'_>) -> Self {
+        Image::described(gpu, raw, desc, vk::ImageAspectFlags::COLOR, true)
+    }
+
+    /// `raw` as `desc` describes it, with no memory bound yet.
+    fn described(
+        gpu: &Gpu,
+        raw: vk::Image,
+        desc: &ImageDesc<'_>,
+        aspect: vk::ImageAspectFlags,
+        borrowed: bool,
+    ) -> Self {
         Image {
             dev: gpu.dev.clone(),
             raw,
@@ -241,10 +239,10 @@ impl Image {
             layers: desc.layers,
             samples: desc.samples,
             mip_levels: desc.mip_levels,
-            aspect: vk::ImageAspectFlags::COLOR,
+            aspect,
             lazy: false,
             memory: None,
-            borrowed: true,
+            borrowed,
         }
     }
 

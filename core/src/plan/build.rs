@@ -362,7 +362,7 @@ fn add_technique_steps(
     let masks = config.hmd_mask || foveation.is_some_and(|f| f.stencil);
     for pass in passes.iter_mut().filter(|p| p.kind == PassKind::Scene) {
         if masks {
-            add_mask_fans(pass);
+            add_mask_fans(pass, config.hidden_area_mesh);
         }
         if let Some(g) = mffr {
             add_far_composite(pass, g.config.order);

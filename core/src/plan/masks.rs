@@ -6,11 +6,14 @@ use super::pipeline::{PipelineDesc, StepContext};
 use super::steps::{stencil_placeholder, Step};
 use crate::shaders::{MASK_FRAG, MASK_FRAG_COUNTING, MASK_VERT};
 
-pub(super) fn add_mask_fans(pass: &mut PassPlan) {
+/// The mask fans first in `pass`; with `hidden_area`, they also drop a runtime's hidden-area
+/// mesh (handed in per frame) from the eye views.
+pub(super) fn add_mask_fans(pass: &mut PassPlan, hidden_area: bool) {
     pass.steps.insert(
         0,
         Step::MaskFans {
             stencil: stencil_placeholder(),
+            hidden_area,
         },
     );
 }

@@ -275,9 +275,9 @@ impl FramePlan {
     fn write_step_notes(&self, f: &mut fmt::Formatter<'_>, p: &PassPlan) -> fmt::Result {
         for step in &p.steps {
             match step {
-                Step::MaskFans { .. } => {
+                Step::MaskFans { hidden_area, .. } => {
                     let mut masks = Vec::new();
-                    if self.hidden_area_mesh {
+                    if *hidden_area {
                         masks.push("everything but the runtime's hidden-area mesh in the eye (periphery) views");
                     } else if self.hmd_mask.is_some() {
                         masks.push("the lens-visible ellipse in the eye (periphery) views");

@@ -66,7 +66,7 @@ fn passes_are_ordered_steps_with_their_stencil() {
         ..config(StereoMode::Multiview, 1)
     });
     assert_eq!(kinds(&masked.passes[0]), ["mask", "scene", "probe"]);
-    let Step::MaskFans { stencil: fans } = masked.passes[0].steps[0] else {
+    let Step::MaskFans { stencil: fans, .. } = masked.passes[0].steps[0] else {
         panic!("mask fans first")
     };
     assert_eq!((fans.pass, fans.write_mask), (StencilOp::Replace, MASK_BIT));

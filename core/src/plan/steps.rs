@@ -99,8 +99,12 @@ pub struct StencilState {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Step {
     /// Stencil mask fans, before anything else: every view's keep shapes written as
-    /// `MASK_BIT`, then its drop shapes cleared (the reference is set per fan set).
-    MaskFans { stencil: StencilState },
+    /// `MASK_BIT`, then its drop shapes cleared (the reference is set per fan set), then —
+    /// with `hidden_area` — a runtime's hidden-area triangles cleared too.
+    MaskFans {
+        stencil: StencilState,
+        hidden_area: bool,
+    },
     /// The MFFR far image composited into every view: first (the near field drawn over it)
     /// or after the scene into the pixels it left (near-first).
     FarComposite { stencil: Option<StencilState> },
@@ -190,7 +194,7 @@ impl Step {
 
     pub fn stencil(&self) -> Option<StencilState> {
         match *self {
-            Step::MaskFans { stencil } | Step::RadialMask { stencil } => Some(stencil),
+            Step::MaskFans { stencil, .. } | Step::RadialMask { stencil } => Some(stencil),
             Step::FarComposite { stencil }
             | Step::Scene { stencil, .. }
             | Step::Probe { stencil } => stencil,
@@ -236,7 +240,7 @@ pub(crate) fn assign_stencil_states(steps: &mut [Step]) {
     for step in steps.iter_mut() {
         match step {
             // Keep shapes write the mask bit, drop shapes clear it (reference set per fan set).
-            Step::MaskFans { stencil } => {
+            Step::MaskFans { stencil, .. } => {
                 *stencil = state(CompareOp::Always, 0, 0, StencilOp::Replace, MASK_BIT)
             }
             Step::RadialMask { stencil } => {

@@ -56,9 +56,9 @@ impl Executor for MaskShapes {
 /// The mask fans step: every view's keep shapes set the bits the step writes, then its drop
 /// shapes clear them, then a runtime's hidden triangles clear them too (when planned).
 pub(super) fn record_mask_fans(
-    plan: &FramePlan,
     pass: &PassPlan,
     stencil: StencilState,
+    hidden_area: bool,
     area: Rect,
     rec: &mut dyn Recorder,
 ) {
@@ -68,7 +68,7 @@ pub(super) fn record_mask_fans(
         rec.push_vertex(shape_set);
         rec.draw(MASK_VERTICES);
     }
-    if plan.hidden_area_mesh {
+    if hidden_area {
         rec.push_vertex(2);
         rec.draw(HIDDEN_ELEMENTS as u32);
     }
@@ -77,7 +77,7 @@ pub(super) fn record_mask_fans(
 /// The hidden triangles of each eye in its view's NDC (none until a mesh is handed in).
 fn hidden_corners(plan: &FramePlan, hidden: Option<&[HiddenArea; 2]>) -> [Vec4; HIDDEN_ELEMENTS] {
     let mut out = [Vec4::ZERO; HIDDEN_ELEMENTS];
-    let Some(areas) = hidden.filter(|_| plan.hidden_area_mesh) else {
+    let Some(areas) = hidden else {
         return out;
     };
     for eye in Eye::BOTH {

@@ -36,10 +36,10 @@ pub use readback::StereoImage;
 pub use record::record_frame;
 pub use recorder::{FrameDraws, Recorder, Rect};
 pub use renderer::{counting_frame, Renderer};
+pub use stats::{FrameStats, PassStatistics, StepFragments};
 
 /// How the image a plan's frames end in is made; an output handed in per frame (an OpenXR
 /// swapchain's, [`crate::plan::RenderConfig::external_output`]) must be made the same way.
 pub fn output_image_desc(plan: &crate::plan::FramePlan) -> crate::gpu::ImageDesc<'static> {
     targets::image_desc(plan, plan.outputs()[0])
 }
-pub use stats::{FrameStats, PassStatistics, StepFragments};

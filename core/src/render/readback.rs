@@ -93,22 +93,15 @@ impl Renderer<'_> {
             vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
             vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
         );
-        let (copy_src, copy_read): (ImageState, ImageState) = (
-            (
-                vk::PipelineStageFlags::TRANSFER,
-                vk::AccessFlags::TRANSFER_READ,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            ),
-            (
-                vk::PipelineStageFlags::TRANSFER,
-                vk::AccessFlags::empty(),
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            ),
+        let copying: ImageState = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_READ,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
         );
         self.gpu.one_shot(|cmd| unsafe {
             for (image, region) in &copies {
                 if external {
-                    transition_image(device, cmd, *image, range, attachment, copy_src);
+                    transition_image(device, cmd, *image, range, attachment, copying);
                 }
                 device.cmd_copy_image_to_buffer(
                     cmd,
@@ -118,7 +111,7 @@ impl Renderer<'_> {
                     &[*region],
                 );
                 if external {
-                    transition_image(device, cmd, *image, range, copy_read, attachment);
+                    transition_image(device, cmd, *image, range, copying, attachment);
                 }
             }
             memory_barrier(

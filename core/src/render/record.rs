@@ -42,9 +42,10 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
         for (step_index, step) in pass.steps.iter().enumerate() {
             rec.bind_step(index, step_index);
             match *step {
-                Step::MaskFans { stencil } => {
-                    super::masks::record_mask_fans(plan, pass, stencil, area, rec)
-                }
+                Step::MaskFans {
+                    stencil,
+                    hidden_area,
+                } => super::masks::record_mask_fans(pass, stencil, hidden_area, area, rec),
                 Step::FarComposite { .. } => super::mffr::record_far_composite(pass, area, rec),
                 Step::Scene { cull_slot, .. } => {
                     super::stereo_scene::record_scene(plan, pass, area, draws.of(cull_slot), rec)
