@@ -39,11 +39,11 @@ fn point_polygon_distance(p: DVec3, poly: &[DVec3]) -> f64 {
 
 /// Exact Euclidean distance from `p` to the (solid) frustum given by its eight corners, 0
 /// inside.
-pub fn frustum_distance(f: &Frustum, p: glam::Vec3) -> f64 {
+pub fn frustum_distance(f: &Frustum, p: impl Into<DVec3>) -> f64 {
     let c: Vec<DVec3> = f.corners.iter().map(|&v| d(f.origin) + d(v)).collect();
     let faces = Frustum::FACES;
     let centre = c.iter().copied().sum::<DVec3>() / 8.0;
-    let p = d(p);
+    let p = p.into();
     let inside = faces.iter().all(|face| {
         let n = (c[face[1]] - c[face[0]]).cross(c[face[2]] - c[face[0]]);
         let toward_centre = (centre - c[face[0]]).dot(n).signum();
@@ -65,8 +65,8 @@ pub fn sphere_frustum(f: &Frustum, s: &Sphere) -> bool {
 
 /// Hale's ground truth (his Listing 3.1, with `acos`), corrected for points whose nearest cone
 /// point is the apex: the distance from `p` to the solid single cone.
-pub fn cone_distance(cone: &Cone, p: glam::Vec3) -> f64 {
-    let c = d(p) - d(cone.origin);
+pub fn cone_distance(cone: &Cone, p: impl Into<DVec3>) -> f64 {
+    let c = p.into() - d(cone.origin);
     let len = c.length();
     if len == 0.0 {
         return 0.0;

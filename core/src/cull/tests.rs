@@ -176,7 +176,7 @@ proptest! {
         for (c, u, v, size) in tris {
             let a = Vec3::from(c);
             let tri = Triangle::new(a, a + u * size, a + v * size);
-            let samples: Vec<Vec3> = triangle_samples(&tri).collect();
+            let samples: Vec<DVec3> = triangle_samples(&tri).collect();
             if samples.iter().any(|&p| oracle::cone_distance(&cone, p) == 0.0) {
                 prop_assert!(tri.intersects_cone(&cone), "cone false negative: {tri:?} {cone:?}");
             }
@@ -379,20 +379,26 @@ fn plane_distances_f64(f: &Frustum, p: DVec3) -> [f64; 6] {
         .map(|pl| pl.truncate().as_dvec3().dot(p - f.origin.as_dvec3()) + pl.w as f64)
 }
 
-fn box_samples(b: &Aabb) -> impl Iterator<Item = Vec3> + '_ {
+/// Points in the box, in `f64` like the triangle's samples below.
+fn box_samples(b: &Aabb) -> impl Iterator<Item = DVec3> + '_ {
     let n = 6;
+    let (min, max) = (DVec3::from(b.min), DVec3::from(b.max));
     (0..n * n * n).map(move |i| {
-        let f = |k: usize| (k % n) as f32 / (n - 1) as f32;
-        b.min + (b.max - b.min) * Vec3::new(f(i), f(i / n), f(i / (n * n)))
+        let f = |k: usize| (k % n) as f64 / (n - 1) as f64;
+        min + (max - min) * DVec3::new(f(i), f(i / n), f(i / (n * n)))
     })
 }
 
-fn triangle_samples(t: &Triangle) -> impl Iterator<Item = Vec3> + '_ {
+/// Points on the triangle, in `f64`: an `f32` sample far from the origin rounds off the
+/// triangle (by up to half an ulp, 1/64 at x = 262 144) and can touch a frustum the exact
+/// triangle misses, which a correct test then rightly rejects (CI found one, 2026-11-24).
+fn triangle_samples(t: &Triangle) -> impl Iterator<Item = DVec3> + '_ {
     let n = 12;
+    let [a, b, c] = [t.a, t.b, t.c].map(DVec3::from);
     (0..=n).flat_map(move |i| {
         (0..=n - i).map(move |j| {
-            let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
-            t.a + (t.b - t.a) * u + (t.c - t.a) * v
+            let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+            a + (b - a) * u + (c - a) * v
         })
     })
 }
