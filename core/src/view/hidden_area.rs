@@ -4,7 +4,7 @@
 
 use glam::{DVec2, Vec2};
 
-use super::FovTangents;
+use super::{polygon, FovTangents};
 
 /// The most triangles a view's hidden area may have (the mask's uniform block holds them).
 pub const MAX_HIDDEN_TRIANGLES: usize = 128;
@@ -66,41 +66,13 @@ impl HiddenArea {
         let area: f64 = self
             .ndc(fov)
             .iter()
-            .map(|t| polygon_area(&clip_to_square(t.map(|p| p.as_dvec2()).to_vec())))
+            .map(|t| {
+                let t = t.map(|p| p.as_dvec2()).to_vec();
+                polygon::area(&polygon::clip_to_rect(t, DVec2::NEG_ONE, DVec2::ONE))
+            })
             .sum();
         area / 4.0
     }
-}
-
-/// Sutherland–Hodgman: the polygon clipped to the square −1…1.
-fn clip_to_square(mut polygon: Vec<DVec2>) -> Vec<DVec2> {
-    // Each edge of the square as (axis, sign): inside where sign · p[axis] ≤ 1.
-    for (axis, sign) in [(0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0)] {
-        let inside = |p: DVec2| sign * p[axis] <= 1.0;
-        let mut out = Vec::with_capacity(polygon.len() + 1);
-        for (i, &a) in polygon.iter().enumerate() {
-            let b = polygon[(i + 1) % polygon.len()];
-            if inside(a) {
-                out.push(a);
-            }
-            if inside(a) != inside(b) {
-                let t = (sign - a[axis]) / (b[axis] - a[axis]);
-                out.push(a + (b - a) * t);
-            }
-        }
-        polygon = out;
-        if polygon.is_empty() {
-            break;
-        }
-    }
-    polygon
-}
-
-fn polygon_area(p: &[DVec2]) -> f64 {
-    let twice: f64 = (0..p.len())
-        .map(|i| p[i].perp_dot(p[(i + 1) % p.len()]))
-        .sum();
-    twice.abs() / 2.0
 }
 
 #[cfg(test)]

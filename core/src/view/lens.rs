@@ -2,9 +2,9 @@
 //! no hidden-area mesh: an ellipse centred on the image, scaled so that the area it hides in
 //! the corners matches the headset's published hidden-area fraction, clipped to the image.
 
-use glam::Vec2;
+use glam::{DVec2, Vec2};
 
-use super::FovTangents;
+use super::{polygon, FovTangents};
 
 /// The lens-visible region of one eye in tangent space (x = tan right, y = tan up).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -81,35 +81,21 @@ impl LensRegion {
     pub fn bounding_polygon(&self, n: usize) -> Vec<Vec2> {
         let (centre, axes) = self.ellipse();
         let grow = 1.0 / (std::f32::consts::PI / n as f32).cos();
-        let mut poly: Vec<Vec2> = (0..n)
+        let poly = (0..n)
             .map(|i| {
                 let a = std::f32::consts::TAU * i as f32 / n as f32;
-                centre + axes * grow * Vec2::new(a.cos(), a.sin())
+                (centre + axes * grow * Vec2::new(a.cos(), a.sin())).as_dvec2()
             })
             .collect();
         let f = self.fov;
-        // Clip against x ≥ −left, x ≤ right, y ≥ −down, y ≤ up (Sutherland–Hodgman).
-        for (axis, sign, bound) in [
-            (0, 1.0, -f.left),
-            (0, -1.0, f.right),
-            (1, 1.0, -f.down),
-            (1, -1.0, f.up),
-        ] {
-            let inside = |p: Vec2| sign * (p[axis] - bound) >= 0.0;
-            let mut out = Vec::with_capacity(poly.len() + 2);
-            for i in 0..poly.len() {
-                let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-                if inside(a) {
-                    out.push(a);
-                }
-                if inside(a) != inside(b) {
-                    let t = (bound - a[axis]) / (b[axis] - a[axis]);
-                    out.push(a + (b - a) * t);
-                }
-            }
-            poly = out;
-        }
-        poly
+        let (min, max) = (
+            DVec2::new(-f.left as f64, -f.down as f64),
+            DVec2::new(f.right as f64, f.up as f64),
+        );
+        polygon::clip_to_rect(poly, min, max)
+            .into_iter()
+            .map(|p| p.as_vec2())
+            .collect()
     }
 
     /// Whether pixel (x, y) of a `width` × `height` image of the region's view lies wholly

@@ -9,6 +9,7 @@ mod distortion;
 mod hidden_area;
 mod hmd;
 mod lens;
+mod polygon;
 mod projection;
 
 pub use distortion::RadialDistortion;

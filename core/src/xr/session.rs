@@ -383,7 +383,9 @@ impl<'g> XrSession<'g> {
             .as_secs_f64();
         let gaze = self.gaze(t, &fitted, time);
         let world_from_head = self.scene.head * fitted.world_from_head;
-        let config = self.config(&fitted.eyes);
+        // Only the first frame is checked: only it needs the reference's configuration.
+        let check = (self.settings.check_pixels && self.summary.pixels.is_none())
+            .then(|| self.config(&fitted.eyes));
         let swapchain = self.swapchain.as_mut().expect("made at begin");
         let index = swapchain.acquire_image().xr("xrAcquireSwapchainImage")?;
         swapchain
@@ -393,11 +395,8 @@ impl<'g> XrSession<'g> {
         renderer.select_output(index as usize)?;
         renderer.set_gaze(gaze);
         let stats = renderer.render_frame(world_from_head);
-        let checked = match (
-            &stats,
-            self.settings.check_pixels && self.summary.pixels.is_none(),
-        ) {
-            (Ok(_), true) => Some(check_pixels(
+        let checked = match (&stats, check) {
+            (Ok(_), Some(config)) => Some(check_pixels(
                 self.gpu,
                 self.scene,
                 &config,
