@@ -121,7 +121,7 @@ impl<W: HasWindowHandle> Backend for VulkanBackend<'_, W> {
         let gpu = self.gpu;
         let head = self.scene.head;
         let renderer = self.renderer()?;
-        renderer.set_gaze([gaze; 2]);
+        renderer.set_gaze([gaze; 2])?;
         let stats = renderer.render_frame(head)?;
         let sources = renderer.present_sources()?;
         let swapchain = self.swapchain.as_mut().ok_or("draw without a window")?;

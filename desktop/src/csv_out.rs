@@ -33,8 +33,7 @@ impl CsvTable {
     /// Writes the table where `--csv` asked for it, and says so.
     pub fn save(self, path: Option<&Path>) -> Result<()> {
         if let Some(path) = path {
-            std::fs::write(path, self.into_string()?)
-                .with_context(|| format!("writing {}", path.display()))?;
+            foveate::vocab::write_atomic(path, self.into_string()?.as_bytes())?;
             println!("wrote {}", path.display());
         }
         Ok(())

@@ -2,18 +2,20 @@
 
 use anyhow::Result;
 
-/// A `--gaze X,Y` argument: two finite numbers, clamped to −1…1.
+/// A `--gaze X,Y` argument: two finite numbers in −1…1 (the library's one policy,
+/// [`foveate::foveation::check_gaze`]: outside it is an error naming the limit, not a clamp).
 pub fn gaze_from(values: &[f32]) -> Result<glam::Vec2> {
     anyhow::ensure!(
         values.len() == 2,
         "invalid gaze = {values:?}: two numbers X,Y in -1..1"
     );
     let gaze = glam::Vec2::new(values[0], values[1]);
-    anyhow::ensure!(
-        gaze.is_finite(),
-        "invalid gaze = {},{}: finite numbers in -1..1",
-        values[0],
-        values[1]
-    );
-    Ok(gaze.clamp(glam::Vec2::NEG_ONE, glam::Vec2::ONE))
+    foveate::foveation::check_gaze([gaze; 2]).map_err(|_| {
+        anyhow::anyhow!(
+            "invalid gaze = {},{}: X and Y finite, in -1..1",
+            values[0],
+            values[1]
+        )
+    })?;
+    Ok(gaze)
 }

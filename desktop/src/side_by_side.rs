@@ -68,7 +68,7 @@ pub fn measure_group(gpu: &Gpu, group: &Group) -> Result<Vec<Measured>> {
         .iter()
         .map(|c| {
             let mut r = Renderer::new(gpu, &foveate::plan(scene, c, gpu.caps())?, scene)?;
-            r.set_gaze([gaze; 2]);
+            r.set_gaze([gaze; 2])?;
             Ok(r)
         })
         .collect::<Result<Vec<_>>>()?;

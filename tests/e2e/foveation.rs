@@ -131,7 +131,7 @@ fn default_scene_renders_foveated_with_a_moving_gaze() {
     let mut renderer = foveate::render::Renderer::new(&gpu, &plan, &scene).unwrap();
     // Centre, off-centre, and clamped at the bottom-right edge (ground there, not sky).
     for gaze in [Vec2::ZERO, Vec2::new(0.6, -0.3), Vec2::new(1.0, -1.0)] {
-        renderer.set_gaze([gaze, gaze]);
+        renderer.set_gaze([gaze, gaze]).unwrap();
         let stats = renderer.render_frame(scene.head).unwrap();
         assert_eq!(stats.fragments.len(), 4);
         assert!(
@@ -624,7 +624,7 @@ fn fovea_culling_changes_no_pixel_in_either_layout() {
         };
         let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
         let mut renderer = Renderer::new(&gpu, &plan, &scene).unwrap();
-        renderer.set_gaze([gaze; 2]);
+        renderer.set_gaze([gaze; 2]).unwrap();
         let stats = renderer.render_frame(scene.head).unwrap();
         let image = renderer.readback().unwrap();
         drop(renderer);

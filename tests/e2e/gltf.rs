@@ -123,7 +123,7 @@ const ASSIMP_MODELS: &[(&str, Option<&str>)] = &[
     ),
     (
         "RecursiveNodes/RecursiveNodes.gltf",
-        Some("too deep or cyclic"),
+        Some("or the hierarchy is cyclic"),
     ),
     (
         "SchemaFailures/sceneWrongType.gltf",

@@ -74,7 +74,7 @@ pub fn render_motion(
     let mut renderer = Renderer::new(gpu, plan, scene).expect("renderer");
     let mut images = Vec::new();
     for (frame, &(pose, gaze)) in motion.iter().enumerate() {
-        renderer.set_gaze([gaze; 2]);
+        renderer.set_gaze([gaze; 2]).expect("gaze in -1..1");
         renderer.render_frame(pose).expect("frame");
         if read(frame) {
             images.push(renderer.readback().expect("readback"));
@@ -89,7 +89,7 @@ pub fn render_motion(
 pub fn render_at(gpu: &Gpu, scene: &Scene, config: &RenderConfig, gaze: Vec2) -> StereoImage {
     let plan = foveate::plan(scene, config, gpu.caps()).unwrap();
     let mut renderer = Renderer::new(gpu, &plan, scene).unwrap();
-    renderer.set_gaze([gaze; 2]);
+    renderer.set_gaze([gaze; 2]).expect("gaze in -1..1");
     renderer.render_frame(scene.head).unwrap();
     let image = renderer.readback().unwrap();
     drop(renderer);
@@ -117,7 +117,7 @@ pub fn failure_dir() -> PathBuf {
 pub fn assert_matches_golden(name: &str, actual: &RgbaImage, min_ssim: f64) {
     let path = golden_dir().join(format!("{name}.png"));
     if std::env::var("FOVEATE_BLESS").is_ok_and(|v| v == "1") {
-        actual.save_png(&path).expect("write golden image");
+        actual.save(&path).expect("write golden image");
         eprintln!("blessed {}", path.display());
         return;
     }
@@ -136,9 +136,9 @@ pub fn assert_matches_golden(name: &str, actual: &RgbaImage, min_ssim: f64) {
         let dir = failure_dir();
         std::fs::create_dir_all(&dir).expect("create failure dir");
         let actual_path = dir.join(format!("{name}-actual.png"));
-        actual.save_png(&actual_path).expect("write actual");
+        actual.save(&actual_path).expect("write actual");
         if let Ok(diff) = expected.diff_image(actual) {
-            diff.save_png(&dir.join(format!("{name}-diff.png")))
+            diff.save(&dir.join(format!("{name}-diff.png")))
                 .expect("write diff");
         }
         panic!(

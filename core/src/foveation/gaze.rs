@@ -5,6 +5,8 @@ use std::path::Path;
 
 use glam::Vec2;
 
+use crate::vocab::ConfigError;
+
 /// One eye-tracker sample: time in seconds, each eye's gaze in normalised image coordinates
 /// (−1…1, x right, y up; 0 is the image centre), and the tracker's validity flag.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -82,6 +84,30 @@ pub fn parse_gaze_csv(path: &Path) -> Result<Vec<GazeSample>, GazeError> {
         });
     }
     Ok(samples)
+}
+
+/// Checks a gaze the renderer is handed (`Renderer::set_gaze`, the CLI's `--gaze`): each
+/// component finite and within −1…1, the view's edges. The one policy everywhere: a bad gaze is
+/// an error naming the eye, the value and the limit, never clamped or passed on silently. Raw
+/// tracker samples, which are bad now and then by nature, go through a [`GazeFilter`] first.
+pub fn check_gaze(gaze: [Vec2; 2]) -> Result<(), ConfigError> {
+    for (eye, g) in ["left gaze", "right gaze"].into_iter().zip(gaze) {
+        if !g.is_finite() {
+            return Err(ConfigError::new(
+                eye,
+                format!("{},{}", g.x, g.y),
+                "finite numbers in -1..1 (filter raw tracker samples with GazeFilter)",
+            ));
+        }
+        if g.x.abs() > 1.0 || g.y.abs() > 1.0 {
+            return Err(ConfigError::new(
+                eye,
+                format!("{},{}", g.x, g.y),
+                "X and Y in -1..1 (the view's edges)",
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Turns raw samples into the gaze to render with: a sample that is invalid, NaN or outside

@@ -20,12 +20,26 @@ pub fn fovea_tangents(periphery: FovTangents, ratio: f32, gaze: Vec2) -> FovTang
     let half = Vec2::new(p.left + p.right, p.up + p.down) * (ratio * 0.5);
     let lo = Vec2::new(-p.left, -p.down) + half;
     let hi = Vec2::new(p.right, p.up) - half;
-    let c = Vec2::new(gaze.x.clamp(lo.x, hi.x), gaze.y.clamp(lo.y, hi.y));
+    let c = Vec2::new(
+        clamp_inside(gaze.x, lo.x, hi.x),
+        clamp_inside(gaze.y, lo.y, hi.y),
+    );
     FovTangents {
         left: half.x - c.x,
         right: half.x + c.x,
         up: half.y + c.y,
         down: half.y - c.y,
+    }
+}
+
+/// `v` clamped to `lo..=hi`; when rounding has put `lo` past `hi` (a window as wide as what
+/// holds it: ratio 1, or a fovea view that rounds to the periphery's size), the one place left,
+/// their midpoint (`f32::clamp` panics there, and on a NaN bound, which passes through here).
+pub(crate) fn clamp_inside(v: f32, lo: f32, hi: f32) -> f32 {
+    if !(lo <= hi) {
+        (lo + hi) * 0.5
+    } else {
+        v.clamp(lo, hi)
     }
 }
 

@@ -17,7 +17,7 @@ pub use eye_movement::{
     amplitude_for_peak_velocity, saccade_duration_s, saccade_peak_velocity, EyeMovementModel,
     EyeTrace, GazeSpace, SaccadeEvent, SeededRng, TRUTH_HZ,
 };
-pub use gaze::{parse_gaze_csv, simulated_trace, GazeError, GazeFilter, GazeSample};
+pub use gaze::{check_gaze, parse_gaze_csv, simulated_trace, GazeError, GazeFilter, GazeSample};
 pub use inset::{fovea_tangents, inset_fov_deg};
 pub use latency::{
     detect_saccades, DelayedGaze, GazeLatency, Prediction, MAX_LATENCY_MS, SACCADE_THRESHOLD_DEG_S,

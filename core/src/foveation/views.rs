@@ -3,6 +3,7 @@
 
 use glam::{Vec2, Vec4};
 
+use super::inset::clamp_inside;
 use super::{fovea_tangents, FoveationGeometry};
 use crate::view::{Eye, EyeParams, FovTangents};
 
@@ -35,8 +36,8 @@ fn snap_to_pixels(p: FovTangents, f: FovTangents, screen: (u32, u32)) -> FovTang
     let (w, h) = (screen.0 as f32, screen.1 as f32);
     let (sx, sy) = (w / (p.left + p.right), h / (p.up + p.down));
     let (width, height) = (f.left + f.right, f.up + f.down);
-    let left_px = ((p.left - f.left) * sx).round().clamp(0.0, w - width * sx);
-    let top_px = ((p.up - f.up) * sy).round().clamp(0.0, h - height * sy);
+    let left_px = clamp_inside(((p.left - f.left) * sx).round(), 0.0, w - width * sx);
+    let top_px = clamp_inside(((p.up - f.up) * sy).round(), 0.0, h - height * sy);
     let x0 = -p.left + left_px / sx;
     let top = p.up - top_px / sy;
     FovTangents {

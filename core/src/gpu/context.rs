@@ -508,19 +508,16 @@ impl Gpu {
                 .get_pipeline_cache_data(self.pipeline_cache.raw)
         }
         .vk("vkGetPipelineCacheData")?;
-        // Written aside and renamed into place: runs in parallel never read a torn file.
-        let write = || -> std::io::Result<()> {
-            if let Some(dir) = path.parent() {
-                std::fs::create_dir_all(dir)?;
-            }
-            let aside = path.with_extension(format!("tmp{}", std::process::id()));
-            std::fs::write(&aside, &data)?;
-            std::fs::rename(&aside, path)
-        };
-        write().map_err(|e| GpuError::PipelineCache {
+        // Written aside and renamed into place: runs in parallel never read a torn file, and a
+        // failed write (a full disk, a path that is a folder) leaves nothing behind.
+        let fail = |error: String| GpuError::PipelineCache {
             path: path.display().to_string(),
-            error: e.to_string(),
-        })?;
+            error,
+        };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| fail(e.to_string()))?;
+        }
+        crate::vocab::write_atomic(path, &data).map_err(|e| fail(e.why))?;
         Ok(Some(path.clone()))
     }
 

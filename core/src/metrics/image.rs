@@ -216,7 +216,7 @@ mod tests {
         let sbs = RgbaImage::side_by_side(&a, &b);
         assert_eq!(sbs.crop(8, 0, 8, 4), b);
         let path = std::env::temp_dir().join(format!("foveate-png-{}.png", std::process::id()));
-        sbs.save_png(&path).unwrap();
+        sbs.save(&path).unwrap();
         assert_eq!(RgbaImage::load_png(&path).unwrap(), sbs);
         let _ = std::fs::remove_file(path);
     }

@@ -88,7 +88,9 @@ fn eyes_fit(eyes: &EyeParams, planned: &EyeParams) -> Result<(), ConfigError> {
             .as_array()
             .iter()
             .zip(bound.as_array())
-            .all(|(t, b)| t.is_finite() && *t <= b + SLACK);
+            .all(|(t, b)| t.is_finite() && *t <= b + SLACK)
+            && fov.left + fov.right > 0.0
+            && fov.up + fov.down > 0.0;
         if !inside {
             return Err(ConfigError::new(
                 if eye == Eye::Left {
@@ -98,7 +100,7 @@ fn eyes_fit(eyes: &EyeParams, planned: &EyeParams) -> Result<(), ConfigError> {
                 },
                 format!("{:?}", fov.as_array()),
                 format!(
-                    "within the planned tangents {:?} (replan for a wider field)",
+                    "within the planned tangents {:?}, of positive width and height (replan for a wider field)",
                     bound.as_array()
                 ),
             ));
@@ -114,7 +116,8 @@ fn eyes_fit(eyes: &EyeParams, planned: &EyeParams) -> Result<(), ConfigError> {
             ),
         ));
     }
-    if (eyes.cant_rad - planned.cant_rad).abs() > 1e-4 {
+    // Written so a NaN cant fails the check too.
+    if !((eyes.cant_rad - planned.cant_rad).abs() <= 1e-4) {
         return Err(ConfigError::new(
             "cant",
             eyes.cant_rad.to_degrees(),
@@ -300,10 +303,14 @@ impl<'g> Renderer<'g> {
         Ok(())
     }
 
-    /// Sets each eye's gaze (normalised −1…1, x right, y up) for the following frames. Filter
-    /// raw tracker samples first ([`crate::foveation::GazeFilter`]).
-    pub fn set_gaze(&mut self, gaze: [Vec2; 2]) {
+    /// Sets each eye's gaze (normalised −1…1, x right, y up) for the following frames. A gaze
+    /// that is not finite or lies outside −1…1 is an error and the previous gaze stays
+    /// ([`crate::foveation::check_gaze`]): filter raw tracker samples first
+    /// ([`crate::foveation::GazeFilter`]).
+    pub fn set_gaze(&mut self, gaze: [Vec2; 2]) -> Result<(), ConfigError> {
+        crate::foveation::check_gaze(gaze)?;
         self.gaze = gaze;
+        Ok(())
     }
 
     /// Each eye's gaze for the next frame.
@@ -311,8 +318,17 @@ impl<'g> Renderer<'g> {
         self.gaze
     }
 
-    /// Renders one frame with the head at `world_from_head` and waits for it.
+    /// Renders one frame with the head at `world_from_head` (a finite matrix, or an error) and
+    /// waits for it.
     pub fn render_frame(&mut self, world_from_head: Mat4) -> Result<FrameStats, GpuError> {
+        if !world_from_head.is_finite() {
+            return Err(ConfigError::new(
+                "world_from_head",
+                format!("{:?}", world_from_head.to_cols_array()),
+                "a finite matrix (a lost head-tracking sample: keep the last good pose)",
+            )
+            .into());
+        }
         let plan = &self.plan;
         let fovea = plan.foveation.map(|g| {
             let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
@@ -756,6 +772,6 @@ pub fn counting_frame(
 ) -> Result<FrameStats, GpuError> {
     let plan = crate::plan(scene, &config.counting(), gpu.caps())?;
     let mut renderer = Renderer::new(gpu, &plan, scene)?;
-    renderer.set_gaze(gaze);
+    renderer.set_gaze(gaze)?;
     renderer.render_frame(world_from_head)
 }

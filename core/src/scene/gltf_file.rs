@@ -14,11 +14,11 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use base64::Engine;
 use glam::{Mat4, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
+use super::gltf_uri::{read_bounded, read_uri};
 use super::textures::unorm8;
 use super::TEXTURE_SIZE;
 use super::{DrawBatch, Instance, Material, MaterialTextures, Mesh, Scene, Surface, Vertex};
@@ -36,9 +36,13 @@ pub struct SceneFileError {
 /// Deepest node hierarchy followed (glTF forbids cycles; a malformed file must not recurse
 /// without end).
 const MAX_NODE_DEPTH: usize = 256;
+/// Most node placements followed (a shared subtree is placed once per parent).
+const MAX_NODE_VISITS: usize = 1 << 20;
 /// Largest image decoded, per side and in bytes.
 const MAX_IMAGE_SIDE: u32 = 16384;
 const MAX_IMAGE_BYTES: u64 = 512 << 20;
+/// Largest scene file read (a `.glb` holds its buffers; the largest sample models are ~100 MB).
+const MAX_SCENE_FILE_BYTES: u64 = 2 << 30;
 
 /// Whether `name` names a scene file rather than a built-in scene.
 pub fn is_scene_file(name: &str) -> bool {
@@ -52,7 +56,7 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneFileError> {
         path: path.to_path_buf(),
         problem,
     };
-    let bytes = std::fs::read(path).map_err(|e| fail(format!("cannot read it: {e}")))?;
+    let bytes = read_bounded(path, MAX_SCENE_FILE_BYTES).map_err(fail)?;
     gltf_from_slice(&bytes, path.parent()).map_err(fail)
 }
 
@@ -97,8 +101,17 @@ pub fn gltf_from_slice(bytes: &[u8], base: Option<&Path>) -> Result<Scene, Strin
     let mut visits = 0usize;
     while let Some((node, parent, depth)) = stack.pop() {
         visits += 1;
-        if depth > MAX_NODE_DEPTH || visits > 1 << 20 {
-            return Err("node hierarchy too deep or cyclic".into());
+        if depth > MAX_NODE_DEPTH {
+            return Err(format!(
+                "node {} lies {depth} levels deep, more than the {MAX_NODE_DEPTH} foveate follows (or the hierarchy is cyclic)",
+                node.index()
+            ));
+        }
+        if visits > MAX_NODE_VISITS {
+            return Err(format!(
+                "its hierarchy places more than {MAX_NODE_VISITS} nodes (reached at node {}): cyclic, or subtrees shared too often",
+                node.index()
+            ));
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if !world.is_finite() {
@@ -223,8 +236,10 @@ fn load_buffer(
         gltf::buffer::Source::Bin => blob
             .ok_or(format!("{what} is the GLB binary chunk, which is missing"))?
             .to_vec(),
+        // Bounded by the declared length (a file may pad it to 4 bytes, as GLB chunks are).
         gltf::buffer::Source::Uri(uri) => {
-            read_uri(uri, base).map_err(|e| format!("{what}: {e}"))?
+            let limit = (buffer.length() as u64).next_multiple_of(4);
+            read_uri(uri, base, limit).map_err(|e| format!("{what}: {e}"))?
         }
     };
     if data.len() < buffer.length() {
@@ -235,50 +250,6 @@ fn load_buffer(
         ));
     }
     Ok(data)
-}
-
-/// The bytes a URI names: a base64 `data:` URI or a file relative to `base`.
-fn read_uri(uri: &str, base: Option<&Path>) -> Result<Vec<u8>, String> {
-    if let Some(rest) = uri.strip_prefix("data:") {
-        let (_, data) = rest
-            .split_once(";base64,")
-            .ok_or("a data URI that is not base64")?;
-        return base64::engine::general_purpose::STANDARD
-            .decode(data)
-            .map_err(|e| format!("bad base64 in its data URI: {e}"));
-    }
-    if uri.contains("://") {
-        return Err(format!("{uri} is not a local file"));
-    }
-    let base = base.ok_or(format!(
-        "names file {uri}, but there is no folder to look in"
-    ))?;
-    let path = base.join(percent_decode(uri));
-    std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))
-}
-
-/// `%XX` escapes decoded (glTF URIs are URI-encoded: a space is `%20`).
-fn percent_decode(uri: &str) -> String {
-    let bytes = uri.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        let hex = (bytes[i] == b'%')
-            .then(|| uri.get(i + 1..i + 3))
-            .flatten()
-            .and_then(|h| u8::from_str_radix(h, 16).ok());
-        match hex {
-            Some(b) => {
-                out.push(b);
-                i += 3;
-            }
-            None => {
-                out.push(bytes[i]);
-                i += 1;
-            }
-        }
-    }
-    String::from_utf8_lossy(&out).into_owned()
 }
 
 /// A primitive's vertices and triangle-list indices.
@@ -643,7 +614,7 @@ impl Loader<'_> {
                     .to_vec()
             }
             gltf::image::Source::Uri { uri, .. } => {
-                read_uri(uri, self.base).map_err(|e| format!("{what}: {e}"))?
+                read_uri(uri, self.base, MAX_IMAGE_BYTES).map_err(|e| format!("{what}: {e}"))?
             }
         };
         let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))

@@ -1,6 +1,7 @@
 //! The glTF loader on files built here, byte by byte: what it reads, what it refuses, and that
 //! mutated files never panic it.
 
+use base64::Engine;
 use proptest::prelude::*;
 use serde_json::{json, Value};
 
@@ -278,7 +279,7 @@ fn a_missing_file_is_named() {
     assert_eq!(e.path, Path::new("/nonexistent/scene.glb"));
     assert!(
         e.to_string()
-            .contains("/nonexistent/scene.glb: cannot read it"),
+            .contains("cannot read /nonexistent/scene.glb: No such file"),
         "{e}"
     );
 }
@@ -301,6 +302,89 @@ fn embedded_and_external_buffers_load_like_the_binary_file() {
     let binary = a.load().unwrap();
     assert_eq!(embedded, binary);
     assert_eq!(external, binary);
+}
+
+/// A scene folder holding `quads.gltf`, whose buffer is the URI `uri` declared as the real
+/// buffer's length; `prepare` sets up the folder (and around it) first.
+fn scene_with_buffer_uri(name: &str, uri: &str, prepare: impl FnOnce(&Path, &[u8])) -> String {
+    let a = two_quads();
+    let root = std::env::temp_dir().join(format!("foveate-uri-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    let dir = root.join("scene");
+    std::fs::create_dir_all(&dir).unwrap();
+    prepare(&dir, &a.bin);
+    let mut json = a.json.clone();
+    json["buffers"] = json!([{"uri": uri, "byteLength": a.bin.len()}]);
+    std::fs::write(dir.join("quads.gltf"), serde_json::to_vec(&json).unwrap()).unwrap();
+    let loaded = load_gltf(&dir.join("quads.gltf"));
+    std::fs::remove_dir_all(&root).unwrap();
+    loaded.err().map_or_else(String::new, |e| e.to_string())
+}
+
+/// URIs resolve inside the scene's folder: `..`, an absolute path and a link that leads out
+/// are refused naming the rule; the same bytes inside the folder load (the negative control:
+/// reading `..` as before would load the first case).
+#[test]
+fn a_scene_reads_only_files_in_its_folder() {
+    let outside = |dir: &Path, bin: &[u8]| {
+        std::fs::write(dir.parent().unwrap().join("outside.bin"), bin).unwrap();
+    };
+    let e = scene_with_buffer_uri("dotdot", "../outside.bin", outside);
+    assert!(e.contains("outside the scene's folder"), "{e}");
+    let e = scene_with_buffer_uri("link", "link.bin", |dir, bin| {
+        outside(dir, bin);
+        std::os::unix::fs::symlink(
+            dir.parent().unwrap().join("outside.bin"),
+            dir.join("link.bin"),
+        )
+        .unwrap();
+    });
+    assert!(e.contains("outside the scene's folder"), "{e}");
+    let e = scene_with_buffer_uri("absolute", "/etc/hostname", |_, _| {});
+    assert!(e.contains("an absolute path"), "{e}");
+    let e = scene_with_buffer_uri("inside", "sub/inside.bin", |dir, bin| {
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        std::fs::write(dir.join("sub/inside.bin"), bin).unwrap();
+    });
+    assert_eq!(e, "", "a buffer inside the folder loads");
+}
+
+/// The peak resident memory of this process (`VmHWM`), in bytes.
+fn peak_memory() -> u64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap();
+    let kb = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
+        .unwrap();
+    kb * 1024
+}
+
+/// Reads are bounded by the declared length: a device file and a sparse 4 GB file declared as
+/// the real buffer's length are refused at once, naming both sizes, without reading them (the
+/// process's peak memory grows by under 100 MB; an unbounded read would take 4 GB or, for
+/// `/dev/zero`, all of it).
+#[test]
+fn buffers_are_read_no_further_than_declared() {
+    let before = peak_memory();
+    let start = std::time::Instant::now();
+    let e = scene_with_buffer_uri("zero", "zero.bin", |dir, _| {
+        std::os::unix::fs::symlink("/dev/zero", dir.join("zero.bin")).unwrap();
+    });
+    assert!(e.contains("outside the scene's folder"), "{e}");
+    assert!(read_bounded(Path::new("/dev/zero"), 36)
+        .unwrap_err()
+        .contains("not a regular file"),);
+    let e = scene_with_buffer_uri("sparse", "sparse.bin", |dir, _| {
+        let f = std::fs::File::create(dir.join("sparse.bin")).unwrap();
+        f.set_len(4 << 30).unwrap();
+    });
+    assert!(
+        e.contains("buffer 0") && e.contains("holds 4294967296 bytes, more than the"),
+        "{e}"
+    );
+    assert!(start.elapsed().as_secs_f64() < 2.0, "{:?}", start.elapsed());
+    assert!(peak_memory() - before < 100 << 20);
 }
 
 /// Every number in `v`, as a mutable reference.

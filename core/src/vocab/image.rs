@@ -3,19 +3,20 @@
 
 use std::path::{Path, PathBuf};
 
-/// Why an image could not be read or written.
+use super::files::{check_writable, write_atomic, FileError};
+
+/// Why an image could not be read or written. Each message names the file and the cause once
+/// (the cause is part of the message, not a separate source, so `{:#}` chains do not repeat it).
 #[derive(Debug, thiserror::Error)]
 pub enum ImageError {
-    #[error("cannot read image {path}: {source}")]
-    Read {
-        path: PathBuf,
-        source: image::ImageError,
-    },
-    #[error("cannot write PNG {path}: {source}")]
-    Write {
-        path: PathBuf,
-        source: image::ImageError,
-    },
+    #[error("cannot read image {}: {why}", path.display())]
+    Read { path: PathBuf, why: String },
+    #[error("cannot write image {}: {why}", path.display())]
+    Encode { path: PathBuf, why: String },
+    #[error("{0}")]
+    Write(FileError),
+    #[error("cannot write image {}: its extension names no format foveate writes ({}); use .png, or .jpg/.jpeg", path.display(), if extension.is_empty() { "none" } else { extension })]
+    UnknownFormat { path: PathBuf, extension: String },
     #[error("images differ in size: {a:?} vs {b:?}")]
     SizeMismatch { a: (u32, u32), b: (u32, u32) },
 }
@@ -102,27 +103,71 @@ impl RgbaImage {
         out
     }
 
-    /// Writes an 8-bit RGBA PNG.
-    pub fn save_png(&self, path: &Path) -> Result<(), ImageError> {
-        image::save_buffer_with_format(
-            path,
-            &self.data,
-            self.width,
-            self.height,
-            image::ExtendedColorType::Rgba8,
-            image::ImageFormat::Png,
-        )
-        .map_err(|source| ImageError::Write {
+    /// The format a path's extension names: `.png` (8-bit RGBA) or `.jpg`/`.jpeg` (RGB,
+    /// quality 95, alpha dropped); anything else is an error naming the extension.
+    pub fn format_for(path: &Path) -> Result<image::ImageFormat, ImageError> {
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        match extension.as_str() {
+            "png" => Ok(image::ImageFormat::Png),
+            "jpg" | "jpeg" => Ok(image::ImageFormat::Jpeg),
+            _ => Err(ImageError::UnknownFormat {
+                path: path.into(),
+                extension,
+            }),
+        }
+    }
+
+    /// Checks, before the work that makes the image, that `path` names a format foveate writes
+    /// and can be written ([`check_writable`]).
+    pub fn check_output(path: &Path) -> Result<(), ImageError> {
+        Self::format_for(path)?;
+        check_writable(path).map_err(ImageError::Write)
+    }
+
+    /// Writes the image in the format its extension names ([`RgbaImage::format_for`]),
+    /// atomically: a failed write leaves an earlier file at `path` as it was.
+    pub fn save(&self, path: &Path) -> Result<(), ImageError> {
+        let format = Self::format_for(path)?;
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        let fail = |why: String| ImageError::Encode {
             path: path.into(),
-            source,
-        })
+            why,
+        };
+        let encoded = match format {
+            image::ImageFormat::Jpeg => {
+                let rgba = image::RgbaImage::from_raw(self.width, self.height, self.data.clone())
+                    .ok_or_else(|| {
+                    fail(format!(
+                        "{} bytes do not hold {}x{} RGBA pixels",
+                        self.data.len(),
+                        self.width,
+                        self.height
+                    ))
+                })?;
+                image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, 95)
+                    .encode_image(&image::DynamicImage::from(rgba).to_rgb8())
+            }
+            _ => image::write_buffer_with_format(
+                &mut bytes,
+                &self.data,
+                self.width,
+                self.height,
+                image::ExtendedColorType::Rgba8,
+                format,
+            ),
+        };
+        encoded.map_err(|e| fail(e.to_string()))?;
+        write_atomic(path, bytes.get_ref()).map_err(ImageError::Write)
     }
 
     /// Reads an image (PNG or JPEG, any channel layout or depth), converted to 8-bit RGBA.
     pub fn load_png(path: &Path) -> Result<RgbaImage, ImageError> {
-        let img = image::open(path).map_err(|source| ImageError::Read {
+        let img = image::open(path).map_err(|e| ImageError::Read {
             path: path.into(),
-            source,
+            why: e.to_string(),
         })?;
         Ok(RgbaImage::from(img.to_rgba8()))
     }

@@ -5,12 +5,14 @@
 
 mod caps;
 mod error;
+mod files;
 mod image;
 mod named_enum;
 mod resolution;
 
 pub use caps::{DeviceCaps, DriverQuirks};
 pub use error::ConfigError;
+pub use files::{check_writable, write_atomic, write_atomic_with, FileError};
 pub use image::{ImageError, RgbaImage};
 pub(crate) use named_enum::named_enum;
 pub use resolution::Resolution;

@@ -80,7 +80,7 @@ pub fn check_pixels(
     let render = |head: Mat4| -> Result<StereoImage, GpuError> {
         let mut own = Renderer::new(gpu, &plan, scene)?;
         own.set_eyes(renderer.plan().eyes)?;
-        own.set_gaze(renderer.gaze());
+        own.set_gaze(renderer.gaze())?;
         if let Some(areas) = hidden_area {
             own.set_hidden_area(areas.clone())?;
         }

@@ -393,7 +393,7 @@ impl<'g> XrSession<'g> {
             .xr("xrWaitSwapchainImage")?;
         let renderer = self.renderer.as_mut().expect("made above");
         renderer.select_output(index as usize)?;
-        renderer.set_gaze(gaze);
+        renderer.set_gaze(gaze)?;
         let stats = renderer.render_frame(world_from_head);
         let checked = match (&stats, check) {
             (Ok(_), Some(config)) => Some(check_pixels(

@@ -254,7 +254,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
                 &heat_map(&maps[0], &pixels[0]),
                 &heat_map(&maps[1], &pixels[1]),
             );
-            picture.save_png(&dir.join(format!("{}.png", slug(name))))?;
+            picture.save(&dir.join(format!("{}.png", slug(name))))?;
         }
     }
     let (rows, measured): (Vec<Row>, Vec<FrameAccuracy>) = named

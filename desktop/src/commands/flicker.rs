@@ -172,7 +172,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         let mut renderers = Vec::new();
         for plan in &plans {
             let mut renderer = Renderer::new(&gpu, plan, &scene)?;
-            renderer.set_gaze([first_gaze; 2]);
+            renderer.set_gaze([first_gaze; 2])?;
             settle(&mut renderer, first_pose)?;
             renderers.push(renderer);
         }
@@ -184,7 +184,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
             // Frames of every configuration interleaved, the reference first.
             let mut images = Vec::new();
             for renderer in &mut renderers {
-                renderer.set_gaze([gaze; 2]);
+                renderer.set_gaze([gaze; 2])?;
                 renderer.render_frame(pose)?;
                 images.push(renderer.readback()?);
             }

@@ -280,7 +280,7 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
         let mut rows = vec![vec![UNJUDGED; frames.len()]; trackings.len()];
         for key in &gazes {
             let g = Vec2::from_array(key.map(f32::from_bits));
-            renderer.set_gaze([g; 2]);
+            renderer.set_gaze([g; 2])?;
             renderer.render_frame(sweep.scene.head)?;
             let image = renderer.readback()?;
             for &(k, i) in &by_gaze[key] {

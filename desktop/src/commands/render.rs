@@ -1,6 +1,6 @@
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{parse_gaze_csv, simulated_trace, GazeFilter};
 use foveate::gpu::{Gpu, GpuOptions};
@@ -93,7 +93,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         println!("{plan}\n");
         let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
         if let Some(g) = &args.config.gaze {
-            renderer.set_gaze([crate::gaze_arg::gaze_from(g)?; 2]);
+            renderer.set_gaze([crate::gaze_arg::gaze_from(g)?; 2])?;
         }
         // An accumulated periphery is timed and shown as it looks once its history settled.
         crate::side_by_side::settle(&mut renderer, scene.head)?;
@@ -121,7 +121,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
                 let t = i as f64 / 90.0;
                 let k = trace.partition_point(|s| s.t <= t);
                 if k > 0 {
-                    renderer.set_gaze(filter.update(&trace[k - 1]));
+                    renderer.set_gaze(filter.update(&trace[k - 1]))?;
                 }
             }
             let stats = renderer.render_frame(scene.head)?;
@@ -204,9 +204,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
 }
 
 fn save(image: &foveate::metrics::RgbaImage, out: &Path, layout: &str) -> Result<()> {
-    image
-        .save_png(out)
-        .with_context(|| format!("writing {}", out.display()))?;
+    image.save(out)?;
     println!(
         "wrote {} ({}x{}, {layout})",
         out.display(),

@@ -125,7 +125,7 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
     drop(viewer.frame.take());
     drop(viewer.swapchain.take());
     if let (Some(path), Some(image)) = (&args.save, &viewer.capture) {
-        image.save_png(path)?;
+        image.save(path)?;
         println!(
             "saved {} ({}x{}, the last presented image)",
             path.display(),
@@ -245,7 +245,7 @@ impl<'g> Viewer<'g> {
         let started = Instant::now();
         let gpu = self.gpu;
         let frame = self.frame()?;
-        frame.timed.set_gaze(gaze);
+        frame.timed.set_gaze(gaze)?;
         let stats = frame.timed.render_frame(frame.scene.head)?;
         let sources = frame.timed.present_sources()?;
         let swapchain = self.swapchain.as_mut().expect("a window has a swapchain");
@@ -280,7 +280,7 @@ impl<'g> Viewer<'g> {
         let gaze = [self.shown_gaze; 2];
         let summary = self.settings.summary();
         let frame = self.frame()?;
-        frame.counting.set_gaze(gaze);
+        frame.counting.set_gaze(gaze)?;
         let counted: FrameStats = frame.counting.render_frame(frame.scene.head)?;
         let fragments: u64 =
             counted.fragments.iter().sum::<u64>() + counted.far_fragments.unwrap_or(0);

@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use clap::Args;
 use foveate::foveation::simulated_trace;
 use foveate::gpu::GpuOptions;
@@ -165,11 +165,7 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
     }
     // What the run made is written before any verdict: a lost session keeps its picture.
     if let (Some(check), Some(path)) = (&summary.pixels, &args.save) {
-        check
-            .submitted
-            .side_by_side()
-            .save_png(path)
-            .with_context(|| format!("writing {}", path.display()))?;
+        check.submitted.side_by_side().save(path)?;
         println!("wrote {} (the checked frame as submitted)", path.display());
     }
     match life.ended() {

@@ -270,8 +270,10 @@ fn foveation_table(gpu: &Gpu, args: &BenchArgs) -> Result<()> {
         args.msaa,
         args.foveation_frames
     );
-    std::fs::write(&md, header + &crate::fovea_table::markdown(&rows))
-        .with_context(|| format!("writing {}", md.display()))?;
+    foveate::vocab::write_atomic(
+        &md,
+        (header + &crate::fovea_table::markdown(&rows)).as_bytes(),
+    )?;
     println!("wrote {}", md.display());
     crate::fovea_table::csv(&rows)?.save(Some(&args.out.join("foveation-table.csv")))
 }

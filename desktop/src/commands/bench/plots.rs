@@ -36,6 +36,35 @@ fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow::anyhow!("drawing a plot: {e:?}")
 }
 
+/// Draws one plot, `$draw` called with a drawing area, into memory twice (a bitmap, an SVG
+/// string) and writes each file atomically: a failed run never leaves a half-drawn plot over
+/// the last good one. A macro because the drawing functions are generic over the backend.
+macro_rules! plot_files {
+    ($png:expr, $svg:expr, $size:expr, $draw:expr) => {{
+        let size: (u32, u32) = $size;
+        let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
+        $draw(BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area())?;
+        write_png(&rgb, size, $png)?;
+        let mut svg = String::new();
+        $draw(SVGBackend::with_string(&mut svg, size).into_drawing_area())?;
+        foveate::vocab::write_atomic($svg, svg.as_bytes())?;
+    }};
+}
+
+/// An RGB bitmap as a PNG, atomically.
+fn write_png(rgb: &[u8], size: (u32, u32), path: &Path) -> Result<()> {
+    let data = rgb
+        .chunks_exact(3)
+        .flat_map(|p| [p[0], p[1], p[2], 255])
+        .collect();
+    let image = foveate::metrics::RgbaImage {
+        width: size.0,
+        height: size.1,
+        data,
+    };
+    Ok(image.save(path)?)
+}
+
 /// Every plot, as `<name>.png` and `<name>.svg` in `out`.
 pub fn all(report: &Report, out: &Path) -> Result<()> {
     // The bitmap backend draws text with a font it is given; DejaVu Sans ships inside the binary.
@@ -44,9 +73,8 @@ pub fn all(report: &Report, out: &Path) -> Result<()> {
     macro_rules! both {
         ($name:literal, $size:expr, $draw:ident) => {{
             let png = out.join(concat!($name, ".png"));
-            $draw(report, BitMapBackend::new(&png, $size).into_drawing_area())?;
             let svg = out.join(concat!($name, ".svg"));
-            $draw(report, SVGBackend::new(&svg, $size).into_drawing_area())?;
+            plot_files!(&png, &svg, $size, |area| $draw(report, area));
         }};
     }
     both!("rails", (1800, 1400), rails_grid);
@@ -67,17 +95,10 @@ pub fn all(report: &Report, out: &Path) -> Result<()> {
 pub fn accuracy_plot(points: &[AccuracyPoint], caption: &str, stem: &Path) -> Result<()> {
     let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
     let (png, svg) = (stem.with_extension("png"), stem.with_extension("svg"));
-    let size = (1400, 900);
-    accuracy(
-        points,
-        caption,
-        BitMapBackend::new(&png, size).into_drawing_area(),
-    )?;
-    accuracy(
-        points,
-        caption,
-        SVGBackend::new(&svg, size).into_drawing_area(),
-    )
+    plot_files!(&png, &svg, (1400, 900), |area| accuracy(
+        points, caption, area
+    ));
+    Ok(())
 }
 
 fn frames_of(report: &Report, config: usize) -> Vec<&FrameSample> {
@@ -379,22 +400,13 @@ pub fn latency_plot(
     stem: &Path,
 ) -> Result<()> {
     let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
-    let size = (1400, 900);
     // Appended, not `with_extension`: a stem may hold a dot (`foveated-0.5-…`).
-    let png = format!("{}.png", stem.display());
-    latency(
-        curves,
-        budget,
-        caption,
-        BitMapBackend::new(&png, size).into_drawing_area(),
-    )?;
-    let svg = format!("{}.svg", stem.display());
-    latency(
-        curves,
-        budget,
-        caption,
-        SVGBackend::new(&svg, size).into_drawing_area(),
-    )
+    let png = std::path::PathBuf::from(format!("{}.png", stem.display()));
+    let svg = std::path::PathBuf::from(format!("{}.svg", stem.display()));
+    plot_files!(&png, &svg, (1400, 900), |area| latency(
+        curves, budget, caption, area
+    ));
+    Ok(())
 }
 
 fn latency<DB: DrawingBackend>(

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use foveate::gpu::Gpu;
 use foveate::metrics::Stats;
 use foveate::plan::{FramePlan, PassKind, RenderConfig};
@@ -275,7 +275,7 @@ impl Report {
         print!("{tables}");
         let write = |name: &str, text: &str| -> Result<()> {
             let path = out.join(name);
-            std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
+            foveate::vocab::write_atomic(&path, text.as_bytes()).map_err(anyhow::Error::from)
         };
         write("tables.md", &tables)?;
         let frames_csv = self.frames_csv()?;
@@ -287,9 +287,7 @@ impl Report {
         for (path, text) in [(csv, &frames_csv), (json, &json_text)] {
             match path {
                 Some(p) if p == Path::new("-") => println!("{text}"),
-                Some(p) => {
-                    std::fs::write(p, text).with_context(|| format!("writing {}", p.display()))?
-                }
+                Some(p) => foveate::vocab::write_atomic(p, text.as_bytes())?,
                 None => {}
             }
         }

@@ -1,0 +1,119 @@
+//! The files a glTF scene names, read only where the scene owns them: a URI resolves inside the
+//! scene file's folder (no absolute paths, no `..` out of it, no symbolic link that leads out),
+//! names a regular file (no device, pipe or folder), and is read no further than the size the
+//! scene declares for it — so a buffer at `/dev/zero`, or a sparse 4 GB file declared as 36
+//! bytes, is an error, not a read until memory runs out.
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use base64::Engine;
+
+/// The bytes a URI names: a base64 `data:` URI, or a file inside `base` (the scene's folder)
+/// of at most `limit` bytes. `what` names the buffer or image in errors.
+pub(super) fn read_uri(uri: &str, base: Option<&Path>, limit: u64) -> Result<Vec<u8>, String> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let (_, data) = rest
+            .split_once(";base64,")
+            .ok_or("a data URI that is not base64")?;
+        let bytes = base64::engine::general_purpose::STANDARD
+            .decode(data)
+            .map_err(|e| format!("bad base64 in its data URI: {e}"))?;
+        return within(bytes.len() as u64, limit, "its data URI").map(|()| bytes);
+    }
+    if uri.contains("://") {
+        return Err(format!("{uri} is not a local file"));
+    }
+    let base = base.ok_or(format!(
+        "names file {uri}, but there is no folder to look in"
+    ))?;
+    let path = inside(base, &percent_decode(uri))?;
+    read_bounded(&path, limit)
+}
+
+/// `bytes` within `limit`, or an error naming both.
+fn within(bytes: u64, limit: u64, what: &str) -> Result<(), String> {
+    if bytes > limit {
+        return Err(format!(
+            "{what} holds {bytes} bytes, more than the {limit} the scene declares for it"
+        ));
+    }
+    Ok(())
+}
+
+/// `relative` resolved inside `base`: absolute paths are refused, and the resolved path (links
+/// followed) must lie inside the resolved folder.
+fn inside(base: &Path, relative: &str) -> Result<PathBuf, String> {
+    let named = Path::new(relative);
+    if named.is_absolute() {
+        return Err(format!(
+            "names {relative}, an absolute path: a scene reads only files in its own folder"
+        ));
+    }
+    let base = if base.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        base
+    };
+    let folder = base
+        .canonicalize()
+        .map_err(|e| format!("its folder {}: {e}", base.display()))?;
+    let joined = base.join(named);
+    let resolved = joined
+        .canonicalize()
+        .map_err(|e| format!("cannot read {}: {e}", joined.display()))?;
+    if !resolved.starts_with(&folder) {
+        return Err(format!(
+            "names {relative}, which resolves to {} outside the scene's folder {}: a scene reads only files in its own folder",
+            resolved.display(),
+            folder.display()
+        ));
+    }
+    Ok(resolved)
+}
+
+/// A regular file's bytes, at most `limit` of them: its size is checked before reading, and the
+/// read itself stops one byte past the limit (a file that grows meanwhile is still caught).
+pub(super) fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
+    let shown = path.display();
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    let meta = file
+        .metadata()
+        .map_err(|e| format!("cannot read {shown}: {e}"))?;
+    if !meta.is_file() {
+        return Err(format!(
+            "{shown} is not a regular file (a device, pipe or folder)"
+        ));
+    }
+    within(meta.len(), limit, &shown.to_string())?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read {shown}: {e}"))?;
+    within(bytes.len() as u64, limit, &shown.to_string())?;
+    Ok(bytes)
+}
+
+/// `%XX` escapes decoded (glTF URIs are URI-encoded: a space is `%20`).
+fn percent_decode(uri: &str) -> String {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = (bytes[i] == b'%')
+            .then(|| uri.get(i + 1..i + 3))
+            .flatten()
+            .and_then(|h| u8::from_str_radix(h, 16).ok());
+        match hex {
+            Some(b) => {
+                out.push(b);
+                i += 3;
+            }
+            None => {
+                out.push(bytes[i]);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
