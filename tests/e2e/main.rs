@@ -16,6 +16,7 @@ mod mffr;
 mod perception;
 mod quirks;
 mod radial_density;
+mod robustness;
 mod shaders;
 mod stereo;
 mod temporal;

@@ -49,6 +49,8 @@ mod effect_tests;
 #[cfg(test)]
 mod pipeline_tests;
 #[cfg(test)]
+mod robustness_tests;
+#[cfg(test)]
 mod step_tests;
 #[cfg(test)]
 mod tests;
