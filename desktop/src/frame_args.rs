@@ -52,10 +52,10 @@ pub struct ConfigArgs {
     /// strength 0 (off) to 1.
     #[arg(long)]
     pub sharpen: Option<f32>,
-    /// How the output pass upscales the periphery: `bilinear` or `catmull-rom` (sixteen texels,
-    /// sharper).
-    #[arg(long, default_value = "bilinear")]
-    pub periphery_filter: String,
+    /// How the output pass upscales the periphery: `bilinear` (the default) or `catmull-rom`
+    /// (sixteen texels, sharper).
+    #[arg(long)]
+    pub periphery_filter: Option<String>,
     /// The periphery views' pixels per side as a fraction of the screen's (default: the
     /// foveation ratio); another density renders the periphery and fovea pairs into images of
     /// their own (the two-pass layout).
@@ -68,12 +68,12 @@ pub struct ConfigArgs {
     /// screen's density reprojected by depth. Needs a 1x periphery (--periphery-msaa 1).
     #[arg(long)]
     pub temporal: bool,
-    /// With --temporal: a new sample's weight against the history (0 < w ≤ 1).
-    #[arg(long, default_value_t = TemporalConfig::default().blend)]
-    pub temporal_blend: f32,
-    /// With --temporal: frames in the jitter cycle (1: no jitter).
-    #[arg(long, default_value_t = TemporalConfig::default().jitter_cycle)]
-    pub jitter_cycle: u32,
+    /// With --temporal: a new sample's weight against the history (0 < w ≤ 1; default 0.2).
+    #[arg(long)]
+    pub temporal_blend: Option<f32>,
+    /// With --temporal: frames in the jitter cycle (1: no jitter; default 8).
+    #[arg(long)]
+    pub jitter_cycle: Option<u32>,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -100,16 +100,16 @@ pub struct ConfigArgs {
     /// Monoscopic far-field rendering: far-first, near-first, alternate-eye or depth-shift.
     #[arg(long)]
     pub mffr: Option<String>,
-    /// Where MFFR splits near from far: a disparity (`1px`: z = IPD x focal / 1 px) or metres
-    /// (`40m`).
-    #[arg(long, default_value = "1px")]
-    pub split: String,
+    /// Where MFFR splits near from far: a disparity (`1px`, the default: z = IPD x focal / 1 px)
+    /// or metres (`40m`).
+    #[arg(long)]
+    pub split: Option<String>,
     /// MFFR's far pass's MSAA samples, 1 or 4 (default: the frame's `--msaa`).
     #[arg(long)]
     pub far_msaa: Option<u32>,
-    /// MFFR's far image's pixel density, a fraction of the eyes' in 0.25..=1.
-    #[arg(long, default_value_t = 1.0)]
-    pub far_density: f32,
+    /// MFFR's far image's pixel density, a fraction of the eyes' in 0.25..=1 (default 1).
+    #[arg(long)]
+    pub far_density: Option<f32>,
     /// Radial density masking: 2x2 quads skipped in the periphery (every other past
     /// `--radial-inner`, three in four past `--radial-outer`), reconstructed after the pass.
     #[arg(long)]
@@ -337,8 +337,12 @@ impl ComparedFrame {
 impl ConfigArgs {
     /// The config for one stereo mode (`stereo` may be `all`; the caller picks the mode).
     pub fn config(&self, stereo: StereoMode) -> Result<RenderConfig> {
+        self.check_modes()?;
         let resolution = parse_res(&self.res)?;
-        let periphery_filter = self.periphery_filter.parse::<PeripheryFilter>()?;
+        let periphery_filter = match &self.periphery_filter {
+            Some(name) => name.parse::<PeripheryFilter>()?,
+            None => PeripheryFilter::default(),
+        };
         let foveation = self.foveate.map(|ratio| FoveationConfig {
             ratio,
             view_resolution: self.view_res,
@@ -351,27 +355,27 @@ impl ConfigArgs {
             periphery_filter,
             periphery_density: self.periphery_density,
             periphery_msaa: self.periphery_msaa,
-            periphery_temporal: self.temporal.then(|| TemporalConfig {
-                blend: self.temporal_blend,
-                jitter_cycle: self.jitter_cycle,
-                ..TemporalConfig::default()
+            periphery_temporal: self.temporal.then(|| {
+                let default = TemporalConfig::default();
+                TemporalConfig {
+                    blend: self.temporal_blend.unwrap_or(default.blend),
+                    jitter_cycle: self.jitter_cycle.unwrap_or(default.jitter_cycle),
+                    ..default
+                }
             }),
         });
         let mffr = self
             .mffr
             .as_deref()
             .map(|name| {
+                let split = self.split.as_deref().unwrap_or("1px").parse()?;
                 Ok::<_, anyhow::Error>(MffrConfig {
                     far_msaa: self.far_msaa,
-                    far_density: self.far_density,
-                    ..MffrConfig::named(name, self.split.parse()?)?
+                    far_density: self.far_density.unwrap_or(1.0),
+                    ..MffrConfig::named(name, split)?
                 })
             })
             .transpose()?;
-        anyhow::ensure!(
-            self.mffr.is_some() || (self.far_msaa.is_none() && self.far_density == 1.0),
-            "--far-msaa and --far-density set MFFR's far pass: add --mffr"
-        );
         let radial_density = self.radial_density.then(|| {
             let default = RadialDensity::default();
             RadialDensity {
@@ -401,6 +405,51 @@ impl ConfigArgs {
             lod: self.clusters.lod()?,
             ..RenderConfig::default()
         })
+    }
+
+    /// Options that set a mode's parameters are refused without their mode: silently ignored,
+    /// they would leave the user believing they measured something they did not.
+    fn check_modes(&self) -> Result<()> {
+        fn given<T: std::fmt::Debug>(name: &'static str, v: &Option<T>) -> Option<(&'static str, String)> {
+            v.as_ref().map(|v| (name, format!("{v:?}").trim_matches('"').to_string()))
+        }
+        fn flag(name: &'static str, on: bool) -> Option<(&'static str, String)> {
+            on.then(|| (name, "true".to_string()))
+        }
+        let modes = [
+            ("--foveate", self.foveate.is_some(), vec![
+                given("--view-res", &self.view_res),
+                given("--fovea-size", &self.fovea_size),
+                given("--blend-band", &self.blend_band),
+                given("--sharpen", &self.sharpen),
+                given("--periphery-filter", &self.periphery_filter),
+                given("--periphery-density", &self.periphery_density),
+                given("--periphery-msaa", &self.periphery_msaa),
+                flag("--temporal", self.temporal),
+                flag("--no-stencil", self.no_stencil),
+                flag("--no-fovea-cull", self.no_fovea_cull),
+                flag("--tint", self.tint),
+            ]),
+            ("--temporal", self.temporal, vec![
+                given("--temporal-blend", &self.temporal_blend),
+                given("--jitter-cycle", &self.jitter_cycle),
+            ]),
+            ("--mffr", self.mffr.is_some(), vec![
+                given("--split", &self.split),
+                given("--far-msaa", &self.far_msaa),
+                given("--far-density", &self.far_density),
+            ]),
+            ("--radial-density", self.radial_density, vec![
+                given("--radial-inner", &self.radial_inner),
+                given("--radial-outer", &self.radial_outer),
+            ]),
+        ];
+        for (mode, on, options) in modes {
+            if let Some((option, value)) = options.into_iter().flatten().find(|_| !on) {
+                anyhow::bail!("invalid {option} = {value}: it sets a parameter of {mode}, which is off (add {mode}, or leave {option} out)");
+            }
+        }
+        Ok(())
     }
 
     /// The stereo modes asked for: one, or all four for `all`.

@@ -10,17 +10,19 @@ mod fovea_table;
 mod frame_args;
 mod frontier;
 mod gaze_arg;
+mod outputs;
 mod progress;
 mod side_by_side;
 mod variants;
 mod view_keys;
 
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
 
 fn main() -> std::process::ExitCode {
     // Diagnostics through `log`: warnings by default, more with RUST_LOG (e.g. RUST_LOG=info).
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
-    let cli = cli::Cli::parse();
+    let matches = negative_numbers(cli::Cli::command()).get_matches();
+    let cli = cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     match cli.run() {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
@@ -28,4 +30,19 @@ fn main() -> std::process::ExitCode {
             std::process::ExitCode::FAILURE
         }
     }
+}
+
+/// Every option that takes a value takes a negative number as written (`--ipd-mm -64`,
+/// `--cant -2`), not only as `--ipd-mm=-64`: no option of foveate's has a name that looks like
+/// a number, so nothing else can be meant.
+fn negative_numbers(command: clap::Command) -> clap::Command {
+    command
+        .mut_args(|a| {
+            if a.get_action().takes_values() {
+                a.allow_negative_numbers(true)
+            } else {
+                a
+            }
+        })
+        .mut_subcommands(negative_numbers)
 }

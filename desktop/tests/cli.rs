@@ -535,7 +535,7 @@ fn render_follows_a_gaze_trace_and_survives_bad_samples() {
     let dir = std::env::temp_dir().join(format!("foveate-trace-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let trace = dir.join("trace.csv");
-    std::fs::write(&trace, "time,lx,ly,rx,ry,valid\n0,0.5,0.2,0.5,0.2,1\n0.011,NaN,0,0,0,1\n0.022,9,9,9,9,1\n0.033,0,0,0,0,0\n").unwrap();
+    std::fs::write(&trace, "time,lx,ly,rx,ry,valid\n0,0.5,0.2,0.5,0.2,1\n0.011,NaN,0,0,0,1\n0.022,9,9,9,9,1\n0.033,0,0,0,0,0\n0.044,0.1,0.1,0.1,0.1,1\n").unwrap();
     let out = dir.join("f.png");
     for source in [trace.to_str().unwrap(), "sim"] {
         let o = foveate(&[

@@ -30,11 +30,18 @@ pub enum GazeError {
         line: usize,
         message: String,
     },
+    #[error("gaze trace {path}: {usable} usable samples of {samples} (valid, finite, in -1..1); a trace needs at least two")]
+    TooFewSamples {
+        path: String,
+        samples: usize,
+        usable: usize,
+    },
 }
 
 /// Reads a CSV trace: `time,left_x,left_y,right_x,right_y,valid` per line, an optional header,
 /// `#` comments. Times must not go backwards. NaN coordinates are accepted (the filter handles
-/// them); malformed lines are errors naming the line.
+/// them); malformed lines are errors naming the line, and a trace with fewer than two usable
+/// samples ([`GazeFilter::is_good`]: an empty or header-only file, say) is an error too.
 pub fn parse_gaze_csv(path: &Path) -> Result<Vec<GazeSample>, GazeError> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|source| GazeError::Io {
@@ -81,6 +88,14 @@ pub fn parse_gaze_csv(path: &Path) -> Result<Vec<GazeSample>, GazeError> {
             left: v(1)?,
             right: v(3)?,
             valid,
+        });
+    }
+    let usable = samples.iter().filter(|s| GazeFilter::is_good(s)).count();
+    if usable < 2 {
+        return Err(GazeError::TooFewSamples {
+            path: name,
+            samples: samples.len(),
+            usable,
         });
     }
     Ok(samples)
@@ -236,11 +251,11 @@ mod tests {
         let good = dir.join("good.csv");
         std::fs::write(
             &good,
-            "time,lx,ly,rx,ry,valid\n# comment\n0.0,0.1,0.2,0.1,0.2,1\n0.01,NaN,0,0,0,0\n",
+            "time,lx,ly,rx,ry,valid\n# comment\n0.0,0.1,0.2,0.1,0.2,1\n0.01,NaN,0,0,0,0\n0.02,0.1,0.2,0.1,0.2,1\n",
         )
         .unwrap();
         let s = parse_gaze_csv(&good).unwrap();
-        assert_eq!(s.len(), 2);
+        assert_eq!(s.len(), 3);
         assert!(s[1].left.x.is_nan() && !s[1].valid);
         let bad = dir.join("bad.csv");
         std::fs::write(&bad, "0.0,0.1,0.2,0.1,0.2,1\n0.01,x,0,0,0,1\n").unwrap();
@@ -255,6 +270,17 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("missing.csv"));
+        // Empty, header-only, and one usable sample among bad ones: too few to follow.
+        for (text, samples, usable) in [
+            ("", 0, 0),
+            ("time,lx,ly,rx,ry,valid\n", 0, 0),
+            ("0,0.1,0.2,0.1,0.2,1\n0.01,NaN,0,0,0,1\n0.02,9,9,9,9,1\n", 3, 1),
+        ] {
+            std::fs::write(&bad, text).unwrap();
+            let e = parse_gaze_csv(&bad).unwrap_err().to_string();
+            let expected = format!("{usable} usable samples of {samples}");
+            assert!(e.contains(&expected) && e.contains("at least two"), "{e}");
+        }
         let _ = std::fs::remove_dir_all(dir);
     }
 

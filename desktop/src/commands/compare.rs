@@ -130,6 +130,16 @@ struct Row {
 
 pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     anyhow::ensure!(args.frames >= 1, "invalid frames = 0: at least 1");
+    crate::outputs::files(&[args.csv.as_deref(), args.latency.frames_csv.as_deref()])?;
+    if let Some(stem) = args.pareto.as_deref().filter(|p| !p.as_os_str().is_empty()) {
+        crate::outputs::plot(stem)?;
+    }
+    if let Some(dir) = &args.heatmaps {
+        crate::outputs::folder(dir)?;
+    }
+    if let Some(stem) = &args.latency.latency_plot {
+        crate::outputs::plot(stem)?;
+    }
     if let Some(budget) = args.recommend {
         anyhow::ensure!(
             budget.is_finite() && budget > 0.0,

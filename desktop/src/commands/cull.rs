@@ -59,6 +59,7 @@ fn strategy(name: &str) -> Result<Strategy> {
 }
 
 pub fn cull_bench(args: &CullBenchArgs) -> Result<()> {
+    crate::outputs::files(&[args.csv.as_deref()])?;
     let strategies = args
         .strategies
         .iter()

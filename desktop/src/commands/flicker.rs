@@ -76,6 +76,7 @@ struct Motion {
 }
 
 pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
+    crate::outputs::files(&[args.csv.as_deref()])?;
     anyhow::ensure!(
         args.frames >= 2,
         "invalid frames = {}: at least 2 (flicker is a change between frames)",

@@ -36,6 +36,7 @@ fn measured_hidden(gpu: &Gpu, config: &RenderConfig) -> Result<f64> {
 }
 
 pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
+    crate::outputs::files(&[args.csv.as_deref()])?;
     let scene = named_scene(&args.scene)?;
     let gpu = Gpu::new(options)?;
     println!(

@@ -82,6 +82,7 @@ fn sky_through(image: &RgbaImage, reference: &RgbaImage) -> u64 {
 }
 
 pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
+    crate::outputs::files(&[args.csv.as_deref()])?;
     let scene = args.clusters.apply(named_scene(&args.scene)?)?;
     let gpu = Gpu::new(options)?;
     let base = RenderConfig {

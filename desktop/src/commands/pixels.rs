@@ -57,6 +57,7 @@ pub(crate) fn coverage(gpu: &Gpu, config: &RenderConfig) -> Result<Vec<u64>> {
 }
 
 pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
+    crate::outputs::files(&[args.csv.as_deref()])?;
     let rows = args
         .rows
         .iter()

@@ -2,7 +2,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use clap::Args;
-use foveate::foveation::{parse_gaze_csv, simulated_trace, GazeFilter};
+use foveate::foveation::{parse_gaze_csv, simulated_trace, GazeFilter, GazeSample};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::{frame_accuracy, FrameAccuracy};
@@ -11,6 +11,7 @@ use foveate::render::{counting_frame, FrameStats, Renderer};
 use foveate::StereoMode;
 use glam::Vec2;
 
+use crate::gaze_arg::gaze_from;
 use crate::frame_args::ConfigArgs;
 
 #[derive(Args)]
@@ -54,19 +55,49 @@ struct ModeResult {
     counts: FrameStats,
 }
 
-pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
+/// Everything the user typed, checked before the device starts and the frames render: the
+/// modes (each one's configuration), the output images, the gaze and the gaze trace.
+#[allow(clippy::type_complexity)]
+fn checked_inputs(
+    args: &RenderArgs,
+) -> Result<(Vec<StereoMode>, Option<Vec2>, Option<Vec<GazeSample>>)> {
     anyhow::ensure!(
         args.frames >= 1,
         "invalid frames = {}: at least 1",
         args.frames
     );
-    let gpu = Gpu::new(options)?;
-    let scene = args.config.scene()?;
     let modes = args.config.stereo_modes()?;
     anyhow::ensure!(
         !args.reference || (args.config.foveate.is_some() && modes.len() == 1),
         "invalid reference = true: compares a foveated frame (--foveate) in one stereo mode"
     );
+    for &mode in &modes {
+        args.config.config(mode)?;
+        crate::outputs::image(&output_path(&args.out, mode, modes.len() > 1 && !args.reference))?;
+    }
+    let gaze = args.config.gaze.as_deref().map(gaze_from).transpose()?;
+    let trace = match args.gaze_trace.as_deref() {
+        None => None,
+        Some("sim") => Some(simulated_trace(args.frames as f64 / 90.0 + 1.0, 90.0, 1)),
+        Some(path) => Some(parse_gaze_csv(Path::new(path))?),
+    };
+    if let (Some(trace), Some(path)) = (&trace, &args.gaze_trace) {
+        // A trace that starts after the run ends would leave every frame at the centre.
+        let last = (args.frames - 1) as f64 / 90.0;
+        anyhow::ensure!(
+            trace[0].t <= last,
+            "invalid gaze-trace = {path}: its first sample is at {} s, after the run's last frame at {last:.3} s ({} frames at 90 Hz): no sample would be used",
+            trace[0].t,
+            args.frames
+        );
+    }
+    Ok((modes, gaze, trace))
+}
+
+pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
+    let (modes, gaze, trace) = checked_inputs(args)?;
+    let gpu = Gpu::new(options)?;
+    let scene = args.config.scene()?;
     println!("device: {}", gpu.info().name);
     // Each run: its label, its configuration, where its image goes.
     let mut runs: Vec<(String, foveate::RenderConfig, PathBuf)> = Vec::new();
@@ -92,8 +123,8 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         let plan = foveate::plan(&scene, config, gpu.caps())?;
         println!("{plan}\n");
         let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
-        if let Some(g) = &args.config.gaze {
-            renderer.set_gaze([crate::gaze_arg::gaze_from(g)?; 2])?;
+        if let Some(g) = gaze {
+            renderer.set_gaze([g; 2])?;
         }
         // An accumulated periphery is timed and shown as it looks once its history settled.
         crate::side_by_side::settle(&mut renderer, scene.head)?;
@@ -107,11 +138,6 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
                 " (this device has none)"
             }
         );
-        let trace = match args.gaze_trace.as_deref() {
-            None => None,
-            Some("sim") => Some(simulated_trace(args.frames as f64 / 90.0 + 1.0, 90.0, 1)),
-            Some(path) => Some(parse_gaze_csv(Path::new(path))?),
-        };
         let mut filter = GazeFilter::new(0.5);
         let mut frames: Vec<FrameStats> = Vec::new();
         let bar = crate::progress::bar(label, args.frames as u64);

@@ -57,6 +57,9 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
         args.frames != Some(0),
         "invalid frames = 0: at least 1 (or leave it out to run until closed)"
     );
+    if let Some(path) = &args.save {
+        crate::outputs::image(path)?;
+    }
     if args.config.stereo == "all" {
         anyhow::bail!("invalid stereo = all: the viewer shows one stereo mode (s cycles them)");
     }

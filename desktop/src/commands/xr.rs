@@ -54,6 +54,14 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
         args.save.is_none() || args.check_pixels,
         "--save writes the checked frame: add --check-pixels"
     );
+    anyhow::ensure!(
+        args.timeout.is_finite() && args.timeout > 0.0,
+        "invalid timeout = {}: a finite number of seconds above 0",
+        args.timeout
+    );
+    if let Some(path) = &args.save {
+        crate::outputs::image(path)?;
+    }
     let scene = args.config.scene()?;
     let config = args.config.config(args.config.stereo.parse()?)?;
     let gaze = gaze_source(args)?;

@@ -115,6 +115,8 @@ pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
     );
     let resolution = crate::frame_args::screen(&args.hmd, &args.res)?;
     let split: SplitDistance = args.split.parse()?;
+    crate::outputs::folder(&args.out)?;
+    crate::outputs::files(&[args.csv.as_deref(), args.json.as_deref()])?;
     let settings = Settings {
         hmd: args.hmd.clone(),
         resolution,

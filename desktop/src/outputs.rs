@@ -1,0 +1,42 @@
+//! Output paths checked before the work that fills them: a run of minutes or hours must not end
+//! by finding that it cannot write its result. (The writes themselves are atomic:
+//! `foveate::vocab::write_atomic`.)
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use foveate::metrics::RgbaImage;
+use foveate::vocab::check_writable;
+
+/// Files given by path (`-` is standard output, always writable).
+pub fn files(paths: &[Option<&Path>]) -> Result<()> {
+    for path in paths.iter().flatten() {
+        if *path != Path::new("-") {
+            check_writable(path)?;
+        }
+    }
+    Ok(())
+}
+
+/// An image: its extension names a format foveate writes, and it can be written.
+pub fn image(path: &Path) -> Result<()> {
+    Ok(RgbaImage::check_output(path)?)
+}
+
+/// A plot written as `<stem>.png` and `<stem>.svg` (appended: a stem may hold a dot).
+pub fn plot(stem: &Path) -> Result<()> {
+    for extension in ["png", "svg"] {
+        check_writable(&PathBuf::from(format!("{}.{extension}", stem.display())))?;
+    }
+    Ok(())
+}
+
+/// A folder that receives files: made if missing, and a file can be written in it.
+pub fn folder(dir: &Path) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        anyhow::bail!("cannot write into {}: it is not a folder", dir.display());
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| anyhow::anyhow!("cannot make the folder {}: {e}", dir.display()))?;
+    Ok(check_writable(&dir.join("foveate-output"))?)
+}
