@@ -93,6 +93,10 @@ pub fn measure(
     );
     let mut table = Vec::new();
     for (name, shading) in &settings.scenes {
+        // Ctrl-C or SIGTERM: the scenes finished so far are the table (the caller says so).
+        if crate::interrupt::requested() {
+            break;
+        }
         let scene = load(name, *shading)?;
         let configs: Vec<RenderConfig> = variants.iter().map(|v| row_config(&base, *v)).collect();
         let group = Group {
@@ -102,7 +106,10 @@ pub fn measure(
             rounds: settings.frames + 1,
             label: name,
         };
-        let measured = measure_group(gpu, &group).with_context(|| name.clone())?;
+        let measured = match measure_group(gpu, &group) {
+            Err(_) if crate::interrupt::requested() => break,
+            measured => measured.with_context(|| name.clone())?,
+        };
         let auto = foveate::plan(
             &scene,
             &row_config(&base, Some((0.35, FoveaLayout::Auto))),

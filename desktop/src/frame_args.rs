@@ -410,39 +410,59 @@ impl ConfigArgs {
     /// Options that set a mode's parameters are refused without their mode: silently ignored,
     /// they would leave the user believing they measured something they did not.
     fn check_modes(&self) -> Result<()> {
-        fn given<T: std::fmt::Debug>(name: &'static str, v: &Option<T>) -> Option<(&'static str, String)> {
-            v.as_ref().map(|v| (name, format!("{v:?}").trim_matches('"').to_string()))
+        fn given<T: std::fmt::Debug>(
+            name: &'static str,
+            v: &Option<T>,
+        ) -> Option<(&'static str, String)> {
+            v.as_ref()
+                .map(|v| (name, format!("{v:?}").trim_matches('"').to_string()))
         }
         fn flag(name: &'static str, on: bool) -> Option<(&'static str, String)> {
             on.then(|| (name, "true".to_string()))
         }
         let modes = [
-            ("--foveate", self.foveate.is_some(), vec![
-                given("--view-res", &self.view_res),
-                given("--fovea-size", &self.fovea_size),
-                given("--blend-band", &self.blend_band),
-                given("--sharpen", &self.sharpen),
-                given("--periphery-filter", &self.periphery_filter),
-                given("--periphery-density", &self.periphery_density),
-                given("--periphery-msaa", &self.periphery_msaa),
-                flag("--temporal", self.temporal),
-                flag("--no-stencil", self.no_stencil),
-                flag("--no-fovea-cull", self.no_fovea_cull),
-                flag("--tint", self.tint),
-            ]),
-            ("--temporal", self.temporal, vec![
-                given("--temporal-blend", &self.temporal_blend),
-                given("--jitter-cycle", &self.jitter_cycle),
-            ]),
-            ("--mffr", self.mffr.is_some(), vec![
-                given("--split", &self.split),
-                given("--far-msaa", &self.far_msaa),
-                given("--far-density", &self.far_density),
-            ]),
-            ("--radial-density", self.radial_density, vec![
-                given("--radial-inner", &self.radial_inner),
-                given("--radial-outer", &self.radial_outer),
-            ]),
+            (
+                "--foveate",
+                self.foveate.is_some(),
+                vec![
+                    given("--view-res", &self.view_res),
+                    given("--fovea-size", &self.fovea_size),
+                    given("--blend-band", &self.blend_band),
+                    given("--sharpen", &self.sharpen),
+                    given("--periphery-filter", &self.periphery_filter),
+                    given("--periphery-density", &self.periphery_density),
+                    given("--periphery-msaa", &self.periphery_msaa),
+                    flag("--temporal", self.temporal),
+                    flag("--no-stencil", self.no_stencil),
+                    flag("--no-fovea-cull", self.no_fovea_cull),
+                    flag("--tint", self.tint),
+                ],
+            ),
+            (
+                "--temporal",
+                self.temporal,
+                vec![
+                    given("--temporal-blend", &self.temporal_blend),
+                    given("--jitter-cycle", &self.jitter_cycle),
+                ],
+            ),
+            (
+                "--mffr",
+                self.mffr.is_some(),
+                vec![
+                    given("--split", &self.split),
+                    given("--far-msaa", &self.far_msaa),
+                    given("--far-density", &self.far_density),
+                ],
+            ),
+            (
+                "--radial-density",
+                self.radial_density,
+                vec![
+                    given("--radial-inner", &self.radial_inner),
+                    given("--radial-outer", &self.radial_outer),
+                ],
+            ),
         ];
         for (mode, on, options) in modes {
             if let Some((option, value)) = options.into_iter().flatten().find(|_| !on) {

@@ -10,6 +10,7 @@ mod fovea_table;
 mod frame_args;
 mod frontier;
 mod gaze_arg;
+mod interrupt;
 mod outputs;
 mod progress;
 mod side_by_side;

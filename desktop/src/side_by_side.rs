@@ -79,6 +79,12 @@ pub fn measure_group(gpu: &Gpu, group: &Group) -> Result<Vec<Measured>> {
     let bar = crate::progress::bar(label, rounds as u64);
     for round in 0..rounds {
         bar.inc(1);
+        if crate::interrupt::requested() {
+            // Interleaved: no configuration is complete before the last round.
+            return Err(crate::interrupt::stopped(&format!(
+                "{label} stopped in timed round {round} of {rounds}, before any configuration was complete: nothing written"
+            )));
+        }
         for (r, s) in renderers.iter_mut().zip(&mut samples) {
             let stats = r.render_frame(scene.head)?;
             if round > 0 {
@@ -134,26 +140,30 @@ pub struct Judged {
 /// The one accuracy sweep: `configs[0]` is the full-quality reference; every configuration (the
 /// reference too, which scores perfectly) is measured side by side through [`measure_group`]
 /// and its output image judged against the reference's with `acuity`. Every command that prices
-/// an approximation in time and error sweeps through here.
+/// an approximation in time and error sweeps through here. After Ctrl-C or SIGTERM
+/// ([`crate::interrupt`]) it stops judging and returns the configurations judged so far, in
+/// order: fewer than the group's.
 pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity) -> Result<Vec<Judged>> {
     let measured = measure_group(gpu, group)?;
-    let (gaze, label) = (group.gaze, group.label);
+    let (gaze, label, total) = (group.gaze, group.label, measured.len());
     let reference_plan = measured[0].plan.clone();
     let reference_image = measured[0].image.clone();
-    let bar = crate::progress::bar(&format!("{label}: FLIP"), measured.len() as u64);
-    let judged = measured
-        .into_iter()
-        .map(|m| {
-            let pixels = EyePixels::both(&reference_plan, gaze, m.plan.foveation.as_ref());
-            let accuracy = frame_accuracy(reference_image.eyes(), m.image.eyes(), &pixels, acuity)?;
-            bar.inc(1);
-            Ok(Judged {
-                measured: m,
-                pixels,
-                accuracy,
-            })
-        })
-        .collect();
+    let bar = crate::progress::bar(&format!("{label}: FLIP"), total as u64);
+    let mut judged = Vec::new();
+    for m in measured {
+        if crate::interrupt::requested() {
+            break;
+        }
+        let pixels = EyePixels::both(&reference_plan, gaze, m.plan.foveation.as_ref());
+        let accuracy = frame_accuracy(reference_image.eyes(), m.image.eyes(), &pixels, acuity)?;
+        bar.inc(1);
+        judged.push(Judged {
+            measured: m,
+            pixels,
+            accuracy,
+        });
+        log::info!("{label}: judged {} of {total}", judged.len());
+    }
     bar.finish_and_clear();
-    judged
+    Ok(judged)
 }

@@ -274,7 +274,11 @@ mod tests {
         for (text, samples, usable) in [
             ("", 0, 0),
             ("time,lx,ly,rx,ry,valid\n", 0, 0),
-            ("0,0.1,0.2,0.1,0.2,1\n0.01,NaN,0,0,0,1\n0.02,9,9,9,9,1\n", 3, 1),
+            (
+                "0,0.1,0.2,0.1,0.2,1\n0.01,NaN,0,0,0,1\n0.02,9,9,9,9,1\n",
+                3,
+                1,
+            ),
         ] {
             std::fs::write(&bad, text).unwrap();
             let e = parse_gaze_csv(&bad).unwrap_err().to_string();

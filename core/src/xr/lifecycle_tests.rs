@@ -1,4 +1,5 @@
 use super::*;
+use crate::xr::{Stall, Watchdog};
 use SessionState::*;
 
 /// Records what the lifecycle asked for; what exists follows from it.
@@ -46,7 +47,7 @@ impl SessionBackend for Recording {
     }
 }
 
-fn to(life: &mut Lifecycle<Recording>, states: &[SessionState]) {
+fn to<B: SessionBackend<Error = &'static str>>(life: &mut Lifecycle<B>, states: &[SessionState]) {
     for &s in states {
         life.handle(RuntimeEvent::State(s)).unwrap();
     }
@@ -137,4 +138,80 @@ fn a_failed_begin_is_an_error_and_runs_no_frame() {
     assert!(!life.wants_frame() && !life.frame().unwrap());
     assert!(life.stop().is_ok(), "nothing to stop");
     assert_eq!(life.backend().calls, ["begin"]);
+}
+
+/// A runtime that stops answering: each frame blocks until the test lets it go (as
+/// `xrWaitFrame` does while the compositor is stopped).
+struct Stalled {
+    release: std::sync::mpsc::Receiver<()>,
+}
+
+impl SessionBackend for Stalled {
+    type Error = &'static str;
+    fn begin(&mut self) -> Result<(), &'static str> {
+        Ok(())
+    }
+    fn end(&mut self) -> Result<(), &'static str> {
+        Ok(())
+    }
+    fn frame(&mut self) -> Result<FrameOutcome, &'static str> {
+        self.release.recv().map_err(|_| "released")?;
+        Ok(FrameOutcome::Submitted)
+    }
+    fn request_exit(&mut self) -> Result<(), &'static str> {
+        Ok(())
+    }
+    fn abandon(&mut self) {}
+}
+
+/// The frame loop under the watchdog as `foveate xr` runs it, against a runtime that answers
+/// `answered` frames and then stops: what the watchdog reports, if anything, within `wait`.
+fn watched_run(
+    answered: usize,
+    limit: std::time::Duration,
+    wait: std::time::Duration,
+) -> Option<Stall> {
+    let (stalled, reported) = std::sync::mpsc::channel();
+    let (release, released) = std::sync::mpsc::channel();
+    for _ in 0..answered {
+        release.send(()).unwrap();
+    }
+    let runner = std::thread::spawn(move || {
+        let watchdog = Watchdog::new(limit, move |stall| stalled.send(stall).unwrap());
+        let mut life = Lifecycle::new(Stalled { release: released });
+        to(&mut life, &[Ready, Synchronized, Visible, Focused]);
+        while watchdog.watch("frame", || life.frame()).is_ok() {}
+    });
+    let report = reported.recv_timeout(wait).ok();
+    drop(release);
+    runner.join().unwrap();
+    report
+}
+
+/// A stalled runtime is reported within the limit (plus the scheduler's slack), naming the
+/// call; frames that keep coming are never reported (the negative control: the same loop with
+/// a runtime that answers within the limit).
+#[test]
+fn a_runtime_that_stops_answering_is_reported_within_the_limit() {
+    use std::time::Duration;
+    let limit = Duration::from_millis(300);
+    let start = std::time::Instant::now();
+    let stall = watched_run(3, limit, limit + Duration::from_secs(1)).expect("the stall reported");
+    assert_eq!(stall.call, "frame");
+    assert!(stall.waited >= limit, "{stall:?}");
+    assert!(
+        start.elapsed() < limit + Duration::from_secs(1),
+        "{:?}",
+        start.elapsed()
+    );
+
+    // Two seconds of frames, each well within the limit: never reported.
+    let (reported, received) = std::sync::mpsc::channel();
+    {
+        let watchdog = Watchdog::new(limit, move |s| reported.send(s).unwrap());
+        for _ in 0..10 {
+            watchdog.watch("frame", || std::thread::sleep(limit / 5));
+        }
+    }
+    assert!(received.try_recv().is_err(), "no stall while frames came");
 }

@@ -16,6 +16,7 @@ mod session;
 #[cfg(feature = "xr")]
 mod tracker;
 mod views;
+mod watchdog;
 
 #[cfg(feature = "xr")]
 pub use error::XrError;
@@ -28,3 +29,4 @@ pub use runtime::{Platform, RuntimeReport, XrRuntime};
 #[cfg(feature = "xr")]
 pub use session::{GazeSource, MaskFractions, Pacing, XrSession, XrSettings, XrSummary};
 pub use views::{fit_eyes, fov_tangents, FittedEyes, Pose};
+pub use watchdog::{Stall, Watchdog};

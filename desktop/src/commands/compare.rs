@@ -129,6 +129,7 @@ struct Row {
 }
 
 pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
+    crate::interrupt::install();
     anyhow::ensure!(args.frames >= 1, "invalid frames = 0: at least 1");
     crate::outputs::files(&[args.csv.as_deref(), args.latency.frames_csv.as_deref()])?;
     if let Some(stem) = args.pareto.as_deref().filter(|p| !p.as_os_str().is_empty()) {
@@ -256,6 +257,12 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         label: "compare",
     };
     let mut judged = sweep(&gpu, &group, acuity)?;
+    let total = configs.len() - 1;
+    if judged.is_empty() {
+        return Err(crate::interrupt::stopped(
+            "compare stopped before judging the reference: nothing written",
+        ));
+    }
     let reference = judged.remove(0).measured;
     if let Some(dir) = &args.heatmaps {
         for ((name, ..), j) in named.iter().skip(1).zip(&judged) {
@@ -301,6 +308,14 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     );
     if let Some(dir) = &args.heatmaps {
         println!("wrote {} heat maps into {}", rows.len(), dir.display());
+    }
+    if rows.len() < total {
+        csv(&rows, &measured, reference.frame_ms)?.save(args.csv.as_deref())?;
+        return Err(crate::interrupt::stopped(&format!(
+            "compare stopped after judging {} of {total} configurations; the table above{} holds them",
+            rows.len(),
+            if args.csv.is_some() { " and the CSV" } else { "" }
+        )));
     }
     let points: Vec<Point> = rows
         .iter()
@@ -623,5 +638,11 @@ fn table(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     println!(
         "(x stereo: frame time to the same scene's stereo row in this run; fragments and primitives from separate counting frames; (auto): the layout `--fovea-layout auto` picks on this device)"
     );
-    fovea_table::csv(&rows)?.save(args.csv.as_deref())
+    fovea_table::csv(&rows)?.save(args.csv.as_deref())?;
+    if crate::interrupt::requested() {
+        return Err(crate::interrupt::stopped(
+            "the table stopped early; the scenes finished before it are above",
+        ));
+    }
+    Ok(())
 }

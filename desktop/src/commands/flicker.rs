@@ -76,6 +76,7 @@ struct Motion {
 }
 
 pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
+    crate::interrupt::install();
     crate::outputs::files(&[args.csv.as_deref()])?;
     anyhow::ensure!(
         args.frames >= 2,
@@ -167,7 +168,9 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     );
     let bar = crate::progress::bar("flicker", (motions.len() as u32 * args.frames) as u64);
     let mut results = Vec::new();
-    for motion in &motions {
+    // Ctrl-C or SIGTERM: the motions finished so far are printed and written.
+    let mut interrupted = false;
+    'motions: for motion in &motions {
         bar.set_message(motion.name);
         let (first_pose, first_gaze) = motion.frames[0];
         let mut renderers = Vec::new();
@@ -182,6 +185,10 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         // Each configuration's pixel map, made anew only when the gaze moves.
         let mut maps: Vec<Option<(Vec2, [EyePixels; 2])>> = configs.iter().map(|_| None).collect();
         for (frame, &(pose, gaze)) in motion.frames.iter().enumerate() {
+            if crate::interrupt::requested() {
+                interrupted = true;
+                break 'motions;
+            }
             // Frames of every configuration interleaved, the reference first.
             let mut images = Vec::new();
             for renderer in &mut renderers {
@@ -250,7 +257,15 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
             &opt(a.map(|a| a.worst_p99), 6),
         ])?;
     }
-    csv.save(args.csv.as_deref())
+    csv.save(args.csv.as_deref())?;
+    if interrupted {
+        return Err(crate::interrupt::stopped(&format!(
+            "flicker stopped during a motion; the {} motions finished before it are in the table above{}",
+            results.len() / configs.len().max(1),
+            if args.csv.is_some() { " and the CSV" } else { "" }
+        )));
+    }
+    Ok(())
 }
 
 /// One configuration along one motion.

@@ -11,8 +11,8 @@ use foveate::render::{counting_frame, FrameStats, Renderer};
 use foveate::StereoMode;
 use glam::Vec2;
 
-use crate::gaze_arg::gaze_from;
 use crate::frame_args::ConfigArgs;
+use crate::gaze_arg::gaze_from;
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -73,7 +73,11 @@ fn checked_inputs(
     );
     for &mode in &modes {
         args.config.config(mode)?;
-        crate::outputs::image(&output_path(&args.out, mode, modes.len() > 1 && !args.reference))?;
+        crate::outputs::image(&output_path(
+            &args.out,
+            mode,
+            modes.len() > 1 && !args.reference,
+        ))?;
     }
     let gaze = args.config.gaze.as_deref().map(gaze_from).transpose()?;
     let trace = match args.gaze_trace.as_deref() {

@@ -5,6 +5,7 @@
 //! end, a summary (and, with `--check-pixels`, the proof of what the runtime received).
 
 use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Result};
@@ -12,7 +13,10 @@ use clap::Args;
 use foveate::foveation::simulated_trace;
 use foveate::gpu::GpuOptions;
 use foveate::metrics::Stats;
-use foveate::xr::{Ended, GazeSource, Lifecycle, XrRuntime, XrSession, XrSettings};
+use foveate::xr::{
+    Ended, GazeSource, Lifecycle, RuntimeReport, SessionState, Watchdog, XrRuntime, XrSession,
+    XrSettings,
+};
 
 use crate::frame_args::ConfigArgs;
 use crate::gaze_arg::gaze_from;
@@ -65,8 +69,82 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
     let scene = args.config.scene()?;
     let config = args.config.config(args.config.stereo.parse()?)?;
     let gaze = gaze_source(args)?;
+    crate::interrupt::install();
     let runtime = XrRuntime::new(&())?;
-    let report = &runtime.report;
+    print_offer(&runtime.report, args);
+    let gpu = runtime.gpu(options)?;
+    println!("device (chosen by the runtime): {}", gpu.info().name);
+    let settings = XrSettings {
+        config,
+        gaze,
+        check_pixels: args.check_pixels,
+    };
+    let mut life = Lifecycle::new(XrSession::new(&runtime, &gpu, &scene, settings)?);
+    let started = Instant::now();
+    // What the watchdog prints if the runtime stops answering: the summary so far.
+    let snapshot = Arc::new(Mutex::new(String::new()));
+    let watchdog = {
+        let snapshot = snapshot.clone();
+        let timeout = args.timeout;
+        Watchdog::new(Duration::from_secs_f64(timeout), move |stall| {
+            println!("{}", snapshot.lock().unwrap_or_else(|e| e.into_inner()));
+            eprintln!(
+                "error: the runtime stopped answering: {} has not returned for {:.1} s (--timeout {timeout}); is the headset's compositor running?",
+                stall.call,
+                stall.waited.as_secs_f64()
+            );
+            std::process::exit(1);
+        })
+    };
+    let mut run = Run {
+        runtime: &runtime,
+        args,
+        started,
+        snapshot: &snapshot,
+        saved: false,
+        interrupted: false,
+    };
+    let result = run.frames(&mut life, &watchdog);
+    drop(watchdog);
+    // Whatever ended the run, what it made is written and said before the verdict: a lost
+    // session keeps its picture and its summary.
+    let saved = run.save_checked(&life);
+    println!("{}", summary(&life, args, started.elapsed().as_secs_f64()));
+    result?;
+    saved?;
+    match life.ended() {
+        Some(Ended::Exited) if run.interrupted => {
+            return Err(crate::interrupt::stopped(
+                "the session was ended at the signal; the summary above is the run so far",
+            ))
+        }
+        Some(Ended::Exited) => {}
+        Some(Ended::SessionLost) => bail!(
+            "the runtime lost the session (XR_SESSION_STATE_LOSS_PENDING): the headset went away"
+        ),
+        Some(Ended::InstanceLost) => {
+            bail!("the runtime is going away (XrEventDataInstanceLossPending)")
+        }
+        None if run.interrupted => {
+            return Err(crate::interrupt::stopped(
+                "the session had not begun; nothing was rendered",
+            ))
+        }
+        None => bail!("the frame loop ended before the session did"),
+    }
+    gpu.check_validation()?;
+    if args.check_pixels {
+        let Some(check) = &life.backend().summary.pixels else {
+            bail!("--check-pixels: no frame was rendered to check");
+        };
+        println!("{check}");
+        anyhow::ensure!(check.passed(), "the pixel check failed: {check}");
+    }
+    Ok(())
+}
+
+/// The runtime's offer, once: what it is, what it offers that foveate uses or leaves.
+fn print_offer(report: &RuntimeReport, args: &XrArgs) {
     println!("runtime: {} — {}", report.runtime, report.system);
     println!(
         "  extensions of interest offered: {}",
@@ -102,65 +180,111 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
             args.gaze_source
         );
     }
-    let gpu = runtime.gpu(options)?;
-    println!("device (chosen by the runtime): {}", gpu.info().name);
-    let settings = XrSettings {
-        config,
-        gaze,
-        check_pixels: args.check_pixels,
-    };
-    let mut life = Lifecycle::new(XrSession::new(&runtime, &gpu, &scene, settings)?);
-    let started = Instant::now();
-    let mut last_frame = Instant::now();
-    let mut mask_changed = false;
-    loop {
-        while let Some(event) = runtime.poll(&mut mask_changed)? {
-            life.handle(event)?;
-        }
-        if std::mem::take(&mut mask_changed) {
-            log::info!("the runtime's visibility mask changed: fetching it again");
-            life.backend_mut().load_hidden_area()?;
-        }
-        if life.ended().is_some() {
-            break;
-        }
-        if args.frames.is_some_and(|n| life.frames().0 >= n) {
-            life.stop()?;
-        }
-        if life.frame()? {
-            last_frame = Instant::now();
-        } else {
-            if last_frame.elapsed().as_secs_f64() > args.timeout {
-                bail!(
-                    "the runtime ran no frame for {} s (session {:?}): is the headset's compositor running?",
-                    args.timeout,
-                    life.state()
-                );
+}
+
+/// The frame loop's state beside the lifecycle.
+struct Run<'a> {
+    runtime: &'a XrRuntime,
+    args: &'a XrArgs,
+    started: Instant,
+    snapshot: &'a Mutex<String>,
+    /// The checked frame is written (`--save`).
+    saved: bool,
+    /// Ctrl-C or SIGTERM asked the run to end.
+    interrupted: bool,
+}
+
+impl Run<'_> {
+    /// Runs frames until the session ends: the runtime's events drive the lifecycle, every
+    /// frame runs under the watchdog, and `--timeout` bounds a runtime that lets no frame run.
+    fn frames(&mut self, life: &mut Lifecycle<XrSession>, watchdog: &Watchdog) -> Result<()> {
+        let (args, mut last_frame, mut last_snapshot) = (self.args, Instant::now(), None);
+        let mut mask_changed = false;
+        loop {
+            // Events (and what they begin or end) go through the runtime too: watched as well.
+            watchdog.watch("xrPollEvent and the session's begin or end", || {
+                while let Some(event) = self.runtime.poll(&mut mask_changed)? {
+                    life.handle(event)?;
+                }
+                if std::mem::take(&mut mask_changed) {
+                    log::info!("the runtime's visibility mask changed: fetching it again");
+                    life.backend_mut().load_hidden_area()?;
+                }
+                anyhow::Ok(())
+            })?;
+            if life.ended().is_some() {
+                return Ok(());
             }
-            std::thread::sleep(Duration::from_millis(5));
+            if crate::interrupt::requested() && !self.interrupted {
+                self.interrupted = true;
+                log::warn!("interrupted: asking the runtime to end the session");
+                if life.state() == SessionState::Idle {
+                    return Ok(());
+                }
+            }
+            if self.interrupted || args.frames.is_some_and(|n| life.frames().0 >= n) {
+                life.stop()?;
+            }
+            if watchdog.watch(
+                "a frame (xrWaitFrame, xrWaitSwapchainImage, render, submit)",
+                || life.frame(),
+            )? {
+                last_frame = Instant::now();
+                self.save_checked(life)?;
+                if last_snapshot.is_none_or(|t: Instant| t.elapsed().as_secs_f64() >= 1.0) {
+                    let wall = self.started.elapsed().as_secs_f64();
+                    *self.snapshot.lock().unwrap_or_else(|e| e.into_inner()) =
+                        summary(life, args, wall);
+                    last_snapshot = Some(Instant::now());
+                }
+            } else {
+                if last_frame.elapsed().as_secs_f64() > args.timeout {
+                    bail!(
+                        "the runtime ran no frame for {} s (session {:?}): is the headset's compositor running?",
+                        args.timeout,
+                        life.state()
+                    );
+                }
+                std::thread::sleep(Duration::from_millis(5));
+            }
         }
     }
-    let wall = started.elapsed().as_secs_f64();
+
+    /// Writes the checked frame as submitted (`--save`) once it exists, and only once.
+    fn save_checked(&mut self, life: &Lifecycle<XrSession>) -> Result<()> {
+        if let (false, Some(check), Some(path)) =
+            (self.saved, &life.backend().summary.pixels, &self.args.save)
+        {
+            check.submitted.side_by_side().save(path)?;
+            self.saved = true;
+            println!("wrote {} (the checked frame as submitted)", path.display());
+        }
+        Ok(())
+    }
+}
+
+/// The run's summary: frames and pacing, the workload, the eyes' fit, the HMD mask.
+fn summary(life: &Lifecycle<XrSession>, args: &XrArgs, wall: f64) -> String {
     let summary = &life.backend().summary;
     let (rendered, skipped) = life.frames();
     let median = Stats::of(&summary.frame_ms).map_or(0.0, |s| s.median);
-    println!(
-        "{rendered} frames rendered and submitted ({skipped} submitted without rendering) in {wall:.1} s; median frame {median:.1} ms (locate, render, submit); display period {:.1} ms, {} late",
+    let mut text = format!(
+        "{rendered} frames rendered and submitted ({skipped} submitted without rendering) in {wall:.1} s; median frame {median:.1} ms (locate, render, submit); display period {:.1} ms, {} late\n",
         summary.pacing.display_period_ms, summary.pacing.late
     );
-    println!(
-        "workload: {} draw calls, {} triangles recorded per frame (the last one)",
+    text += &format!(
+        "workload: {} draw calls, {} triangles recorded per frame (the last one)\n",
         summary.draws.0, summary.draws.1
     );
-    println!(
+    text += &format!(
         "eyes: {} replan(s); the runtime's eyes lie within {:.2} mm and {:.3}° of foveate's eye model",
         summary.replans,
         summary.eye_fit_error.0 * 1e3,
         summary.eye_fit_error.1
     );
     match &summary.mask_hidden {
-        Some(m) => println!(
-            "HMD mask from the runtime's hidden-area mesh: hides {:.1} % / {:.1} % of the eyes (the mesh's area); the {} profile's ellipse would hide {:.1} % / {:.1} %{}",
+        Some(m) => text += &format!(
+            "\nHMD mask from the runtime's hidden-area mesh: hides {:.1} % / {:.1} % of the eyes (the mesh's area); the {} profile's ellipse would hide {:.1} % / {:.1} %{}",
             100.0 * m.mesh[0],
             100.0 * m.mesh[1],
             m.profile,
@@ -168,33 +292,10 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
             100.0 * m.ellipse[1],
             m.published.map_or(String::new(), |p| format!(" (published: {:.1} %)", 100.0 * p))
         ),
-        None if args.config.hmd_mask => println!("HMD mask: the profile's ellipse (the runtime offers no visibility mask)"),
+        None if args.config.hmd_mask => text += "\nHMD mask: the profile's ellipse (the runtime offers no visibility mask)",
         None => {}
     }
-    // What the run made is written before any verdict: a lost session keeps its picture.
-    if let (Some(check), Some(path)) = (&summary.pixels, &args.save) {
-        check.submitted.side_by_side().save(path)?;
-        println!("wrote {} (the checked frame as submitted)", path.display());
-    }
-    match life.ended() {
-        Some(Ended::Exited) => {}
-        Some(Ended::SessionLost) => bail!(
-            "the runtime lost the session (XR_SESSION_STATE_LOSS_PENDING): the headset went away"
-        ),
-        Some(Ended::InstanceLost) => {
-            bail!("the runtime is going away (XrEventDataInstanceLossPending)")
-        }
-        None => unreachable!("the loop ends with the run"),
-    }
-    gpu.check_validation()?;
-    if args.check_pixels {
-        let Some(check) = &summary.pixels else {
-            bail!("--check-pixels: no frame was rendered to check");
-        };
-        println!("{check}");
-        anyhow::ensure!(check.passed(), "the pixel check failed: {check}");
-    }
-    Ok(())
+    text
 }
 
 fn gaze_source(args: &XrArgs) -> Result<GazeSource> {
