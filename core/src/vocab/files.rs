@@ -36,11 +36,11 @@ fn folder_of(path: &Path) -> &Path {
 /// folder exists, and a file can be created there (which `/proc`, a read-only mount or a folder
 /// without write permission refuse). Nothing is left behind.
 pub fn check_writable(path: &Path) -> Result<(), FileError> {
-    if path.file_name().is_none() {
-        return Err(FileError::new(path, "it names no file"));
-    }
     if path.is_dir() {
         return Err(FileError::new(path, "it is a folder"));
+    }
+    if path.file_name().is_none() {
+        return Err(FileError::new(path, "it names no file"));
     }
     let folder = folder_of(path);
     if !folder.is_dir() {

@@ -123,8 +123,8 @@ impl RgbaImage {
     /// Checks, before the work that makes the image, that `path` names a format foveate writes
     /// and can be written ([`check_writable`]).
     pub fn check_output(path: &Path) -> Result<(), ImageError> {
-        Self::format_for(path)?;
-        check_writable(path).map_err(ImageError::Write)
+        check_writable(path).map_err(ImageError::Write)?;
+        Self::format_for(path).map(|_| ())
     }
 
     /// Writes the image in the format its extension names ([`RgbaImage::format_for`]),

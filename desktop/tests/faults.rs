@@ -1,0 +1,289 @@
+//! The command line under faults, as a hostile user meets it: input that used to panic or be
+//! accepted without a word, outputs that cannot be written, a signal in the middle of a sweep.
+//! Every refusal names the option, the value and the rule, and comes before any rendering (no
+//! frame time printed) with nothing written earlier lost.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+/// Runs `foveate` (validation on) in `dir`: exit success, stdout, stderr.
+fn run_in(dir: &Path, args: &[&str]) -> (bool, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .current_dir(dir)
+        .arg("--validation")
+        .args(args)
+        .output()
+        .expect("run foveate");
+    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+    (o.status.success(), text(&o.stdout), text(&o.stderr))
+}
+
+/// A fresh scratch folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("foveate-faults-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Refused with `needle` in the error, before anything rendered.
+fn refused(dir: &Path, args: &[&str], needle: &str) {
+    let (ok, out, err) = run_in(dir, args);
+    assert!(!ok, "{args:?} was accepted:\n{out}");
+    assert!(
+        err.contains(needle),
+        "{args:?}: expected `{needle}` in:\n{err}"
+    );
+    assert!(!err.contains("panicked"), "{args:?} panicked:\n{err}");
+    assert!(
+        !out.contains("frame time"),
+        "{args:?} rendered before refusing:\n{out}"
+    );
+}
+
+/// A fovea as large as its view (ratio 1 on profiles whose fovea view rounds to the full
+/// resolution) renders instead of panicking (exit 101 before the fix).
+#[test]
+fn a_fovea_as_large_as_the_view_renders() {
+    let dir = scratch("ratio-one");
+    for (hmd, ratio, res) in [
+        ("vive", "1.0", "48"),
+        ("rift-cv1", "1.0", "40"),
+        ("index", "0.999", "128"),
+    ] {
+        let args = [
+            "render",
+            "--hmd",
+            hmd,
+            "--foveate",
+            ratio,
+            "--res",
+            res,
+            "--frames",
+            "1",
+        ];
+        let (ok, _, err) = run_in(&dir, &args);
+        assert!(ok, "{args:?}:\n{err}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Input once accepted without a word is an error naming the option, the value and the rule;
+/// negative numbers parse as written.
+#[test]
+fn silent_acceptance_is_an_error_naming_option_value_and_rule() {
+    let dir = scratch("silent");
+    let r = ["render", "--res", "32"];
+    let with = |extra: &[&'static str]| [&r[..], extra].concat();
+    refused(
+        &dir,
+        &with(&["--foveate", "0.5", "--gaze", "2,0"]),
+        "invalid gaze = 2,0: X and Y finite, in -1..1",
+    );
+    refused(
+        &dir,
+        &with(&["--foveate", "0.5", "--gaze", "1e30,0"]),
+        "invalid gaze = 1000000000000000000000000000000,0",
+    );
+    for (option, value, mode) in [
+        ("--temporal-blend", "0.3", "--temporal"),
+        ("--split", "2px", "--mffr"),
+        ("--periphery-density", "0.5", "--foveate"),
+        ("--radial-outer", "0.9", "--radial-density"),
+    ] {
+        let needle =
+            format!("invalid {option} = {value}: it sets a parameter of {mode}, which is off");
+        refused(&dir, &with(&[option, value]), &needle);
+    }
+    // A negative number is a value, not an option: the range check answers, not the parser.
+    refused(&dir, &with(&["--ipd-mm", "-64"]), "invalid ipd = -0.064");
+    refused(
+        &dir,
+        &["xr", "--timeout", "-1"],
+        "invalid timeout = -1: a finite number of seconds above 0",
+    );
+    refused(&dir, &["xr", "--timeout", "NaN"], "invalid timeout = NaN");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Gaze traces that would render as if no trace were given: empty, header only, one usable
+/// sample, every sample after the run.
+#[test]
+fn traces_that_would_go_unused_are_refused() {
+    let dir = scratch("traces");
+    for (name, text, needle) in [
+        ("empty.csv", "", "0 usable samples of 0"),
+        (
+            "header.csv",
+            "time,lx,ly,rx,ry,valid\n",
+            "0 usable samples of 0",
+        ),
+        (
+            "one.csv",
+            "0,0.1,0.1,0.1,0.1,1\n0.01,NaN,0,0,0,1\n",
+            "1 usable samples of 2",
+        ),
+        (
+            "future.csv",
+            "100,0,0,0,0,1\n101,0,0,0,0,1\n",
+            "its first sample is at 100 s, after the run's last frame",
+        ),
+    ] {
+        std::fs::write(dir.join(name), text).unwrap();
+        refused(
+            &dir,
+            &[
+                "render",
+                "--res",
+                "32",
+                "--foveate",
+                "0.5",
+                "--gaze-trace",
+                name,
+            ],
+            needle,
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Outputs that cannot be written are refused before the render, and a refused run leaves the
+/// earlier file byte for byte; the image format follows the extension.
+#[test]
+fn outputs_are_checked_first_and_written_whole() {
+    let dir = scratch("outputs");
+    let (ok, _, err) = run_in(
+        &dir,
+        &[
+            "render", "--res", "32", "--frames", "1", "--out", "good.png",
+        ],
+    );
+    assert!(ok, "{err}");
+    let good = std::fs::read(dir.join("good.png")).unwrap();
+    std::fs::write(dir.join("a-file"), b"x").unwrap();
+    let r = ["render", "--res", "32", "--out"];
+    refused(
+        &dir,
+        &[&r[..], &["/proc/x.png"]].concat(),
+        "cannot write /proc/x.png",
+    );
+    refused(
+        &dir,
+        &[&r[..], &["a-file/x.png"]].concat(),
+        "a-file is not a folder",
+    );
+    refused(&dir, &[&r[..], &["."]].concat(), "it is a folder");
+    refused(
+        &dir,
+        &[&r[..], &["x.bmp"]].concat(),
+        "its extension names no format foveate writes (bmp)",
+    );
+    refused(
+        &dir,
+        &[
+            "render", "--res", "32", "--out", "good.png", "--gaze", "5,0",
+        ],
+        "invalid gaze",
+    );
+    assert_eq!(
+        std::fs::read(dir.join("good.png")).unwrap(),
+        good,
+        "the earlier file kept"
+    );
+    refused(
+        &dir,
+        &["compare", "--res", "32", "--csv", "a-file/t.csv"],
+        "a-file is not a folder",
+    );
+    let (ok, _, err) = run_in(
+        &dir,
+        &["render", "--res", "32", "--frames", "1", "--out", "x.jpg"],
+    );
+    assert!(ok, "{err}");
+    assert_eq!(
+        &std::fs::read(dir.join("x.jpg")).unwrap()[..3],
+        [0xff, 0xd8, 0xff],
+        "JPEG data"
+    );
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        ["a-file", "good.png", "x.jpg"],
+        "no temporary file left behind"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A pipeline cache whose path is a folder is not written, and leaves nothing beside it (a
+/// `pipelines.tmp<PID>` was left on every run).
+#[test]
+fn a_pipeline_cache_that_is_a_folder_leaves_nothing_behind() {
+    let dir = scratch("cache");
+    std::fs::create_dir_all(dir.join("cache")).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .current_dir(&dir)
+        .env("FOVEATE_PIPELINE_CACHE", dir.join("cache"))
+        .args(["render", "--res", "32", "--frames", "1", "--out", "f.png"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        names.len(),
+        2,
+        "{names:?}: the cache folder and f.png alone"
+    );
+    assert_eq!(std::fs::read_dir(dir.join("cache")).unwrap().count(), 0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// SIGINT in the middle of `compare` (once two configurations are judged) stops it after the
+/// row in hand: it exits non-zero saying so, and its CSV holds the rows finished, whole.
+/// Negative control: without the handler the signal kills it and no CSV exists.
+#[test]
+fn sigint_during_compare_writes_the_rows_done() {
+    let dir = scratch("sigint");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .current_dir(&dir)
+        .env("RUST_LOG", "foveate=info")
+        .args([
+            "compare", "--res", "384", "--frames", "2", "--csv", "rows.csv",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut log = String::new();
+    for line in BufReader::new(child.stderr.take().unwrap()).lines() {
+        let line = line.unwrap();
+        log += &line;
+        log.push('\n');
+        if line.contains("compare: judged 2 of") {
+            let pid = child.id().to_string();
+            assert!(Command::new("kill")
+                .args(["-INT", &pid])
+                .status()
+                .unwrap()
+                .success());
+        }
+    }
+    let status = child.wait().unwrap();
+    assert!(!status.success(), "{log}");
+    assert!(
+        log.contains("interrupted (Ctrl-C or SIGTERM): compare stopped after judging"),
+        "{log}"
+    );
+    let mut reader = csv::Reader::from_path(dir.join("rows.csv")).expect("the CSV of rows done");
+    let rows = reader.records().collect::<Result<Vec<_>, _>>().unwrap();
+    // Judged: the reference and at least one configuration; stopped before the last of 8.
+    assert!((1..8).contains(&rows.len()), "{} rows\n{log}", rows.len());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
