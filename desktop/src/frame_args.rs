@@ -68,7 +68,7 @@ pub struct ConfigArgs {
     /// screen's density reprojected by depth. Needs a 1x periphery (--periphery-msaa 1).
     #[arg(long)]
     pub temporal: bool,
-    /// With --temporal: a new sample's weight against the history (0 < w ≤ 1; default 0.2).
+    /// With --temporal: a new sample's weight against the history (0 < w ≤ 1; default 0.125).
     #[arg(long)]
     pub temporal_blend: Option<f32>,
     /// With --temporal: frames in the jitter cycle (1: no jitter; default 8).

@@ -179,7 +179,7 @@ fn bad_input_is_a_clear_error_not_a_panic() {
         ),
         (
             &["render", "--res", "32", "--out", "/nonexistent-dir/f.png"][..],
-            "writing /nonexistent-dir/f.png",
+            "cannot write /nonexistent-dir/f.png: its folder /nonexistent-dir does not exist",
         ),
         (
             &["plan", "--foveate", "0.35", "--sharpen", "1.5"][..],
@@ -201,7 +201,7 @@ fn bad_input_is_a_clear_error_not_a_panic() {
         ),
         (
             &["render", "--res", "32", "--scene", "/nonexistent/scene.glb"][..],
-            "scene file /nonexistent/scene.glb: cannot read it",
+            "scene file /nonexistent/scene.glb: cannot read /nonexistent/scene.glb: No such file",
         ),
         (
             &["plan", "--scene", "pyramid"][..],

@@ -8,6 +8,7 @@ mod culling;
 mod descriptors;
 mod executor;
 mod far_view;
+mod frame_input;
 mod lod_select;
 mod masks;
 mod materials;

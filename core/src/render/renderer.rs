@@ -7,6 +7,7 @@ use super::culling::FrameCulling;
 use super::descriptors::DescriptorSet;
 use super::executor::{Executor, FrameInput};
 use super::far_view::FarView;
+use super::frame_input::{eyes_fit, head_is_finite};
 use super::masks::MaskShapes;
 use super::materials::MaterialSet;
 use super::mffr::FarComposite;
@@ -28,7 +29,7 @@ use crate::gpu::{
 };
 use crate::plan::{BufferPlan, ConfigError, FramePlan, PassKind, PassPlan, RenderConfig, Step};
 use crate::scene::{Draw, Scene, Shading};
-use crate::view::{Eye, EyeParams, HiddenArea};
+use crate::view::{EyeParams, HiddenArea};
 
 /// A [`FramePlan`] compiled into Vulkan objects for one scene.
 ///
@@ -75,59 +76,6 @@ pub struct Renderer<'g> {
     /// Each eye's hidden-area mesh (a runtime's), when handed in.
     hidden_area: Option<[HiddenArea; 2]>,
     pub(super) frames_rendered: u64,
-}
-
-/// Whether `eyes` fit `planned` (see [`Renderer::set_eyes`]).
-fn eyes_fit(eyes: &EyeParams, planned: &EyeParams) -> Result<(), ConfigError> {
-    // A thousandth of a tangent (0.06° at the axis): runtimes report the same field with
-    // rounding from frame to frame.
-    const SLACK: f32 = 1e-3;
-    for eye in Eye::BOTH {
-        let (fov, bound) = (eyes.fov(eye), planned.fov(eye));
-        let inside = fov
-            .as_array()
-            .iter()
-            .zip(bound.as_array())
-            .all(|(t, b)| t.is_finite() && *t <= b + SLACK)
-            && fov.left + fov.right > 0.0
-            && fov.up + fov.down > 0.0;
-        if !inside {
-            return Err(ConfigError::new(
-                if eye == Eye::Left {
-                    "left fov"
-                } else {
-                    "right fov"
-                },
-                format!("{:?}", fov.as_array()),
-                format!(
-                    "within the planned tangents {:?}, of positive width and height (replan for a wider field)",
-                    bound.as_array()
-                ),
-            ));
-        }
-    }
-    if !eyes.ipd_m.is_finite() || eyes.ipd_m < 0.0 || eyes.ipd_m > planned.ipd_m + 1e-4 {
-        return Err(ConfigError::new(
-            "ipd",
-            eyes.ipd_m,
-            format!(
-                "0 ≤ ipd ≤ the planned {} m (replan for a wider one)",
-                planned.ipd_m
-            ),
-        ));
-    }
-    // Written so a NaN cant fails the check too.
-    if !((eyes.cant_rad - planned.cant_rad).abs() <= 1e-4) {
-        return Err(ConfigError::new(
-            "cant",
-            eyes.cant_rad.to_degrees(),
-            format!(
-                "the planned {}° (replan for another)",
-                planned.cant_rad.to_degrees()
-            ),
-        ));
-    }
-    Ok(())
 }
 
 impl<'g> Renderer<'g> {
@@ -321,14 +269,7 @@ impl<'g> Renderer<'g> {
     /// Renders one frame with the head at `world_from_head` (a finite matrix, or an error) and
     /// waits for it.
     pub fn render_frame(&mut self, world_from_head: Mat4) -> Result<FrameStats, GpuError> {
-        if !world_from_head.is_finite() {
-            return Err(ConfigError::new(
-                "world_from_head",
-                format!("{:?}", world_from_head.to_cols_array()),
-                "a finite matrix (a lost head-tracking sample: keep the last good pose)",
-            )
-            .into());
-        }
+        head_is_finite(world_from_head)?;
         let plan = &self.plan;
         let fovea = plan.foveation.map(|g| {
             let screen = (plan.eye_resolution.width, plan.eye_resolution.height);

@@ -31,6 +31,33 @@ pub(super) fn read_uri(uri: &str, base: Option<&Path>, limit: u64) -> Result<Vec
     read_bounded(&path, limit)
 }
 
+/// A buffer's bytes: the GLB binary chunk, or its URI's, bounded by its declared length.
+pub(super) fn load_buffer(
+    buffer: &gltf::Buffer,
+    base: Option<&Path>,
+    blob: Option<&[u8]>,
+) -> Result<Vec<u8>, String> {
+    let what = format!("buffer {}", buffer.index());
+    let data = match buffer.source() {
+        gltf::buffer::Source::Bin => blob
+            .ok_or(format!("{what} is the GLB binary chunk, which is missing"))?
+            .to_vec(),
+        // Bounded by the declared length (a file may pad it to 4 bytes, as GLB chunks are).
+        gltf::buffer::Source::Uri(uri) => {
+            let limit = (buffer.length() as u64).next_multiple_of(4);
+            read_uri(uri, base, limit).map_err(|e| format!("{what}: {e}"))?
+        }
+    };
+    if data.len() < buffer.length() {
+        return Err(format!(
+            "{what} holds {} bytes, fewer than the {} it declares",
+            data.len(),
+            buffer.length()
+        ));
+    }
+    Ok(data)
+}
+
 /// `bytes` within `limit`, or an error naming both.
 fn within(bytes: u64, limit: u64, what: &str) -> Result<(), String> {
     if bytes > limit {

@@ -7,6 +7,7 @@ mod default_scene;
 #[cfg_attr(not(feature = "clusters"), allow(dead_code))]
 mod deviation;
 mod gltf_file;
+mod gltf_geometry;
 mod gltf_uri;
 mod lod;
 mod materials;
