@@ -36,7 +36,7 @@ pub fn fovea_tangents(periphery: FovTangents, ratio: f32, gaze: Vec2) -> FovTang
 /// holds it: ratio 1, or a fovea view that rounds to the periphery's size), the one place left,
 /// their midpoint (`f32::clamp` panics there, and on a NaN bound, which passes through here).
 pub(crate) fn clamp_inside(v: f32, lo: f32, hi: f32) -> f32 {
-    if !(lo <= hi) {
+    if lo > hi || lo.is_nan() || hi.is_nan() {
         (lo + hi) * 0.5
     } else {
         v.clamp(lo, hi)

@@ -88,7 +88,7 @@ proptest! {
         native in any::<bool>(),
         gaze in (-1.0f32..=1.0, -1.0f32..=1.0),
     ) {
-        let res = (!native).then(|| Resolution { width, height });
+        let res = (!native).then_some(Resolution { width, height });
         let config = foveated(HMD_PROFILES[profile].name, res, ratio);
         if let Ok(plan) = plan(scene(), &config, &tests::caps()) {
             assert_windows_inside(&plan, Vec2::from(gaze))?;

@@ -46,8 +46,8 @@ pub(super) fn eyes_fit(eyes: &EyeParams, planned: &EyeParams) -> Result<(), Conf
             ),
         ));
     }
-    // Written so a NaN cant fails the check too.
-    if !((eyes.cant_rad - planned.cant_rad).abs() <= 1e-4) {
+    let off = (eyes.cant_rad - planned.cant_rad).abs();
+    if off.is_nan() || off > 1e-4 {
         return Err(ConfigError::new(
             "cant",
             eyes.cant_rad.to_degrees(),
