@@ -19,11 +19,9 @@ pub struct GazeSample {
 
 #[derive(Debug, thiserror::Error)]
 pub enum GazeError {
-    #[error("cannot read gaze trace {path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
+    /// The cause is in the message (not a separate source), so an error chain says it once.
+    #[error("cannot read gaze trace {path}: {why}")]
+    Io { path: String, why: String },
     #[error("gaze trace {path}, line {line}: {message} (expected `time,left_x,left_y,right_x,right_y,valid`)")]
     Parse {
         path: String,
@@ -44,9 +42,9 @@ pub enum GazeError {
 /// samples ([`GazeFilter::is_good`]: an empty or header-only file, say) is an error too.
 pub fn parse_gaze_csv(path: &Path) -> Result<Vec<GazeSample>, GazeError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| GazeError::Io {
+    let text = std::fs::read_to_string(path).map_err(|e| GazeError::Io {
         path: name.clone(),
-        source,
+        why: e.to_string(),
     })?;
     let mut samples: Vec<GazeSample> = Vec::new();
     for (i, line) in text.lines().enumerate() {

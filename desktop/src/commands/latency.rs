@@ -279,6 +279,14 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
         let bar = crate::progress::bar(&format!("latency: {name}"), gazes.len() as u64);
         let mut rows = vec![vec![UNJUDGED; frames.len()]; trackings.len()];
         for key in &gazes {
+            if crate::interrupt::requested() {
+                // Its tables compare every configuration at once: no partial table is a result.
+                return Err(crate::interrupt::stopped(&format!(
+                    "the latency sweep stopped in configuration {} of {}: nothing written",
+                    c + 1,
+                    sweep.foveated.len()
+                )));
+            }
             let g = Vec2::from_array(key.map(f32::from_bits));
             renderer.set_gaze([g; 2])?;
             renderer.render_frame(sweep.scene.head)?;
