@@ -50,38 +50,40 @@ run stereo --frames 60
 run foveated-masked --frames "$frames" --foveate 0.5 --hmd-mask
 run mffr --frames 60 --mffr near-first
 
-# A runtime that stops answering: once the first frame is checked and written, the service is
-# stopped (SIGSTOP). foveate must end within --timeout + 1 s, non-zero, with the frame written
-# and the summary printed. Last, as the service is not itself afterwards.
-stalled() {
-    local log png timeout=3 app i start elapsed rc=0
-    log="$(xr_dir)/run-stalled.log"
-    png="$root/tmp/foveate/stalled.png"
+# A runtime that fails mid-run: once the first frame is checked and written, the service is
+# stopped (SIGSTOP: it stops answering) or killed (SIGKILL: it dies). foveate must end within
+# --timeout + 1 s, non-zero, with the frame written and the summary printed. Last, as the
+# service is not itself afterwards (a killed one is started again for nothing else).
+fault() {
+    local signal=$1 log png timeout=3 app i start elapsed rc=0
+    log="$(xr_dir)/run-$signal.log"
+    png="$root/tmp/foveate/$signal.png"
     rm -f "$png"
-    echo "=== foveate xr --timeout $timeout, the runtime stopped after the first frame"
+    echo "=== foveate xr --timeout $timeout, the runtime sent SIG$signal after the first frame"
     timeout 120 chroot "$root" /usr/bin/env -u VK_ICD_FILENAMES -u VK_DRIVER_FILES -u VK_LAYER_PATH \
         XDG_RUNTIME_DIR=/run/xr RUST_LOG=foveate=info /opt/foveate/foveate xr --check-pixels \
-        --save /tmp/foveate/stalled.png --timeout "$timeout" >"$log" 2>&1 &
+        --save "/tmp/foveate/$signal.png" --timeout "$timeout" >"$log" 2>&1 &
     app=$!
     for i in $(seq 1 900); do
         [ -f "$png" ] && break
         sleep 0.1
     done
-    kill -STOP "$XR_SERVICE_PID"
+    kill "-$signal" "$XR_SERVICE_PID"
     start=$(date +%s%N)
     wait "$app" || rc=$?
     elapsed=$((($(date +%s%N) - start) / 1000000))
-    kill -CONT "$XR_SERVICE_PID"
-    grep -E 'frames rendered and submitted|stopped answering|wrote' "$log" | grep -vP '^\t' || true
-    echo "exit $rc after $elapsed ms with the runtime stopped"
+    [ "$signal" = STOP ] && kill -CONT "$XR_SERVICE_PID"
+    grep -E 'frames rendered and submitted|^error|^wrote' "$log" | grep -vP '^\t' || true
+    echo "exit $rc after $elapsed ms"
     if [ "$rc" -eq 0 ] || [ "$rc" -eq 124 ] || [ ! -f "$png" ] ||
-        ! grep -q 'frames rendered and submitted' "$log" || ! grep -q 'stopped answering' "$log" ||
+        ! grep -q 'frames rendered and submitted' "$log" ||
         [ "$elapsed" -gt $(((timeout + 1) * 1000)) ]; then
         tail -n 30 "$log"
-        echo "foveate xr (stalled runtime) FAILED: it must end within $timeout + 1 s, non-zero, frame and summary written" >&2
+        echo "foveate xr (runtime sent SIG$signal) FAILED: it must end within $timeout + 1 s, non-zero, frame and summary written" >&2
         status=1
     fi
 }
-stalled
-[ $status -eq 0 ] && echo "xr: every run submitted its frames, validation clean, pixels equal; a stalled runtime ended the run in time"
+fault STOP
+fault KILL
+[ $status -eq 0 ] && echo "xr: every run submitted its frames, validation clean, pixels equal; a stalled or dead runtime ended the run in time, frame and summary kept"
 exit $status

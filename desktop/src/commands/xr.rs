@@ -231,7 +231,11 @@ impl Run<'_> {
             )? {
                 last_frame = Instant::now();
                 self.save_checked(life)?;
-                if last_snapshot.is_none_or(|t: Instant| t.elapsed().as_secs_f64() >= 1.0) {
+                // Every frame at first (the summary of a run that stalls early is its first
+                // frames), then once a second.
+                let early = life.frames().0 <= 100;
+                if early || last_snapshot.is_none_or(|t: Instant| t.elapsed().as_secs_f64() >= 1.0)
+                {
                     let wall = self.started.elapsed().as_secs_f64();
                     *self.snapshot.lock().unwrap_or_else(|e| e.into_inner()) =
                         summary(life, args, wall);
