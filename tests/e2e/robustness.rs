@@ -9,7 +9,7 @@ use std::sync::OnceLock;
 use foveate::foveation::{FoveationConfig, TemporalConfig};
 use foveate::gpu::Gpu;
 use foveate::mffr::MffrConfig;
-use foveate::plan::{OutputStage, RenderConfig, Resolution};
+use foveate::plan::{OutputStage, RadialDensity, RenderConfig, Resolution, StereoMode};
 use foveate::render::Renderer;
 use foveate::scene::{default_scene, Scene};
 use foveate::view::HMD_PROFILES;
@@ -40,29 +40,38 @@ fn foveated(hmd: &str, res: Resolution, ratio: f32) -> RenderConfig {
 
 proptest! {
     // Each case compiles and renders on lavapipe: a bounded budget, not a soak.
-    #![proptest_config(ProptestConfig { cases: 48, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
 
-    /// The fuzz harness on the GPU: headset × tiny and odd resolutions × ratio up to 1 × MSAA ×
-    /// the effects × gaze and head; a plan error is fine, a planned frame must render (two
-    /// frames: the second reuses a history) validation-clean.
+    /// The fuzz harness on the GPU: headset × stereo mode × tiny and odd resolutions ×
+    /// foveation (ratio up to 1, periphery density and samples) × MSAA × the effects × gaze and
+    /// head; a plan error is fine, a planned frame must render (two frames: the second reuses a
+    /// history) validation-clean.
     #[test]
     fn every_planned_configuration_renders_any_gaze_and_head(
-        profile in 0..HMD_PROFILES.len(),
+        (profile, stereo) in (0..HMD_PROFILES.len(), prop_oneof![4 => Just(0usize), 1 => 1..StereoMode::ALL.len()]),
         (width, height) in (1u32..80, 1u32..80),
-        ratio in prop_oneof![0.05f32..=1.0, Just(1.0)],
-        (msaa, hmd_mask, lens, temporal, mffr) in (prop_oneof![Just(1u32), Just(4)], any::<bool>(), any::<bool>(), any::<bool>(), any::<bool>()),
+        foveation in prop::option::weighted(0.8, (prop_oneof![0.05f32..=1.0, Just(1.0)], prop::option::of(0.25f32..=1.0), prop::option::of(prop_oneof![Just(1u32), Just(4)]))),
+        (msaa, hmd_mask, lens, temporal, mffr, radial) in (prop_oneof![Just(1u32), Just(4)], any::<bool>(), any::<bool>(), any::<bool>(), any::<bool>(), prop::bool::weighted(0.2)),
         gaze in (-1.0f32..=1.0, -1.0f32..=1.0),
         (yaw, step) in (-3.2f32..3.2, -100.0f32..100.0),
     ) {
         let (gpu, scene) = fuzz_gpu();
+        let (ratio, density, periphery_msaa) = foveation.unwrap_or((0.5, None, None));
         let mut config = foveated(HMD_PROFILES[profile].name, Resolution { width, height }, ratio);
+        config.stereo = StereoMode::ALL[stereo];
         config.msaa = msaa;
         config.hmd_mask = hmd_mask;
         config.output = if lens { OutputStage::Lens } else { OutputStage::Undistorted };
         if let Some(f) = &mut config.foveation {
+            f.periphery_density = density;
+            f.periphery_msaa = periphery_msaa;
             f.periphery_temporal = temporal.then(TemporalConfig::default);
         }
+        if foveation.is_none() {
+            (config.foveation, config.views) = (None, 2);
+        }
         config.mffr = mffr.then(MffrConfig::default);
+        config.radial_density = radial.then(RadialDensity::default);
         let Ok(plan) = foveate::plan(scene, &config, gpu.caps()) else {
             return Ok(());
         };

@@ -76,7 +76,7 @@ fn a_fovea_as_large_as_the_view_plans_and_places_its_window() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(512))]
+    #![proptest_config(ProptestConfig::with_cases(5000))]
 
     /// Ratio × resolution × profile × gaze: a plan or an error, and windows inside.
     #[test]
@@ -199,7 +199,7 @@ prop_compose! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(2000))]
+    #![proptest_config(ProptestConfig::with_cases(20000))]
 
     /// The fuzz harness: any configuration with any gaze either plans (and places its fovea
     /// windows inside) or is an error; the gaze is accepted only inside −1…1 and finite.
