@@ -27,11 +27,15 @@ mesa25_manifest() {
         echo "foveate drivers: mesa25 is fetched from bookworm-backports, for Debian bookworm only" >&2
         return 2
     fi
-    echo "foveate drivers: fetching Mesa 25's lavapipe from bookworm-backports into $root" >&2
-    local apt_dir="$root/apt" opts
+    local apt_dir="$root/apt" opts mirror
+    # The system's Debian archive, as apt has it (a local mirror or proxy included).
+    # shellcheck source=scripts/packages.sh
+    . "$(dirname "${BASH_SOURCE[0]}")/packages.sh"
+    mirror=$(debian_mirror) || return 1
+    echo "foveate drivers: fetching Mesa 25's lavapipe from bookworm-backports ($mirror) into $root" >&2
     rm -rf "$root"
     mkdir -p "$apt_dir/lists/partial" "$apt_dir/cache/archives/partial" "$root/deb"
-    echo "deb [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian bookworm-backports main" \
+    echo "deb [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] $mirror bookworm-backports main" \
         >"$apt_dir/sources.list"
     opts=(-qq -o "Dir::Etc::sourcelist=$apt_dir/sources.list" -o Dir::Etc::sourceparts=/dev/null
         -o "Dir::State::Lists=$apt_dir/lists" -o "Dir::Cache=$apt_dir/cache"

@@ -13,3 +13,33 @@ ensure_packages() {
     $sudo apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
 }
+
+# debian_mirror: prints the Debian archive this system's apt takes its release from (the first
+# source, one-line or deb822, whose suite is the system's codename: not the security archive,
+# not a third party's), so that scripts fetching Debian packages go where apt goes (a local
+# mirror or proxy included). Fails, saying so, where apt has none.
+debian_mirror() {
+    local codename mirror
+    # shellcheck disable=SC1091
+    codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-}")
+    mirror=$({
+        awk -v c="$codename" '
+            /^[[:space:]]*#/ { next }
+            $1 == "deb" {
+                for (i = 2; i < NF; i++) if ($i ~ /^[a-z+]+:\/\//) { if ($(i + 1) == c) print $i; break }
+            }' /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null
+        awk -v c="$codename" '
+            function flush() { if (uri != "" && ours) print uri; uri = ""; ours = 0 }
+            FNR == 1 { flush() }
+            /^[[:space:]]*#/ { next }
+            /^[[:space:]]*$/ { flush(); next }
+            $1 == "URIs:" { uri = $2 }
+            $1 == "Suites:" { for (i = 2; i <= NF; i++) if ($i == c) ours = 1 }
+            END { flush() }' /etc/apt/sources.list.d/*.sources 2>/dev/null
+    } | head -n 1)
+    if [ -z "$mirror" ]; then
+        echo "foveate setup: no Debian archive for '$codename' in /etc/apt/sources.list or sources.list.d: add the one apt should use" >&2
+        return 1
+    fi
+    echo "${mirror%/}"
+}

@@ -29,10 +29,8 @@ xr_root() {
     . "$(dirname "${BASH_SOURCE[0]}")/packages.sh"
     ensure_packages debootstrap >&2
     local mirror
-    # The system's Debian mirror (not a comment, not the security archive).
-    mirror=$(grep -hE '^(URIs:|deb )' /etc/apt/sources.list /etc/apt/sources.list.d/* 2>/dev/null |
-        grep -oE 'https?://[^ ]*/debian/?( |$)' | head -n 1 | tr -d ' ')
-    mirror=${mirror:-http://deb.debian.org/debian}
+    # The system's Debian archive, as apt has it (a local mirror or proxy included).
+    mirror=$(debian_mirror) || return 1
     echo "foveate xr: building a Debian trixie chroot with Monado in $root (from $mirror)" >&2
     rm -rf "$root"
     mkdir -p "$root"
