@@ -140,3 +140,29 @@ fn bad_per_frame_input_is_an_error_and_the_renderer_renders_on() {
     drop(renderer);
     assert_validation_clean(gpu);
 }
+
+/// One `Gpu` shared by two threads, each rendering its own frames: the queue is locked around
+/// every submission, so validation (whose thread checker reports a queue used by two threads at
+/// once) stays silent. Negative control: `Gpu::with_queue` without its lock reports
+/// `UNASSIGNED-Threading-MultipleThreads` on vkQueueSubmit.
+#[test]
+fn two_threads_render_on_one_gpu() {
+    let (gpu, scene) = (&gpu(), &default_scene());
+    let config = RenderConfig {
+        resolution: Some(Resolution::square(48)),
+        msaa: 1,
+        ..RenderConfig::default()
+    };
+    let plan = foveate::plan(scene, &config, gpu.caps()).unwrap();
+    std::thread::scope(|s| {
+        for _ in 0..2 {
+            s.spawn(|| {
+                let mut renderer = Renderer::new(gpu, &plan, scene).unwrap();
+                for _ in 0..40 {
+                    renderer.render_frame(scene.head).unwrap();
+                }
+            });
+        }
+    });
+    assert_validation_clean(gpu);
+}

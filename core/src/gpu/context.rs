@@ -313,6 +313,9 @@ pub struct Gpu {
     pub(crate) dev: Arc<DeviceOwner>,
     pub(crate) physical: vk::PhysicalDevice,
     pub(crate) queue: vk::Queue,
+    /// Held around every use of `queue` (submit, present, wait idle): Vulkan requires the
+    /// caller to synchronize a queue's users, and a `Gpu` is shared between threads.
+    queue_lock: std::sync::Mutex<()>,
     pub(crate) queue_family: u32,
     /// Nanoseconds per timestamp tick.
     pub(crate) timestamp_period_ns: f64,
@@ -483,6 +486,7 @@ impl Gpu {
             dev,
             physical,
             queue,
+            queue_lock: std::sync::Mutex::new(()),
             queue_family,
             timestamp_period_ns: props.limits.timestamp_period as f64,
             caps,
@@ -608,7 +612,15 @@ impl Gpu {
 
     /// Waits until the device is idle.
     pub fn wait_idle(&self) -> Result<(), GpuError> {
-        unsafe { self.dev.device.device_wait_idle() }.vk("vkDeviceWaitIdle")
+        // vkDeviceWaitIdle synchronizes every queue of the device: no submission meanwhile.
+        self.with_queue(|_| unsafe { self.dev.device.device_wait_idle() })
+            .vk("vkDeviceWaitIdle")
+    }
+
+    /// Runs `f` with the graphics queue, no other thread using it meanwhile.
+    pub(crate) fn with_queue<T>(&self, f: impl FnOnce(vk::Queue) -> T) -> T {
+        let _held = self.queue_lock.lock().unwrap_or_else(|e| e.into_inner());
+        f(self.queue)
     }
 }
 

@@ -16,7 +16,8 @@ impl Gpu {
         unsafe { device.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
         record(cmd);
         unsafe { device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
-        self.submit(cmd, &fence)?;
+        // SAFETY: `cmd` was recorded and ended above; its pool and `fence` outlive the wait.
+        unsafe { self.submit(cmd, &fence)? };
         self.wait(&fence)
     }
 
@@ -52,10 +53,16 @@ impl Gpu {
     }
 
     /// Submits one command buffer to the graphics queue, signalling `fence` (unsignalled).
-    pub fn submit(&self, cmd: vk::CommandBuffer, fence: &Fence) -> Result<(), GpuError> {
+    /// Other threads' submissions wait meanwhile (the queue is locked).
+    ///
+    /// # Safety
+    /// `cmd` is a command buffer of this device in the executable state (recorded and ended),
+    /// not pending elsewhere, and it and everything it uses stay alive until `fence` signals.
+    pub unsafe fn submit(&self, cmd: vk::CommandBuffer, fence: &Fence) -> Result<(), GpuError> {
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
-        unsafe { self.device().queue_submit(self.queue, &submit, fence.raw) }.vk("vkQueueSubmit")
+        self.with_queue(|queue| unsafe { self.device().queue_submit(queue, &submit, fence.raw) })
+            .vk("vkQueueSubmit")
     }
 
     /// Waits for `fence` and resets it for the next submission.

@@ -335,10 +335,9 @@ impl Swapchain {
             .wait_dst_stage_mask(&stages)
             .command_buffers(&cmds)
             .signal_semaphores(&signals)];
-        unsafe {
-            gpu.device()
-                .queue_submit(gpu.queue, &submit, self.fence.raw)
-        }
+        gpu.with_queue(|queue| unsafe {
+            gpu.device().queue_submit(queue, &submit, self.fence.raw)
+        })
         .vk("vkQueueSubmit")?;
         gpu.wait(&self.fence)?;
         let swapchains = [self.raw];
@@ -347,7 +346,7 @@ impl Swapchain {
             .wait_semaphores(&signals)
             .swapchains(&swapchains)
             .image_indices(&indices);
-        match unsafe { self.loader.queue_present(gpu.queue, &present) } {
+        match gpu.with_queue(|queue| unsafe { self.loader.queue_present(queue, &present) }) {
             Ok(suboptimal) => self.stale |= suboptimal,
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => self.stale = true,
             Err(e) => {

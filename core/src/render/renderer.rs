@@ -349,7 +349,9 @@ impl<'g> Renderer<'g> {
         };
         unsafe { device.end_command_buffer(self.cmd) }.vk("vkEndCommandBuffer")?;
         let recorded = Instant::now();
-        self.gpu.submit(self.cmd, &self.fence)?;
+        // SAFETY: the frame's command buffer was just ended; everything it uses is the
+        // renderer's, alive until the wait below.
+        unsafe { self.gpu.submit(self.cmd, &self.fence)? };
         let submitted = Instant::now();
         self.gpu.wait(&self.fence)?;
         let done = Instant::now();
