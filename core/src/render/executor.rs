@@ -24,7 +24,7 @@ pub(super) struct FrameInput<'a> {
 
 /// One technique's per-frame work. One that keeps state across frames (the periphery's
 /// temporal history) owns it and says in `update` when it resets.
-pub(super) trait Executor {
+pub(super) trait Executor: Send {
     /// Writes this frame's uniforms.
     fn update(&mut self, frame: &FrameInput);
     /// The descriptor set `step` binds, when it is one of this executor's steps that reads the

@@ -718,3 +718,10 @@ pub fn counting_frame(
     renderer.set_gaze(gaze)?;
     renderer.render_frame(world_from_head)
 }
+
+// A renderer can move to a render thread (its executors are `Send`, its `Gpu` is shared):
+// checked at compile time, so a field that is not fails the build.
+const _: () = {
+    const fn send<T: Send>() {}
+    send::<Renderer<'static>>();
+};
