@@ -107,6 +107,7 @@ pub fn parse_scale(s: &str) -> Result<f32> {
 const INTERLEAVE_LIMIT_BYTES: u64 = 2 << 30;
 
 pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
+    crate::interrupt::install();
     let scale = parse_scale(&args.scale)?;
     anyhow::ensure!(
         args.frames >= 1,
@@ -171,74 +172,150 @@ pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         bar.set_message(label.to_string());
         bar.inc(1);
     };
-    // What each renderer allocates, measured with no other renderer alive (alignment padding
-    // depends on what else the allocator holds).
-    let allocated = plans
-        .iter()
-        .map(|plan| {
-            let before = gpu.allocated_bytes();
-            let renderer = Renderer::new(&gpu, plan, &scene)?;
-            let bytes = gpu.allocated_bytes().saturating_sub(before);
-            drop(renderer);
-            Ok(bytes)
-        })
-        .collect::<Result<Vec<u64>>>()?;
-    let mut samples: Vec<FrameSample> = Vec::new();
-    for group in &groups {
-        let mut renderers = Vec::new();
-        for &i in group {
-            renderers.push((i, Renderer::new(&gpu, &plans[i], &scene)?));
-        }
-        for _ in 0..args.warmup {
-            for (_, r) in &mut renderers {
-                r.render_frame(pose(0))?;
-                tick("bench (warm-up)");
-            }
-        }
-        for &frame in &rail_frames {
-            for (i, r) in &mut renderers {
-                let stats = r.render_frame(pose(frame))?;
-                samples.push(FrameSample::new(*i, frame, &stats, &plans[*i]));
-                tick("bench");
-            }
-        }
+    let allocated = allocated_bytes(&gpu, &plans, &scene)?;
+    let rails = Rails {
+        gpu: &gpu,
+        scene: &scene,
+        plans: &plans,
+        frames: &rail_frames,
+        warmup: args.warmup,
+        pose: &pose,
+        tick: &tick,
+    };
+    let (mut samples, complete) = rails.measure(&groups)?;
+    // Ctrl-C or SIGTERM stop each stage early; what was measured until then is the report
+    // (the error at the end says so), and nothing is written when no frame was timed.
+    if samples.is_empty() {
+        return Err(crate::interrupt::stopped(
+            "bench stopped before any timed frame: nothing written",
+        ));
     }
-    // Pixels shaded, by a counting twin of each row on the sampled frames.
-    for (i, row) in rows.iter().enumerate() {
-        if counted.is_empty() {
-            break;
-        }
-        let config = row.config.counting();
-        let mut twin = Renderer::new(&gpu, &foveate::plan(&scene, &config, gpu.caps())?, &scene)?;
-        for &frame in &counted {
-            let stats = twin.render_frame(pose(frame))?;
-            if let Some(s) = samples
-                .iter_mut()
-                .find(|s| s.config == i && s.rail_frame == frame)
-            {
-                s.pixels = Some(stats.scene_fragments());
-                s.total_pixels = Some(stats.total_fragments());
-            }
-            tick("bench (pixel counts)");
-        }
+    if complete {
+        rails.count_pixels(&rows, &counted, &mut samples)?;
     }
     gpu.check_validation()?;
-
-    let accuracy = if args.accuracy_rounds > 0 {
-        accuracy::sweep(&gpu, &scene, &settings, pose(RAIL_LOOP_FRAMES / 4), args)?
-    } else {
-        Vec::new()
+    let accuracy = match args.accuracy_rounds {
+        0 => Vec::new(),
+        _ if crate::interrupt::requested() => Vec::new(),
+        _ => match accuracy::sweep(&gpu, &scene, &settings, pose(RAIL_LOOP_FRAMES / 4), args) {
+            Err(_) if crate::interrupt::requested() => Vec::new(),
+            accuracy => accuracy?,
+        },
     };
     gpu.check_validation()?;
-
+    bar.finish_and_clear();
     let report = Report::new(
         &gpu, &settings, scale, &scene, args, interleave, rows, plans, allocated, samples, accuracy,
     );
     report.write(&args.out, args.csv.as_deref(), args.json.as_deref())?;
-    if args.foveation_res > 0 {
+    if args.foveation_res > 0 && !crate::interrupt::requested() {
         foveation_table(&gpu, args)?;
     }
+    if crate::interrupt::requested() {
+        return Err(crate::interrupt::stopped(&format!(
+            "bench stopped early; {} holds what was measured until then ({})",
+            args.out.display(),
+            if complete {
+                "every frame along the rails; pixel counts, accuracy or the foveation table cut short"
+            } else {
+                "the frames along the rails so far; no pixel counts, no accuracy"
+            }
+        )));
+    }
     Ok(())
+}
+
+/// What each plan's renderer allocates, measured with no other renderer alive (alignment
+/// padding depends on what else the allocator holds).
+fn allocated_bytes(
+    gpu: &Gpu,
+    plans: &[FramePlan],
+    scene: &foveate::scene::Scene,
+) -> Result<Vec<u64>> {
+    plans
+        .iter()
+        .map(|plan| {
+            let before = gpu.allocated_bytes();
+            let renderer = Renderer::new(gpu, plan, scene)?;
+            let bytes = gpu.allocated_bytes().saturating_sub(before);
+            drop(renderer);
+            Ok(bytes)
+        })
+        .collect()
+}
+
+/// What the timed frames along the rails need.
+struct Rails<'a> {
+    gpu: &'a Gpu,
+    scene: &'a foveate::scene::Scene,
+    plans: &'a [FramePlan],
+    frames: &'a [u64],
+    warmup: u64,
+    pose: &'a dyn Fn(u64) -> glam::Mat4,
+    tick: &'a dyn Fn(&str),
+}
+
+impl Rails<'_> {
+    /// Each group's rows rendered side by side along the rails (after their warm-up), every
+    /// frame a sample; false beside the samples when Ctrl-C or SIGTERM stopped it early.
+    fn measure(&self, groups: &[Vec<usize>]) -> Result<(Vec<FrameSample>, bool)> {
+        let mut samples: Vec<FrameSample> = Vec::new();
+        for group in groups {
+            let mut renderers = Vec::new();
+            for &i in group {
+                renderers.push((i, Renderer::new(self.gpu, &self.plans[i], self.scene)?));
+            }
+            for _ in 0..self.warmup {
+                if crate::interrupt::requested() {
+                    return Ok((samples, false));
+                }
+                for (_, r) in &mut renderers {
+                    r.render_frame((self.pose)(0))?;
+                    (self.tick)("bench (warm-up)");
+                }
+            }
+            for &frame in self.frames {
+                if crate::interrupt::requested() {
+                    return Ok((samples, false));
+                }
+                for (i, r) in &mut renderers {
+                    let stats = r.render_frame((self.pose)(frame))?;
+                    samples.push(FrameSample::new(*i, frame, &stats, &self.plans[*i]));
+                    (self.tick)("bench");
+                }
+            }
+        }
+        Ok((samples, true))
+    }
+
+    /// Pixels shaded, by a counting twin of each row on the `counted` frames, into their
+    /// samples (untimed frames: their times are no measurement).
+    fn count_pixels(
+        &self,
+        rows: &[Row],
+        counted: &[u64],
+        samples: &mut [FrameSample],
+    ) -> Result<()> {
+        for (i, row) in rows.iter().enumerate() {
+            if counted.is_empty() || crate::interrupt::requested() {
+                break;
+            }
+            let plan = foveate::plan(self.scene, &row.config.counting(), self.gpu.caps())?;
+            let mut twin = Renderer::new(self.gpu, &plan, self.scene)?;
+            for &frame in counted {
+                let stats = twin.render_frame((self.pose)(frame))?;
+                if let Some(s) = samples
+                    .iter_mut()
+                    .find(|s| s.config == i && s.rail_frame == frame)
+                {
+                    s.pixels = Some(stats.scene_fragments());
+                    s.total_pixels = Some(stats.total_fragments());
+                }
+                (self.tick)("bench (pixel counts)");
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The foveation table (see `fovea_table`), into the output directory.
