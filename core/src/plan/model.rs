@@ -382,10 +382,10 @@ pub struct FramePlan {
     pub anisotropy: Option<f32>,
     /// Lens distortion in the output stage, when the output is for the lens.
     pub lens: Option<LensOutput>,
-    /// The output image is handed in per frame (see [`RenderConfig::external_output`]).
+    /// The output image is handed in per frame (see [`RenderConfig::external_output`](crate::plan::RenderConfig::external_output)).
     pub external_output: bool,
     /// The HMD mask drops a hidden-area mesh handed in per frame (see
-    /// [`RenderConfig::hidden_area_mesh`]).
+    /// [`RenderConfig::hidden_area_mesh`](crate::plan::RenderConfig::hidden_area_mesh)).
     pub hidden_area_mesh: bool,
 }
 
