@@ -74,8 +74,9 @@ impl Cli {
         match &self.command {
             Command::Devices => devices(),
             Command::Plan(args) => {
-                let gpu = Gpu::new(&self.gpu_options())?;
+                // The scene first: a bad file is refused before the device starts.
                 let scene = args.scene()?;
+                let gpu = Gpu::new(&self.gpu_options())?;
                 for mode in args.stereo_modes()? {
                     let plan = foveate::plan(&scene, &args.config(mode)?, gpu.caps())?;
                     println!("{plan}\n");

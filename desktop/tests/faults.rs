@@ -287,3 +287,35 @@ fn sigint_during_compare_writes_the_rows_done() {
     assert!((1..8).contains(&rows.len()), "{} rows\n{log}", rows.len());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A scene whose buffer is a sparse 4 GB file declared as 36 bytes is refused by `plan` within
+/// 100 MB of address space (`ulimit -v`), naming the buffer and both sizes: it is refused from
+/// its size, before a byte is read, and before the device starts. Negative control: a loader
+/// that reads the file whole aborts on the allocation instead.
+#[test]
+fn a_huge_buffer_is_refused_within_100_mb() {
+    let dir = scratch("huge");
+    let gltf = r#"{"asset": {"version": "2.0"}, "buffers": [{"uri": "big.bin", "byteLength": 36}],
+                   "scenes": [{"nodes": []}], "scene": 0}"#;
+    std::fs::write(dir.join("evil.gltf"), gltf).unwrap();
+    std::fs::File::create(dir.join("big.bin"))
+        .unwrap()
+        .set_len(4 << 30)
+        .unwrap();
+    let o = Command::new("sh")
+        .current_dir(&dir)
+        .args([
+            "-c",
+            "ulimit -v 102400 && exec \"$0\" plan --scene evil.gltf",
+        ])
+        .arg(env!("CARGO_BIN_EXE_foveate"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("buffer 0:") && err.contains("holds 4294967296 bytes, more than the 36"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

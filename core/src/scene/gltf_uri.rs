@@ -103,15 +103,19 @@ fn inside(base: &Path, relative: &str) -> Result<PathBuf, String> {
 /// read itself stops one byte past the limit (a file that grows meanwhile is still caught).
 pub(super) fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
     let shown = path.display();
+    // Looked at before it is opened: opening a named pipe waits for a writer, for ever.
+    let regular = |meta: std::io::Result<std::fs::Metadata>| {
+        let meta = meta.map_err(|e| format!("cannot read {shown}: {e}"))?;
+        if !meta.is_file() {
+            return Err(format!(
+                "{shown} is not a regular file (a device, pipe or folder)"
+            ));
+        }
+        Ok(meta)
+    };
+    regular(std::fs::metadata(path))?;
     let file = std::fs::File::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
-    let meta = file
-        .metadata()
-        .map_err(|e| format!("cannot read {shown}: {e}"))?;
-    if !meta.is_file() {
-        return Err(format!(
-            "{shown} is not a regular file (a device, pipe or folder)"
-        ));
-    }
+    let meta = regular(file.metadata())?;
     within(meta.len(), limit, &shown.to_string())?;
     let mut bytes = Vec::with_capacity(meta.len() as usize);
     file.take(limit.saturating_add(1))
