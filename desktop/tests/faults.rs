@@ -245,6 +245,53 @@ fn a_pipeline_cache_that_is_a_folder_leaves_nothing_behind() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A pipeline cache or a gaze trace at a named pipe is neither waited on (opening a pipe
+/// waits for a writer) nor replaced by a file: the run ends, the pipe stays a pipe. (A pipe
+/// stands for any special file: the test leaves real devices such as `/dev/zero` be.)
+#[test]
+fn special_files_are_neither_read_nor_replaced() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = scratch("special");
+    let pipe = dir.join("pipe");
+    assert!(Command::new("mkfifo")
+        .arg(&pipe)
+        .status()
+        .unwrap()
+        .success());
+    let bin = env!("CARGO_BIN_EXE_foveate");
+    let o = Command::new("timeout")
+        .current_dir(&dir)
+        .env("FOVEATE_PIPELINE_CACHE", &pipe)
+        .args([
+            "60", bin, "render", "--res", "32", "--frames", "1", "--out", "f.png",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = Command::new("timeout")
+        .current_dir(&dir)
+        .args([
+            "60",
+            bin,
+            "render",
+            "--res",
+            "32",
+            "--foveate",
+            "0.5",
+            "--gaze-trace",
+            "pipe",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("pipe is not a regular file"), "{err}");
+    assert!(
+        std::fs::metadata(&pipe).unwrap().file_type().is_fifo(),
+        "still a pipe"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// SIGINT in the middle of `compare` (once two configurations are judged) stops it after the
 /// row in hand: it exits non-zero saying so, and its CSV holds the rows finished, whole.
 /// Negative control: without the handler the signal kills it and no CSV exists.

@@ -5,7 +5,10 @@ use std::path::Path;
 
 use glam::Vec2;
 
-use crate::vocab::ConfigError;
+use crate::vocab::{read_bounded, ConfigError};
+
+/// Largest gaze trace read: an hour at 1000 Hz is about 150 MB.
+const MAX_TRACE_BYTES: u64 = 1 << 30;
 
 /// One eye-tracker sample: time in seconds, each eye's gaze in normalised image coordinates
 /// (−1…1, x right, y up; 0 is the image centre), and the tracker's validity flag.
@@ -20,7 +23,7 @@ pub struct GazeSample {
 #[derive(Debug, thiserror::Error)]
 pub enum GazeError {
     /// The cause is in the message (not a separate source), so an error chain says it once.
-    #[error("cannot read gaze trace {path}: {why}")]
+    #[error("gaze trace {path}: {why}")]
     Io { path: String, why: String },
     #[error("gaze trace {path}, line {line}: {message} (expected `time,left_x,left_y,right_x,right_y,valid`)")]
     Parse {
@@ -42,10 +45,15 @@ pub enum GazeError {
 /// samples ([`GazeFilter::is_good`]: an empty or header-only file, say) is an error too.
 pub fn parse_gaze_csv(path: &Path) -> Result<Vec<GazeSample>, GazeError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| GazeError::Io {
-        path: name.clone(),
-        why: e.to_string(),
-    })?;
+    // A regular file of bounded size: `/dev/zero` or a named pipe must not hang the run.
+    let bytes =
+        read_bounded(path, MAX_TRACE_BYTES, "foveate reads of a gaze trace").map_err(|why| {
+            GazeError::Io {
+                path: name.clone(),
+                why,
+            }
+        })?;
+    let text = String::from_utf8_lossy(&bytes);
     let mut samples: Vec<GazeSample> = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line = line.trim();

@@ -637,7 +637,12 @@ fn create_pipeline_cache(
     props: &vk::PhysicalDeviceProperties,
     path: Option<&std::path::Path>,
 ) -> Result<PipelineCache, GpuError> {
-    let read = path.and_then(|p| std::fs::read(p).ok());
+    // Bounded, and only a regular file: a cache path at a device or a pipe must not hang or
+    // exhaust memory (a cache is an optimisation; anything unreadable starts it empty).
+    const MAX_CACHE_BYTES: u64 = 1 << 30;
+    let read = path.and_then(|p| {
+        crate::vocab::read_bounded(p, MAX_CACHE_BYTES, "foveate reads of a pipeline cache").ok()
+    });
     let data = match (path, read) {
         (Some(p), Some(d)) if pipeline_cache_matches(&d, props) => {
             log::info!("pipeline cache: {} bytes from {}", d.len(), p.display());

@@ -21,10 +21,11 @@ use gltf::mesh::Mode;
 use super::gltf_geometry::{
     add_back_faces, finite_or_zero, framing_head, generate_tangents, triangle_list, unweld,
 };
-use super::gltf_uri::{load_buffer, read_bounded, read_uri};
+use super::gltf_uri::{load_buffer, read_uri};
 use super::textures::unorm8;
 use super::TEXTURE_SIZE;
 use super::{DrawBatch, Instance, Material, MaterialTextures, Mesh, Scene, Surface, Vertex};
+use crate::vocab::read_bounded;
 
 /// A scene file that could not be loaded: which file, and what is wrong with it.
 #[derive(Debug, thiserror::Error)]
@@ -57,7 +58,8 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneFileError> {
         path: path.to_path_buf(),
         problem,
     };
-    let bytes = read_bounded(path, MAX_SCENE_FILE_BYTES).map_err(fail)?;
+    let bytes =
+        read_bounded(path, MAX_SCENE_FILE_BYTES, "foveate reads of a scene file").map_err(fail)?;
     gltf_from_slice(&bytes, path.parent()).map_err(fail)
 }
 
@@ -552,7 +554,8 @@ impl Loader<'_> {
                     .to_vec()
             }
             gltf::image::Source::Uri { uri, .. } => {
-                read_uri(uri, self.base, MAX_IMAGE_BYTES).map_err(|e| format!("{what}: {e}"))?
+                read_uri(uri, self.base, MAX_IMAGE_BYTES, "foveate reads of an image")
+                    .map_err(|e| format!("{what}: {e}"))?
             }
         };
         let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))

@@ -4,14 +4,20 @@
 //! scene declares for it — so a buffer at `/dev/zero`, or a sparse 4 GB file declared as 36
 //! bytes, is an error, not a read until memory runs out.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use base64::Engine;
 
+use crate::vocab::read_bounded;
+
 /// The bytes a URI names: a base64 `data:` URI, or a file inside `base` (the scene's folder)
-/// of at most `limit` bytes. `what` names the buffer or image in errors.
-pub(super) fn read_uri(uri: &str, base: Option<&Path>, limit: u64) -> Result<Vec<u8>, String> {
+/// of at most `limit` bytes; `limit_is` says in errors what sets the limit.
+pub(super) fn read_uri(
+    uri: &str,
+    base: Option<&Path>,
+    limit: u64,
+    limit_is: &str,
+) -> Result<Vec<u8>, String> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (_, data) = rest
             .split_once(";base64,")
@@ -19,7 +25,13 @@ pub(super) fn read_uri(uri: &str, base: Option<&Path>, limit: u64) -> Result<Vec
         let bytes = base64::engine::general_purpose::STANDARD
             .decode(data)
             .map_err(|e| format!("bad base64 in its data URI: {e}"))?;
-        return within(bytes.len() as u64, limit, "its data URI").map(|()| bytes);
+        if bytes.len() as u64 > limit {
+            return Err(format!(
+                "its data URI holds {} bytes, more than the {limit} the scene declares for it",
+                bytes.len()
+            ));
+        }
+        return Ok(bytes);
     }
     if uri.contains("://") {
         return Err(format!("{uri} is not a local file"));
@@ -28,7 +40,7 @@ pub(super) fn read_uri(uri: &str, base: Option<&Path>, limit: u64) -> Result<Vec
         "names file {uri}, but there is no folder to look in"
     ))?;
     let path = inside(base, &percent_decode(uri))?;
-    read_bounded(&path, limit)
+    read_bounded(&path, limit, limit_is)
 }
 
 /// A buffer's bytes: the GLB binary chunk, or its URI's, bounded by its declared length.
@@ -45,7 +57,8 @@ pub(super) fn load_buffer(
         // Bounded by the declared length (a file may pad it to 4 bytes, as GLB chunks are).
         gltf::buffer::Source::Uri(uri) => {
             let limit = (buffer.length() as u64).next_multiple_of(4);
-            read_uri(uri, base, limit).map_err(|e| format!("{what}: {e}"))?
+            read_uri(uri, base, limit, "the scene declares for it")
+                .map_err(|e| format!("{what}: {e}"))?
         }
     };
     if data.len() < buffer.length() {
@@ -56,16 +69,6 @@ pub(super) fn load_buffer(
         ));
     }
     Ok(data)
-}
-
-/// `bytes` within `limit`, or an error naming both.
-fn within(bytes: u64, limit: u64, what: &str) -> Result<(), String> {
-    if bytes > limit {
-        return Err(format!(
-            "{what} holds {bytes} bytes, more than the {limit} the scene declares for it"
-        ));
-    }
-    Ok(())
 }
 
 /// `relative` resolved inside `base`: absolute paths are refused, and the resolved path (links
@@ -97,32 +100,6 @@ fn inside(base: &Path, relative: &str) -> Result<PathBuf, String> {
         ));
     }
     Ok(resolved)
-}
-
-/// A regular file's bytes, at most `limit` of them: its size is checked before reading, and the
-/// read itself stops one byte past the limit (a file that grows meanwhile is still caught).
-pub(super) fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
-    let shown = path.display();
-    // Looked at before it is opened: opening a named pipe waits for a writer, for ever.
-    let regular = |meta: std::io::Result<std::fs::Metadata>| {
-        let meta = meta.map_err(|e| format!("cannot read {shown}: {e}"))?;
-        if !meta.is_file() {
-            return Err(format!(
-                "{shown} is not a regular file (a device, pipe or folder)"
-            ));
-        }
-        Ok(meta)
-    };
-    regular(std::fs::metadata(path))?;
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
-    let meta = regular(file.metadata())?;
-    within(meta.len(), limit, &shown.to_string())?;
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    file.take(limit.saturating_add(1))
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read {shown}: {e}"))?;
-    within(bytes.len() as u64, limit, &shown.to_string())?;
-    Ok(bytes)
 }
 
 /// `%XX` escapes decoded (glTF URIs are URI-encoded: a space is `%20`).

@@ -4,7 +4,7 @@
 //! byte for byte as it was. And output paths are checked before the work that fills them, so a
 //! long run does not end by finding it cannot write its result.
 
-use std::io::Write;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 /// A file that could not be written (or will not be writable), naming it and why.
@@ -32,13 +32,31 @@ fn folder_of(path: &Path) -> &Path {
     }
 }
 
-/// Checks, before any work, that `path` can be written: it names a file (not a folder), its
-/// folder exists, and a file can be created there (which `/proc`, a read-only mount or a folder
-/// without write permission refuse). Nothing is left behind.
-pub fn check_writable(path: &Path) -> Result<(), FileError> {
-    if path.is_dir() {
-        return Err(FileError::new(path, "it is a folder"));
+/// Where a write of `path` lands: a symbolic link's target (the link stays a link), and only
+/// where there is nothing yet or a regular file — never over a device, pipe, socket or folder
+/// (renaming over `/dev/zero` would replace the device node).
+fn destination(path: &Path) -> Result<PathBuf, FileError> {
+    let target = match std::fs::symlink_metadata(path) {
+        Ok(meta) if meta.file_type().is_symlink() => {
+            std::fs::canonicalize(path).map_err(|e| FileError::new(path, e))?
+        }
+        _ => path.to_path_buf(),
+    };
+    match std::fs::metadata(&target) {
+        Ok(meta) if meta.is_dir() => Err(FileError::new(path, "it is a folder")),
+        Ok(meta) if !meta.is_file() => Err(FileError::new(
+            path,
+            "it is not a regular file (a device, pipe or socket): foveate replaces only files",
+        )),
+        _ => Ok(target),
     }
+}
+
+/// Checks, before any work, that `path` can be written: it names a file (not a folder, a
+/// device or a pipe), its folder exists, and a file can be created there (which `/proc`, a
+/// read-only mount or a folder without write permission refuse). Nothing is left behind.
+pub fn check_writable(path: &Path) -> Result<(), FileError> {
+    let path = &destination(path)?;
     if path.file_name().is_none() {
         return Err(FileError::new(path, "it names no file"));
     }
@@ -82,9 +100,8 @@ pub fn write_atomic_with(
     path: &Path,
     fill: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
 ) -> Result<(), FileError> {
-    if path.is_dir() {
-        return Err(FileError::new(path, "it is a folder"));
-    }
+    let shown = path;
+    let path = &destination(path)?;
     let temporary = temporary_beside(path);
     let written = (|| {
         let mut file = std::fs::OpenOptions::new()
@@ -98,8 +115,44 @@ pub fn write_atomic_with(
     })();
     written.map_err(|e| {
         let _ = std::fs::remove_file(&temporary);
-        FileError::new(path, e)
+        FileError::new(shown, e)
     })
+}
+
+/// A regular file's bytes, at most `limit` of them (`limit_is` says what sets it, for the
+/// error: "the scene declares for it"). Anything else is refused: a device (`/dev/zero`
+/// would be read until memory runs out), a folder, or a named pipe, which is looked at before
+/// it is opened (opening one waits for a writer, for ever). The size is checked before a byte
+/// is read, and the read stops one byte past the limit (a file that grows meanwhile is caught).
+pub fn read_bounded(path: &Path, limit: u64, limit_is: &str) -> Result<Vec<u8>, String> {
+    let shown = path.display();
+    let regular = |meta: std::io::Result<std::fs::Metadata>| {
+        let meta = meta.map_err(|e| format!("cannot read {shown}: {e}"))?;
+        if !meta.is_file() {
+            return Err(format!(
+                "{shown} is not a regular file (a device, pipe or folder)"
+            ));
+        }
+        Ok(meta)
+    };
+    let within = |bytes: u64| {
+        if bytes > limit {
+            return Err(format!(
+                "{shown} holds {bytes} bytes, more than the {limit} {limit_is}"
+            ));
+        }
+        Ok(())
+    };
+    regular(std::fs::metadata(path))?;
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    let meta = regular(file.metadata())?;
+    within(meta.len())?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read {shown}: {e}"))?;
+    within(bytes.len() as u64)?;
+    Ok(bytes)
 }
 
 #[cfg(test)]
@@ -148,6 +201,19 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// A symbolic link is written through: its target gets the file, the link stays a link.
+    #[test]
+    fn a_link_is_written_through() {
+        let dir = scratch("link");
+        std::fs::write(dir.join("target.png"), b"old").unwrap();
+        std::os::unix::fs::symlink(dir.join("target.png"), dir.join("link.png")).unwrap();
+        write_atomic(&dir.join("link.png"), b"new").unwrap();
+        assert_eq!(std::fs::read(dir.join("target.png")).unwrap(), b"new");
+        let link = std::fs::symlink_metadata(dir.join("link.png")).unwrap();
+        assert!(link.file_type().is_symlink());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[test]
     fn a_successful_write_replaces_the_file_and_leaves_nothing_else() {
         let dir = scratch("replace");
@@ -182,6 +248,20 @@ mod tests {
         let err = write_atomic(&dir, b"x").unwrap_err().to_string();
         assert!(err.contains("it is a folder"), "{err}");
         assert_eq!(entries(&dir), ["a-file"]);
+        // Only regular files are replaced: a pipe here stands for any special file (renaming
+        // over /dev/zero would swap the device node for a file; the test leaves real devices be).
+        let pipe = dir.join("pipe.png");
+        let made = std::process::Command::new("mkfifo").arg(&pipe).status();
+        assert!(made.unwrap().success());
+        let err = write_atomic(&pipe, b"x").unwrap_err().to_string();
+        assert!(err.contains("not a regular file"), "{err}");
+        assert!(check_writable(&pipe).is_err());
+        use std::os::unix::fs::FileTypeExt;
+        assert!(
+            std::fs::metadata(&pipe).unwrap().file_type().is_fifo(),
+            "still a pipe"
+        );
+        std::fs::remove_file(&pipe).unwrap();
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -12,7 +12,7 @@ mod resolution;
 
 pub use caps::{DeviceCaps, DriverQuirks};
 pub use error::ConfigError;
-pub use files::{check_writable, write_atomic, write_atomic_with, FileError};
+pub use files::{check_writable, read_bounded, write_atomic, write_atomic_with, FileError};
 pub use image::{ImageError, RgbaImage};
 pub(crate) use named_enum::named_enum;
 pub use resolution::Resolution;
