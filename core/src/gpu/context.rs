@@ -6,6 +6,8 @@ use std::sync::{Arc, Mutex};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
+use super::device_choice::{candidates, choose};
+use super::pipeline_cache::create_pipeline_cache;
 use super::{GpuError, ObjectCache, Pipeline, PipelineCache, PipelineKey, RenderPass, VkResultExt};
 use crate::vocab::{DeviceCaps, DriverQuirks};
 
@@ -291,13 +293,6 @@ pub struct DeviceInfo {
     pub unusable: Option<String>,
 }
 
-struct Candidate {
-    physical: vk::PhysicalDevice,
-    info: DeviceInfo,
-    queue_family: Option<u32>,
-    score: u32,
-}
-
 /// Raw handles of an opened [`Gpu`], for an OpenXR session's graphics binding.
 #[derive(Clone, Copy, Debug)]
 pub struct RawHandles {
@@ -326,7 +321,7 @@ pub struct Gpu {
     pub(crate) pipelines: ObjectCache<Pipeline, PipelineKey>,
     /// The driver's pipeline cache, loaded from and saved to `pipeline_cache_path`.
     pub(crate) pipeline_cache: PipelineCache,
-    pipeline_cache_path: Option<std::path::PathBuf>,
+    pub(super) pipeline_cache_path: Option<std::path::PathBuf>,
 }
 
 impl Gpu {
@@ -498,33 +493,6 @@ impl Gpu {
         })
     }
 
-    /// Writes the pipeline cache where `GpuOptions::pipeline_cache` said (dropping the `Gpu`
-    /// does it too, ignoring errors: a cache is an optimisation), so the next run
-    /// compiles no pipeline this one compiled; returns the path written, if any.
-    pub fn save_pipeline_cache(&self) -> Result<Option<std::path::PathBuf>, GpuError> {
-        let Some(path) = &self.pipeline_cache_path else {
-            return Ok(None);
-        };
-        // SAFETY: the cache belongs to this device.
-        let data = unsafe {
-            self.dev
-                .device
-                .get_pipeline_cache_data(self.pipeline_cache.raw)
-        }
-        .vk("vkGetPipelineCacheData")?;
-        // Written aside and renamed into place: runs in parallel never read a torn file, and a
-        // failed write (a full disk, a path that is a folder) leaves nothing behind.
-        let fail = |error: String| GpuError::PipelineCache {
-            path: path.display().to_string(),
-            error,
-        };
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| fail(e.to_string()))?;
-        }
-        crate::vocab::write_atomic(path, &data).map_err(|e| fail(e.why))?;
-        Ok(Some(path.clone()))
-    }
-
     /// Every physical device with what foveate needs to know of it.
     pub fn list_devices() -> Result<Vec<DeviceInfo>, GpuError> {
         let instance = InstanceOwner::new(&GpuOptions::default(), None)?;
@@ -627,200 +595,5 @@ impl Gpu {
 impl Drop for Gpu {
     fn drop(&mut self) {
         let _ = self.save_pipeline_cache();
-    }
-}
-
-/// The pipeline cache, seeded from `path` when it holds data written for this very device
-/// (the header's vendor, device and cache UUID match); anything else starts it empty.
-fn create_pipeline_cache(
-    dev: &Arc<DeviceOwner>,
-    props: &vk::PhysicalDeviceProperties,
-    path: Option<&std::path::Path>,
-) -> Result<PipelineCache, GpuError> {
-    // Bounded, and only a regular file: a cache path at a device or a pipe must not hang or
-    // exhaust memory (a cache is an optimisation; anything unreadable starts it empty).
-    const MAX_CACHE_BYTES: u64 = 1 << 30;
-    let read = path.and_then(|p| {
-        crate::vocab::read_bounded(p, MAX_CACHE_BYTES, "foveate reads of a pipeline cache").ok()
-    });
-    let data = match (path, read) {
-        (Some(p), Some(d)) if pipeline_cache_matches(&d, props) => {
-            log::info!("pipeline cache: {} bytes from {}", d.len(), p.display());
-            d
-        }
-        (Some(p), Some(_)) => {
-            log::info!(
-                "pipeline cache: {} was written for another device or driver; starting empty",
-                p.display()
-            );
-            Vec::new()
-        }
-        (Some(p), None) => {
-            log::debug!("pipeline cache: none at {} yet", p.display());
-            Vec::new()
-        }
-        (None, _) => Vec::new(),
-    };
-    let info = vk::PipelineCacheCreateInfo::default().initial_data(&data);
-    // SAFETY: the data's header was checked against this device.
-    let raw =
-        unsafe { dev.device.create_pipeline_cache(&info, None) }.vk("vkCreatePipelineCache")?;
-    Ok(PipelineCache::from_raw(dev, raw))
-}
-
-/// Vulkan's pipeline cache header (version one): length 32, version 1, vendor ID, device ID,
-/// then the 16-byte cache UUID.
-fn pipeline_cache_matches(data: &[u8], props: &vk::PhysicalDeviceProperties) -> bool {
-    let word = |i: usize| {
-        data.get(4 * i..4 * i + 4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-    };
-    word(0) == Some(32)
-        && word(1) == Some(1)
-        && word(2) == Some(props.vendor_id)
-        && word(3) == Some(props.device_id)
-        && data.get(16..32) == Some(&props.pipeline_cache_uuid[..])
-}
-
-fn candidates(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError> {
-    // SAFETY: plain queries on a valid instance.
-    let physicals =
-        unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
-    let mut out = Vec::new();
-    for (index, &physical) in physicals.iter().enumerate() {
-        let props = unsafe { instance.get_physical_device_properties(physical) };
-        let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
-        let memory = unsafe { instance.get_physical_device_memory_properties(physical) };
-        let extensions =
-            unsafe { instance.enumerate_device_extension_properties(physical) }.unwrap_or_default();
-        let has_ext = |name: &CStr| {
-            extensions
-                .iter()
-                .any(|e| e.extension_name_as_c_str() == Ok(name))
-        };
-        let api = props.api_version;
-        let api_ok = vk::api_version_major(api) > 1 || vk::api_version_minor(api) >= 1;
-        let (mut multiview_props, mut multiview_features) = (
-            vk::PhysicalDeviceMultiviewProperties::default(),
-            vk::PhysicalDeviceMultiviewFeatures::default(),
-        );
-        let mut driver = vk::PhysicalDeviceDriverProperties::default();
-        if api_ok {
-            let mut p2 = vk::PhysicalDeviceProperties2::default()
-                .push_next(&mut multiview_props)
-                .push_next(&mut driver);
-            let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut multiview_features);
-            unsafe {
-                instance.get_physical_device_properties2(physical, &mut p2);
-                instance.get_physical_device_features2(physical, &mut f2);
-            }
-        }
-        let queue_family = families
-            .iter()
-            .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
-            .map(|i| i as u32);
-        let multiview = multiview_features.multiview == vk::TRUE;
-        let unusable = if !api_ok {
-            Some("needs Vulkan 1.1".to_string())
-        } else if queue_family.is_none() {
-            Some("no graphics queue".to_string())
-        } else if !multiview {
-            Some("no multiview".to_string())
-        } else {
-            None
-        };
-        let samples = props.limits.framebuffer_color_sample_counts
-            & props.limits.framebuffer_depth_sample_counts;
-        let lazily = memory.memory_types[..memory.memory_type_count as usize]
-            .iter()
-            .any(|t| {
-                t.property_flags
-                    .contains(vk::MemoryPropertyFlags::LAZILY_ALLOCATED)
-            });
-        let name = props
-            .device_name_as_c_str()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let driver_name = driver
-            .driver_name_as_c_str()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let driver_info = driver
-            .driver_info_as_c_str()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let driver_line = format!("{driver_name} {driver_info}").trim().to_string();
-        let info = DeviceInfo {
-            index,
-            name,
-            device_type: format!("{:?}", props.device_type)
-                .to_lowercase()
-                .replace('_', " "),
-            api_version: format!(
-                "{}.{}.{}",
-                vk::api_version_major(api),
-                vk::api_version_minor(api),
-                vk::api_version_patch(api)
-            ),
-            quirks: DriverQuirks::for_driver(driver.driver_id.as_raw(), &driver_info),
-            driver: driver_line,
-            max_multiview_views: if multiview {
-                multiview_props.max_multiview_view_count
-            } else {
-                0
-            },
-            sample_counts: (0..7)
-                .map(|b| 1u32 << b)
-                .filter(|s| samples.as_raw() & s != 0)
-                .collect(),
-            fragment_density_map: has_ext(ash::ext::fragment_density_map::NAME),
-            fragment_shading_rate: has_ext(ash::khr::fragment_shading_rate::NAME),
-            lazily_allocated_memory: lazily,
-            unusable,
-        };
-        let score = match props.device_type {
-            vk::PhysicalDeviceType::DISCRETE_GPU => 4,
-            vk::PhysicalDeviceType::INTEGRATED_GPU => 3,
-            vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
-            _ => 1,
-        };
-        out.push(Candidate {
-            physical,
-            info,
-            queue_family,
-            score,
-        });
-    }
-    Ok(out)
-}
-
-fn choose<'a>(
-    candidates: &'a [Candidate],
-    wanted: Option<&str>,
-) -> Result<&'a Candidate, GpuError> {
-    let usable = || candidates.iter().filter(|c| c.info.unusable.is_none());
-    match wanted {
-        None => usable().max_by_key(|c| c.score).ok_or(GpuError::NoDevice),
-        Some(w) => {
-            let lower = w.to_lowercase();
-            usable()
-                .find(|c| {
-                    w.parse::<usize>().ok() == Some(c.info.index)
-                        || c.info.name.to_lowercase().contains(&lower)
-                })
-                .ok_or_else(|| GpuError::DeviceNotFound {
-                    wanted: w.to_string(),
-                    available: candidates
-                        .iter()
-                        .map(|c| match &c.info.unusable {
-                            None => format!("{}: {}", c.info.index, c.info.name),
-                            Some(why) => {
-                                format!("{}: {} (unusable: {why})", c.info.index, c.info.name)
-                            }
-                        })
-                        .collect::<Vec<_>>()
-                        .join(", "),
-                })
-        }
     }
 }

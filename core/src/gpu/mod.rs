@@ -2,14 +2,18 @@
 //! `gpu-allocator`, RAII wrappers so each Vulkan object is owned by exactly one Rust value, and
 //! presentation to a window's swapchain.
 
+mod blit_layout;
 mod cache;
 mod context;
+mod device_choice;
 mod error;
 mod handles;
 mod memory;
+mod pipeline_cache;
 mod submit;
 mod swapchain;
 
+pub use blit_layout::BlitSource;
 pub use context::{DeviceInfo, Gpu, GpuOptions, RawHandles, VulkanCreator};
 pub use error::{GpuError, VkResultExt};
 pub use handles::{
@@ -18,7 +22,7 @@ pub use handles::{
 };
 pub(crate) use memory::pod_bytes;
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
-pub use swapchain::{BlitSource, Presented, Swapchain};
+pub use swapchain::{Presented, Swapchain};
 
 pub(crate) use cache::{Description, ObjectCache, PipelineKey};
 pub(crate) use context::DeviceOwner;

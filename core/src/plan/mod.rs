@@ -22,6 +22,7 @@ mod steps;
 mod stereo_scene;
 mod temporal;
 mod validate;
+mod workload;
 
 pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
 pub(crate) use build::cluster_plan;

@@ -24,6 +24,7 @@ mod recorder;
 mod renderer;
 mod sampled_set;
 mod scene_buffers;
+mod setup;
 mod stats;
 mod stereo_scene;
 mod targets;

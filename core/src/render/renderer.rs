@@ -10,25 +10,24 @@ use super::far_view::FarView;
 use super::frame_input::{eyes_fit, head_is_finite};
 use super::masks::MaskShapes;
 use super::materials::MaterialSet;
-use super::mffr::FarComposite;
-use super::output::OutputStage;
 use super::output_targets::OutputTargets;
-use super::pipelines::{compile_pipeline, scene_bindings};
-use super::radial_density::Reconstruction;
+use super::pipelines::scene_bindings;
 use super::record::record_frame;
 use super::recorder::FrameDraws;
 use super::scene_buffers::SceneBuffers;
-use super::stats::{FrameStats, PassStatistics, StepFragments, PASS_STATISTICS};
-use super::targets::{compile_pass, create_images, CompiledPass};
-use super::temporal::{TemporalAccumulation, TemporalImages};
+use super::setup::{
+    check_scene, compile_passes, effect_buffer, make_sampleable, query_pool, sampling_executors,
+};
+use super::stats::{FrameStats, PassStatistics, StepFragments};
+use super::targets::{create_images, CompiledPass};
 use super::views::{FrameViews, ViewsBlock};
 use super::vulkan_recorder::{BoundStep, FrameObjects, VulkanRecorder};
 use crate::foveation::fovea_views;
 use crate::gpu::{
     Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, QueryPool, VkResultExt,
 };
-use crate::plan::{BufferPlan, ConfigError, FramePlan, PassKind, PassPlan, RenderConfig, Step};
-use crate::scene::{Draw, Scene, Shading};
+use crate::plan::{ConfigError, FramePlan, PassPlan, RenderConfig, Step};
+use crate::scene::{Draw, Scene};
 use crate::view::{EyeParams, HiddenArea};
 
 /// A [`FramePlan`] compiled into Vulkan objects for one scene.
@@ -474,233 +473,6 @@ impl<'g> Renderer<'g> {
     pub fn lazy_attachments(&self) -> usize {
         self.images.iter().filter(|i| i.lazy).count()
     }
-}
-
-/// The executors of the steps that sample earlier passes' images, each when planned: the output
-/// stage (a foveated frame's composition, lens distortion), the MFFR far composite and radial
-/// density's reconstruction.
-fn sampling_executors(
-    gpu: &Gpu,
-    plan: &FramePlan,
-    images: &[Image],
-    counter: Option<&Buffer>,
-) -> Result<Vec<Box<dyn Executor>>, GpuError> {
-    let mut executors: Vec<Box<dyn Executor>> = Vec::new();
-    if let Some(p) = plan.passes.iter().find(|p| p.kind == PassKind::Output) {
-        // Two images always: the shader declares both (a one-image source twice).
-        let first = &images[p.samples[0]];
-        let second = &images[p.samples[p.samples.len() - 1]];
-        executors.push(Box::new(OutputStage::new(gpu, &[first, second], counter)?));
-    }
-    let accumulate = plan.passes.iter().find(|p| p.kind == PassKind::Accumulate);
-    let store = plan
-        .passes
-        .iter()
-        .find(|p| p.kind == PassKind::StoreHistory);
-    if let (Some(a), Some(s), Some(t)) =
-        (accumulate, store, plan.foveation.and_then(|f| f.temporal))
-    {
-        let images = TemporalImages {
-            periphery: &images[a.samples[0]],
-            history: &images[a.samples[1]],
-            periphery_depth: &images[a.samples[2]],
-            accumulated: &images[s.samples[0]],
-        };
-        executors.push(Box::new(TemporalAccumulation::new(
-            gpu, plan, t, images, counter,
-        )?));
-    }
-    if let Some(p) = plan.far_pass() {
-        let far_image = &images[p.resolve.unwrap_or(p.color).attachment];
-        executors.push(Box::new(FarComposite::new(gpu, far_image, counter)?));
-    }
-    let reconstruct = plan
-        .passes
-        .iter()
-        .find(|p| p.steps.contains(&Step::Reconstruct));
-    if let Some(p) = reconstruct {
-        let views = &images[p.samples[0]];
-        executors.push(Box::new(Reconstruction::new(gpu, views, counter)?));
-    }
-    Ok(executors)
-}
-
-/// Images a frame samples before writing them (a history the previous frame leaves) start
-/// cleared to zero — a history with nothing in it — and in the layout sampling expects.
-fn make_sampleable(gpu: &Gpu, plan: &FramePlan, images: &[Image]) -> Result<(), GpuError> {
-    let ids = plan.sampled_before_written();
-    if ids.is_empty() {
-        return Ok(());
-    }
-    // Every such image from one layout to another, `src` done before `dst`.
-    let transition = |from, to, src, dst| -> Vec<vk::ImageMemoryBarrier> {
-        ids.iter()
-            .map(|&id| {
-                vk::ImageMemoryBarrier::default()
-                    .old_layout(from)
-                    .new_layout(to)
-                    .src_access_mask(src)
-                    .dst_access_mask(dst)
-                    .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .image(images[id].raw)
-                    .subresource_range(images[id].range(0, images[id].layers))
-            })
-            .collect()
-    };
-    let to_clear = transition(
-        vk::ImageLayout::UNDEFINED,
-        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-        vk::AccessFlags::empty(),
-        vk::AccessFlags::TRANSFER_WRITE,
-    );
-    let to_sample = transition(
-        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        vk::AccessFlags::TRANSFER_WRITE,
-        vk::AccessFlags::SHADER_READ,
-    );
-    let device = gpu.device();
-    gpu.one_shot(|cmd| {
-        // SAFETY: the images are alive and idle; recorded into the one-shot buffer.
-        unsafe {
-            device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TOP_OF_PIPE,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[],
-                &to_clear,
-            );
-            for &id in &ids {
-                let image = &images[id];
-                device.cmd_clear_color_image(
-                    cmd,
-                    image.raw,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &vk::ClearColorValue::default(),
-                    &[image.range(0, image.layers)],
-                );
-            }
-            device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::FRAGMENT_SHADER,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[],
-                &to_sample,
-            );
-        }
-    })
-}
-
-/// The scene must be the one the plan was made for (its buffers are sized for it).
-fn check_scene(plan: &FramePlan, scene: &Scene) -> Result<(), GpuError> {
-    if scene.instance_count() != plan.scene_instances {
-        return Err(crate::vocab::ConfigError::new(
-            "scene",
-            format!("{} instances", scene.instance_count()),
-            format!(
-                "the scene the plan was made for ({} instances): plan the frame for this scene",
-                plan.scene_instances
-            ),
-        )
-        .into());
-    }
-    let counts = |c: crate::plan::ClusterPlan| (c.clusters, c.meshes, c.max_triangles);
-    if !plan.cull_slots.is_empty()
-        && plan.clusters.map(counts) != crate::plan::cluster_plan(scene).map(counts)
-    {
-        return Err(crate::vocab::ConfigError::new(
-            "scene",
-            format!("{} clusters", scene.cluster_counts().0),
-            "the clusters the plan was made for: plan the frame for this scene",
-        )
-        .into());
-    }
-    let levels = |l: crate::plan::LodPlan| (l.levels, l.meshes);
-    if plan.lod.is_some() && plan.lod.map(levels) != Some(scene.lod_counts()) {
-        return Err(crate::vocab::ConfigError::new(
-            "scene",
-            format!("{} simplified levels", scene.lod_counts().0),
-            "the levels of detail the plan was made for: plan the frame for this scene",
-        )
-        .into());
-    }
-    if scene.shading() == Shading::Lit && !plan.lit || scene.shading() == Shading::Flat && plan.lit
-    {
-        return Err(crate::vocab::ConfigError::new(
-            "scene",
-            format!("{} shading", scene.shading()),
-            "the shading the plan was made for: plan the frame for this scene",
-        )
-        .into());
-    }
-    Ok(())
-}
-
-/// A buffer that exists only because an effect asked for it.
-fn effect_buffer(
-    gpu: &Gpu,
-    planned: Option<&BufferPlan>,
-    usage: vk::BufferUsageFlags,
-    location: MemoryLocation,
-) -> Result<Option<Buffer>, GpuError> {
-    planned
-        .map(|b| Buffer::new(gpu, b.name, b.bytes, usage, location))
-        .transpose()
-}
-
-/// A query pool of `slots` (none when 0); pipeline statistics count what `PASS_STATISTICS` says.
-fn query_pool(gpu: &Gpu, ty: vk::QueryType, slots: u32) -> Result<Option<QueryPool>, GpuError> {
-    if slots == 0 {
-        return Ok(None);
-    }
-    let mut info = vk::QueryPoolCreateInfo::default()
-        .query_type(ty)
-        .query_count(slots);
-    if ty == vk::QueryType::PIPELINE_STATISTICS {
-        info = info.pipeline_statistics(PASS_STATISTICS);
-    }
-    // SAFETY: plain object creation.
-    let raw = unsafe { gpu.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
-    Ok(Some(QueryPool::from_raw(&gpu.dev, raw)))
-}
-
-/// Each pass compiled, and each of its steps bound: its pipeline, with the resources it reads —
-/// its technique's sampled set (`sets`), or the scene's bindings.
-fn compile_passes<'s>(
-    gpu: &Gpu,
-    plan: &FramePlan,
-    images: &[Image],
-    bindings: &DescriptorSet,
-    sets: impl Fn(&Step) -> Option<&'s DescriptorSet>,
-) -> Result<(Vec<CompiledPass>, Vec<Vec<BoundStep>>), GpuError> {
-    let mut passes = Vec::with_capacity(plan.passes.len());
-    let mut steps = Vec::with_capacity(plan.passes.len());
-    for (i, p) in plan.passes.iter().enumerate() {
-        let compiled = compile_pass(gpu, plan, i, &|id| &images[id])?;
-        let samples = plan.attachments[p.color.attachment].samples;
-        let bound = p
-            .steps
-            .iter()
-            .zip(&p.pipelines)
-            .map(|(step, desc)| {
-                let d = sets(step).unwrap_or(bindings);
-                let (layout, description, set) = (&d.layout, &d.layout_description, d.set);
-                Ok(BoundStep {
-                    pipeline: compile_pipeline(gpu, desc, samples, &compiled, layout, description)?,
-                    layout: layout.raw,
-                    set,
-                })
-            })
-            .collect::<Result<Vec<_>, GpuError>>()?;
-        passes.push(compiled);
-        steps.push(bound);
-    }
-    Ok((passes, steps))
 }
 
 /// Renders one counting frame of `config` (fragment counters on, no timestamps: its time is no

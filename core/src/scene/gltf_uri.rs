@@ -1,8 +1,8 @@
 //! The files a glTF scene names, read only where the scene owns them: a URI resolves inside the
 //! scene file's folder (no absolute paths, no `..` out of it, no symbolic link that leads out),
-//! names a regular file (no device, pipe or folder), and is read no further than the size the
-//! scene declares for it — so a buffer at `/dev/zero`, or a sparse 4 GB file declared as 36
-//! bytes, is an error, not a read until memory runs out.
+//! names a regular file (no device, pipe or folder), and is read no further than its limit (a
+//! buffer's declared size, foveate's cap for an image) — so a buffer at `/dev/zero`, or a
+//! sparse 4 GB file declared as 36 bytes, is an error, not a read until memory runs out.
 
 use std::path::{Path, PathBuf};
 
@@ -27,7 +27,7 @@ pub(super) fn read_uri(
             .map_err(|e| format!("bad base64 in its data URI: {e}"))?;
         if bytes.len() as u64 > limit {
             return Err(format!(
-                "its data URI holds {} bytes, more than the {limit} the scene declares for it",
+                "its data URI holds {} bytes, more than the {limit} {limit_is}",
                 bytes.len()
             ));
         }

@@ -1,8 +1,9 @@
-//! Files foveate writes: whole or not at all. Every output (images, CSV tables, plots, the
-//! pipeline cache, saved frames) is written to a temporary file beside its destination and
-//! renamed over it, so a failed write — a full disk, a killed process — leaves the earlier file
-//! byte for byte as it was. And output paths are checked before the work that fills them, so a
-//! long run does not end by finding it cannot write its result.
+//! Files foveate writes and reads on a user's word. Writes are whole or not at all: every output
+//! (images, CSV tables, plots, the pipeline cache, saved frames) is written to a temporary file
+//! beside its destination and renamed over it, so a failed write — a full disk, a killed
+//! process — leaves the earlier file byte for byte as it was; output paths are checked before
+//! the work that fills them, so a long run does not end by finding it cannot write its result.
+//! Reads (scenes, gaze traces, the pipeline cache) take regular files of bounded size only.
 
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
