@@ -42,7 +42,7 @@ pub struct VulkanBackend<'g, W> {
     display: RawDisplayHandle,
     scene: Scene,
     plan: FramePlan,
-    renderer: Option<Renderer<'g>>,
+    renderer: Option<Renderer>,
     swapchain: Option<Swapchain>,
     window: PhantomData<W>,
 }
@@ -81,7 +81,7 @@ impl<'g, W> VulkanBackend<'g, W> {
             .map(|s| (s.extent.width, s.extent.height))
     }
 
-    fn renderer(&mut self) -> Result<&mut Renderer<'g>, DemoError> {
+    fn renderer(&mut self) -> Result<&mut Renderer, DemoError> {
         if self.renderer.is_none() {
             self.renderer = Some(Renderer::new(self.gpu, &self.plan, &self.scene)?);
         }

@@ -4,11 +4,12 @@ use std::mem::ManuallyDrop;
 use std::sync::{Arc, Mutex};
 
 use ash::vk;
-use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use gpu_allocator::vulkan::Allocator;
 
 use super::device_choice::{candidates, choose};
-use super::pipeline_cache::create_pipeline_cache;
-use super::{GpuError, ObjectCache, Pipeline, PipelineCache, PipelineKey, RenderPass, VkResultExt};
+use super::open::DeviceParts;
+use super::pipeline_cache::PipelineCacheFile;
+use super::{GpuError, ObjectCache, Pipeline, PipelineKey, RenderPass, VkResultExt};
 use crate::vocab::{DeviceCaps, DriverQuirks};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -110,7 +111,7 @@ unsafe extern "system" fn debug_callback(
     vk::FALSE
 }
 
-struct Messenger {
+pub(super) struct Messenger {
     loader: ash::ext::debug_utils::Instance,
     raw: vk::DebugUtilsMessengerEXT,
     log: Box<ValidationLog>,
@@ -120,7 +121,9 @@ struct Messenger {
 pub(crate) struct InstanceOwner {
     pub(crate) entry: ash::Entry,
     pub(crate) instance: ash::Instance,
-    messenger: Option<Messenger>,
+    pub(super) messenger: Option<Messenger>,
+    /// Whether foveate made the instance (and destroys it); an engine's is only borrowed.
+    pub(crate) owned: bool,
 }
 
 impl Drop for InstanceOwner {
@@ -131,7 +134,9 @@ impl Drop for InstanceOwner {
             if let Some(m) = self.messenger.take() {
                 m.loader.destroy_debug_utils_messenger(m.raw, None);
             }
-            self.instance.destroy_instance(None);
+            if self.owned {
+                self.instance.destroy_instance(None);
+            }
         }
     }
 }
@@ -211,6 +216,7 @@ impl InstanceOwner {
             entry,
             instance,
             messenger: None,
+            owned: true,
         };
         if options.validation {
             let log = Box::<ValidationLog>::default();
@@ -243,7 +249,9 @@ pub(crate) struct DeviceOwner {
     pub(crate) device: ash::Device,
     pub(crate) instance: Arc<InstanceOwner>,
     /// Vulkan objects alive now, by kind: what a renderer creates is counted, not assumed.
-    live: Mutex<BTreeMap<&'static str, i64>>,
+    pub(super) live: Mutex<BTreeMap<&'static str, i64>>,
+    /// Whether foveate made the device (and destroys it); an engine's is only borrowed.
+    pub(super) owned: bool,
 }
 
 impl DeviceOwner {
@@ -265,11 +273,16 @@ impl DeviceOwner {
 impl Drop for DeviceOwner {
     fn drop(&mut self) {
         // SAFETY: no resource of this device remains (they hold Arcs to it); the allocator
-        // frees its memory blocks before the device goes.
+        // frees its memory blocks before the device goes. A borrowed device is the engine's:
+        // its queues are the engine's to synchronize (no wait idle here) and it stays.
         unsafe {
-            let _ = self.device.device_wait_idle();
+            if self.owned {
+                let _ = self.device.device_wait_idle();
+            }
             ManuallyDrop::drop(&mut self.allocator);
-            self.device.destroy_device(None);
+            if self.owned {
+                self.device.destroy_device(None);
+            }
         }
     }
 }
@@ -304,24 +317,30 @@ pub struct RawHandles {
 }
 
 /// The opened GPU: device, graphics queue, capabilities.
+///
+/// A `Gpu` is a handle: cloning it is cheap and gives another handle to the same device, so a
+/// renderer keeps one and has no borrow to outlive. The device goes when the
+/// last handle and the last object made on it are gone (a borrowed device is never destroyed:
+/// see [`Gpu::from_engine`]).
+#[derive(Clone)]
 pub struct Gpu {
     pub(crate) dev: Arc<DeviceOwner>,
     pub(crate) physical: vk::PhysicalDevice,
     pub(crate) queue: vk::Queue,
+    pub(crate) queue_index: u32,
     /// Held around every use of `queue` (submit, present, wait idle): Vulkan requires the
     /// caller to synchronize a queue's users, and a `Gpu` is shared between threads.
-    queue_lock: std::sync::Mutex<()>,
+    pub(super) queue_lock: Arc<Mutex<()>>,
     pub(crate) queue_family: u32,
     /// Nanoseconds per timestamp tick.
     pub(crate) timestamp_period_ns: f64,
-    caps: DeviceCaps,
-    info: DeviceInfo,
+    pub(super) caps: DeviceCaps,
+    pub(super) info: DeviceInfo,
     /// Render passes and pipelines alive, by description (see [`ObjectCache`]).
-    pub(crate) render_passes: ObjectCache<RenderPass>,
-    pub(crate) pipelines: ObjectCache<Pipeline, PipelineKey>,
-    /// The driver's pipeline cache, loaded from and saved to `pipeline_cache_path`.
-    pub(crate) pipeline_cache: PipelineCache,
-    pub(super) pipeline_cache_path: Option<std::path::PathBuf>,
+    pub(crate) render_passes: Arc<ObjectCache<RenderPass>>,
+    pub(crate) pipelines: Arc<ObjectCache<Pipeline, PipelineKey>>,
+    /// The driver's pipeline cache, saved where it was loaded from when the last handle goes.
+    pub(crate) pipeline_cache: Arc<PipelineCacheFile>,
 }
 
 impl Gpu {
@@ -365,13 +384,8 @@ impl Gpu {
         let physical = chosen.physical;
         let vk_instance = &instance.instance;
 
-        // SAFETY: queries on a valid physical device.
-        let (supported, props) = unsafe {
-            (
-                vk_instance.get_physical_device_features(physical),
-                vk_instance.get_physical_device_properties(physical),
-            )
-        };
+        // SAFETY: a query on a valid physical device.
+        let supported = unsafe { vk_instance.get_physical_device_features(physical) };
         let features = vk::PhysicalDeviceFeatures::default()
             .fragment_stores_and_atomics(supported.fragment_stores_and_atomics == vk::TRUE)
             .shader_clip_distance(supported.shader_clip_distance == vk::TRUE)
@@ -414,83 +428,14 @@ impl Gpu {
                 ash::Device::load(vk_instance.fp_v1_0(), raw)
             },
         };
-        let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: vk_instance.clone(),
-            device: device.clone(),
-            physical_device: physical,
-            debug_settings: Default::default(),
-            buffer_device_address: false,
-            allocation_sizes: Default::default(),
-        });
-        let allocator = match allocator {
-            Ok(a) => a,
-            Err(e) => {
-                // SAFETY: nothing was created on the device yet.
-                unsafe { device.destroy_device(None) };
-                return Err(e.into());
-            }
-        };
-
-        let family_props =
-            unsafe { vk_instance.get_physical_device_queue_family_properties(physical) };
-        let timestamps = props.limits.timestamp_compute_and_graphics == vk::TRUE
-            || family_props[queue_family as usize].timestamp_valid_bits > 0;
-        let caps = DeviceCaps {
-            device_name: chosen.info.name.clone(),
-            max_multiview_views: chosen.info.max_multiview_views,
-            framebuffer_sample_counts: (props.limits.framebuffer_color_sample_counts
-                & props.limits.framebuffer_depth_sample_counts)
-                .as_raw(),
-            max_image_dimension_2d: props.limits.max_image_dimension2_d,
-            max_viewport_dimension: props.limits.max_viewport_dimensions[0]
-                .min(props.limits.max_viewport_dimensions[1]),
-            viewport_bounds: (
-                props.limits.viewport_bounds_range[0],
-                props.limits.viewport_bounds_range[1],
-            ),
-            lazily_allocated_memory: chosen.info.lazily_allocated_memory,
-            fragment_stores_and_atomics: supported.fragment_stores_and_atomics == vk::TRUE,
-            shader_clip_distance: supported.shader_clip_distance == vk::TRUE,
-            depth_clamp: supported.depth_clamp == vk::TRUE,
-            timestamps,
-            max_anisotropy: if supported.sampler_anisotropy == vk::TRUE {
-                props.limits.max_sampler_anisotropy
-            } else {
-                0.0
-            },
-            pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
-            quirks: chosen.info.quirks.clone(),
-        };
-        log::info!(
-            "device: {} ({:?}, driver {}); quirks: {:?}",
-            chosen.info.name,
-            props.device_type,
-            chosen.info.driver,
-            caps.quirks
-        );
-        let dev = Arc::new(DeviceOwner {
-            allocator: ManuallyDrop::new(Mutex::new(allocator)),
-            device,
-            instance,
-            live: Mutex::new(BTreeMap::new()),
-        });
-        let pipeline_cache =
-            create_pipeline_cache(&dev, &props, options.pipeline_cache.as_deref())?;
-        Ok(Gpu {
-            dev,
-            physical,
-            queue,
-            queue_lock: std::sync::Mutex::new(()),
+        let parts = DeviceParts {
             queue_family,
-            timestamp_period_ns: props.limits.timestamp_period as f64,
-            caps,
-            info: chosen.info.clone(),
-            render_passes: ObjectCache::default(),
-            pipelines: ObjectCache::default(),
-            pipeline_cache,
-            pipeline_cache_path: options.pipeline_cache.clone(),
-        })
+            queue_index: 0,
+            enabled: features,
+            owned: true,
+            queue_lock: Arc::default(),
+        };
+        Self::assemble(instance, chosen, device, parts, options)
     }
 
     /// Every physical device with what foveate needs to know of it.
@@ -509,7 +454,7 @@ impl Gpu {
             physical: self.physical,
             device: self.dev.device.handle(),
             queue_family: self.queue_family,
-            queue_index: 0,
+            queue_index: self.queue_index,
         }
     }
 
@@ -589,11 +534,5 @@ impl Gpu {
     pub(crate) fn with_queue<T>(&self, f: impl FnOnce(vk::Queue) -> T) -> T {
         let _held = self.queue_lock.lock().unwrap_or_else(|e| e.into_inner());
         f(self.queue)
-    }
-}
-
-impl Drop for Gpu {
-    fn drop(&mut self) {
-        let _ = self.save_pipeline_cache();
     }
 }

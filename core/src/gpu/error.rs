@@ -36,6 +36,8 @@ pub enum GpuError {
     NoSuchOutputImage { index: usize, count: usize },
     #[error("readback asked for before any frame was rendered")]
     NoFrameRendered,
+    #[error("the figures of frame {frame} were asked for after its frame slot {slot} was recorded into again: read a frame's figures before the renderer cycles back to its slot")]
+    FrameSlotReused { frame: u64, slot: usize },
     #[error("Vulkan validation reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
     Validation(Vec<String>),
 }

@@ -21,6 +21,12 @@ macro_rules! owned_handle {
                 dev.created(stringify!($name));
                 Self { dev: dev.clone(), raw }
             }
+
+            /// The device the handle was made on.
+            #[allow(dead_code)]
+            pub(crate) fn device(&self) -> &ash::Device {
+                &self.dev.device
+            }
         }
 
         impl Drop for $name {

@@ -9,6 +9,7 @@ mod device_choice;
 mod error;
 mod handles;
 mod memory;
+mod open;
 mod pipeline_cache;
 mod submit;
 mod swapchain;
@@ -22,6 +23,7 @@ pub use handles::{
 };
 pub(crate) use memory::pod_bytes;
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
+pub use open::EngineDevice;
 pub use swapchain::{Presented, Swapchain};
 
 pub(crate) use cache::{Description, ObjectCache, PipelineKey};

@@ -9,20 +9,34 @@ use super::context::DeviceOwner;
 use super::{Gpu, GpuError, PipelineCache, VkResultExt};
 
 impl Gpu {
-    /// Writes the pipeline cache where `GpuOptions::pipeline_cache` said (dropping the `Gpu`
-    /// does it too, ignoring errors: a cache is an optimisation), so the next run
-    /// compiles no pipeline this one compiled; returns the path written, if any.
+    /// Writes the pipeline cache where `GpuOptions::pipeline_cache` said (dropping the last
+    /// handle to the `Gpu` does it too, ignoring errors: a cache is an optimisation), so the
+    /// next run compiles no pipeline this one compiled; returns the path written, if any.
     pub fn save_pipeline_cache(&self) -> Result<Option<std::path::PathBuf>, GpuError> {
-        let Some(path) = &self.pipeline_cache_path else {
+        self.pipeline_cache.save()
+    }
+}
+
+/// The driver's pipeline cache and the file it persists in, shared by a `Gpu`'s handles.
+pub(crate) struct PipelineCacheFile {
+    pub(crate) cache: PipelineCache,
+    pub(crate) path: Option<std::path::PathBuf>,
+}
+
+impl Drop for PipelineCacheFile {
+    fn drop(&mut self) {
+        let _ = self.save();
+    }
+}
+
+impl PipelineCacheFile {
+    fn save(&self) -> Result<Option<std::path::PathBuf>, GpuError> {
+        let Some(path) = &self.path else {
             return Ok(None);
         };
-        // SAFETY: the cache belongs to this device.
-        let data = unsafe {
-            self.dev
-                .device
-                .get_pipeline_cache_data(self.pipeline_cache.raw)
-        }
-        .vk("vkGetPipelineCacheData")?;
+        // SAFETY: the cache belongs to this device, alive while `self.cache` is.
+        let data = unsafe { self.cache.device().get_pipeline_cache_data(self.cache.raw) }
+            .vk("vkGetPipelineCacheData")?;
         // Written aside and renamed into place: runs in parallel never read a torn file, and a
         // failed write (a full disk, a path that is a folder) leaves nothing behind.
         let fail = |error: String| GpuError::PipelineCache {

@@ -127,6 +127,7 @@ pub fn plan(
         lens: lens.then(|| LensOutput::new(e.hmd.distortion, &e.eyes)),
         external_output: config.external_output,
         hidden_area_mesh: config.hidden_area_mesh,
+        frame_slots: config.frames_in_flight,
     };
     check_external_output(&plan)?;
     assign_cull_slots(&mut plan);
@@ -291,6 +292,7 @@ fn resolve_effects(
         validate_view_sets(config, f, caps)?;
     }
     validate_depth_range(config)?;
+    validate_frames_in_flight(config)?;
     validate_features(config, caps)?;
     validate_culling(config)?;
     if scene.lights.len() > MAX_POINT_LIGHTS {

@@ -176,7 +176,15 @@ pub struct RenderConfig {
     /// (`Renderer::set_hidden_area`), instead of
     /// keeping the ellipse fitted to the profile; needs `hmd_mask`.
     pub hidden_area_mesh: bool,
+    /// Frames that may be in flight at once: the renderer keeps one frame slot each (uniforms,
+    /// descriptor sets, query pools, the counting buffer), so frame N+1 records while frame N
+    /// runs on the GPU. 1 to [`MAX_FRAMES_IN_FLIGHT`]; 2 by default, as engines and OpenXR
+    /// runtimes pace frames.
+    pub frames_in_flight: u32,
 }
+
+/// The most frames a renderer keeps in flight ([`RenderConfig::frames_in_flight`]).
+pub const MAX_FRAMES_IN_FLIGHT: u32 = 4;
 
 impl Default for RenderConfig {
     fn default() -> Self {
@@ -204,6 +212,7 @@ impl Default for RenderConfig {
             lod: None,
             external_output: false,
             hidden_area_mesh: false,
+            frames_in_flight: 2,
         }
     }
 }

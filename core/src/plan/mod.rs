@@ -29,7 +29,7 @@ pub(crate) use build::cluster_plan;
 pub use build::plan;
 pub use config::{
     CullConfig, FoveaLayout, OutputStage, RadialDensity, RadialDensityGeometry, RenderConfig,
-    StereoMode, MAX_VIEWS,
+    StereoMode, MAX_FRAMES_IN_FLIGHT, MAX_VIEWS,
 };
 pub use model::{
     AttachmentPlan, AttachmentRole, BufferPlan, ClusterPlan, CountedSlot, Format,

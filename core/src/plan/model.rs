@@ -387,6 +387,9 @@ pub struct FramePlan {
     /// The HMD mask drops a hidden-area mesh handed in per frame (see
     /// [`RenderConfig::hidden_area_mesh`](crate::plan::RenderConfig::hidden_area_mesh)).
     pub hidden_area_mesh: bool,
+    /// Frame slots the renderer keeps: frames that may be in flight at once
+    /// ([`RenderConfig::frames_in_flight`](crate::plan::RenderConfig::frames_in_flight)).
+    pub frame_slots: u32,
 }
 
 /// Clusters in the plan: what the culled draw sets test per cluster, and what the id buffer

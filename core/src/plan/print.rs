@@ -387,6 +387,11 @@ impl FramePlan {
             };
             writeln!(f, "queries per frame: {}{spare}", pools.join(", "))?;
         }
+        writeln!(
+            f,
+            "frame slots: {} (frames in flight; each slot its own uniforms, descriptor sets and query pools)",
+            self.frame_slots
+        )?;
         if !self.buffers.is_empty() {
             writeln!(f, "effect buffers:")?;
             for b in &self.buffers {

@@ -212,6 +212,18 @@ pub(super) fn validate_depth_range(config: &RenderConfig) -> Result<(), ConfigEr
     Ok(())
 }
 
+pub(super) fn validate_frames_in_flight(config: &RenderConfig) -> Result<(), ConfigError> {
+    let n = config.frames_in_flight;
+    if !(1..=super::config::MAX_FRAMES_IN_FLIGHT).contains(&n) {
+        return Err(ConfigError::new(
+            "frames_in_flight",
+            n,
+            format!("1 to {}", super::config::MAX_FRAMES_IN_FLIGHT),
+        ));
+    }
+    Ok(())
+}
+
 pub(super) fn validate_culling(config: &RenderConfig) -> Result<(), ConfigError> {
     match config.culling {
         Some(c) if !(c.draw_distance.is_finite() && c.draw_distance > config.near) => {

@@ -9,7 +9,7 @@ use crate::plan::{FramePlan, Step};
 use crate::view::{FovTangents, HiddenArea};
 
 /// What every executor sees of a frame before it is recorded.
-pub(super) struct FrameInput<'a> {
+pub(super) struct FrameContext<'a> {
     pub plan: &'a FramePlan,
     /// Each eye's fovea window around its gaze, when foveated.
     pub fovea: Option<&'a [FovTangents; 2]>,
@@ -24,10 +24,14 @@ pub(super) struct FrameInput<'a> {
 
 /// One technique's per-frame work. One that keeps state across frames (the periphery's
 /// temporal history) owns it and says in `update` when it resets.
+///
+/// Its per-frame resources (uniforms, descriptor sets) come one per frame slot, so a frame
+/// records while an earlier one runs: `slot` says whose. State across frames (the previous
+/// poses) is the executor's own, shared by every slot.
 pub(super) trait Executor: Send {
-    /// Writes this frame's uniforms.
-    fn update(&mut self, frame: &FrameInput);
-    /// The descriptor set `step` binds, when it is one of this executor's steps that reads the
-    /// executor's own resources (others bind the scene's).
-    fn descriptors(&self, step: &Step) -> Option<&DescriptorSet>;
+    /// Writes this frame's uniforms, those of frame slot `slot`.
+    fn update(&mut self, slot: usize, frame: &FrameContext);
+    /// The descriptor set `step` binds in frame slot `slot`, when it is one of this executor's
+    /// steps that reads the executor's own resources (others bind the scene's).
+    fn descriptors(&self, step: &Step, slot: usize) -> Option<&DescriptorSet>;
 }

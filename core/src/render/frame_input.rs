@@ -1,11 +1,70 @@
 //! The per-frame input a caller hands the renderer, checked before it is used: eyes must fit
 //! the plan, the head must be a finite pose. (The gaze's check is foveation's,
-//! `foveation::check_gaze`.) Each refusal names the field, the value and the limit.
+//! `foveation::check_gaze`.) Each refusal names the field, the value and the limit. And what
+//! recording a frame gives back: which frame, in which slot.
 
-use glam::Mat4;
+use glam::{Mat4, Vec2};
 
 use crate::view::{Eye, EyeParams};
 use crate::vocab::ConfigError;
+
+/// What a frame is rendered from: the head's pose, and what changed since the last frame.
+///
+/// ```
+/// use foveate::render::FrameInput;
+/// use glam::{Mat4, Vec2, Vec3};
+///
+/// let head = Mat4::from_translation(Vec3::new(0.0, 1.6, 0.0));
+/// let input = FrameInput::new(head).with_gaze([Vec2::new(0.2, 0.0); 2]);
+/// assert_eq!(input.gaze, Some([Vec2::new(0.2, 0.0); 2]));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct FrameInput {
+    /// The head's pose in the world (a finite matrix).
+    pub world_from_head: Mat4,
+    /// Each eye's gaze (normalised −1…1, x right, y up), kept for the following frames;
+    /// `None` keeps the last one (see `Renderer::set_gaze`).
+    pub gaze: Option<[Vec2; 2]>,
+    /// This frame's eyes, kept for the following frames; `None` keeps the last ones (see
+    /// `Renderer::set_eyes`).
+    pub eyes: Option<EyeParams>,
+}
+
+impl FrameInput {
+    /// A frame from the head at `world_from_head`, gaze and eyes as before.
+    pub fn new(world_from_head: Mat4) -> Self {
+        Self {
+            world_from_head,
+            gaze: None,
+            eyes: None,
+        }
+    }
+
+    /// The same frame with each eye's gaze.
+    pub fn with_gaze(mut self, gaze: [Vec2; 2]) -> Self {
+        self.gaze = Some(gaze);
+        self
+    }
+
+    /// The same frame with these eyes (an OpenXR runtime's located views).
+    pub fn with_eyes(mut self, eyes: EyeParams) -> Self {
+        self.eyes = Some(eyes);
+        self
+    }
+}
+
+/// A frame recorded by `Renderer::record`: its number and the frame slot it used.
+/// Its figures are read with `Renderer::frame_stats` once it has run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FrameRecord {
+    /// Frames recorded before this one by the same renderer.
+    pub frame: u64,
+    /// The frame slot whose resources it uses: the slot is used again
+    /// [`crate::plan::FramePlan::frame_slots`] frames later, by which time this frame must
+    /// have finished on the GPU.
+    pub slot: usize,
+}
 
 /// Whether `eyes` fit `planned` (see [`Renderer::set_eyes`]).
 pub(super) fn eyes_fit(eyes: &EyeParams, planned: &EyeParams) -> Result<(), ConfigError> {

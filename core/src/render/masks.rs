@@ -4,7 +4,7 @@
 use glam::Vec4;
 
 use super::descriptors::DescriptorSet;
-use super::executor::{Executor, FrameInput};
+use super::executor::{Executor, FrameContext};
 use super::recorder::{Recorder, Rect};
 use crate::foveation::mask_shapes;
 use crate::gpu::{Buffer, Gpu, GpuError, MemoryLocation};
@@ -26,29 +26,31 @@ struct MasksBlock {
 /// The stencil masks' shapes, rewritten each frame from the gaze (the scene's bindings read
 /// them as binding 3).
 pub(crate) struct MaskShapes {
-    pub buffer: Buffer,
+    /// One per frame slot.
+    pub buffers: Vec<Buffer>,
 }
 
 impl MaskShapes {
-    pub fn new(gpu: &Gpu) -> Result<Self, GpuError> {
+    pub fn new(gpu: &Gpu, slots: usize) -> Result<Self, GpuError> {
         let bytes = std::mem::size_of::<MasksBlock>() as u64;
         let usage = ash::vk::BufferUsageFlags::UNIFORM_BUFFER;
+        let buffer = || Buffer::new(gpu, "stencil masks", bytes, usage, MemoryLocation::CpuToGpu);
         Ok(MaskShapes {
-            buffer: Buffer::new(gpu, "stencil masks", bytes, usage, MemoryLocation::CpuToGpu)?,
+            buffers: (0..slots).map(|_| buffer()).collect::<Result<_, _>>()?,
         })
     }
 }
 
 impl Executor for MaskShapes {
-    fn update(&mut self, frame: &FrameInput) {
+    fn update(&mut self, slot: usize, frame: &FrameContext) {
         let block = MasksBlock {
             shapes: stencil_shapes(frame.plan, frame.fovea),
             hidden: hidden_corners(frame.plan, frame.hidden_area),
         };
-        self.buffer.write(&[block]);
+        self.buffers[slot].write(&[block]);
     }
 
-    fn descriptors(&self, _step: &Step) -> Option<&DescriptorSet> {
+    fn descriptors(&self, _step: &Step, _slot: usize) -> Option<&DescriptorSet> {
         None
     }
 }

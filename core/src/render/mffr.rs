@@ -5,7 +5,7 @@
 use glam::{Mat4, Vec4};
 
 use super::descriptors::DescriptorSet;
-use super::executor::{Executor, FrameInput};
+use super::executor::{Executor, FrameContext};
 use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
@@ -22,23 +22,28 @@ struct FarCompositeBlock {
 }
 
 pub(crate) struct FarComposite {
-    pub set: SampledSet,
+    /// One per frame slot.
+    sets: Vec<SampledSet>,
 }
 
 impl FarComposite {
     /// Sets up sampling of `far_image`, the far pass's resolved colour, counting into
-    /// `counter` in counting frames.
-    pub fn new(gpu: &Gpu, far_image: &Image, counter: Option<&Buffer>) -> Result<Self, GpuError> {
+    /// each frame slot's counter (`counters`) in counting frames.
+    pub fn new(
+        gpu: &Gpu,
+        far_image: &Image,
+        counters: &[Option<&Buffer>],
+    ) -> Result<Self, GpuError> {
         let bytes = std::mem::size_of::<FarCompositeBlock>() as u64;
         Ok(FarComposite {
-            set: SampledSet::new(gpu, &[far_image], false, bytes, 4, counter)?,
+            sets: SampledSet::per_slot(gpu, &[far_image], false, bytes, 4, counters)?,
         })
     }
 }
 
 impl Executor for FarComposite {
     /// This frame's reprojection of each view (its pose and field of view) into the far view.
-    fn update(&mut self, frame: &FrameInput) {
+    fn update(&mut self, slot: usize, frame: &FrameContext) {
         let Some(far) = frame.views.far.as_ref() else {
             return;
         };
@@ -52,11 +57,11 @@ impl Executor for FarComposite {
             block.direction[i] = r.direction;
             block.origin[i] = r.origin;
         }
-        self.set.uniforms.write(&[block]);
+        self.sets[slot].uniforms.write(&[block]);
     }
 
-    fn descriptors(&self, step: &Step) -> Option<&DescriptorSet> {
-        matches!(step, Step::FarComposite { .. }).then_some(&self.set.descriptors)
+    fn descriptors(&self, step: &Step, slot: usize) -> Option<&DescriptorSet> {
+        matches!(step, Step::FarComposite { .. }).then_some(&self.sets[slot].descriptors)
     }
 }
 

@@ -9,6 +9,7 @@ mod descriptors;
 mod executor;
 mod far_view;
 mod frame_input;
+mod frame_slot;
 mod lod_select;
 mod masks;
 mod materials;
@@ -34,6 +35,7 @@ mod vulkan_recorder;
 
 pub use crate::plan::SKY;
 pub use command_log::{Command, CommandLog};
+pub use frame_input::{FrameInput, FrameRecord};
 pub use readback::StereoImage;
 pub use record::record_frame;
 pub use recorder::{FrameDraws, Recorder, Rect};

@@ -6,7 +6,7 @@
 use glam::Vec4;
 
 use super::descriptors::DescriptorSet;
-use super::executor::{Executor, FrameInput};
+use super::executor::{Executor, FrameContext};
 use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
@@ -25,16 +25,21 @@ struct OutputBlock {
 }
 
 pub(crate) struct OutputStage {
-    pub set: SampledSet,
+    /// One per frame slot.
+    sets: Vec<SampledSet>,
 }
 
 impl OutputStage {
     /// Sets up sampling of the images the output pass reads (its `samples`, in order),
-    /// counting into `counter` in counting frames.
-    pub fn new(gpu: &Gpu, images: &[&Image], counter: Option<&Buffer>) -> Result<Self, GpuError> {
+    /// counting into each frame slot's counter (`counters`) in counting frames.
+    pub fn new(
+        gpu: &Gpu,
+        images: &[&Image],
+        counters: &[Option<&Buffer>],
+    ) -> Result<Self, GpuError> {
         let bytes = std::mem::size_of::<OutputBlock>() as u64;
         Ok(OutputStage {
-            set: SampledSet::new(gpu, images, true, bytes, 0, counter)?,
+            sets: SampledSet::per_slot(gpu, images, true, bytes, 0, counters)?,
         })
     }
 }
@@ -42,7 +47,7 @@ impl OutputStage {
 impl Executor for OutputStage {
     /// Writes this frame's fields: each eye's rendered and display tangents, and with
     /// foveation its (gaze-dependent) fovea tangents.
-    fn update(&mut self, frame: &FrameInput) {
+    fn update(&mut self, slot: usize, frame: &FrameContext) {
         let (plan, fovea) = (frame.plan, frame.fovea);
         let tangents = |f: FovTangents| Vec4::from_array(f.as_array());
         let periphery = Eye::BOTH.map(|e| tangents(plan.eyes.fov(e)));
@@ -68,11 +73,11 @@ impl Executor for OutputStage {
                 k2,
             ),
         };
-        self.set.uniforms.write(&[block]);
+        self.sets[slot].uniforms.write(&[block]);
     }
 
-    fn descriptors(&self, step: &Step) -> Option<&DescriptorSet> {
-        matches!(step, Step::Output(_)).then_some(&self.set.descriptors)
+    fn descriptors(&self, step: &Step, slot: usize) -> Option<&DescriptorSet> {
+        matches!(step, Step::Output(_)).then_some(&self.sets[slot].descriptors)
     }
 }
 

@@ -237,7 +237,7 @@ pub(crate) fn compile_pipeline(
         // SAFETY: all referenced state lives on this stack frame for the call.
         let pipelines = unsafe {
             gpu.device()
-                .create_graphics_pipelines(gpu.pipeline_cache.raw, &[info], None)
+                .create_graphics_pipelines(gpu.pipeline_cache.cache.raw, &[info], None)
         }
         .map_err(|(_, e)| e)
         .vk("vkCreateGraphicsPipelines")?;

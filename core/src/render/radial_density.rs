@@ -4,7 +4,7 @@
 //! specialisation constant of the pipelines, so there is nothing to update per frame.
 
 use super::descriptors::DescriptorSet;
-use super::executor::{Executor, FrameInput};
+use super::executor::{Executor, FrameContext};
 use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
@@ -12,25 +12,26 @@ use crate::plan::{PassPlan, Step};
 
 /// The reconstruction's resources: the masked views, sampled.
 pub(crate) struct Reconstruction {
-    pub set: SampledSet,
+    /// One per frame slot.
+    sets: Vec<SampledSet>,
 }
 
 impl Reconstruction {
     /// Sets up sampling of `views` (the scene pass's two layers), counting into `counter` in
-    /// counting frames.
-    pub fn new(gpu: &Gpu, views: &Image, counter: Option<&Buffer>) -> Result<Self, GpuError> {
+    /// counting frames (`counters`: each frame slot's).
+    pub fn new(gpu: &Gpu, views: &Image, counters: &[Option<&Buffer>]) -> Result<Self, GpuError> {
         // The shader reads no uniforms: the smallest block the sampled set allows.
         Ok(Reconstruction {
-            set: SampledSet::new(gpu, &[views], false, 16, 0, counter)?,
+            sets: SampledSet::per_slot(gpu, &[views], false, 16, 0, counters)?,
         })
     }
 }
 
 impl Executor for Reconstruction {
-    fn update(&mut self, _frame: &FrameInput) {}
+    fn update(&mut self, _slot: usize, _frame: &FrameContext) {}
 
-    fn descriptors(&self, step: &Step) -> Option<&DescriptorSet> {
-        (*step == Step::Reconstruct).then_some(&self.set.descriptors)
+    fn descriptors(&self, step: &Step, slot: usize) -> Option<&DescriptorSet> {
+        (*step == Step::Reconstruct).then_some(&self.sets[slot].descriptors)
     }
 }
 

@@ -35,7 +35,7 @@ impl StereoImage {
     }
 }
 
-impl Renderer<'_> {
+impl Renderer {
     /// Copies the last frame's stereo image back to the CPU.
     pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
         if self.frames_rendered == 0 {
@@ -48,7 +48,7 @@ impl Renderer<'_> {
             .sum();
         if self.readback.as_ref().is_none_or(|b| b.size < size) {
             self.readback = Some(Buffer::new(
-                self.gpu,
+                &self.gpu,
                 "readback",
                 size,
                 vk::BufferUsageFlags::TRANSFER_DST,

@@ -4,69 +4,59 @@ use ash::vk;
 use glam::{Mat4, Vec2, Vec3};
 
 use super::culling::FrameCulling;
-use super::descriptors::DescriptorSet;
-use super::executor::{Executor, FrameInput};
+use super::executor::{Executor, FrameContext};
 use super::far_view::FarView;
-use super::frame_input::{eyes_fit, head_is_finite};
+use super::frame_input::{eyes_fit, head_is_finite, FrameInput, FrameRecord};
+use super::frame_slot::{FrameSlot, SharedBindings, SlotFrame};
 use super::masks::MaskShapes;
 use super::materials::MaterialSet;
 use super::output_targets::OutputTargets;
-use super::pipelines::scene_bindings;
 use super::record::record_frame;
 use super::recorder::FrameDraws;
 use super::scene_buffers::SceneBuffers;
-use super::setup::{
-    check_scene, compile_passes, effect_buffer, make_sampleable, query_pool, sampling_executors,
-};
-use super::stats::{FrameStats, PassStatistics, StepFragments};
+use super::setup::{check_scene, compile_passes, make_sampleable, sampling_executors};
+use super::stats::FrameStats;
 use super::targets::{create_images, CompiledPass};
-use super::views::{FrameViews, ViewsBlock};
+use super::views::FrameViews;
 use super::vulkan_recorder::{BoundStep, FrameObjects, VulkanRecorder};
 use crate::foveation::fovea_views;
-use crate::gpu::{
-    Buffer, CommandPool, Fence, Gpu, GpuError, Image, MemoryLocation, QueryPool, VkResultExt,
-};
+use crate::gpu::{Buffer, Gpu, GpuError, Image, VkResultExt};
 use crate::plan::{ConfigError, FramePlan, PassPlan, RenderConfig, Step};
 use crate::scene::{Draw, Scene};
 use crate::view::{EyeParams, HiddenArea};
 
 /// A [`FramePlan`] compiled into Vulkan objects for one scene.
 ///
-/// Frames are rendered one at a time (the CPU waits for each frame's fence), so everything a
-/// recorded command buffer uses is alive and idle whenever the renderer is touched again.
-pub struct Renderer<'g> {
-    pub(super) gpu: &'g Gpu,
+/// A renderer records frames into command buffers ([`Renderer::record`]): the caller's, which
+/// the caller submits with its own semaphores and fence, or its own ([`Renderer::render_frame`],
+/// which submits and waits). It keeps [`FramePlan::frame_slots`] frame slots — uniforms,
+/// descriptor sets and query pools of their own — so up to that many frames may be in flight.
+/// It holds a handle to its [`Gpu`] (no borrow) and may move to another thread.
+pub struct Renderer {
+    pub(super) gpu: Gpu,
     pub(super) plan: FramePlan,
     // Passes (framebuffers, views) go before the images they view.
     /// Each pass compiled.
     passes: Vec<CompiledPass>,
     /// Output images handed in (an OpenXR swapchain's), with their passes.
     output_targets: Option<OutputTargets>,
-    /// Each pass's steps as recorded: pipeline, layout and descriptor set (the sets belong to
-    /// the fields below).
+    /// Each pass's steps as recorded: pipeline, layout and each slot's descriptor set (the sets
+    /// belong to the slots and executors below).
     steps: Vec<Vec<BoundStep>>,
-    /// The steps that sample earlier passes' images (their sets are bound through `steps`).
     /// Each technique's executor the plan calls for (masks, output stage, far composite,
     /// reconstruction), in no particular order: each owns its resources and per-frame uniforms.
     executors: Vec<Box<dyn Executor>>,
-    /// Per-frame culling and its id buffer (only when a pass draws a culled set).
+    /// Per-frame culling (only when a pass draws a culled set).
     culling: Option<FrameCulling>,
-    instance_ids: Option<Buffer>,
+    /// Each frame slot's buffers, bindings and queries.
+    slots: Vec<FrameSlot>,
+    /// The slot the next frame records into.
+    next_slot: usize,
     pub(super) images: Vec<Image>,
-    /// The scene's descriptor set and layout (used through `steps`).
-    _bindings: DescriptorSet,
     /// A lit scene's textures, materials and lights (after the bindings that refer to them).
     _materials: Option<MaterialSet>,
     scene: SceneBuffers,
-    views_block: Buffer,
-    counter: Option<Buffer>,
-    queries: Option<QueryPool>,
-    /// Pipeline-statistics queries, one per pass (counting frames on devices that have them).
-    statistics: Option<QueryPool>,
     pub(super) readback: Option<Buffer>,
-    cmd: vk::CommandBuffer,
-    frame_pool: CommandPool,
-    fence: Fence,
     light_dir: Vec3,
     /// Each eye's gaze, normalised (−1…1, x right, y up); moves the fovea views.
     gaze: [Vec2; 2],
@@ -77,10 +67,10 @@ pub struct Renderer<'g> {
     pub(super) frames_rendered: u64,
 }
 
-impl<'g> Renderer<'g> {
+impl Renderer {
     /// Builds everything `plan` calls for, and nothing else: no counter buffer without fragment
     /// counting, no query pool without timestamps, no MSAA images at 1×.
-    pub fn new(gpu: &'g Gpu, plan: &FramePlan, scene: &Scene) -> Result<Self, GpuError> {
+    pub fn new(gpu: &Gpu, plan: &FramePlan, scene: &Scene) -> Result<Self, GpuError> {
         Self::build(gpu, plan, scene, &[])
     }
 
@@ -89,7 +79,7 @@ impl<'g> Renderer<'g> {
     /// `plan` must have [`RenderConfig::external_output`]; [`Renderer::select_output`] picks
     /// the image before each frame.
     pub fn with_output_images(
-        gpu: &'g Gpu,
+        gpu: &Gpu,
         plan: &FramePlan,
         scene: &Scene,
         output_images: &[vk::Image],
@@ -101,7 +91,7 @@ impl<'g> Renderer<'g> {
     }
 
     fn build(
-        gpu: &'g Gpu,
+        gpu: &Gpu,
         plan: &FramePlan,
         scene: &Scene,
         output_images: &[vk::Image],
@@ -112,95 +102,72 @@ impl<'g> Renderer<'g> {
             .lit
             .then(|| MaterialSet::new(gpu, plan, scene))
             .transpose()?;
-        let views_block = Buffer::new(
-            gpu,
-            "views",
-            std::mem::size_of::<ViewsBlock>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
-        let counter = effect_buffer(
-            gpu,
-            plan.fragment_counter(),
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
+        let slot_count = plan.frame_slots.max(1) as usize;
         let masks = plan
             .passes
             .iter()
             .any(PassPlan::has_masks)
-            .then(|| MaskShapes::new(gpu))
+            .then(|| MaskShapes::new(gpu, slot_count))
             .transpose()?;
-        let instance_ids = effect_buffer(
-            gpu,
-            plan.instance_ids(),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
-        let bindings = scene_bindings(
-            gpu,
-            &views_block,
-            &scene_buffers.instances,
-            counter.as_ref(),
-            masks.as_ref().map(|m| &m.buffer),
-            instance_ids.as_ref(),
-            materials.as_ref(),
-        )?;
+        let shared = SharedBindings {
+            scene: &scene_buffers,
+            materials: materials.as_ref(),
+        };
+        let slots = (0..slot_count)
+            .map(|s| {
+                let masks = masks.as_ref().map(|m| &m.buffers[s]);
+                FrameSlot::new(gpu, plan, &shared, masks)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let images = create_images(gpu, plan, output_images)?;
         let output_targets = plan
             .external_output
             .then(|| OutputTargets::new(gpu, plan, output_images, &images))
             .transpose()?;
         make_sampleable(gpu, plan, &images)?;
-        let mut executors = sampling_executors(gpu, plan, &images, counter.as_ref())?;
+        let counters: Vec<_> = slots.iter().map(|s| s.counter.as_ref()).collect();
+        let mut executors = sampling_executors(gpu, plan, &images, &counters)?;
         executors.extend(masks.map(|m| Box::new(m) as Box<dyn Executor>));
-        let sets = |step: &Step| executors.iter().find_map(|e| e.descriptors(step));
+        let sets = |step: &Step, slot| executors.iter().find_map(|e| e.descriptors(step, slot));
+        let bindings: Vec<_> = slots.iter().map(|s| &s.bindings).collect();
         let (passes, steps) = compile_passes(gpu, plan, &images, &bindings, sets)?;
-        let queries = query_pool(gpu, vk::QueryType::TIMESTAMP, plan.timestamp_pool_slots())?;
-        let statistics = query_pool(
-            gpu,
-            vk::QueryType::PIPELINE_STATISTICS,
-            plan.statistics_pool_slots(),
-        )?;
-        let frame_pool = gpu.command_pool(vk::CommandPoolCreateFlags::TRANSIENT)?;
-        let cmd = gpu.allocate_command_buffer(&frame_pool)?;
         log::debug!(
-            "renderer: {} passes, {} attachments, {} instances in {} draws, {} shading",
+            "renderer: {} passes, {} attachments, {} instances in {} draws, {} shading, {} frame slots",
             plan.passes.len(),
             plan.attachments.len(),
             scene.instance_count(),
             scene.batches.len(),
-            scene.shading()
+            scene.shading(),
+            slot_count
         );
         Ok(Renderer {
-            gpu,
+            gpu: gpu.clone(),
             plan: plan.clone(),
             passes,
             output_targets,
             steps,
             executors,
-            culling: instance_ids
+            culling: plan
+                .instance_ids()
                 .is_some()
                 .then(|| FrameCulling::new(scene, &scene_buffers, plan)),
-            instance_ids,
+            slots,
+            next_slot: 0,
             images,
-            _bindings: bindings,
             _materials: materials,
             scene: scene_buffers,
-            views_block,
-            counter,
-            queries,
-            statistics,
             readback: None,
-            cmd,
-            frame_pool,
-            fence: gpu.fence()?,
             light_dir: scene.light_dir,
             gaze: [Vec2::ZERO; 2],
             planned_eyes: plan.eyes,
             hidden_area: None,
             frames_rendered: 0,
         })
+    }
+
+    /// The device the renderer records for.
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
     }
 
     pub fn plan(&self) -> &FramePlan {
@@ -266,9 +233,166 @@ impl<'g> Renderer<'g> {
     }
 
     /// Renders one frame with the head at `world_from_head` (a finite matrix, or an error) and
-    /// waits for it.
+    /// waits for it: [`Renderer::render`] with nothing else changed.
     pub fn render_frame(&mut self, world_from_head: Mat4) -> Result<FrameStats, GpuError> {
-        head_is_finite(world_from_head)?;
+        self.render(&FrameInput::new(world_from_head))
+    }
+
+    /// Renders one frame from `input` into the next frame slot's own command buffer, submits
+    /// it and waits for it: the convenience over [`Renderer::record`] for programs that do not
+    /// overlap frames.
+    pub fn render(&mut self, input: &FrameInput) -> Result<FrameStats, GpuError> {
+        let slot = self.next_slot;
+        let (pool, cmd) = (self.slots[slot].pool.raw, self.slots[slot].cmd);
+        let device = self.gpu.device();
+        let start = Instant::now();
+        // SAFETY: the slot's last frame through here was waited on, and one recorded by a
+        // caller into its own buffer never used this pool: the pool's buffer is idle.
+        unsafe {
+            device
+                .reset_command_pool(pool, vk::CommandPoolResetFlags::empty())
+                .vk("vkResetCommandPool")?;
+            let begin = vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            device
+                .begin_command_buffer(cmd, &begin)
+                .vk("vkBeginCommandBuffer")?;
+        }
+        // SAFETY: the buffer is this device's and recording; the slot's previous frame is done.
+        let record = unsafe { self.record(cmd, input)? };
+        let device = self.gpu.device();
+        unsafe { device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
+        let recorded = Instant::now();
+        // SAFETY: the frame's command buffer was just ended; everything it uses is the
+        // renderer's, alive until the wait below.
+        unsafe { self.gpu.submit(cmd, &self.slots[slot].fence)? };
+        let submitted = Instant::now();
+        self.gpu.wait(&self.slots[slot].fence)?;
+        let done = Instant::now();
+        let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;
+        let mut stats = self
+            .stats_of(record, true)?
+            .ok_or(GpuError::FrameSlotReused {
+                frame: record.frame,
+                slot,
+            })?;
+        stats.cpu_submit_ms = ms(recorded, submitted);
+        stats.frame_ms = ms(start, done);
+        Ok(stats)
+    }
+
+    /// Records the frame `input` describes into `cmd`, using only the resources of the next
+    /// frame slot (its uniforms, descriptor sets and queries; images the GPU alone touches are
+    /// shared, ordered by the queue and the plan's barriers). The caller submits `cmd` with its
+    /// own semaphores and fence, and reads the frame's figures with
+    /// [`Renderer::frame_stats`] once it has run.
+    ///
+    /// A bad input (a head that is not finite, a gaze outside −1…1, eyes that do not fit the
+    /// plan) is an error naming it, recorded nothing and changed nothing.
+    ///
+    /// # Safety
+    /// `cmd` is a primary command buffer of this renderer's device, recording (begun by the
+    /// caller, outside a render pass), to be submitted to a queue of the renderer's queue
+    /// family. The frame this slot held [`FramePlan::frame_slots`] frames ago has finished on
+    /// the GPU (its fence signalled), and no frame of this renderer is running when it is
+    /// dropped.
+    pub unsafe fn record(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        input: &FrameInput,
+    ) -> Result<FrameRecord, GpuError> {
+        self.take_input(input)?;
+        let slot = self.next_slot;
+        let world_from_head = input.world_from_head;
+        let cpu_cull_ms = self.prepare(slot, world_from_head);
+        let start = Instant::now();
+        let (tally, pass_ends) = {
+            let draws = FrameDraws {
+                all: &self.scene.draws,
+                culled: self.culling.as_ref().map_or(&[][..], |c| &c.sets),
+            };
+            let frame = &self.slots[slot];
+            let objects = FrameObjects {
+                device: self.gpu.device(),
+                passes: &self.passes,
+                retargeted: self.output_targets.as_ref().map_or(&[], |t| t.passes()),
+                steps: &self.steps,
+                slot,
+                timestamps: frame.queries.as_ref().map(|q| q.raw),
+                statistics: frame.statistics.as_ref().map(|q| q.raw),
+                counter: frame.counter.as_ref().map(|c| c.raw),
+                scene: &self.scene,
+            };
+            let mut recorder = VulkanRecorder::new(objects, cmd);
+            record_frame(&self.plan, &draws, &mut recorder);
+            (recorder.tally, recorder.pass_ends)
+        };
+        let record = FrameRecord {
+            frame: self.frames_rendered,
+            slot,
+        };
+        let starts = std::iter::once(0).chain(pass_ends.iter().copied());
+        self.slots[slot].recorded = Some(SlotFrame {
+            frame: record.frame,
+            cpu_record_ms: start.elapsed().as_secs_f64() * 1e3,
+            cpu_cull_ms,
+            draw_calls: tally.calls,
+            triangles: tally.triangles,
+            pass_triangles: pass_ends.iter().zip(starts).map(|(e, s)| e - s).collect(),
+            instances_drawn: self.instances_drawn(),
+        });
+        self.frames_rendered += 1;
+        self.next_slot = (slot + 1) % self.slots.len();
+        Ok(record)
+    }
+
+    /// The figures of a frame [`Renderer::record`] recorded: `Ok(None)` while its GPU queries
+    /// are not yet available (it has not finished; read again after its fence), an error once
+    /// its slot was recorded into again. A counting frame's counts are read as they lie: ask
+    /// for them after the frame's fence.
+    pub fn frame_stats(&mut self, record: FrameRecord) -> Result<Option<FrameStats>, GpuError> {
+        self.stats_of(record, false)
+    }
+
+    fn stats_of(
+        &mut self,
+        record: FrameRecord,
+        wait: bool,
+    ) -> Result<Option<FrameStats>, GpuError> {
+        let slot = self.slots.get_mut(record.slot);
+        let current = slot.as_ref().and_then(|s| s.recorded.as_ref());
+        if current.map(|f| f.frame) != Some(record.frame) {
+            return Err(GpuError::FrameSlotReused {
+                frame: record.frame,
+                slot: record.slot,
+            });
+        }
+        let slot = slot.expect("checked above");
+        slot.stats(&self.gpu, &self.plan, wait)
+    }
+
+    /// Checks a frame's input whole, then keeps its gaze and eyes: a refused input changes
+    /// nothing.
+    fn take_input(&mut self, input: &FrameInput) -> Result<(), ConfigError> {
+        head_is_finite(input.world_from_head)?;
+        if let Some(gaze) = input.gaze {
+            crate::foveation::check_gaze(gaze)?;
+        }
+        if let Some(eyes) = &input.eyes {
+            eyes_fit(eyes, &self.planned_eyes)?;
+        }
+        if let Some(gaze) = input.gaze {
+            self.gaze = gaze;
+        }
+        if let Some(eyes) = input.eyes {
+            self.plan.eyes = eyes;
+        }
+        Ok(())
+    }
+
+    /// Works out the frame's views, writes slot `slot`'s uniforms and every executor's, and
+    /// culls into the slot's id buffer; returns the culling's CPU time in ms.
+    fn prepare(&mut self, slot: usize, world_from_head: Mat4) -> f64 {
         let plan = &self.plan;
         let fovea = plan.foveation.map(|g| {
             let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
@@ -289,7 +413,7 @@ impl<'g> Renderer<'g> {
             self.light_dir,
             jitter,
         );
-        let input = FrameInput {
+        let context = FrameContext {
             plan,
             fovea: fovea.as_ref(),
             views: &views,
@@ -297,10 +421,11 @@ impl<'g> Renderer<'g> {
             hidden_area: self.hidden_area.as_ref(),
         };
         for executor in &mut self.executors {
-            executor.update(&input);
+            executor.update(slot, &context);
         }
+        let frame = &mut self.slots[slot];
         let mut cpu_cull_ms = 0.0;
-        if let (Some(culling), Some(ids)) = (&mut self.culling, &mut self.instance_ids) {
+        if let (Some(culling), Some(ids)) = (&mut self.culling, &mut frame.instance_ids) {
             let start = Instant::now();
             culling.cull(
                 plan,
@@ -312,82 +437,13 @@ impl<'g> Renderer<'g> {
             ids.write(&culling.ids);
             cpu_cull_ms = start.elapsed().as_secs_f64() * 1e3;
         }
-        self.views_block.write(&[views.block]);
+        frame.views_block.write(&[views.block]);
+        cpu_cull_ms
+    }
 
-        let device = self.gpu.device();
-        let start = Instant::now();
-        // SAFETY: the previous frame's fence was waited on, so the pool's buffer is idle.
-        unsafe {
-            device
-                .reset_command_pool(self.frame_pool.raw, vk::CommandPoolResetFlags::empty())
-                .vk("vkResetCommandPool")?;
-            let begin = vk::CommandBufferBeginInfo::default()
-                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-            device
-                .begin_command_buffer(self.cmd, &begin)
-                .vk("vkBeginCommandBuffer")?;
-        }
-        let (tally, pass_ends) = {
-            let draws = FrameDraws {
-                all: &self.scene.draws,
-                culled: self.culling.as_ref().map_or(&[][..], |c| &c.sets),
-            };
-            let objects = FrameObjects {
-                device,
-                passes: &self.passes,
-                retargeted: self.output_targets.as_ref().map_or(&[], |t| t.passes()),
-                steps: &self.steps,
-                timestamps: self.queries.as_ref().map(|q| q.raw),
-                statistics: self.statistics.as_ref().map(|q| q.raw),
-                counter: self.counter.as_ref().map(|c| c.raw),
-                scene: &self.scene,
-            };
-            let mut recorder = VulkanRecorder::new(objects, self.cmd);
-            record_frame(&self.plan, &draws, &mut recorder);
-            (recorder.tally, recorder.pass_ends)
-        };
-        unsafe { device.end_command_buffer(self.cmd) }.vk("vkEndCommandBuffer")?;
-        let recorded = Instant::now();
-        // SAFETY: the frame's command buffer was just ended; everything it uses is the
-        // renderer's, alive until the wait below.
-        unsafe { self.gpu.submit(self.cmd, &self.fence)? };
-        let submitted = Instant::now();
-        self.gpu.wait(&self.fence)?;
-        let done = Instant::now();
-        self.frames_rendered += 1;
-
-        let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;
-        let (gpu_ms, gpu_pass_ms) = self.read_gpu_times()?;
-        let steps = self.read_fragment_counts();
-        let pass_statistics = self.read_pass_statistics()?;
-        let instances_drawn = self.instances_drawn();
-        let mut stats = FrameStats {
-            cpu_record_ms: ms(start, recorded),
-            cpu_submit_ms: ms(recorded, submitted),
-            frame_ms: ms(start, done) + cpu_cull_ms,
-            gpu_ms,
-            gpu_pass_ms,
-            fragments: Vec::new(),
-            far_fragments: None,
-            steps,
-            cpu_cull_ms,
-            instances_drawn,
-            draw_calls: tally.calls,
-            triangles: tally.triangles,
-            pass_triangles: {
-                let starts = std::iter::once(0).chain(pass_ends.iter().copied());
-                pass_ends
-                    .iter()
-                    .zip(starts)
-                    .map(|(end, start)| end - start)
-                    .collect()
-            },
-            pass_statistics,
-        };
-        if self.counter.is_some() {
-            stats.split_scene_fragments(self.plan.views, self.plan.mffr.is_some());
-        }
-        Ok(stats)
+    /// The number of frame slots: how many frames may be in flight at once.
+    pub fn frame_slots(&self) -> usize {
+        self.slots.len()
     }
 
     /// Instances each scene step drew this frame, in plan order.
@@ -404,61 +460,6 @@ impl<'g> Renderer<'g> {
                 _ => None,
             })
             .collect()
-    }
-
-    /// Frame and per-pass GPU times from the timestamps.
-    fn read_gpu_times(&self) -> Result<(Option<f64>, Vec<f64>), GpuError> {
-        let Some(q) = &self.queries else {
-            return Ok((None, Vec::new()));
-        };
-        let mut ticks = vec![0u64; self.plan.timestamp_queries as usize];
-        unsafe {
-            self.gpu.device().get_query_pool_results(
-                q.raw,
-                0,
-                &mut ticks,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-            )
-        }
-        .vk("vkGetQueryPoolResults")?;
-        let ms = |a: u64, b: u64| b.wrapping_sub(a) as f64 * self.gpu.timestamp_period_ns / 1e6;
-        let passes = ticks.windows(2).map(|w| ms(w[0], w[1])).collect();
-        Ok((Some(ms(ticks[0], ticks[ticks.len() - 1])), passes))
-    }
-
-    /// Each pass's pipeline statistics (empty without statistics queries).
-    fn read_pass_statistics(&self) -> Result<Vec<PassStatistics>, GpuError> {
-        let Some(q) = &self.statistics else {
-            return Ok(Vec::new());
-        };
-        // One [u64; 4] per query: ash derives the query count and stride from the element.
-        let mut values = vec![[0u64; 4]; self.plan.statistics_queries as usize];
-        unsafe {
-            self.gpu.device().get_query_pool_results(
-                q.raw,
-                0,
-                &mut values,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-            )
-        }
-        .vk("vkGetQueryPoolResults")?;
-        Ok(values
-            .iter()
-            .map(|v| PassStatistics {
-                assembled: v[0],
-                clipped_in: v[1],
-                rasterised: v[2],
-                fragment_invocations: v[3],
-            })
-            .collect())
-    }
-
-    /// Every counted step's per-view counts (empty without fragment counting).
-    fn read_fragment_counts(&mut self) -> Vec<StepFragments> {
-        match self.counter.as_mut() {
-            Some(counter) => super::counting::read_counts(&self.plan, counter),
-            None => Vec::new(),
-        }
     }
 
     /// The draws of a scene step: this frame's cull slot, or every instance.
@@ -495,5 +496,5 @@ pub fn counting_frame(
 // checked at compile time, so a field that is not fails the build.
 const _: () = {
     const fn send<T: Send>() {}
-    send::<Renderer<'static>>();
+    send::<Renderer>();
 };

@@ -16,6 +16,22 @@ pub(crate) struct SampledSet {
 }
 
 impl SampledSet {
+    /// One set per frame slot, each counting into its slot's counter (`counters`: one entry a
+    /// slot), all sampling the same images.
+    pub fn per_slot(
+        gpu: &Gpu,
+        images: &[&Image],
+        arrays: bool,
+        uniform_bytes: u64,
+        push_bytes: u32,
+        counters: &[Option<&Buffer>],
+    ) -> Result<Vec<Self>, GpuError> {
+        counters
+            .iter()
+            .map(|&counter| Self::new(gpu, images, arrays, uniform_bytes, push_bytes, counter))
+            .collect()
+    }
+
     /// Binding 0: `images[0]` (every layer: an array view when it has more than one, or when
     /// `arrays` asks for one; a depth image's depth), binding 3: `images[1]` when there is a
     /// second, binding 4: `images[2]` when there is a third; binding 1: a

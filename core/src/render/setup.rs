@@ -22,18 +22,20 @@ use crate::scene::{Scene, Shading};
 /// The executors of the steps that sample earlier passes' images, each when planned: the output
 /// stage (a foveated frame's composition, lens distortion), the MFFR far composite and radial
 /// density's reconstruction.
+///
+/// `counters`: each frame slot's fragment counter (one entry a slot, `None` without counting).
 pub(super) fn sampling_executors(
     gpu: &Gpu,
     plan: &FramePlan,
     images: &[Image],
-    counter: Option<&Buffer>,
+    counters: &[Option<&Buffer>],
 ) -> Result<Vec<Box<dyn Executor>>, GpuError> {
     let mut executors: Vec<Box<dyn Executor>> = Vec::new();
     if let Some(p) = plan.passes.iter().find(|p| p.kind == PassKind::Output) {
         // Two images always: the shader declares both (a one-image source twice).
         let first = &images[p.samples[0]];
         let second = &images[p.samples[p.samples.len() - 1]];
-        executors.push(Box::new(OutputStage::new(gpu, &[first, second], counter)?));
+        executors.push(Box::new(OutputStage::new(gpu, &[first, second], counters)?));
     }
     let accumulate = plan.passes.iter().find(|p| p.kind == PassKind::Accumulate);
     let store = plan
@@ -50,12 +52,12 @@ pub(super) fn sampling_executors(
             accumulated: &images[s.samples[0]],
         };
         executors.push(Box::new(TemporalAccumulation::new(
-            gpu, plan, t, images, counter,
+            gpu, plan, t, images, counters,
         )?));
     }
     if let Some(p) = plan.far_pass() {
         let far_image = &images[p.resolve.unwrap_or(p.color).attachment];
-        executors.push(Box::new(FarComposite::new(gpu, far_image, counter)?));
+        executors.push(Box::new(FarComposite::new(gpu, far_image, counters)?));
     }
     let reconstruct = plan
         .passes
@@ -63,7 +65,7 @@ pub(super) fn sampling_executors(
         .find(|p| p.steps.contains(&Step::Reconstruct));
     if let Some(p) = reconstruct {
         let views = &images[p.samples[0]];
-        executors.push(Box::new(Reconstruction::new(gpu, views, counter)?));
+        executors.push(Box::new(Reconstruction::new(gpu, views, counters)?));
     }
     Ok(executors)
 }
@@ -220,14 +222,16 @@ pub(super) fn query_pool(
     Ok(Some(QueryPool::from_raw(&gpu.dev, raw)))
 }
 
-/// Each pass compiled, and each of its steps bound: its pipeline, with the resources it reads —
-/// its technique's sampled set (`sets`), or the scene's bindings.
+/// Each pass compiled, and each of its steps bound: its pipeline, with the resources it reads
+/// in each frame slot — its technique's sampled set (`sets`), or the slot's scene bindings
+/// (`bindings`, one a slot). A slot's sets are laid out as the first slot's, whose layout the
+/// pipelines are made with.
 pub(super) fn compile_passes<'s>(
     gpu: &Gpu,
     plan: &FramePlan,
     images: &[Image],
-    bindings: &DescriptorSet,
-    sets: impl Fn(&Step) -> Option<&'s DescriptorSet>,
+    bindings: &'s [&'s DescriptorSet],
+    sets: impl Fn(&Step, usize) -> Option<&'s DescriptorSet>,
 ) -> Result<(Vec<CompiledPass>, Vec<Vec<BoundStep>>), GpuError> {
     let mut passes = Vec::with_capacity(plan.passes.len());
     let mut steps = Vec::with_capacity(plan.passes.len());
@@ -239,12 +243,13 @@ pub(super) fn compile_passes<'s>(
             .iter()
             .zip(&p.pipelines)
             .map(|(step, desc)| {
-                let d = sets(step).unwrap_or(bindings);
-                let (layout, description, set) = (&d.layout, &d.layout_description, d.set);
+                let of_slot = |slot: usize| sets(step, slot).unwrap_or(bindings[slot]);
+                let d = of_slot(0);
+                let (layout, description) = (&d.layout, &d.layout_description);
                 Ok(BoundStep {
                     pipeline: compile_pipeline(gpu, desc, samples, &compiled, layout, description)?,
                     layout: layout.raw,
-                    set,
+                    sets: (0..bindings.len()).map(|s| of_slot(s).set).collect(),
                 })
             })
             .collect::<Result<Vec<_>, GpuError>>()?;

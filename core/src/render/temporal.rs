@@ -7,7 +7,7 @@
 use glam::{Mat4, Vec2, Vec4};
 
 use super::descriptors::DescriptorSet;
-use super::executor::{Executor, FrameInput};
+use super::executor::{Executor, FrameContext};
 use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use crate::foveation::TemporalConfig;
@@ -40,8 +40,9 @@ pub(crate) struct TemporalAccumulation {
     projection: [Mat4; 2],
     /// Each eye's rendered field as tangents (left, right, up, down): fixed by the plan.
     field: [Vec4; 2],
-    accumulate: SampledSet,
-    store: SampledSet,
+    /// The accumulate and store-history steps' sets, one of each per frame slot.
+    accumulate: Vec<SampledSet>,
+    store: Vec<SampledSet>,
     /// Each eye's clip space from world space (unjittered) and the left eye's pose, of the
     /// frame before; `None` until a frame was rendered.
     previous: Option<([Mat4; 2], Mat4)>,
@@ -55,7 +56,7 @@ impl TemporalAccumulation {
         plan: &FramePlan,
         config: TemporalConfig,
         images: TemporalImages,
-        counter: Option<&Buffer>,
+        counters: &[Option<&Buffer>],
     ) -> Result<Self, GpuError> {
         let bytes = std::mem::size_of::<AccumulateBlock>() as u64;
         let field = Eye::BOTH.map(|e| tangents(plan.eyes.fov(e)));
@@ -65,9 +66,9 @@ impl TemporalAccumulation {
             field,
             projection: Eye::BOTH
                 .map(|e| reverse_z_projection(plan.eyes.fov(e), plan.near, plan.far)),
-            accumulate: SampledSet::new(gpu, &sources, true, bytes, 0, counter)?,
+            accumulate: SampledSet::per_slot(gpu, &sources, true, bytes, 0, counters)?,
             // The copy reads no uniforms: the smallest block the sampled set allows.
-            store: SampledSet::new(gpu, &[images.accumulated], true, 16, 0, counter)?,
+            store: SampledSet::per_slot(gpu, &[images.accumulated], true, 16, 0, counters)?,
             previous: None,
             frames_accumulated: 0,
         })
@@ -77,7 +78,7 @@ impl TemporalAccumulation {
 impl Executor for TemporalAccumulation {
     /// Writes the reprojection from this frame's eyes into the previous frame's clip space, and
     /// drops the history on the first frame and at a cut.
-    fn update(&mut self, frame: &FrameInput) {
+    fn update(&mut self, slot: usize, frame: &FrameContext) {
         let plan = frame.plan;
         let Some(g) = plan.foveation else { return };
         let world_from_eye = Eye::BOTH.map(|e| frame.views.views[e.index()].0);
@@ -106,17 +107,17 @@ impl Executor for TemporalAccumulation {
                 1.0 / self.frames_accumulated as f32,
             ),
         };
-        self.accumulate.uniforms.write(&[block]);
+        self.accumulate[slot].uniforms.write(&[block]);
         self.previous = Some((
             Eye::BOTH.map(|e| self.projection[e.index()] * world_from_eye[e.index()].inverse()),
             world_from_eye[0],
         ));
     }
 
-    fn descriptors(&self, step: &Step) -> Option<&DescriptorSet> {
+    fn descriptors(&self, step: &Step, slot: usize) -> Option<&DescriptorSet> {
         match step {
-            Step::Accumulate => Some(&self.accumulate.descriptors),
-            Step::StoreHistory => Some(&self.store.descriptors),
+            Step::Accumulate => Some(&self.accumulate[slot].descriptors),
+            Step::StoreHistory => Some(&self.store[slot].descriptors),
             _ => None,
         }
     }

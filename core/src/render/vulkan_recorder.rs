@@ -12,12 +12,12 @@ use super::targets::CompiledPass;
 use crate::gpu::{memory_barrier, Pipeline};
 use crate::plan::{Barrier, ClearValue};
 
-/// A step as recorded: its pipeline, and the layout and descriptor set it binds (the scene's
-/// bindings, or its technique's sampled set).
+/// A step as recorded: its pipeline, and the layout and descriptor sets it binds (the scene's
+/// bindings, or its technique's sampled set): one set per frame slot.
 pub(super) struct BoundStep {
     pub pipeline: Arc<Pipeline>,
     pub layout: vk::PipelineLayout,
-    pub set: vk::DescriptorSet,
+    pub sets: Vec<vk::DescriptorSet>,
 }
 
 /// Everything a frame's commands use, borrowed from the renderer that owns it.
@@ -29,6 +29,8 @@ pub(super) struct FrameObjects<'r> {
     pub retargeted: &'r [(usize, CompiledPass)],
     /// Each pass's steps, in plan order.
     pub steps: &'r [Vec<BoundStep>],
+    /// The frame slot recorded: whose descriptor sets the steps bind.
+    pub slot: usize,
     pub timestamps: Option<vk::QueryPool>,
     pub statistics: Option<vk::QueryPool>,
     pub counter: Option<vk::Buffer>,
@@ -212,7 +214,7 @@ impl Recorder for VulkanRecorder<'_> {
                 vk::PipelineBindPoint::GRAPHICS,
                 bound.layout,
                 0,
-                &[bound.set],
+                &[bound.sets[self.objects.slot]],
                 &[],
             );
         }

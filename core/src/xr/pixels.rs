@@ -67,7 +67,7 @@ pub fn check_pixels(
     gpu: &Gpu,
     scene: &Scene,
     config: &RenderConfig,
-    renderer: &mut Renderer<'_>,
+    renderer: &mut Renderer,
     hidden_area: Option<&[HiddenArea; 2]>,
     world_from_head: Mat4,
 ) -> Result<PixelCheck, GpuError> {

@@ -118,7 +118,7 @@ pub struct XrSession<'g> {
     /// Each eye's hidden-area mesh, when the HMD mask takes the runtime's.
     hidden_area: Option<[HiddenArea; 2]>,
     // Declared in drop order: the renderer's framebuffers view the swapchain's images.
-    renderer: Option<Renderer<'g>>,
+    renderer: Option<Renderer>,
     swapchain: Option<xr::Swapchain<xr::Vulkan>>,
     filter: GazeFilter,
     /// The runtime's eye tracker, when the system has one and it could be set up.

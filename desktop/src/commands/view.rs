@@ -153,9 +153,9 @@ fn parse_size(s: &str) -> Result<Option<(u32, u32)>> {
 
 /// The renderers of the current settings: the timed one the window shows, and one with
 /// counters for the once-a-second fragment count (timed frames carry no counters).
-struct Frame<'g> {
-    timed: Renderer<'g>,
-    counting: Renderer<'g>,
+struct Frame {
+    timed: Renderer,
+    counting: Renderer,
     pass_names: Vec<&'static str>,
     scene: Scene,
 }
@@ -169,7 +169,7 @@ struct Viewer<'g> {
     frames_wanted: Option<u64>,
     save: Option<PathBuf>,
     // Dropped in this order: renderers, swapchain, then the window it presents to.
-    frame: Option<Frame<'g>>,
+    frame: Option<Frame>,
     swapchain: Option<Swapchain>,
     window: Option<Window>,
     /// Where the mouse points.
@@ -193,7 +193,7 @@ impl<'g> Viewer<'g> {
     }
 
     /// The renderers for the current settings, made when missing.
-    fn frame(&mut self) -> Result<&mut Frame<'g>> {
+    fn frame(&mut self) -> Result<&mut Frame> {
         if self.frame.is_none() {
             let scene = self.scene.clone().with_shading(self.settings.shading);
             let config = &self.settings.config;

@@ -1,0 +1,141 @@
+//! foveate on a device an engine made: the engine creates the instance and device (here with
+//! `ash`, as an engine would), lends them through `Gpu::from_engine`, renders, drops foveate —
+//! and its device still works and is destroyed by the engine alone.
+
+use std::sync::{Arc, Mutex};
+
+use ash::vk;
+use foveate::gpu::{EngineDevice, Gpu, GpuOptions};
+use foveate::plan::{RenderConfig, Resolution};
+use foveate::render::Renderer;
+use foveate::scene::default_scene;
+use foveate_tests::gpu;
+
+/// The engine's own instance and device: Vulkan 1.1, multiview on, the features foveate can
+/// use when offered.
+struct Engine {
+    _entry: ash::Entry,
+    instance: ash::Instance,
+    physical: vk::PhysicalDevice,
+    device: ash::Device,
+    family: u32,
+    features: vk::PhysicalDeviceFeatures,
+}
+
+impl Engine {
+    fn new() -> Engine {
+        let entry = unsafe { ash::Entry::load() }.unwrap();
+        let app = vk::ApplicationInfo::default().api_version(vk::API_VERSION_1_1);
+        let info = vk::InstanceCreateInfo::default().application_info(&app);
+        let instance = unsafe { entry.create_instance(&info, None) }.unwrap();
+        let physical = unsafe { instance.enumerate_physical_devices() }.unwrap()[0];
+        let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
+        let family = families
+            .iter()
+            .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
+            .unwrap() as u32;
+        let features = unsafe { instance.get_physical_device_features(physical) };
+        let mut multiview = vk::PhysicalDeviceMultiviewFeatures::default().multiview(true);
+        let priorities = [1.0];
+        let queues = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(family)
+            .queue_priorities(&priorities)];
+        let info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queues)
+            .enabled_features(&features)
+            .push_next(&mut multiview);
+        let device = unsafe { instance.create_device(physical, &info, None) }.unwrap();
+        Engine {
+            _entry: entry,
+            instance,
+            physical,
+            device,
+            family,
+            features,
+        }
+    }
+
+    fn lend(&self, multiview: bool) -> EngineDevice {
+        EngineDevice {
+            instance: self.instance.handle(),
+            physical: self.physical,
+            device: self.device.handle(),
+            queue_family: self.family,
+            queue_index: 0,
+            enabled_features: self.features,
+            multiview,
+            queue_lock: Arc::new(Mutex::new(())),
+        }
+    }
+}
+
+impl Drop for Engine {
+    fn drop(&mut self) {
+        unsafe {
+            self.device.destroy_device(None);
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+/// A frame on the engine's device is the frame on foveate's own, pixel for pixel; when foveate
+/// is gone the engine's device still creates, submits and waits, and the engine destroys it.
+/// Mutation: a borrowed `DeviceOwner` that destroys its device makes the engine's calls after
+/// the drop fail (or crash) and its own destroy a double free.
+#[test]
+fn a_borrowed_device_renders_and_survives_the_renderer() {
+    let scene = default_scene();
+    let config = RenderConfig {
+        resolution: Some(Resolution::square(64)),
+        ..RenderConfig::default()
+    };
+    let expected = {
+        let gpu = gpu();
+        let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
+        let mut renderer = Renderer::new(&gpu, &plan, &scene).unwrap();
+        renderer.render_frame(scene.head).unwrap();
+        renderer.readback().unwrap()
+    };
+    let engine = Engine::new();
+    {
+        // SAFETY: the engine's handles outlive the Gpu and the renderer (dropped in this block).
+        let gpu = unsafe { Gpu::from_engine(engine.lend(true), &GpuOptions::default()) }.unwrap();
+        assert!(!gpu.owns_device());
+        let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
+        let mut renderer = Renderer::new(&gpu, &plan, &scene).unwrap();
+        renderer.render_frame(scene.head).unwrap();
+        assert!(renderer.readback().unwrap() == expected);
+        assert!(gpu.live_objects().values().any(|&n| n > 0));
+    }
+    // The engine's device after foveate: an object made, a submission, a wait.
+    unsafe {
+        let fence = engine
+            .device
+            .create_fence(&vk::FenceCreateInfo::default(), None)
+            .unwrap();
+        let queue = engine.device.get_device_queue(engine.family, 0);
+        engine.device.queue_submit(queue, &[], fence).unwrap();
+        engine
+            .device
+            .wait_for_fences(&[fence], true, u64::MAX)
+            .unwrap();
+        engine.device.destroy_fence(fence, None);
+    }
+}
+
+/// A device lent without multiview (or with a queue it does not have) is refused, naming what
+/// is missing.
+#[test]
+fn a_borrowed_device_without_what_foveate_needs_is_refused() {
+    let engine = Engine::new();
+    let without_multiview = unsafe { Gpu::from_engine(engine.lend(false), &GpuOptions::default()) };
+    let error = without_multiview.err().expect("refused").to_string();
+    assert!(error.contains("multiview"), "{error}");
+    let mut no_queue = engine.lend(true);
+    no_queue.queue_index = 99;
+    let error = unsafe { Gpu::from_engine(no_queue, &GpuOptions::default()) }
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(error.contains("queue_index 99"), "{error}");
+}
