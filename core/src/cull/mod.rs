@@ -35,4 +35,6 @@ pub(crate) fn rounding_slack(magnitude: f32) -> f32 {
 }
 
 #[cfg(test)]
+mod hard_cases_tests;
+#[cfg(test)]
 mod tests;

@@ -34,14 +34,7 @@ pub fn plan(
     caps: &DeviceCaps,
 ) -> Result<FramePlan, ConfigError> {
     let e = resolve_effects(scene, config, caps)?;
-    let layout = match config.stereo {
-        StereoMode::Multiview => TargetLayout::Layered,
-        StereoMode::TwoPass if caps.quirks.layered_resolve_ignores_base_layer => {
-            TargetLayout::PerEye
-        }
-        StereoMode::TwoPass => TargetLayout::Layered,
-        StereoMode::PerObject | StereoMode::Instanced => TargetLayout::SideBySide,
-    };
+    let layout = target_layout(config.stereo, caps);
     let mut attachments = Vec::new();
     let render_resolution = e.foveation.map_or(e.eye_resolution, |f| f.periphery_view);
     let far = e
@@ -134,21 +127,7 @@ pub fn plan(
     plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
     plan_queries(&mut plan, config, caps);
     if !plan.cull_slots.is_empty() {
-        plan.clusters = cluster_plan(scene).map(|c| ClusterPlan {
-            drawn_whole: clusters_drawn_whole(&plan, caps),
-            ..c
-        });
-        let entries = if plan.clusters.is_some_and(|c| c.culled()) {
-            scene.cull_entries()
-        } else {
-            scene.instance_count()
-        };
-        // Near and far sets of one frame, each at most every instance (every cluster of a
-        // clustered one).
-        plan.buffers.push(BufferPlan {
-            name: INSTANCE_IDS,
-            bytes: 2 * 4 * (entries.max(1) as u64),
-        });
+        plan_culled_sets(&mut plan, scene, caps);
     }
     assign_stencil(&mut plan);
     derive_ops(&mut plan);
@@ -159,6 +138,39 @@ pub fn plan(
         plan.passes[pass].pipelines = step_pipelines(&plan, pass);
     }
     Ok(plan)
+}
+
+/// Where each eye's image lies: one layered image, an image per eye where the driver cannot
+/// resolve into a layer, or side by side for the techniques that draw both eyes in one view.
+fn target_layout(stereo: StereoMode, caps: &DeviceCaps) -> TargetLayout {
+    match stereo {
+        StereoMode::Multiview => TargetLayout::Layered,
+        StereoMode::TwoPass if caps.quirks.layered_resolve_ignores_base_layer => {
+            TargetLayout::PerEye
+        }
+        StereoMode::TwoPass => TargetLayout::Layered,
+        StereoMode::PerObject | StereoMode::Instanced => TargetLayout::SideBySide,
+    }
+}
+
+/// Culled draw sets: the scene's clusters as culled (or drawn whole, and why), and the id
+/// buffer sized for them.
+fn plan_culled_sets(plan: &mut FramePlan, scene: &Scene, caps: &DeviceCaps) {
+    plan.clusters = cluster_plan(scene).map(|c| ClusterPlan {
+        drawn_whole: clusters_drawn_whole(plan, caps),
+        ..c
+    });
+    let entries = if plan.clusters.is_some_and(|c| c.culled()) {
+        scene.cull_entries()
+    } else {
+        scene.instance_count()
+    };
+    // Near and far sets of one frame, each at most every instance (every cluster of a
+    // clustered one).
+    plan.buffers.push(BufferPlan {
+        name: INSTANCE_IDS,
+        bytes: 2 * 4 * (entries.max(1) as u64),
+    });
 }
 
 /// An output handed in per frame must be the one two-layer image a stereo swapchain holds.

@@ -137,29 +137,7 @@ impl FramePlan {
             )?;
         }
 
-        if self.hidden_area_mesh {
-            writeln!(
-                f,
-                "  HMD stencil mask: the runtime's hidden-area mesh, handed in per frame (at most {} triangles per eye); the profile's ellipse would hide {}",
-                crate::view::MAX_HIDDEN_TRIANGLES,
-                self.hmd_mask.iter().flatten().map(|r| format!("{:.1} %", 100.0 * r.hidden_fraction())).collect::<Vec<_>>().join(" / ")
-            )?;
-        } else if let Some(regions) = &self.hmd_mask {
-            let hidden: Vec<String> = regions
-                .iter()
-                .map(|r| format!("{:.1} %", 100.0 * r.hidden_fraction()))
-                .collect();
-            let source = if self.hmd.hidden_area_fraction.is_some() {
-                "ellipse matching the headset's hidden-area mesh area"
-            } else {
-                "circular fallback: no published hidden-area mesh"
-            };
-            writeln!(
-                f,
-                "  HMD stencil mask: hides {} of each eye (analytic; {source}; `foveate pixels` measures it)",
-                hidden.join(" / ")
-            )?;
-        }
+        self.write_hmd_mask(f)?;
         if let Some(m) = &self.mffr {
             writeln!(
                 f,
@@ -202,6 +180,34 @@ impl FramePlan {
                 f,
                 "  level of detail: {} simplified levels in {} meshes; each draw set draws, per instance, the coarsest whose measured error projects within {} px in every view that draws it",
                 l.levels, l.meshes, l.max_error_px
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The HMD stencil mask: a runtime's hidden-area mesh, or the profile's analytic ellipse.
+    fn write_hmd_mask(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.hidden_area_mesh {
+            writeln!(
+                f,
+                "  HMD stencil mask: the runtime's hidden-area mesh, handed in per frame (at most {} triangles per eye); the profile's ellipse would hide {}",
+                crate::view::MAX_HIDDEN_TRIANGLES,
+                self.hmd_mask.iter().flatten().map(|r| format!("{:.1} %", 100.0 * r.hidden_fraction())).collect::<Vec<_>>().join(" / ")
+            )?;
+        } else if let Some(regions) = &self.hmd_mask {
+            let hidden: Vec<String> = regions
+                .iter()
+                .map(|r| format!("{:.1} %", 100.0 * r.hidden_fraction()))
+                .collect();
+            let source = if self.hmd.hidden_area_fraction.is_some() {
+                "ellipse matching the headset's hidden-area mesh area"
+            } else {
+                "circular fallback: no published hidden-area mesh"
+            };
+            writeln!(
+                f,
+                "  HMD stencil mask: hides {} of each eye (analytic; {source}; `foveate pixels` measures it)",
+                hidden.join(" / ")
             )?;
         }
         Ok(())

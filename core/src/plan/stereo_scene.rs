@@ -268,6 +268,18 @@ fn scene_pass(
     }
 }
 
+/// What the eye (periphery) views of a scene pass submitted as `submission` draw.
+fn eye_draw_set(mffr: bool, config: &RenderConfig, submission: Submission) -> DrawSet {
+    match (mffr, config.culling, submission) {
+        (true, _, _) => DrawSet::NearField,
+        (false, None, _) => DrawSet::All,
+        (false, Some(c), Submission::SingleEye(eye)) if c.strategy == Strategy::PerEye => {
+            DrawSet::VisibleToEye(eye)
+        }
+        (false, Some(_), _) => DrawSet::Visible,
+    }
+}
+
 /// The scene pass(es) of a stereo frame and the attachments they use.
 pub(super) fn scene_passes(
     config: &RenderConfig,
@@ -292,15 +304,7 @@ pub(super) fn scene_passes(
         .as_ref()
         .map_or(&targets.outputs, |(_, outputs)| outputs);
     let fovea_targets = pair_targets.as_ref().map_or(&targets, |(t, _)| t);
-    // What the eye (periphery) views draw.
-    let eye_set = |submission| match (far_field, config.culling, submission) {
-        (Some(_), _, _) => DrawSet::NearField,
-        (None, None, _) => DrawSet::All,
-        (None, Some(c), Submission::SingleEye(eye)) if c.strategy == Strategy::PerEye => {
-            DrawSet::VisibleToEye(eye)
-        }
-        (None, Some(_), _) => DrawSet::Visible,
-    };
+    let eye_set = |submission| eye_draw_set(far_field.is_some(), config, submission);
 
     let pass = |name, view_mask, output, submission, draw_set| {
         let scene = SceneStep {

@@ -425,7 +425,8 @@ fn reach(eyes: &EyeParams, near: f32, depth: f32) -> f32 {
         .fold(depth, f32::max)
 }
 
-#[cfg(test)]
+// Levels of detail are built by the `clusters` feature (meshoptimizer).
+#[cfg(all(test, feature = "clusters"))]
 mod tests {
     use super::*;
     use crate::foveation::FoveationConfig;
