@@ -15,6 +15,7 @@ mod golden;
 mod latency;
 mod lod;
 mod mffr;
+mod moving_instances;
 mod perception;
 mod quirks;
 mod radial_density;

@@ -126,6 +126,13 @@ pub fn plan(
     assign_cull_slots(&mut plan);
     plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
     plan_queries(&mut plan, config, caps);
+    if config.moving_instances {
+        plan.buffers.push(BufferPlan {
+            name: MOVING_INSTANCES,
+            bytes: (std::mem::size_of::<crate::scene::Instance>() * scene.instance_count().max(1))
+                as u64,
+        });
+    }
     if !plan.cull_slots.is_empty() {
         plan_culled_sets(&mut plan, scene, caps);
     }

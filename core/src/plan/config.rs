@@ -181,6 +181,11 @@ pub struct RenderConfig {
     /// runs on the GPU. 1 to [`MAX_FRAMES_IN_FLIGHT`]; 2 by default, as engines and OpenXR
     /// runtimes pace frames.
     pub frames_in_flight: u32,
+    /// Instances move between frames ([`Renderer::move_instance`](crate::render::Renderer::move_instance)):
+    /// each frame slot keeps its own copy of the instance buffer, written each frame, and
+    /// culling follows the instances where they are. Off, the instances stay where the scene
+    /// put them, in one buffer on the device.
+    pub moving_instances: bool,
 }
 
 /// The most frames a renderer keeps in flight ([`RenderConfig::frames_in_flight`]).
@@ -213,6 +218,7 @@ impl Default for RenderConfig {
             external_output: false,
             hidden_area_mesh: false,
             frames_in_flight: 2,
+            moving_instances: false,
         }
     }
 }

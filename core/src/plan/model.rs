@@ -528,6 +528,12 @@ impl FramePlan {
         self.buffers.iter().find(|b| b.name == INSTANCE_IDS)
     }
 
+    /// The instance buffer each frame slot keeps when instances move between frames
+    /// ([`RenderConfig::moving_instances`](crate::plan::RenderConfig::moving_instances)).
+    pub fn moving_instances(&self) -> Option<&BufferPlan> {
+        self.buffers.iter().find(|b| b.name == MOVING_INSTANCES)
+    }
+
     /// The MFFR far pass, when planned.
     pub fn far_pass(&self) -> Option<&PassPlan> {
         self.passes.iter().find(|p| p.kind == PassKind::FarField)
@@ -574,3 +580,5 @@ pub const SKY: [f32; 4] = [0.22, 0.38, 0.62, 1.0];
 
 pub(crate) const FRAGMENT_COUNTER: &str = "fragment counter";
 pub(crate) const INSTANCE_IDS: &str = "instance ids";
+/// The name of the per-slot instance buffer of a scene whose instances move.
+pub(crate) const MOVING_INSTANCES: &str = "moving instances (one per frame slot)";

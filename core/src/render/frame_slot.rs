@@ -25,6 +25,8 @@ pub(super) struct FrameSlot {
     pub views_block: Buffer,
     pub counter: Option<Buffer>,
     pub instance_ids: Option<Buffer>,
+    /// The instances as they stand this frame, when they move (else the scene's buffer).
+    pub instances: Option<Buffer>,
     pub queries: Option<QueryPool>,
     /// Pipeline-statistics queries, one per pass (counting frames on devices that have them).
     pub statistics: Option<QueryPool>,
@@ -84,10 +86,16 @@ impl FrameSlot {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::CpuToGpu,
         )?;
+        let instances = effect_buffer(
+            gpu,
+            plan.moving_instances(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
         let bindings = scene_bindings(
             gpu,
             &views_block,
-            &shared.scene.instances,
+            instances.as_ref().unwrap_or(&shared.scene.instances),
             counter.as_ref(),
             masks,
             instance_ids.as_ref(),
@@ -102,6 +110,7 @@ impl FrameSlot {
             views_block,
             counter,
             instance_ids,
+            instances,
             queries: query_pool(gpu, vk::QueryType::TIMESTAMP, plan.timestamp_pool_slots())?,
             statistics: query_pool(
                 gpu,

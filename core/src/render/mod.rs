@@ -14,6 +14,7 @@ mod lod_select;
 mod masks;
 mod materials;
 mod mffr;
+mod moving;
 mod output;
 mod output_targets;
 mod pipelines;

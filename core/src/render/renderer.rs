@@ -10,6 +10,7 @@ use super::frame_input::{eyes_fit, head_is_finite, FrameInput, FrameRecord};
 use super::frame_slot::{FrameSlot, SharedBindings, SlotFrame};
 use super::masks::MaskShapes;
 use super::materials::MaterialSet;
+use super::moving::MovingInstances;
 use super::output_targets::OutputTargets;
 use super::record::record_frame;
 use super::recorder::FrameDraws;
@@ -48,6 +49,8 @@ pub struct Renderer {
     executors: Vec<Box<dyn Executor>>,
     /// Per-frame culling (only when a pass draws a culled set).
     culling: Option<FrameCulling>,
+    /// The instances as they stand, when they move between frames.
+    moving: Option<MovingInstances>,
     /// Each frame slot's buffers, bindings and queries.
     slots: Vec<FrameSlot>,
     /// The slot the next frame records into.
@@ -151,6 +154,10 @@ impl Renderer {
                 .instance_ids()
                 .is_some()
                 .then(|| FrameCulling::new(scene, &scene_buffers, plan)),
+            moving: plan
+                .moving_instances()
+                .is_some()
+                .then(|| MovingInstances::new(scene)),
             slots,
             next_slot: 0,
             images,
@@ -390,9 +397,36 @@ impl Renderer {
         Ok(())
     }
 
-    /// Works out the frame's views, writes slot `slot`'s uniforms and every executor's, and
-    /// culls into the slot's id buffer; returns the culling's CPU time in ms.
+    /// Puts instance `index` (numbered as the scene's draws take them: batch by batch) at
+    /// `model` from the next frame on: it is drawn there, culled there, and its levels of
+    /// detail chosen there. The plan must have
+    /// [`RenderConfig::moving_instances`]; a bad index or a matrix that is not finite is an
+    /// error and moves nothing.
+    pub fn move_instance(&mut self, index: usize, model: Mat4) -> Result<(), ConfigError> {
+        match &mut self.moving {
+            Some(m) => m.move_instance(index, model),
+            None => Err(ConfigError::new(
+                "moving_instances",
+                false,
+                "a plan whose instances move (RenderConfig::moving_instances on)",
+            )),
+        }
+    }
+
+    /// Works out the frame's views, writes slot `slot`'s uniforms and every executor's (and
+    /// the instances, when they move), and culls into the slot's id buffer; returns the
+    /// culling's CPU time in ms (placing moved instances again included).
     fn prepare(&mut self, slot: usize, world_from_head: Mat4) -> f64 {
+        let start = Instant::now();
+        if let Some(moving) = &mut self.moving {
+            if let (Some(scene), Some(_)) = (moving.moved_scene(), &self.culling) {
+                self.culling = Some(FrameCulling::new(scene, &self.scene, &self.plan));
+            }
+            if let Some(buffer) = &mut self.slots[slot].instances {
+                buffer.write(&moving.instances());
+            }
+        }
+        let placing_ms = start.elapsed().as_secs_f64() * 1e3;
         let plan = &self.plan;
         let fovea = plan.foveation.map(|g| {
             let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
@@ -438,7 +472,7 @@ impl Renderer {
             cpu_cull_ms = start.elapsed().as_secs_f64() * 1e3;
         }
         frame.views_block.write(&[views.block]);
-        cpu_cull_ms
+        cpu_cull_ms + placing_ms
     }
 
     /// The number of frame slots: how many frames may be in flight at once.
