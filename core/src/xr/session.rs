@@ -10,6 +10,7 @@ use openxr as xr;
 
 use super::error::{XrError, XrResultExt};
 use super::gaze::eye_gazes;
+use super::in_flight::FramesInFlight;
 use super::lifecycle::{FrameOutcome, SessionBackend};
 use super::pixels::{check_pixels, PixelCheck};
 use super::runtime::{XrRuntime, STEREO};
@@ -19,7 +20,7 @@ use crate::foveation::{GazeFilter, GazeSample};
 use crate::gpu::Gpu;
 use crate::metrics::PerSecond;
 use crate::plan::{FramePlan, OutputStage, RenderConfig, Resolution};
-use crate::render::{output_image_desc, Renderer};
+use crate::render::{output_image_desc, FrameInput, Renderer};
 use crate::scene::Scene;
 use crate::view::{Eye, EyeParams, FovTangents, HiddenArea};
 
@@ -77,8 +78,12 @@ pub struct Pacing {
 #[derive(Clone, Debug, Default)]
 pub struct XrSummary {
     pub frames_rendered: u64,
+    /// Frames the session keeps in flight: each recorded and submitted without waiting for
+    /// the GPU, whose figures are read when its slot comes round again.
+    pub frames_in_flight: usize,
     pub pacing: Pacing,
-    /// Median wall time of a rendered frame (wait excluded: locate, render, submit), ms.
+    /// Wall time of each rendered frame (the runtime's wait excluded: locate, record, submit;
+    /// with frames in flight, the wait for the frame that held the slot before), ms.
     pub frame_ms: Vec<f64>,
     pub replans: u64,
     /// The last rendered frame's draw calls and triangles recorded (the workload beside the
@@ -117,7 +122,9 @@ pub struct XrSession<'g> {
     visibility_mask: bool,
     /// Each eye's hidden-area mesh, when the HMD mask takes the runtime's.
     hidden_area: Option<[HiddenArea; 2]>,
-    // Declared in drop order: the renderer's framebuffers view the swapchain's images.
+    // Declared in drop order: the frames' command buffers record the renderer's objects, and
+    // the renderer's framebuffers view the swapchain's images.
+    frames: Option<FramesInFlight>,
     renderer: Option<Renderer>,
     swapchain: Option<xr::Swapchain<xr::Vulkan>>,
     filter: GazeFilter,
@@ -177,6 +184,7 @@ impl<'g> XrSession<'g> {
             recommended: runtime.report.recommended,
             visibility_mask: runtime.visibility_mask,
             hidden_area: None,
+            frames: None,
             renderer: None,
             swapchain: None,
             filter: GazeFilter::new(0.1),
@@ -341,7 +349,10 @@ impl<'g> XrSession<'g> {
         if let Some(Err(why)) = fits {
             log::info!("replanning: this frame's eyes do not fit the plan ({why})");
             self.summary.replans += 1;
+            // The old renderer's frames may still run.
+            self.gpu.wait_idle()?;
         }
+        self.frames = None;
         self.renderer = None;
         let plan = self.plan_for(&eyes)?;
         log::info!("{}", plan.to_string().lines().next().unwrap_or_default());
@@ -367,6 +378,9 @@ impl<'g> XrSession<'g> {
                 profile: plan.hmd.name,
             });
         }
+        let frames = FramesInFlight::new(self.gpu, &renderer)?;
+        self.summary.frames_in_flight = frames.len();
+        self.frames = Some(frames);
         self.renderer = Some(renderer);
         Ok(())
     }
@@ -392,30 +406,38 @@ impl<'g> XrSession<'g> {
             .wait_image(xr::Duration::INFINITE)
             .xr("xrWaitSwapchainImage")?;
         let renderer = self.renderer.as_mut().expect("made above");
-        renderer.select_output(index as usize)?;
-        renderer.set_gaze(gaze)?;
-        let stats = renderer.render_frame(world_from_head);
-        let checked = match (&stats, check) {
-            (Ok(_), Some(config)) => Some(check_pixels(
-                self.gpu,
-                self.scene,
-                &config,
-                renderer,
-                self.hidden_area.as_ref(),
-                world_from_head,
-            )),
+        let frames = self.frames.as_mut().expect("made with the renderer");
+        let finished = renderer.select_output(index as usize).and_then(|()| {
+            let input = FrameInput::new(world_from_head).with_gaze(gaze);
+            frames.render(self.gpu, renderer, &input)
+        });
+        let checked = match (&finished, check) {
+            (Ok(_), Some(config)) => Some(frames.wait_last(self.gpu).and_then(|()| {
+                check_pixels(
+                    self.gpu,
+                    self.scene,
+                    &config,
+                    renderer,
+                    self.hidden_area.as_ref(),
+                    world_from_head,
+                )
+            })),
             _ => None,
         };
-        // The image goes back to the runtime whatever happened to the frame.
+        // The image goes back to the runtime whatever happened to the frame: its commands
+        // are submitted, and the runtime's use of the image follows them on the queue.
         swapchain.release_image().xr("xrReleaseSwapchainImage")?;
-        let stats = stats?;
+        let finished = finished?;
         if let Some(check) = checked {
             let check = check?;
             log::info!("{check}");
             self.summary.pixels = Some(check);
         }
-        self.summary.draws = (stats.draw_calls, stats.triangles);
-        Ok(stats.gpu_pass_ms)
+        // The figures of the frame that finished meanwhile (frames in flight earlier).
+        Ok(finished.map_or(Vec::new(), |stats| {
+            self.summary.draws = (stats.draw_calls, stats.triangles);
+            stats.gpu_pass_ms
+        }))
     }
 
     /// Whether the HMD mask takes the runtime's mesh: asked for, and offered.
@@ -461,6 +483,7 @@ impl SessionBackend for XrSession<'_> {
 
     fn end(&mut self) -> Result<(), XrError> {
         self.gpu.wait_idle()?;
+        self.frames = None;
         self.renderer = None;
         self.swapchain = None;
         self.session.end().xr("xrEndSession")?;
@@ -558,6 +581,7 @@ impl SessionBackend for XrSession<'_> {
 
     fn abandon(&mut self) {
         let _ = self.gpu.wait_idle();
+        self.frames = None;
         self.renderer = None;
         self.swapchain = None;
     }

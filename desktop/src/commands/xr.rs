@@ -47,6 +47,10 @@ pub struct XrArgs {
     /// Give up when the runtime lets no frame run for this long (seconds).
     #[arg(long, default_value_t = 30.0)]
     pub timeout: f64,
+    /// Frames recorded and submitted before the first of them is waited for (1 to 4): with 2,
+    /// frame N+1 records while frame N runs on the GPU, as runtimes expect to be fed.
+    #[arg(long, default_value_t = 2)]
+    pub frames_in_flight: u32,
 }
 
 pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
@@ -67,7 +71,16 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
         crate::outputs::image(path)?;
     }
     let scene = args.config.scene()?;
-    let config = args.config.config(args.config.stereo.parse()?)?;
+    let config = foveate::plan::RenderConfig {
+        frames_in_flight: args.frames_in_flight,
+        ..args.config.config(args.config.stereo.parse()?)?
+    };
+    anyhow::ensure!(
+        (1..=foveate::plan::MAX_FRAMES_IN_FLIGHT).contains(&config.frames_in_flight),
+        "invalid frames-in-flight = {}: 1 to {}",
+        config.frames_in_flight,
+        foveate::plan::MAX_FRAMES_IN_FLIGHT
+    );
     let gaze = gaze_source(args)?;
     crate::interrupt::install();
     let runtime = XrRuntime::new(&())?;
@@ -273,8 +286,8 @@ fn summary(life: &Lifecycle<XrSession>, args: &XrArgs, wall: f64) -> String {
     let (rendered, skipped) = life.frames();
     let median = Stats::of(&summary.frame_ms).map_or(0.0, |s| s.median);
     let mut text = format!(
-        "{rendered} frames rendered and submitted ({skipped} submitted without rendering) in {wall:.1} s; median frame {median:.1} ms (locate, render, submit); display period {:.1} ms, {} late\n",
-        summary.pacing.display_period_ms, summary.pacing.late
+        "{rendered} frames rendered and submitted ({skipped} submitted without rendering) in {wall:.1} s, {} in flight; median frame {median:.1} ms (locate, record, submit); display period {:.1} ms, {} late\n",
+        summary.frames_in_flight, summary.pacing.display_period_ms, summary.pacing.late
     );
     text += &format!(
         "workload: {} draw calls, {} triangles recorded per frame (the last one)\n",
