@@ -550,6 +550,7 @@ impl SessionBackend for XrSession<'_> {
         let layer = xr::CompositionLayerProjection::new()
             .space(&self.local)
             .views(&projection_views);
+        let ending = Instant::now();
         self.stream
             .end(
                 state.predicted_display_time,
@@ -557,6 +558,9 @@ impl SessionBackend for XrSession<'_> {
                 &[&layer],
             )
             .xr("xrEndFrame")?;
+        // How long the runtime held the frame in xrEndFrame (a runtime that waits there for
+        // the frame's GPU work leaves frames in flight nothing to overlap).
+        log::debug!("xrEndFrame {:.1} ms", ending.elapsed().as_secs_f64() * 1e3);
         self.summary.frames_rendered += 1;
         let ms = start.elapsed().as_secs_f64() * 1e3;
         self.summary.frame_ms.push(ms);
