@@ -16,6 +16,7 @@ mod latency;
 mod lod;
 mod mffr;
 mod moving_instances;
+mod output_images;
 mod perception;
 mod quirks;
 mod radial_density;

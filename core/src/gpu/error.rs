@@ -34,6 +34,8 @@ pub enum GpuError {
     NoOutputImages,
     #[error("output image {index} asked for, but {count} were handed in")]
     NoSuchOutputImage { index: usize, count: usize },
+    #[error("more than {limit} distinct output images handed in to one renderer: reuse images (a swapchain's), or make a new renderer")]
+    TooManyOutputImages { limit: usize },
     #[error("readback asked for before any frame was rendered")]
     NoFrameRendered,
     #[error("the figures of frame {frame} were asked for after its frame slot {slot} was recorded into again: read a frame's figures before the renderer cycles back to its slot")]

@@ -10,7 +10,7 @@ use super::masks::{add_mask_fans, mask_pipeline};
 use super::mffr::{add_far_composite, far_composite_pipeline, far_pass};
 use super::model::*;
 use super::ops::AttachmentId;
-use super::output::{output_pass, output_pipeline};
+use super::output::{apply_output_format, output_pass, output_pipeline};
 use super::pipeline::{PipelineDesc, StepContext};
 use super::probe::{add_probe, probe_pipeline};
 use super::radial_density::{add_radial_density, radial_mask_pipeline, reconstruct_pipeline};
@@ -126,16 +126,8 @@ pub fn plan(
     assign_cull_slots(&mut plan);
     plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
     plan_queries(&mut plan, config, caps);
-    if config.moving_instances {
-        plan.buffers.push(BufferPlan {
-            name: MOVING_INSTANCES,
-            bytes: (std::mem::size_of::<crate::scene::Instance>() * scene.instance_count().max(1))
-                as u64,
-        });
-    }
-    if !plan.cull_slots.is_empty() {
-        plan_culled_sets(&mut plan, scene, caps);
-    }
+    plan_instance_buffers(&mut plan, scene, caps, config.moving_instances);
+    apply_output_format(&mut plan, config.output_format);
     assign_stencil(&mut plan);
     derive_ops(&mut plan);
     for (pass, barriers) in derive_barriers(&plan).into_iter().enumerate() {
@@ -160,9 +152,19 @@ fn target_layout(stereo: StereoMode, caps: &DeviceCaps) -> TargetLayout {
     }
 }
 
-/// Culled draw sets: the scene's clusters as culled (or drawn whole, and why), and the id
-/// buffer sized for them.
-fn plan_culled_sets(plan: &mut FramePlan, scene: &Scene, caps: &DeviceCaps) {
+/// What the instances need: each frame slot's copy when they move; for culled draw sets, the
+/// scene's clusters as culled (or drawn whole, and why) and the id buffer sized for them.
+fn plan_instance_buffers(plan: &mut FramePlan, scene: &Scene, caps: &DeviceCaps, moving: bool) {
+    if moving {
+        let bytes = std::mem::size_of::<crate::scene::Instance>() * scene.instance_count().max(1);
+        plan.buffers.push(BufferPlan {
+            name: MOVING_INSTANCES,
+            bytes: bytes as u64,
+        });
+    }
+    if plan.cull_slots.is_empty() {
+        return;
+    }
     plan.clusters = cluster_plan(scene).map(|c| ClusterPlan {
         drawn_whole: clusters_drawn_whole(plan, caps),
         ..c

@@ -80,6 +80,31 @@ pub enum OutputStage {
     Lens,
 }
 
+/// The format of the image a frame ends in (its output, handed in or the renderer's own).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum OutputFormat {
+    /// 8-bit sRGB (`R8G8B8A8_SRGB`): the display's encoding, linear light in blending and
+    /// resolves.
+    #[default]
+    Srgb8,
+    /// 8-bit linear values (`R8G8B8A8_UNORM`), for a consumer that takes the image as linear
+    /// (dark tones get few levels).
+    Unorm8,
+    /// Linear half floats (`R16G16B16A16_SFLOAT`): an engine's HDR chain.
+    Float16,
+}
+
+impl OutputFormat {
+    /// The plan's format for it.
+    pub fn format(self) -> super::model::Format {
+        match self {
+            OutputFormat::Srgb8 => super::model::Format::Rgba8Srgb,
+            OutputFormat::Unorm8 => super::model::Format::Rgba8Unorm,
+            OutputFormat::Float16 => super::model::Format::Rgba16F,
+        }
+    }
+}
+
 /// How a foveated frame renders its four views.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum FoveaLayout {
@@ -186,6 +211,8 @@ pub struct RenderConfig {
     /// culling follows the instances where they are. Off, the instances stay where the scene
     /// put them, in one buffer on the device.
     pub moving_instances: bool,
+    /// The format of the image the frame ends in (sRGB 8-bit by default).
+    pub output_format: OutputFormat,
 }
 
 /// The most frames a renderer keeps in flight ([`RenderConfig::frames_in_flight`]).
@@ -219,6 +246,7 @@ impl Default for RenderConfig {
             hidden_area_mesh: false,
             frames_in_flight: 2,
             moving_instances: false,
+            output_format: OutputFormat::Srgb8,
         }
     }
 }

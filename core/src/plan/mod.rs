@@ -28,8 +28,8 @@ pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
 pub(crate) use build::cluster_plan;
 pub use build::plan;
 pub use config::{
-    CullConfig, FoveaLayout, OutputStage, RadialDensity, RadialDensityGeometry, RenderConfig,
-    StereoMode, MAX_FRAMES_IN_FLIGHT, MAX_VIEWS,
+    CullConfig, FoveaLayout, OutputFormat, OutputStage, RadialDensity, RadialDensityGeometry,
+    RenderConfig, StereoMode, MAX_FRAMES_IN_FLIGHT, MAX_VIEWS,
 };
 pub use model::{
     AttachmentPlan, AttachmentRole, BufferPlan, ClusterPlan, CountedSlot, Format,

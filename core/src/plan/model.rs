@@ -14,6 +14,8 @@ use crate::view::{Eye, EyeParams, FovTangents, HmdProfile, LensRegion, RadialDis
 pub enum Format {
     /// Colour: 8-bit sRGB, so MSAA resolves and blending happen in linear light.
     Rgba8Srgb,
+    /// Colour: 8-bit linear values (an output an engine or runtime takes as linear).
+    Rgba8Unorm,
     /// Colour in linear half floats: a temporal history, whose small steps 8 bits would lose
     /// (and whose alpha holds each pixel's depth).
     Rgba16F,
@@ -26,7 +28,7 @@ pub enum Format {
 impl Format {
     pub fn bytes_per_pixel(self) -> u64 {
         match self {
-            Format::Rgba8Srgb | Format::D32 => 4,
+            Format::Rgba8Srgb | Format::Rgba8Unorm | Format::D32 => 4,
             Format::Rgba16F => 8,
             // D32_SFLOAT_S8_UINT is commonly stored as 4 + 1 bytes (plus padding).
             Format::D32S8 => 5,

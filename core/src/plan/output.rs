@@ -7,7 +7,7 @@ use super::model::*;
 use super::ops::{Access, AttachmentId};
 use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{OutputSource, OutputStep, Step};
-use super::Resolution;
+use super::{OutputFormat, Resolution};
 use crate::foveation::{FoveationGeometry, PeripheryFilter};
 use crate::shaders::{COMPOSITE_VERT, OUTPUT_FRAG, OUTPUT_FRAG_COUNTING};
 
@@ -37,6 +37,28 @@ pub(super) fn output_pass(
 }
 
 /// A full-view pass per eye (multiview) that samples `sources` — which are then stored for it,
+/// The frame's output images in `format`, and the MSAA colour that resolves into them (a
+/// resolve keeps its source's format). sRGB, the default, is what every builder plans.
+pub(super) fn apply_output_format(plan: &mut FramePlan, format: OutputFormat) {
+    let format = format.format();
+    if format == Format::Rgba8Srgb {
+        return;
+    }
+    let outputs = plan.outputs();
+    let mut recoloured = outputs.clone();
+    for pass in &plan.passes {
+        if pass
+            .resolve
+            .is_some_and(|r| outputs.contains(&r.attachment))
+        {
+            recoloured.push(pass.color.attachment);
+        }
+    }
+    for id in recoloured {
+        plan.attachments[id].format = format;
+    }
+}
+
 /// not read after the frame — and writes the frame's image at `eye` size: the output stage,
 /// radial density reconstruction.
 pub(super) fn sampling_pass(

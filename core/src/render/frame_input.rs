@@ -29,6 +29,12 @@ pub struct FrameInput {
     /// This frame's eyes, kept for the following frames; `None` keeps the last ones (see
     /// `Renderer::set_eyes`).
     pub eyes: Option<EyeParams>,
+    /// The image this frame ends in, when the plan's output is handed in
+    /// ([`crate::plan::RenderConfig::external_output`]): any image made as
+    /// `render::output_image_desc` says, on the renderer's device, alive while frames render
+    /// into it; kept for the following frames. `None` keeps the last one (or the renderer's
+    /// own image, when none was handed in).
+    pub output: Option<ash::vk::Image>,
 }
 
 impl FrameInput {
@@ -38,12 +44,19 @@ impl FrameInput {
             world_from_head,
             gaze: None,
             eyes: None,
+            output: None,
         }
     }
 
     /// The same frame with each eye's gaze.
     pub fn with_gaze(mut self, gaze: [Vec2; 2]) -> Self {
         self.gaze = Some(gaze);
+        self
+    }
+
+    /// The same frame rendered into `image` (see [`FrameInput::output`]).
+    pub fn with_output(mut self, image: ash::vk::Image) -> Self {
+        self.output = Some(image);
         self
     }
 

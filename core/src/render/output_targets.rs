@@ -1,6 +1,8 @@
-//! Output images handed in from outside: an OpenXR runtime's swapchain images, into which the
-//! frame's last pass renders directly (no copy). Each image gets its own framebuffer of every
-//! pass that writes the output; the frame picks one image before it is recorded.
+//! Output images handed in from outside: an OpenXR runtime's swapchain images, or an engine's
+//! images handed in frame by frame, into which the frame's last pass renders directly (no
+//! copy). Each image gets its own framebuffer of every pass that writes the output, made the
+//! first time the image is used; the frame picks one image before it is recorded, or renders
+//! into the renderer's own output image when none is picked.
 
 use ash::vk;
 
@@ -8,17 +10,25 @@ use super::targets::{compile_pass, image_desc, CompiledPass};
 use crate::gpu::{Gpu, GpuError, Image};
 use crate::plan::{AttachmentId, FramePlan};
 
+/// The most distinct images a renderer renders into (a swapchain has 2 to 4; an engine that
+/// makes new images each frame should make a new renderer, or reuse them).
+pub const MAX_OUTPUT_IMAGES: usize = 16;
+
 pub(super) struct OutputTargets {
     /// Per image, the passes writing the output compiled for it (`(pass index, pass)`);
     /// before `images`, whose views they hold.
     passes: Vec<Vec<(usize, CompiledPass)>>,
     images: Vec<Image>,
-    current: usize,
+    /// The passes that write the output.
+    writers: Vec<usize>,
+    /// The image the next frame renders into; `None`: the renderer's own.
+    current: Option<usize>,
 }
 
 impl OutputTargets {
     /// Framebuffers for each of `raw` (made as the plan's output image: see
-    /// [`super::output_image_desc`]), with `images` the frame's other attachments.
+    /// [`super::output_image_desc`]), with `images` the frame's other attachments; the first
+    /// of them selected, if any.
     pub fn new(
         gpu: &Gpu,
         plan: &FramePlan,
@@ -26,30 +36,47 @@ impl OutputTargets {
         images: &[Image],
     ) -> Result<Self, GpuError> {
         let output: AttachmentId = plan.outputs()[0];
-        let desc = image_desc(plan, output);
-        // SAFETY: the caller made each image as `desc` says, on this device.
-        let targets: Vec<Image> = raw
+        let mut targets = OutputTargets {
+            passes: Vec::new(),
+            images: Vec::new(),
+            writers: (0..plan.passes.len())
+                .filter(|&i| plan.passes[i].uses().any(|u| u.attachment == output))
+                .collect(),
+            current: None,
+        };
+        for &r in raw {
+            targets.add(gpu, plan, r, images)?;
+        }
+        targets.current = (!raw.is_empty()).then_some(0);
+        Ok(targets)
+    }
+
+    /// Compiles the output's passes for `raw`, which must be made as the plan's output image.
+    fn add(
+        &mut self,
+        gpu: &Gpu,
+        plan: &FramePlan,
+        raw: vk::Image,
+        images: &[Image],
+    ) -> Result<usize, GpuError> {
+        if self.images.len() >= MAX_OUTPUT_IMAGES {
+            return Err(GpuError::TooManyOutputImages {
+                limit: MAX_OUTPUT_IMAGES,
+            });
+        }
+        let output: AttachmentId = plan.outputs()[0];
+        // SAFETY: the caller made the image as the plan's output description says, on this
+        // device, and keeps it alive while the renderer may render into it.
+        let target = unsafe { Image::borrowed(gpu, raw, &image_desc(plan, output)) };
+        let image = |id: AttachmentId| if id == output { &target } else { &images[id] };
+        let passes = self
+            .writers
             .iter()
-            .map(|&r| unsafe { Image::borrowed(gpu, r, &desc) })
-            .collect();
-        let writers: Vec<usize> = (0..plan.passes.len())
-            .filter(|&i| plan.passes[i].uses().any(|u| u.attachment == output))
-            .collect();
-        let passes = targets
-            .iter()
-            .map(|target| {
-                let image = |id: AttachmentId| if id == output { target } else { &images[id] };
-                writers
-                    .iter()
-                    .map(|&i| Ok((i, compile_pass(gpu, plan, i, &image)?)))
-                    .collect::<Result<Vec<_>, GpuError>>()
-            })
+            .map(|&i| Ok((i, compile_pass(gpu, plan, i, &image)?)))
             .collect::<Result<Vec<_>, GpuError>>()?;
-        Ok(OutputTargets {
-            passes,
-            images: targets,
-            current: 0,
-        })
+        self.passes.push(passes);
+        self.images.push(target);
+        Ok(self.images.len() - 1)
     }
 
     pub fn select(&mut self, index: usize) -> Result<(), GpuError> {
@@ -59,16 +86,34 @@ impl OutputTargets {
                 count: self.images.len(),
             });
         }
-        self.current = index;
+        self.current = Some(index);
         Ok(())
     }
 
-    /// The passes this frame records into the selected image instead of the plan's.
-    pub fn passes(&self) -> &[(usize, CompiledPass)] {
-        &self.passes[self.current]
+    /// Selects `raw` for the next frame, compiling for it the first time it is seen.
+    pub fn select_image(
+        &mut self,
+        gpu: &Gpu,
+        plan: &FramePlan,
+        raw: vk::Image,
+        images: &[Image],
+    ) -> Result<(), GpuError> {
+        let index = match self.images.iter().position(|i| i.raw == raw) {
+            Some(i) => i,
+            None => self.add(gpu, plan, raw, images)?,
+        };
+        self.current = Some(index);
+        Ok(())
     }
 
-    pub fn image(&self) -> &Image {
-        &self.images[self.current]
+    /// The passes this frame records into the selected image instead of the plan's (none when
+    /// the frame renders into the renderer's own image).
+    pub fn passes(&self) -> &[(usize, CompiledPass)] {
+        self.current.map_or(&[], |c| &self.passes[c])
+    }
+
+    /// The selected image, if one is.
+    pub fn image(&self) -> Option<&Image> {
+        self.current.map(|c| &self.images[c])
     }
 }

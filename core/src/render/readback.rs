@@ -128,12 +128,13 @@ impl Renderer {
         let bytes = &buffer.mapped()[..size as usize];
         let first = &self.plan.attachments[outputs[0]];
         let (w, h) = (first.width, first.height);
+        let layer_bytes = (w * h) as u64 * first.format.bytes_per_pixel();
         let mut slices = bytes
-            .chunks_exact((w * h * 4) as usize)
-            .map(|data| RgbaImage {
+            .chunks_exact(layer_bytes as usize)
+            .map(|texels| RgbaImage {
                 width: w,
                 height: h,
-                data: data.to_vec(),
+                data: super::output_pixels::to_srgb8(first.format, texels),
             });
         let mut next = || slices.next().expect("two eyes' worth of layers");
         Ok(match self.plan.output_layout() {

@@ -80,7 +80,8 @@ impl Renderer {
     /// A renderer whose frames end in one of `output_images` (an OpenXR runtime's swapchain
     /// images, each made as [`super::output_image_desc`] says) instead of an image of its own:
     /// `plan` must have [`RenderConfig::external_output`]; [`Renderer::select_output`] picks
-    /// the image before each frame.
+    /// the image before each frame. (A renderer made with [`Renderer::new`] for such a plan
+    /// takes its images frame by frame instead: [`FrameInput::output`].)
     pub fn with_output_images(
         gpu: &Gpu,
         plan: &FramePlan,
@@ -184,8 +185,8 @@ impl Renderer {
     /// The image output `id` of the last frame lies in: the selected one of those handed in,
     /// or the renderer's own.
     pub(super) fn output_image(&self, id: usize) -> vk::Image {
-        match &self.output_targets {
-            Some(t) => t.image().raw,
+        match self.output_targets.as_ref().and_then(|t| t.image()) {
+            Some(image) => image.raw,
             None => self.images[id].raw,
         }
     }
@@ -308,7 +309,18 @@ impl Renderer {
         cmd: vk::CommandBuffer,
         input: &FrameInput,
     ) -> Result<FrameRecord, GpuError> {
+        if let (Some(raw), None) = (input.output, &self.output_targets) {
+            return Err(ConfigError::new(
+                "output",
+                format!("{raw:?}"),
+                "a plan whose output is handed in (RenderConfig::external_output)",
+            )
+            .into());
+        }
         self.take_input(input)?;
+        if let (Some(raw), Some(targets)) = (input.output, &mut self.output_targets) {
+            targets.select_image(&self.gpu, &self.plan, raw, &self.images)?;
+        }
         let slot = self.next_slot;
         let world_from_head = input.world_from_head;
         let cpu_cull_ms = self.prepare(slot, world_from_head);

@@ -15,6 +15,7 @@ use crate::plan::{
 pub(crate) fn vk_format(format: Format) -> vk::Format {
     match format {
         Format::Rgba8Srgb => vk::Format::R8G8B8A8_SRGB,
+        Format::Rgba8Unorm => vk::Format::R8G8B8A8_UNORM,
         Format::Rgba16F => vk::Format::R16G16B16A16_SFLOAT,
         Format::D32 => vk::Format::D32_SFLOAT,
         Format::D32S8 => vk::Format::D32_SFLOAT_S8_UINT,
@@ -72,8 +73,13 @@ pub(crate) fn create_images(
     (0..plan.attachments.len())
         .map(|id| {
             let desc = image_desc(plan, id);
-            if plan.external_output && outputs.contains(&id) {
-                let raw = *external.first().ok_or(GpuError::NoOutputImages)?;
+            // An output handed in stands in for the renderer's own; without one the renderer
+            // makes its own, which frames render into when none is handed in.
+            if let (true, true, Some(&raw)) = (
+                plan.external_output,
+                outputs.contains(&id),
+                external.first(),
+            ) {
                 // SAFETY: the caller made `raw` as `desc` says, for this device.
                 Ok(unsafe { Image::borrowed(gpu, raw, &desc) })
             } else {

@@ -247,7 +247,7 @@ pub(super) fn unorm8(v: f32) -> u8 {
     (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 
-fn encode_srgb(linear: f32) -> u8 {
+pub(crate) fn encode_srgb(linear: f32) -> u8 {
     let l = linear.clamp(0.0, 1.0);
     let c = if l <= 0.003_130_8 {
         12.92 * l
