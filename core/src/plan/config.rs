@@ -94,17 +94,6 @@ pub enum OutputFormat {
     Float16,
 }
 
-impl OutputFormat {
-    /// The plan's format for it.
-    pub fn format(self) -> super::model::Format {
-        match self {
-            OutputFormat::Srgb8 => super::model::Format::Rgba8Srgb,
-            OutputFormat::Unorm8 => super::model::Format::Rgba8Unorm,
-            OutputFormat::Float16 => super::model::Format::Rgba16F,
-        }
-    }
-}
-
 /// How a foveated frame renders its four views.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum FoveaLayout {
@@ -206,7 +195,7 @@ pub struct RenderConfig {
     /// runs on the GPU. 1 to [`MAX_FRAMES_IN_FLIGHT`]; 2 by default, as engines and OpenXR
     /// runtimes pace frames.
     pub frames_in_flight: u32,
-    /// Instances move between frames ([`Renderer::move_instance`](crate::render::Renderer::move_instance)):
+    /// Instances move between frames (`Renderer::move_instance`):
     /// each frame slot keeps its own copy of the instance buffer, written each frame, and
     /// culling follows the instances where they are. Off, the instances stay where the scene
     /// put them, in one buffer on the device.

@@ -40,7 +40,11 @@ pub(super) fn output_pass(
 /// The frame's output images in `format`, and the MSAA colour that resolves into them (a
 /// resolve keeps its source's format). sRGB, the default, is what every builder plans.
 pub(super) fn apply_output_format(plan: &mut FramePlan, format: OutputFormat) {
-    let format = format.format();
+    let format = match format {
+        OutputFormat::Srgb8 => Format::Rgba8Srgb,
+        OutputFormat::Unorm8 => Format::Rgba8Unorm,
+        OutputFormat::Float16 => Format::Rgba16F,
+    };
     if format == Format::Rgba8Srgb {
         return;
     }

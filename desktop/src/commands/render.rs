@@ -258,7 +258,7 @@ fn print_result(r: &ModeResult, eye_pixels: u64) {
         .gpu
         .map_or("n/a".to_string(), |g| format!("{:.2} ms", g.median));
     println!(
-        "{}: frame time median {:.2} ms (mean {:.2}, p95 {:.2}, {} frames, no counters); GPU {gpu}; CPU cull {:.3} ms, record {:.3} ms; {} draw calls, {} triangles recorded",
+        "{}: frame time median {:.2} ms (mean {:.2}, p95 {:.2}, {} frames, one in flight, no counters); GPU {gpu}; CPU cull {:.3} ms, record {:.3} ms; {} draw calls, {} triangles recorded",
         r.label, r.frame.median, r.frame.mean, r.frame.p95, r.frame.count, r.cull.median, r.record.median, r.draw_calls, r.triangles
     );
     for (name, ms) in &r.passes {

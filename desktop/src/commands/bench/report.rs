@@ -367,7 +367,7 @@ impl Report {
             t,
             "## Per frame: CPU time, draw calls, triangles, pixels shaded (medians)\n"
         );
-        let _ = writeln!(t, "CPU: culling, recording and submission. Draw calls and triangles: as recorded by the timed frames (a multiview draw counts once). Pixels: fragments shaded, counted on every sampled frame by a separate counting renderer (timed frames carry no counters) — by the scene draws in all views, and by every pass (mask fans, MFFR far composite, foveated composition included).\n");
+        let _ = writeln!(t, "Timed frames run one at a time (each recorded, submitted and waited for: one frame in flight), so a frame time is one frame's whole cost. CPU: culling, recording and submission. Draw calls and triangles: as recorded by the timed frames (a multiview draw counts once). Pixels: fragments shaded, counted on every sampled frame by a separate counting renderer (timed frames carry no counters) — by the scene draws in all views, and by every pass (mask fans, MFFR far composite, foveated composition included).\n");
         let _ = writeln!(
             t,
             "| config | cpu ms | draw calls | triangles | scene pixels | vs baseline | all passes' pixels | vs baseline |"
