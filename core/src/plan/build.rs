@@ -10,7 +10,7 @@ use super::masks::{add_mask_fans, mask_pipeline};
 use super::mffr::{add_far_composite, far_composite_pipeline, far_pass};
 use super::model::*;
 use super::ops::AttachmentId;
-use super::output::{apply_output_format, output_pass, output_pipeline};
+use super::output::{apply_output_format, check_external_output, output_pass, output_pipeline};
 use super::pipeline::{PipelineDesc, StepContext};
 use super::probe::{add_probe, probe_pipeline};
 use super::radial_density::{add_radial_density, radial_mask_pipeline, reconstruct_pipeline};
@@ -180,20 +180,6 @@ fn plan_instance_buffers(plan: &mut FramePlan, scene: &Scene, caps: &DeviceCaps,
         name: INSTANCE_IDS,
         bytes: 2 * 4 * (entries.max(1) as u64),
     });
-}
-
-/// An output handed in per frame must be the one two-layer image a stereo swapchain holds.
-fn check_external_output(plan: &FramePlan) -> Result<(), ConfigError> {
-    let outputs = plan.outputs();
-    let layered = matches!(outputs[..], [id] if plan.attachments[id].layers == 2);
-    if plan.external_output && !layered {
-        return Err(ConfigError::new(
-            "external_output",
-            format!("{:?}", plan.output_layout()),
-            "a layered output (one two-layer image): multiview, or any foveated frame",
-        ));
-    }
-    Ok(())
 }
 
 /// Level of detail, when asked for and the scene has levels.

@@ -7,7 +7,7 @@ use super::model::*;
 use super::ops::{Access, AttachmentId};
 use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{OutputSource, OutputStep, Step};
-use super::{OutputFormat, Resolution};
+use super::{ConfigError, OutputFormat, Resolution};
 use crate::foveation::{FoveationGeometry, PeripheryFilter};
 use crate::shaders::{COMPOSITE_VERT, OUTPUT_FRAG, OUTPUT_FRAG_COUNTING};
 
@@ -37,6 +37,20 @@ pub(super) fn output_pass(
 }
 
 /// A full-view pass per eye (multiview) that samples `sources` — which are then stored for it,
+/// An output handed in per frame must be the one two-layer image a stereo swapchain holds.
+pub(super) fn check_external_output(plan: &FramePlan) -> Result<(), ConfigError> {
+    let outputs = plan.outputs();
+    let layered = matches!(outputs[..], [id] if plan.attachments[id].layers == 2);
+    if plan.external_output && !layered {
+        return Err(ConfigError::new(
+            "external_output",
+            format!("{:?}", plan.output_layout()),
+            "a layered output (one two-layer image): multiview, or any foveated frame",
+        ));
+    }
+    Ok(())
+}
+
 /// The frame's output images in `format`, and the MSAA colour that resolves into them (a
 /// resolve keeps its source's format). sRGB, the default, is what every builder plans.
 pub(super) fn apply_output_format(plan: &mut FramePlan, format: OutputFormat) {
