@@ -2,7 +2,10 @@
 //!
 //! A frame goes `RenderConfig` + scene + device caps → [`plan::plan`] (pure, printable
 //! [`plan::FramePlan`]) → [`render::Renderer`] (Vulkan objects compiled from the plan) → frames
-//! with GPU timestamps and exact per-view fragment counts. See `DESIGN.md` in the shared folder.
+//! recorded into the caller's command buffers ([`render::Renderer::record`], frames in flight)
+//! or rendered and waited for ([`render::Renderer::render_frame`]), with GPU timestamps and
+//! exact per-view fragment counts. The device may be foveate's ([`gpu::Gpu::new`]) or an
+//! engine's ([`gpu::Gpu::from_engine`]).
 
 pub mod cull;
 pub mod foveation;

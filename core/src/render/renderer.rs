@@ -298,6 +298,47 @@ impl Renderer {
     /// A bad input (a head that is not finite, a gaze outside −1…1, eyes that do not fit the
     /// plan) is an error naming it, recorded nothing and changed nothing.
     ///
+    /// An engine's loop, two frames in flight (each slot's fence waited on only when the slot
+    /// comes round again):
+    ///
+    /// ```no_run
+    /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+    /// use ash::vk;
+    /// use foveate::gpu::{Gpu, GpuOptions};
+    /// use foveate::render::{FrameInput, Renderer};
+    ///
+    /// let gpu = Gpu::new(&GpuOptions::default())?; // or Gpu::from_engine: the engine's device
+    /// let scene = foveate::scene::default_scene();
+    /// let config = foveate::RenderConfig { frames_in_flight: 2, ..Default::default() };
+    /// let plan = foveate::plan(&scene, &config, gpu.caps())?;
+    /// let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
+    /// // The engine's command buffers and fences, one per frame slot.
+    /// let pool = gpu.command_pool(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER)?;
+    /// let slots: Vec<_> = (0..renderer.frame_slots())
+    ///     .map(|_| Ok((gpu.allocate_command_buffer(&pool)?, gpu.fence()?)))
+    ///     .collect::<Result<_, foveate::gpu::GpuError>>()?;
+    /// let mut in_flight = vec![None; slots.len()];
+    /// for frame in 0..100 {
+    ///     let (cmd, fence) = &slots[frame % slots.len()];
+    ///     if let Some(record) = in_flight[frame % slots.len()].take() {
+    ///         gpu.wait(fence)?; // the frame this slot held has finished
+    ///         let stats = renderer.frame_stats(record)?.expect("finished");
+    ///         println!("GPU {:?} ms", stats.gpu_ms);
+    ///     }
+    ///     let device = gpu.device();
+    ///     unsafe { device.begin_command_buffer(*cmd, &vk::CommandBufferBeginInfo::default())? };
+    ///     // SAFETY: the slot's previous frame finished; the buffer is this device's.
+    ///     let record = unsafe { renderer.record(*cmd, &FrameInput::new(scene.head))? };
+    ///     // … the engine records its own work after the frame (a copy, its compositor) …
+    ///     unsafe { device.end_command_buffer(*cmd)? };
+    ///     unsafe { gpu.submit(*cmd, fence)? }; // or the engine's own vkQueueSubmit
+    ///     in_flight[frame % slots.len()] = Some(record);
+    /// }
+    /// gpu.wait_idle()?; // before the renderer goes
+    /// # Ok(())
+    /// # }
+    /// ```
+    ///
     /// # Safety
     /// `cmd` is a primary command buffer of this renderer's device, recording (begun by the
     /// caller, outside a render pass), to be submitted to a queue of the renderer's queue
