@@ -102,6 +102,19 @@ impl FrameSlot {
             shared.materials,
         )?;
         let pool = gpu.command_pool(vk::CommandPoolCreateFlags::TRANSIENT)?;
+        let queries = query_pool(gpu, vk::QueryType::TIMESTAMP, plan.timestamp_pool_slots())?;
+        let statistics = query_pool(
+            gpu,
+            vk::QueryType::PIPELINE_STATISTICS,
+            plan.statistics_pool_slots(),
+        )?;
+        reset_queries(
+            gpu,
+            [
+                (queries.as_ref(), plan.timestamp_pool_slots()),
+                (statistics.as_ref(), plan.statistics_pool_slots()),
+            ],
+        )?;
         Ok(FrameSlot {
             bindings,
             cmd: gpu.allocate_command_buffer(&pool)?,
@@ -111,12 +124,8 @@ impl FrameSlot {
             counter,
             instance_ids,
             instances,
-            queries: query_pool(gpu, vk::QueryType::TIMESTAMP, plan.timestamp_pool_slots())?,
-            statistics: query_pool(
-                gpu,
-                vk::QueryType::PIPELINE_STATISTICS,
-                plan.statistics_pool_slots(),
-            )?,
+            queries,
+            statistics,
             recorded: None,
         })
     }
@@ -228,4 +237,24 @@ impl FrameSlot {
                 .collect(),
         ))
     }
+}
+
+/// Resets new query pools once, on the device: a frame's figures asked for before it ran then
+/// find its queries unavailable (not ready) rather than never initialised, which Vulkan forbids
+/// reading.
+fn reset_queries(gpu: &Gpu, pools: [(Option<&QueryPool>, u32); 2]) -> Result<(), GpuError> {
+    let pools: Vec<(&QueryPool, u32)> = pools
+        .into_iter()
+        .filter_map(|(pool, slots)| pool.map(|p| (p, slots)))
+        .collect();
+    if pools.is_empty() {
+        return Ok(());
+    }
+    let device = gpu.device();
+    gpu.one_shot(|cmd| {
+        for (pool, slots) in &pools {
+            // SAFETY: the pools are new and idle; every query of each is reset.
+            unsafe { device.cmd_reset_query_pool(cmd, pool.raw, 0, *slots) };
+        }
+    })
 }
