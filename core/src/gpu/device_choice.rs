@@ -65,7 +65,12 @@ pub(super) fn candidates(instance: &ash::Instance) -> Result<Vec<Candidate>, Gpu
         } else if !multiview {
             Some("no multiview".to_string())
         } else {
-            None
+            missing_format(|f| unsafe {
+                // SAFETY: a plain query on a valid physical device.
+                instance
+                    .get_physical_device_format_properties(physical, f)
+                    .optimal_tiling_features
+            })
         };
         let samples = props.limits.framebuffer_color_sample_counts
             & props.limits.framebuffer_depth_sample_counts;
@@ -132,6 +137,56 @@ pub(super) fn candidates(instance: &ash::Instance) -> Result<Vec<Candidate>, Gpu
     Ok(out)
 }
 
+/// The image formats foveate renders with, and what it does with each (optimal tiling). Of
+/// these only the 8-bit colour formats are ones every Vulkan device must offer so; depth with
+/// stencil is `D24_UNORM_S8_UINT` on some devices instead, which foveate does not use.
+const FORMATS: [(vk::Format, vk::FormatFeatureFlags, &str); 5] = {
+    use vk::FormatFeatureFlags as F;
+    let colour = F::from_raw(
+        F::COLOR_ATTACHMENT.as_raw()
+            | F::COLOR_ATTACHMENT_BLEND.as_raw()
+            | F::SAMPLED_IMAGE.as_raw()
+            | F::SAMPLED_IMAGE_FILTER_LINEAR.as_raw(),
+    );
+    [
+        (
+            vk::Format::R8G8B8A8_SRGB,
+            colour,
+            "colour attachments and textures",
+        ),
+        (
+            vk::Format::R8G8B8A8_UNORM,
+            F::COLOR_ATTACHMENT,
+            "UNORM outputs",
+        ),
+        (
+            vk::Format::R16G16B16A16_SFLOAT,
+            colour,
+            "the temporal history and half-float outputs",
+        ),
+        (vk::Format::D32_SFLOAT, F::DEPTH_STENCIL_ATTACHMENT, "depth"),
+        (
+            vk::Format::D32_SFLOAT_S8_UINT,
+            F::DEPTH_STENCIL_ATTACHMENT,
+            "stencil masks",
+        ),
+    ]
+};
+
+/// What the first of [`FORMATS`] that `features` (a format's optimal-tiling features) lacks is
+/// missing, if one is.
+fn missing_format(features: impl Fn(vk::Format) -> vk::FormatFeatureFlags) -> Option<String> {
+    FORMATS.iter().find_map(|&(format, needed, what)| {
+        let has = features(format);
+        (!has.contains(needed)).then(|| {
+            format!(
+                "{format:?} lacks {:?} (foveate needs it for {what})",
+                needed & !has
+            )
+        })
+    })
+}
+
 /// The device `wanted` names (an index or part of a name), else the best usable one.
 pub(super) fn choose<'a>(
     candidates: &'a [Candidate],
@@ -161,5 +216,30 @@ pub(super) fn choose<'a>(
                         .join(", "),
                 })
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A device with every format as foveate uses it passes; one without a depth-stencil
+    /// D32_SFLOAT_S8_UINT (a tile GPU offering D24_UNORM_S8_UINT instead) is unusable, and the
+    /// reason names the format, what it lacks and what foveate needs it for.
+    #[test]
+    fn a_device_missing_a_format_is_unusable_naming_it() {
+        let everything = |_| vk::FormatFeatureFlags::from_raw(u32::MAX);
+        assert_eq!(missing_format(everything), None);
+        let no_d32s8 = |f| match f {
+            vk::Format::D32_SFLOAT_S8_UINT => vk::FormatFeatureFlags::SAMPLED_IMAGE,
+            _ => vk::FormatFeatureFlags::from_raw(u32::MAX),
+        };
+        let why = missing_format(no_d32s8).expect("unusable");
+        assert!(
+            why.contains("D32_SFLOAT_S8_UINT")
+                && why.contains("DEPTH_STENCIL_ATTACHMENT")
+                && why.contains("stencil masks"),
+            "{why}"
+        );
     }
 }
