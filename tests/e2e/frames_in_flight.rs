@@ -172,7 +172,7 @@ fn copy_buffer(gpu: &Gpu, bytes: u64) -> Buffer {
 /// frame: the plan's last pass leaves its output ready for a transfer read.
 fn copy_output(renderer: &Renderer, cmd: vk::CommandBuffer, buffer: vk::Buffer) {
     let sources = renderer.present_sources().unwrap();
-    let device = renderer_device(renderer);
+    let device = renderer.gpu().device();
     let mut offset = 0;
     for s in sources {
         let region = vk::BufferImageCopy::default()
@@ -218,10 +218,6 @@ fn copy_output(renderer: &Renderer, cmd: vk::CommandBuffer, buffer: vk::Buffer) 
             &[],
         )
     };
-}
-
-fn renderer_device(renderer: &Renderer) -> ash::Device {
-    renderer.gpu().device().clone()
 }
 
 fn read_copy(buffer: &mut Buffer, w: u32, h: u32) -> StereoImage {

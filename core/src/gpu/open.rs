@@ -130,7 +130,7 @@ impl Gpu {
             owned: false,
             queue_lock: engine.queue_lock,
         };
-        Self::assemble(owner.clone(), chosen, device, parts, options)
+        Self::assemble(owner, chosen, device, parts, options)
     }
 
     /// The `Gpu` around a created (or borrowed) device: its queue, allocator, capabilities

@@ -196,8 +196,9 @@ pub struct RenderConfig {
     /// runtimes pace frames.
     pub frames_in_flight: u32,
     /// Instances move between frames (`Renderer::move_instance`):
-    /// each frame slot keeps its own copy of the instance buffer, written each frame, and
-    /// culling follows the instances where they are. Off, the instances stay where the scene
+    /// each frame slot keeps its own copy of the instance buffer, brought up to date before a
+    /// frame records into the slot after a move, and culling follows the instances where they
+    /// are. Off, the instances stay where the scene
     /// put them, in one buffer on the device.
     pub moving_instances: bool,
     /// The format of the image the frame ends in (sRGB 8-bit by default).

@@ -1,9 +1,11 @@
 //! Instances that move between frames ([`crate::plan::RenderConfig::moving_instances`]): the
-//! scene as it stands now, written into each frame slot's instance buffer every frame, and
-//! whether culling must place the instances again before the next frame.
+//! scene as it stands now, written into a frame slot's instance buffer when the slot's copy is
+//! older than the last move, and whether culling must place the instances again before the
+//! next frame.
 
 use glam::Mat4;
 
+use crate::gpu::Buffer;
 use crate::scene::{Instance, Scene};
 use crate::vocab::ConfigError;
 
@@ -14,12 +16,18 @@ pub(super) struct MovingInstances {
     scene: Scene,
     /// Each instance's batch and place in it, in the order of the flattened instance buffer.
     places: Vec<(usize, usize)>,
-    /// Whether an instance moved since culling last placed them.
-    moved: bool,
+    /// The instances as they stand, in buffer order: what every slot's buffer must hold.
+    flat: Vec<Instance>,
+    /// Moves made so far.
+    moves: u64,
+    /// The moves culling last placed the instances after.
+    culled: u64,
+    /// Each frame slot's buffer: the moves it holds the instances after (`None`: unwritten).
+    written: Vec<Option<u64>>,
 }
 
 impl MovingInstances {
-    pub fn new(scene: &Scene) -> Self {
+    pub fn new(scene: &Scene, slots: usize) -> Self {
         let places = scene
             .batches
             .iter()
@@ -30,7 +38,10 @@ impl MovingInstances {
         MovingInstances {
             scene: scene.clone(),
             places,
-            moved: false,
+            flat: scene.flat_instances(),
+            moves: 0,
+            culled: 0,
+            written: vec![None; slots],
         }
     }
 
@@ -54,17 +65,22 @@ impl MovingInstances {
             ));
         }
         self.scene.batches[batch].instances[i].model = model;
-        self.moved = true;
+        self.flat[index].model = model;
+        self.moves += 1;
         Ok(())
     }
 
-    /// Every instance as it stands, in buffer order.
-    pub fn instances(&self) -> Vec<Instance> {
-        self.scene.flat_instances()
+    /// Brings frame slot `slot`'s `buffer` up to the instances as they stand, when it is older.
+    pub fn write_slot(&mut self, slot: usize, buffer: &mut Buffer) {
+        if self.written[slot] != Some(self.moves) {
+            buffer.write(&self.flat);
+            self.written[slot] = Some(self.moves);
+        }
     }
 
     /// The scene as it stands, when an instance moved since the last call.
     pub fn moved_scene(&mut self) -> Option<&Scene> {
-        std::mem::take(&mut self.moved).then_some(&self.scene)
+        let moved = std::mem::replace(&mut self.culled, self.moves) != self.moves;
+        moved.then_some(&self.scene)
     }
 }

@@ -158,7 +158,7 @@ impl Renderer {
             moving: plan
                 .moving_instances()
                 .is_some()
-                .then(|| MovingInstances::new(scene)),
+                .then(|| MovingInstances::new(scene, slot_count)),
             slots,
             next_slot: 0,
             images,
@@ -470,16 +470,19 @@ impl Renderer {
     /// the instances, when they move), and culls into the slot's id buffer; returns the
     /// culling's CPU time in ms (placing moved instances again included).
     fn prepare(&mut self, slot: usize, world_from_head: Mat4) -> f64 {
-        let start = Instant::now();
-        if let Some(moving) = &mut self.moving {
-            if let (Some(scene), Some(_)) = (moving.moved_scene(), &self.culling) {
-                self.culling = Some(FrameCulling::new(scene, &self.scene, &self.plan));
+        let placing_ms = match &mut self.moving {
+            Some(moving) => {
+                let start = Instant::now();
+                if let (Some(scene), Some(_)) = (moving.moved_scene(), &self.culling) {
+                    self.culling = Some(FrameCulling::new(scene, &self.scene, &self.plan));
+                }
+                if let Some(buffer) = &mut self.slots[slot].instances {
+                    moving.write_slot(slot, buffer);
+                }
+                start.elapsed().as_secs_f64() * 1e3
             }
-            if let Some(buffer) = &mut self.slots[slot].instances {
-                buffer.write(&moving.instances());
-            }
-        }
-        let placing_ms = start.elapsed().as_secs_f64() * 1e3;
+            None => 0.0,
+        };
         let plan = &self.plan;
         let fovea = plan.foveation.map(|g| {
             let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
