@@ -55,8 +55,9 @@ pub enum Phase {
 /// What a frame did.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Drawn {
-    /// Presented; each pass's GPU time.
-    Shown { gpu_pass_ms: Vec<f64> },
+    /// Presented; each pass's GPU time of the frame that finished meanwhile (with frames in
+    /// flight an earlier one; `None` while the first frames fill the slots).
+    Shown { gpu_pass_ms: Option<Vec<f64>> },
     /// Nothing presented this time (a zero-sized window, a remade swapchain).
     Skipped,
     /// The window is gone (the surface was lost).
@@ -190,8 +191,10 @@ impl<B: Backend> App<B> {
         match self.backend.draw(self.gaze)? {
             Drawn::Shown { gpu_pass_ms } => {
                 self.presented += 1;
-                self.second
-                    .push(started.elapsed().as_secs_f64() * 1e3, gpu_pass_ms);
+                if let Some(gpu_pass_ms) = gpu_pass_ms {
+                    self.second
+                        .push(started.elapsed().as_secs_f64() * 1e3, gpu_pass_ms);
+                }
             }
             Drawn::Skipped => {}
             Drawn::Lost => {

@@ -104,7 +104,7 @@ impl Backend for Fake {
         self.renderers = true;
         self.call(format!("draw {id} gaze {},{}{made}", gaze.x, gaze.y));
         Ok(self.next.pop_front().unwrap_or(Drawn::Shown {
-            gpu_pass_ms: vec![1.0, 2.0],
+            gpu_pass_ms: Some(vec![1.0, 2.0]),
         }))
     }
 

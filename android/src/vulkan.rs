@@ -6,9 +6,9 @@
 use std::marker::PhantomData;
 
 use foveate::foveation::FoveationConfig;
-use foveate::gpu::{Gpu, Presented, Swapchain};
+use foveate::gpu::{Acquired, Gpu, Presented, Swapchain};
 use foveate::plan::OutputStage;
-use foveate::render::Renderer;
+use foveate::render::{FrameInput, FramesInFlight, Renderer};
 use foveate::scene::{default_scene, Scene, Shading};
 use foveate::{FramePlan, RenderConfig};
 use glam::Vec2;
@@ -36,13 +36,20 @@ pub fn demo_scene() -> Scene {
     default_scene().with_shading(Shading::Lit)
 }
 
+/// The renderer and its frames in flight (declared first: dropped, so waited for, before
+/// the renderer their commands use).
+struct Rendering {
+    frames: FramesInFlight,
+    renderer: Renderer,
+}
+
 /// Renders on `gpu` and presents to windows of type `W` of `display`.
 pub struct VulkanBackend<'g, W> {
     gpu: &'g Gpu,
     display: RawDisplayHandle,
     scene: Scene,
     plan: FramePlan,
-    renderer: Option<Renderer>,
+    rendering: Option<Rendering>,
     swapchain: Option<Swapchain>,
     window: PhantomData<W>,
 }
@@ -63,7 +70,7 @@ impl<'g, W> VulkanBackend<'g, W> {
             display,
             scene,
             plan,
-            renderer: None,
+            rendering: None,
             swapchain: None,
             window: PhantomData,
         })
@@ -71,7 +78,7 @@ impl<'g, W> VulkanBackend<'g, W> {
 
     /// Whether the renderers exist (they are dropped on low memory).
     pub fn has_renderer(&self) -> bool {
-        self.renderer.is_some()
+        self.rendering.is_some()
     }
 
     /// The swapchain's size, while there is one.
@@ -81,11 +88,13 @@ impl<'g, W> VulkanBackend<'g, W> {
             .map(|s| (s.extent.width, s.extent.height))
     }
 
-    fn renderer(&mut self) -> Result<&mut Renderer, DemoError> {
-        if self.renderer.is_none() {
-            self.renderer = Some(Renderer::new(self.gpu, &self.plan, &self.scene)?);
+    fn rendering(&mut self) -> Result<&mut Rendering, DemoError> {
+        if self.rendering.is_none() {
+            let renderer = Renderer::new(self.gpu, &self.plan, &self.scene)?;
+            let frames = FramesInFlight::new(&renderer)?;
+            self.rendering = Some(Rendering { frames, renderer });
         }
-        Ok(self.renderer.as_mut().expect("made above"))
+        Ok(self.rendering.as_mut().expect("made above"))
     }
 }
 
@@ -114,22 +123,42 @@ impl<W: HasWindowHandle> Backend for VulkanBackend<'_, W> {
     }
 
     fn release_memory(&mut self) {
-        self.renderer = None;
+        self.rendering = None;
     }
 
     fn draw(&mut self, gaze: Vec2) -> Result<Drawn, DemoError> {
         let gpu = self.gpu;
-        let head = self.scene.head;
-        let renderer = self.renderer()?;
-        renderer.set_gaze([gaze; 2])?;
-        let stats = renderer.render_frame(head)?;
+        let input = FrameInput::new(self.scene.head).with_gaze([gaze; 2]);
+        self.swapchain.as_ref().ok_or("draw without a window")?;
+        self.rendering()?;
+        let Rendering { frames, renderer } = self.rendering.as_mut().expect("made above");
+        let swapchain = self.swapchain.as_mut().expect("checked above");
+        // Waits for the frame that held this slot before: the one before it may still run.
+        let (begun, finished) = frames.begin(renderer)?;
+        // SAFETY: `begin` waited for the frame that acquired with this slot before.
+        let acquired = unsafe { swapchain.acquire(gpu, begun.slot)? };
+        // SAFETY: the slot's buffer, begun by `begin`, whose previous frame finished.
+        let record = unsafe { renderer.record(begun.cmd, &input)? };
+        let image = match acquired {
+            Acquired::Image(image) => image,
+            Acquired::Skipped | Acquired::Lost => {
+                // SAFETY: the renderer outlives its frames (`Rendering` drops `frames` first).
+                unsafe { frames.submit(begun, record, &[], &[])? };
+                return Ok(match acquired {
+                    Acquired::Lost => Drawn::Lost,
+                    _ => Drawn::Skipped,
+                });
+            }
+        };
         let sources = renderer.present_sources()?;
-        let swapchain = self.swapchain.as_mut().ok_or("draw without a window")?;
-        Ok(match swapchain.present(gpu, &sources, false)? {
-            Presented::Shown(_) => Drawn::Shown {
-                gpu_pass_ms: stats.gpu_pass_ms,
+        // SAFETY: recorded after the frame into its buffer; the outputs live with the renderer.
+        unsafe { swapchain.record_copy(gpu, begun.cmd, &image, &sources, false)? };
+        // SAFETY: as above; the image's semaphores are waited for and signalled once each.
+        unsafe { frames.submit(begun, record, &image.waits(), &image.signals())? };
+        Ok(match swapchain.present(gpu, image)? {
+            Presented::Shown => Drawn::Shown {
+                gpu_pass_ms: finished.map(|s| s.gpu_pass_ms),
             },
-            Presented::Skipped => Drawn::Skipped,
             Presented::Lost => Drawn::Lost,
         })
     }

@@ -250,6 +250,22 @@ pub fn parse_res(res: &str) -> Result<Option<Resolution>> {
 }
 
 /// The headset profile named `name`, or an error listing the names.
+/// `config` with `frames_in_flight` frames in flight, checked against the renderer's limit.
+pub fn with_frames_in_flight(
+    config: foveate::plan::RenderConfig,
+    frames_in_flight: u32,
+) -> Result<foveate::plan::RenderConfig> {
+    anyhow::ensure!(
+        (1..=foveate::plan::MAX_FRAMES_IN_FLIGHT).contains(&frames_in_flight),
+        "invalid frames-in-flight = {frames_in_flight}: 1 to {}",
+        foveate::plan::MAX_FRAMES_IN_FLIGHT
+    );
+    Ok(foveate::plan::RenderConfig {
+        frames_in_flight,
+        ..config
+    })
+}
+
 pub fn profile(name: &str) -> Result<&'static HmdProfile> {
     HmdProfile::by_name(name).ok_or_else(|| {
         anyhow::anyhow!(

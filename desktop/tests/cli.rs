@@ -214,6 +214,10 @@ fn bad_input_is_a_clear_error_not_a_panic() {
         ),
         (&["view", "--frames", "0"][..], "frames = 0"),
         (&["view", "--window", "0x10"][..], "window = \"0x10\""),
+        (
+            &["view", "--frames-in-flight", "5"][..],
+            "frames-in-flight = 5: 1 to 4",
+        ),
     ] {
         let o = foveate(args);
         assert!(!o.status.success(), "{args:?} should fail");

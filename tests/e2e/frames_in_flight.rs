@@ -9,7 +9,7 @@ use foveate::gpu::{Buffer, CommandPool, Fence, Gpu, MemoryLocation};
 use foveate::metrics::RgbaImage;
 use foveate::mffr::MffrConfig;
 use foveate::plan::{RenderConfig, Resolution, MAX_FRAMES_IN_FLIGHT};
-use foveate::render::{FrameInput, Renderer, StereoImage};
+use foveate::render::{FrameInput, FramesInFlight, Renderer, StereoImage};
 use foveate::scene::{default_scene, Scene};
 use foveate_tests::{assert_validation_clean, gpu};
 use glam::{Mat4, Vec2, Vec3};
@@ -315,6 +315,50 @@ fn a_frames_figures_are_its_own() {
         error.contains("frame 0") && error.contains("slot 0"),
         "{error}"
     );
+    assert_validation_clean(&gpu);
+}
+
+/// The library's own loop (`view`, `xr` and the Android demo use it): three frames in flight,
+/// each frame's figures returned when its slot comes round (none while the slots fill), the
+/// last frame's image the frame rendered alone; a frame recorded into another slot's buffer is
+/// refused. Mutations: `begin` not waiting for the slot's fence (a figure not ready, or a
+/// synchronization message), figures from the wrong record, each fail.
+#[test]
+fn the_librarys_frame_loop_returns_each_frames_figures_one_round_later() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let [_, foveated, _] = configs();
+    let config = RenderConfig {
+        frames_in_flight: 3,
+        ..foveated
+    };
+    let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
+    let inputs = inputs(&scene, 7);
+    let alone = rendered_alone(&gpu, &scene, &config, &inputs);
+    let mut renderer = Renderer::new(&gpu, &plan, &scene).unwrap();
+    let mut frames = FramesInFlight::new(&renderer).unwrap();
+    assert_eq!(frames.len(), 3);
+    let mut figures = Vec::new();
+    for input in &inputs {
+        figures.push(frames.render(&mut renderer, input).unwrap());
+    }
+    // Frames 0..3 fill the slots; frames 3..7 each return the figures of the frame 3 before.
+    assert!(figures[..3].iter().all(Option::is_none));
+    for stats in &figures[3..] {
+        let stats = stats.as_ref().expect("the slot's earlier frame finished");
+        assert!(stats.gpu_ms.unwrap() > 0.0 && stats.draw_calls > 0);
+    }
+    frames.wait_last().unwrap();
+    assert!(renderer.readback().unwrap() == alone[6], "the last frame");
+
+    // A record from one slot handed in with another slot's buffer.
+    let (first, _) = frames.begin(&mut renderer).unwrap();
+    let record = unsafe { renderer.record(first.cmd, &inputs[0]) }.unwrap();
+    let (second, _) = frames.begin(&mut renderer).unwrap();
+    let error = unsafe { frames.submit(second, record, &[], &[]) }
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("slot"), "{error}");
     assert_validation_clean(&gpu);
 }
 

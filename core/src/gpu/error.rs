@@ -40,6 +40,8 @@ pub enum GpuError {
     NoFrameRendered,
     #[error("the figures of frame {frame} were asked for after its frame slot {slot} was recorded into again: read a frame's figures before the renderer cycles back to its slot")]
     FrameSlotReused { frame: u64, slot: usize },
+    #[error("frames in flight: {0}")]
+    FramesInFlight(String),
     #[error("Vulkan validation reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
     Validation(Vec<String>),
 }

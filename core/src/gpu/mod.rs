@@ -11,6 +11,7 @@ mod handles;
 mod memory;
 mod open;
 mod pipeline_cache;
+mod present_copy;
 mod submit;
 mod swapchain;
 
@@ -24,7 +25,7 @@ pub use handles::{
 pub(crate) use memory::pod_bytes;
 pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
 pub use open::EngineDevice;
-pub use swapchain::{Presented, Swapchain};
+pub use swapchain::{Acquired, Presented, Swapchain, SwapchainImage};
 
 pub(crate) use cache::{Description, ObjectCache, PipelineKey};
 pub(crate) use context::DeviceOwner;

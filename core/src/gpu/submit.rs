@@ -65,6 +65,38 @@ impl Gpu {
             .vk("vkQueueSubmit")
     }
 
+    /// Submits one command buffer that waits for `waits` (each semaphore at its stage) and
+    /// signals `signals` and `fence` when done: a frame whose image comes from a swapchain
+    /// and goes back to it. Other threads' submissions wait meanwhile (the queue is locked).
+    ///
+    /// # Safety
+    /// As [`Gpu::submit`]; the semaphores are this device's, each wait one that a signal
+    /// already submitted (or an acquire) will signal, each signal unsignalled with no
+    /// operation pending.
+    pub unsafe fn submit_with_semaphores(
+        &self,
+        cmd: vk::CommandBuffer,
+        waits: &[(vk::Semaphore, vk::PipelineStageFlags)],
+        signals: &[vk::Semaphore],
+        fence: &Fence,
+    ) -> Result<(), GpuError> {
+        let cmds = [cmd];
+        let (wait_semaphores, stages): (Vec<_>, Vec<_>) = waits.iter().copied().unzip();
+        let mut info = vk::SubmitInfo::default().command_buffers(&cmds);
+        // Empty lists stay null pointers (best practices flags a pointer with a zero count).
+        if !waits.is_empty() {
+            info = info
+                .wait_semaphores(&wait_semaphores)
+                .wait_dst_stage_mask(&stages);
+        }
+        if !signals.is_empty() {
+            info = info.signal_semaphores(signals);
+        }
+        let submit = [info];
+        self.with_queue(|queue| unsafe { self.device().queue_submit(queue, &submit, fence.raw) })
+            .vk("vkQueueSubmit")
+    }
+
     /// Waits for `fence` and resets it for the next submission.
     pub fn wait(&self, fence: &Fence) -> Result<(), GpuError> {
         let fences = [fence.raw];

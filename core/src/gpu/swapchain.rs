@@ -1,53 +1,83 @@
 //! Presenting to a window: a surface on any platform `ash-window` knows (X11, Wayland, Android's
-//! `ANativeWindow`, …), its swapchain, and a present that blits a frame's output images side by
-//! side into the acquired image, scaled to fit and centred. Synchronous: each present waits
-//! for its copy to finish, so a frame's images are free again when it returns.
-
-use std::sync::Arc;
+//! `ANativeWindow`, …) and its swapchain. A frame shows in three steps that fit frames in
+//! flight: [`Swapchain::acquire`] an image, [`Swapchain::record_copy`] of the frame's output
+//! images side by side (scaled to fit and centred) into the frame's own command buffer, and
+//! [`Swapchain::present`] after the caller submitted it with the image's semaphores.
 
 use ash::vk;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
 use super::blit_layout::{fit_side_by_side, BlitSource};
-use super::{
-    transition_image, Buffer, CommandPool, DeviceOwner, Fence, Gpu, GpuError, MemoryLocation,
-    Semaphore, VkResultExt,
-};
+use super::present_copy::{record_copy, CopyTarget};
+use super::{Buffer, Gpu, GpuError, MemoryLocation, Semaphore, VkResultExt};
 use crate::vocab::RgbaImage;
 
-/// What a present did.
+/// What acquiring an image gave.
 #[derive(Debug)]
-pub enum Presented {
-    /// Shown; with the presented image read back when asked.
-    Shown(Option<RgbaImage>),
-    /// Nothing shown: the window is minimised, or the swapchain was out of date and has been
-    /// remade (present again).
+pub enum Acquired {
+    /// An image to copy the frame into and present.
+    Image(SwapchainImage),
+    /// No image: the window is minimised, or the swapchain was out of date and has been
+    /// remade (acquire again next frame).
     Skipped,
-    /// Nothing shown: the window is gone (`VK_ERROR_SURFACE_LOST_KHR`; Android takes an app's
+    /// No image: the window is gone (`VK_ERROR_SURFACE_LOST_KHR`; Android takes an app's
     /// window away when it likes). Drop this swapchain; a new window needs a new one.
+    Lost,
+}
+
+/// An acquired swapchain image: the frame's submission waits for [`SwapchainImage::waits`]
+/// and signals [`SwapchainImage::signals`], then [`Swapchain::present`] shows it.
+#[derive(Debug)]
+#[must_use = "an acquired image is presented with Swapchain::present"]
+pub struct SwapchainImage {
+    index: u32,
+    /// Signalled by the acquire.
+    acquired: vk::Semaphore,
+    /// Signalled by the frame's submission, waited for by the present.
+    rendered: vk::Semaphore,
+}
+
+impl SwapchainImage {
+    /// What the frame's submission waits for: the acquire, before its copy writes the image.
+    pub fn waits(&self) -> [(vk::Semaphore, vk::PipelineStageFlags); 1] {
+        [(self.acquired, vk::PipelineStageFlags::TRANSFER)]
+    }
+
+    /// What the frame's submission signals: the present waits for it.
+    pub fn signals(&self) -> [vk::Semaphore; 1] {
+        [self.rendered]
+    }
+}
+
+/// What a present did.
+#[derive(Debug, PartialEq, Eq)]
+pub enum Presented {
+    /// Queued for display.
+    Shown,
+    /// Nothing shown: the window is gone (see [`Acquired::Lost`]).
     Lost,
 }
 
 /// A window's surface and swapchain, with what one present needs.
 pub struct Swapchain {
-    dev: Arc<DeviceOwner>,
+    dev: std::sync::Arc<super::DeviceOwner>,
     surface_loader: ash::khr::surface::Instance,
     loader: ash::khr::swapchain::Device,
     surface: vk::SurfaceKHR,
     raw: vk::SwapchainKHR,
     images: Vec<vk::Image>,
-    /// One per image: the copy into it signals, its present waits.
+    /// One per image: the frame's submission signals, its present waits.
     rendered: Vec<Semaphore>,
-    acquired: Semaphore,
-    fence: Fence,
-    _pool: CommandPool,
-    cmd: vk::CommandBuffer,
+    /// One per frame slot: the acquire signals, the frame's submission waits.
+    acquired: Vec<Semaphore>,
     readback: Option<Buffer>,
+    /// The size of the image the last capturing copy wrote.
+    captured_extent: Option<vk::Extent2D>,
     /// The window's size as last told.
     window_size: (u32, u32),
-    /// Remake the swapchain before the next present (resized, or suboptimal).
+    /// Remake the swapchain before the next acquire (resized, or suboptimal).
     stale: bool,
-    /// Where the last present put each source (top-left, bottom-right).
+    /// Where the last copy put each source (top-left, bottom-right).
     placed: Vec<[vk::Offset3D; 2]>,
     pub format: vk::Format,
     pub extent: vk::Extent2D,
@@ -87,8 +117,6 @@ impl Swapchain {
                 gpu.info().name
             )));
         }
-        let pool = gpu.command_pool(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER)?;
-        let cmd = gpu.allocate_command_buffer(&pool)?;
         let mut swapchain = Swapchain {
             dev: gpu.dev.clone(),
             surface_loader,
@@ -97,11 +125,9 @@ impl Swapchain {
             raw: vk::SwapchainKHR::null(),
             images: Vec::new(),
             rendered: Vec::new(),
-            acquired: semaphore(gpu)?,
-            fence: gpu.fence()?,
-            _pool: pool,
-            cmd,
+            acquired: Vec::new(),
             readback: None,
+            captured_extent: None,
             window_size: size,
             stale: true,
             placed: Vec::new(),
@@ -112,7 +138,7 @@ impl Swapchain {
         Ok(swapchain)
     }
 
-    /// The window is now `size` pixels: the swapchain is remade before the next present.
+    /// The window is now `size` pixels: the swapchain is remade before the next acquire.
     pub fn resize(&mut self, size: (u32, u32)) {
         if size != self.window_size {
             self.window_size = size;
@@ -120,7 +146,7 @@ impl Swapchain {
         }
     }
 
-    /// Which source the last present showed at window pixel (`x`, `y`), and where in it:
+    /// Which source the last copy put at window pixel (`x`, `y`), and where in it:
     /// normalised to -1..1, x right and y up (a gaze).
     pub fn locate(&self, x: f64, y: f64) -> Option<(usize, [f32; 2])> {
         self.placed.iter().enumerate().find_map(|(i, [a, b])| {
@@ -245,41 +271,42 @@ impl Swapchain {
         }
     }
 
-    /// Shows `sources` side by side, scaled to fit the window and centred on black; `capture`
-    /// reads the presented image back.
-    pub fn present(
-        &mut self,
-        gpu: &Gpu,
-        sources: &[BlitSource],
-        capture: bool,
-    ) -> Result<Presented, GpuError> {
-        match self.try_present(gpu, sources, capture) {
+    /// Acquires the next image to show a frame in, for the frame in frame slot `slot` (each
+    /// slot has its own acquire semaphore). Remakes the swapchain first when the window
+    /// changed.
+    ///
+    /// # Safety
+    /// The frame that last acquired with `slot` has finished on the GPU (its fence waited on:
+    /// [`crate::render::FramesInFlight::begin`] does it), and its submission waited for the
+    /// image's [`SwapchainImage::waits`] (an acquire's semaphore that nothing waited for is
+    /// still signalled, and cannot be acquired with again).
+    pub unsafe fn acquire(&mut self, gpu: &Gpu, slot: usize) -> Result<Acquired, GpuError> {
+        match unsafe { self.try_acquire(gpu, slot) } {
             Err(GpuError::Vk {
                 call,
                 result: vk::Result::ERROR_SURFACE_LOST_KHR,
             }) => {
                 log::info!("swapchain: {call} says the window is gone");
-                Ok(Presented::Lost)
+                Ok(Acquired::Lost)
             }
-            presented => presented,
+            acquired => acquired,
         }
     }
 
-    fn try_present(
-        &mut self,
-        gpu: &Gpu,
-        sources: &[BlitSource],
-        capture: bool,
-    ) -> Result<Presented, GpuError> {
+    unsafe fn try_acquire(&mut self, gpu: &Gpu, slot: usize) -> Result<Acquired, GpuError> {
         if self.stale {
             self.remake(gpu)?;
         }
         if self.raw == vk::SwapchainKHR::null() {
-            return Ok(Presented::Skipped);
+            return Ok(Acquired::Skipped);
         }
+        while self.acquired.len() <= slot {
+            self.acquired.push(semaphore(gpu)?);
+        }
+        let signal = self.acquired[slot].raw;
         let acquired = unsafe {
             self.loader
-                .acquire_next_image(self.raw, u64::MAX, self.acquired.raw, vk::Fence::null())
+                .acquire_next_image(self.raw, u64::MAX, signal, vk::Fence::null())
         };
         let index = match acquired {
             Ok((index, suboptimal)) => {
@@ -288,16 +315,39 @@ impl Swapchain {
             }
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => {
                 self.remake(gpu)?;
-                return Ok(Presented::Skipped);
+                return Ok(Acquired::Skipped);
             }
-            Err(e) => {
+            Err(result) => {
                 return Err(GpuError::Vk {
                     call: "vkAcquireNextImageKHR",
-                    result: e,
+                    result,
                 })
             }
         };
-        let image = self.images[index as usize];
+        Ok(Acquired::Image(SwapchainImage {
+            index,
+            acquired: signal,
+            rendered: self.rendered[index as usize].raw,
+        }))
+    }
+
+    /// Records into `cmd` the copy of `sources` side by side into `image`, scaled to fit the
+    /// window and centred on black; `capture` also copies the result into a buffer that
+    /// [`Swapchain::captured`] reads once the frame finished. Submit `cmd` waiting for
+    /// [`SwapchainImage::waits`] and signalling [`SwapchainImage::signals`].
+    ///
+    /// # Safety
+    /// `cmd` is a command buffer of this device, recording outside a render pass; the sources
+    /// are in `TRANSFER_SRC_OPTIMAL` (a renderer's [`crate::render::Renderer::present_sources`],
+    /// recorded before into the same buffer) and outlive its execution.
+    pub unsafe fn record_copy(
+        &mut self,
+        gpu: &Gpu,
+        cmd: vk::CommandBuffer,
+        image: &SwapchainImage,
+        sources: &[BlitSource],
+        capture: bool,
+    ) -> Result<(), GpuError> {
         let bytes = 4 * self.extent.width as u64 * self.extent.height as u64;
         if capture && self.readback.as_ref().is_none_or(|b| b.size < bytes) {
             self.readback = Some(Buffer::new(
@@ -308,54 +358,51 @@ impl Swapchain {
                 MemoryLocation::GpuToCpu,
             )?);
         }
+        self.captured_extent = capture.then_some(self.extent);
         let placements = fit_side_by_side(sources, self.extent);
         self.placed = placements.iter().map(|(_, d)| *d).collect();
-        self.record(
-            gpu,
-            image,
-            &placements,
-            capture.then_some(()).and(self.readback.as_ref()),
-        )?;
-        let waits = [self.acquired.raw];
-        let stages = [vk::PipelineStageFlags::TRANSFER];
-        let cmds = [self.cmd];
-        let signals = [self.rendered[index as usize].raw];
-        let submit = [vk::SubmitInfo::default()
-            .wait_semaphores(&waits)
-            .wait_dst_stage_mask(&stages)
-            .command_buffers(&cmds)
-            .signal_semaphores(&signals)];
-        gpu.with_queue(|queue| unsafe {
-            gpu.device().queue_submit(queue, &submit, self.fence.raw)
-        })
-        .vk("vkQueueSubmit")?;
-        gpu.wait(&self.fence)?;
+        let target = CopyTarget {
+            image: self.images[image.index as usize],
+            extent: self.extent,
+            placements: &placements,
+            readback: self.readback.as_ref().filter(|_| capture),
+        };
+        // SAFETY: as this function's.
+        unsafe { record_copy(gpu.device(), cmd, &target) };
+        Ok(())
+    }
+
+    /// Shows `image` once the submission that signals its [`SwapchainImage::signals`] has run.
+    pub fn present(&mut self, gpu: &Gpu, image: SwapchainImage) -> Result<Presented, GpuError> {
         let swapchains = [self.raw];
-        let indices = [index];
+        let indices = [image.index];
+        let waits = [image.rendered];
         let present = vk::PresentInfoKHR::default()
-            .wait_semaphores(&signals)
+            .wait_semaphores(&waits)
             .swapchains(&swapchains)
             .image_indices(&indices);
         match gpu.with_queue(|queue| unsafe { self.loader.queue_present(queue, &present) }) {
             Ok(suboptimal) => self.stale |= suboptimal,
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => self.stale = true,
-            Err(e) => {
+            Err(vk::Result::ERROR_SURFACE_LOST_KHR) => {
+                log::info!("swapchain: vkQueuePresentKHR says the window is gone");
+                return Ok(Presented::Lost);
+            }
+            Err(result) => {
                 return Err(GpuError::Vk {
                     call: "vkQueuePresentKHR",
-                    result: e,
+                    result,
                 })
             }
         }
-        let captured = match (capture, &self.readback) {
-            (true, Some(buffer)) => Some(self.captured(buffer)),
-            _ => None,
-        };
-        Ok(Presented::Shown(captured))
+        Ok(Presented::Shown)
     }
 
-    /// The presented image from the readback buffer, as RGBA.
-    fn captured(&self, buffer: &Buffer) -> RgbaImage {
-        let (w, h) = (self.extent.width, self.extent.height);
+    /// The image the last copy recorded with `capture` wrote, as RGBA; read it after that
+    /// frame finished (its fence). `None` when no copy captured.
+    pub fn captured(&self) -> Option<RgbaImage> {
+        let (buffer, extent) = (self.readback.as_ref()?, self.captured_extent?);
+        let (w, h) = (extent.width, extent.height);
         let mut data = buffer.mapped_slice()[..(4 * w * h) as usize].to_vec();
         if matches!(
             self.format,
@@ -363,190 +410,11 @@ impl Swapchain {
         ) {
             data.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
         }
-        RgbaImage {
+        Some(RgbaImage {
             width: w,
             height: h,
             data,
-        }
-    }
-
-    fn record(
-        &self,
-        gpu: &Gpu,
-        image: vk::Image,
-        placements: &[(BlitSource, [vk::Offset3D; 2])],
-        readback: Option<&Buffer>,
-    ) -> Result<(), GpuError> {
-        let device = gpu.device();
-        let cmd = self.cmd;
-        let range = vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            base_mip_level: 0,
-            level_count: 1,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
-        // SAFETY: recorded into this swapchain's command buffer, between begin and end.
-        let barrier = |from: vk::ImageLayout,
-                       to: vk::ImageLayout,
-                       src: (vk::PipelineStageFlags, vk::AccessFlags),
-                       dst: (vk::PipelineStageFlags, vk::AccessFlags)| unsafe {
-            transition_image(
-                device,
-                cmd,
-                image,
-                range,
-                (src.0, src.1, from),
-                (dst.0, dst.1, to),
-            )
-        };
-        let transfer_write = (
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
-        );
-        unsafe {
-            device
-                .reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
-                .vk("vkResetCommandBuffer")?;
-            device
-                .begin_command_buffer(
-                    cmd,
-                    &vk::CommandBufferBeginInfo::default()
-                        .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
-                )
-                .vk("vkBeginCommandBuffer")?;
-        }
-        barrier(
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            (vk::PipelineStageFlags::TRANSFER, vk::AccessFlags::empty()),
-            transfer_write,
-        );
-        unsafe {
-            device.cmd_clear_color_image(
-                cmd,
-                image,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &vk::ClearColorValue {
-                    float32: [0.0, 0.0, 0.0, 1.0],
-                },
-                &[range],
-            );
-        }
-        barrier(
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            transfer_write,
-            transfer_write,
-        );
-        for &(source, dst) in placements {
-            let filter = if dst[1].x - dst[0].x == source.width as i32
-                && dst[1].y - dst[0].y == source.height as i32
-            {
-                vk::Filter::NEAREST
-            } else {
-                vk::Filter::LINEAR
-            };
-            let layers = |layer| vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: layer,
-                layer_count: 1,
-            };
-            let blit = vk::ImageBlit::default()
-                .src_subresource(layers(source.layer))
-                .src_offsets([
-                    vk::Offset3D {
-                        x: source.x as i32,
-                        y: 0,
-                        z: 0,
-                    },
-                    vk::Offset3D {
-                        x: (source.x + source.width) as i32,
-                        y: source.height as i32,
-                        z: 1,
-                    },
-                ])
-                .dst_subresource(layers(0))
-                .dst_offsets(dst);
-            unsafe {
-                device.cmd_blit_image(
-                    cmd,
-                    source.image,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    image,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &[blit],
-                    filter,
-                )
-            };
-        }
-        let present_read = (
-            vk::PipelineStageFlags::BOTTOM_OF_PIPE,
-            vk::AccessFlags::empty(),
-        );
-        match readback {
-            Some(buffer) => {
-                barrier(
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    transfer_write,
-                    (
-                        vk::PipelineStageFlags::TRANSFER,
-                        vk::AccessFlags::TRANSFER_READ,
-                    ),
-                );
-                let region = vk::BufferImageCopy::default()
-                    .image_subresource(vk::ImageSubresourceLayers {
-                        aspect_mask: vk::ImageAspectFlags::COLOR,
-                        mip_level: 0,
-                        base_array_layer: 0,
-                        layer_count: 1,
-                    })
-                    .image_extent(vk::Extent3D {
-                        width: self.extent.width,
-                        height: self.extent.height,
-                        depth: 1,
-                    });
-                unsafe {
-                    device.cmd_copy_image_to_buffer(
-                        cmd,
-                        image,
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                        buffer.raw,
-                        &[region],
-                    );
-                    let host = vk::MemoryBarrier::default()
-                        .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                        .dst_access_mask(vk::AccessFlags::HOST_READ);
-                    device.cmd_pipeline_barrier(
-                        cmd,
-                        vk::PipelineStageFlags::TRANSFER,
-                        vk::PipelineStageFlags::HOST,
-                        vk::DependencyFlags::empty(),
-                        &[host],
-                        &[],
-                        &[],
-                    );
-                }
-                barrier(
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    vk::ImageLayout::PRESENT_SRC_KHR,
-                    (
-                        vk::PipelineStageFlags::TRANSFER,
-                        vk::AccessFlags::TRANSFER_READ,
-                    ),
-                    present_read,
-                );
-            }
-            None => barrier(
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                vk::ImageLayout::PRESENT_SRC_KHR,
-                transfer_write,
-                present_read,
-            ),
-        }
-        unsafe { device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")
+        })
     }
 }
 

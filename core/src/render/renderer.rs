@@ -536,6 +536,11 @@ impl Renderer {
         self.slots.len()
     }
 
+    /// The frame slot the next [`Renderer::record`] records into (slots are taken in turn).
+    pub fn next_slot(&self) -> usize {
+        self.next_slot
+    }
+
     /// Instances each scene step drew this frame, in plan order.
     fn instances_drawn(&self) -> Vec<u64> {
         let scene_steps = self.plan.passes.iter().flat_map(|p| &p.steps);

@@ -6,8 +6,6 @@
 #[cfg(feature = "xr")]
 mod error;
 mod gaze;
-#[cfg(feature = "xr")]
-mod in_flight;
 mod lifecycle;
 #[cfg(feature = "xr")]
 mod pixels;

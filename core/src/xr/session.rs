@@ -10,7 +10,6 @@ use openxr as xr;
 
 use super::error::{XrError, XrResultExt};
 use super::gaze::eye_gazes;
-use super::in_flight::FramesInFlight;
 use super::lifecycle::{FrameOutcome, SessionBackend};
 use super::pixels::{check_pixels, PixelCheck};
 use super::runtime::{XrRuntime, STEREO};
@@ -20,7 +19,7 @@ use crate::foveation::{GazeFilter, GazeSample};
 use crate::gpu::Gpu;
 use crate::metrics::PerSecond;
 use crate::plan::{FramePlan, OutputStage, RenderConfig, Resolution};
-use crate::render::{output_image_desc, FrameInput, Renderer};
+use crate::render::{output_image_desc, FrameInput, FramesInFlight, Renderer};
 use crate::scene::Scene;
 use crate::view::{Eye, EyeParams, FovTangents, HiddenArea};
 
@@ -378,7 +377,7 @@ impl<'g> XrSession<'g> {
                 profile: plan.hmd.name,
             });
         }
-        let frames = FramesInFlight::new(self.gpu, &renderer)?;
+        let frames = FramesInFlight::new(&renderer)?;
         self.summary.frames_in_flight = frames.len();
         self.frames = Some(frames);
         self.renderer = Some(renderer);
@@ -409,10 +408,10 @@ impl<'g> XrSession<'g> {
         let frames = self.frames.as_mut().expect("made with the renderer");
         let finished = renderer.select_output(index as usize).and_then(|()| {
             let input = FrameInput::new(world_from_head).with_gaze(gaze);
-            frames.render(self.gpu, renderer, &input)
+            frames.render(renderer, &input)
         });
         let checked = match (&finished, check) {
-            (Ok(_), Some(config)) => Some(frames.wait_last(self.gpu).and_then(|()| {
+            (Ok(_), Some(config)) => Some(frames.wait_last().and_then(|()| {
                 check_pixels(
                     self.gpu,
                     self.scene,

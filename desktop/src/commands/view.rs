@@ -9,9 +9,9 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::Args;
 use foveate::foveation::{DelayedGaze, GazeLatency, GazeSample, GazeSpace, Prediction};
-use foveate::gpu::{Gpu, GpuOptions, Presented, Swapchain};
+use foveate::gpu::{Acquired, Gpu, GpuOptions, Presented, Swapchain};
 use foveate::metrics::{PerSecond, RgbaImage};
-use foveate::render::{FrameStats, Renderer};
+use foveate::render::{FrameInput, FrameStats, FramesInFlight, Renderer};
 use foveate::scene::Scene;
 use glam::Vec2;
 use winit::application::ApplicationHandler;
@@ -50,6 +50,10 @@ pub struct ViewArgs {
     /// How the late gaze is predicted forward: none, linear or saccade-landing.
     #[arg(long, default_value = "none")]
     pub gaze_predict: Prediction,
+    /// Frames recorded and submitted before the first of them is waited for (1 to 4): with 2,
+    /// frame N+1 records while frame N runs on the GPU.
+    #[arg(long, default_value_t = 2)]
+    pub frames_in_flight: u32,
 }
 
 pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
@@ -73,10 +77,11 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
     let space = GazeSpace {
         fov: crate::frame_args::profile(&args.config.hmd)?.left_fov,
     };
-    let settings = ViewSettings::new(
+    let config = crate::frame_args::with_frames_in_flight(
         args.config.config(args.config.stereo.parse()?)?,
-        scene.shading(),
-    );
+        args.frames_in_flight,
+    )?;
+    let settings = ViewSettings::new(config, scene.shading());
     let event_loop = EventLoop::new().context(
         "cannot open a window: no display (set DISPLAY or WAYLAND_DISPLAY, or run under xvfb-run)",
     )?;
@@ -85,7 +90,11 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
         display: Some(display),
         ..options.clone()
     })?;
-    println!("device: {}", gpu.info().name);
+    println!(
+        "device: {}; {} frames in flight",
+        gpu.info().name,
+        settings.config.frames_in_flight
+    );
     println!(
         "keys: {}; the mouse moves the gaze",
         KEYS.iter()
@@ -154,6 +163,9 @@ fn parse_size(s: &str) -> Result<Option<(u32, u32)>> {
 /// The renderers of the current settings: the timed one the window shows, and one with
 /// counters for the once-a-second fragment count (timed frames carry no counters).
 struct Frame {
+    /// The timed renderer's frames in flight (declared first: dropped, so waited for, before
+    /// the renderers their commands use).
+    frames: FramesInFlight,
     timed: Renderer,
     counting: Renderer,
     pass_names: Vec<&'static str>,
@@ -200,8 +212,10 @@ impl<'g> Viewer<'g> {
             let plan = foveate::plan(&scene, config, self.gpu.caps())?;
             let counting_plan = foveate::plan(&scene, &config.counting(), self.gpu.caps())?;
             let pass_names = plan.passes.iter().map(|p| p.name).collect();
+            let timed = Renderer::new(self.gpu, &plan, &scene)?;
             self.frame = Some(Frame {
-                timed: Renderer::new(self.gpu, &plan, &scene)?,
+                frames: FramesInFlight::new(&timed)?,
+                timed,
                 counting: Renderer::new(self.gpu, &counting_plan, &scene)?,
                 pass_names,
                 scene,
@@ -247,22 +261,46 @@ impl<'g> Viewer<'g> {
             && (self.finishing || self.frames_wanted == Some(self.presented + 1));
         let started = Instant::now();
         let gpu = self.gpu;
-        let frame = self.frame()?;
-        frame.timed.set_gaze(gaze)?;
-        let stats = frame.timed.render_frame(frame.scene.head)?;
-        let sources = frame.timed.present_sources()?;
+        self.frame()?;
+        let frame = self.frame.as_mut().expect("made above");
         let swapchain = self.swapchain.as_mut().expect("a window has a swapchain");
-        match swapchain.present(gpu, &sources, capture)? {
-            Presented::Shown(image) => {
-                self.presented += 1;
-                if image.is_some() {
-                    self.capture = image;
-                }
-                self.second
-                    .push(started.elapsed().as_secs_f64() * 1e3, stats.gpu_pass_ms);
+        // The frame that held this slot before is waited for here: with frames in flight,
+        // the CPU records this one while the GPU still runs the one before.
+        let (begun, finished) = frame.frames.begin(&mut frame.timed)?;
+        // SAFETY: `begin` waited for the frame that acquired with this slot before.
+        let acquired = unsafe { swapchain.acquire(gpu, begun.slot)? };
+        let input = FrameInput::new(frame.scene.head).with_gaze(gaze);
+        // SAFETY: the slot's buffer, begun by `begin`, whose previous frame finished.
+        let record = unsafe { frame.timed.record(begun.cmd, &input)? };
+        let image = match acquired {
+            Acquired::Image(image) => image,
+            Acquired::Skipped => {
+                // SAFETY: the renderer outlives its frames (`Frame` drops `frames` first).
+                unsafe { frame.frames.submit(begun, record, &[], &[])? };
+                return Ok(());
             }
-            Presented::Skipped => {}
-            Presented::Lost => anyhow::bail!("the window's surface is gone"),
+            Acquired::Lost => anyhow::bail!("the window's surface is gone"),
+        };
+        let sources = frame.timed.present_sources()?;
+        // SAFETY: recorded after the frame into its buffer; the outputs live with the renderer.
+        unsafe { swapchain.record_copy(gpu, begun.cmd, &image, &sources, capture)? };
+        // SAFETY: as above; the image's semaphores are waited for and signalled once each.
+        unsafe {
+            frame
+                .frames
+                .submit(begun, record, &image.waits(), &image.signals())?
+        };
+        if swapchain.present(gpu, image)? == Presented::Lost {
+            anyhow::bail!("the window's surface is gone");
+        }
+        self.presented += 1;
+        if capture {
+            frame.frames.wait_last()?;
+            self.capture = swapchain.captured();
+        }
+        if let Some(stats) = finished {
+            self.second
+                .push(started.elapsed().as_secs_f64() * 1e3, stats.gpu_pass_ms);
         }
         if self.second.due() {
             self.report()?;

@@ -71,16 +71,10 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
         crate::outputs::image(path)?;
     }
     let scene = args.config.scene()?;
-    let config = foveate::plan::RenderConfig {
-        frames_in_flight: args.frames_in_flight,
-        ..args.config.config(args.config.stereo.parse()?)?
-    };
-    anyhow::ensure!(
-        (1..=foveate::plan::MAX_FRAMES_IN_FLIGHT).contains(&config.frames_in_flight),
-        "invalid frames-in-flight = {}: 1 to {}",
-        config.frames_in_flight,
-        foveate::plan::MAX_FRAMES_IN_FLIGHT
-    );
+    let config = crate::frame_args::with_frames_in_flight(
+        args.config.config(args.config.stereo.parse()?)?,
+        args.frames_in_flight,
+    )?;
     let gaze = gaze_source(args)?;
     crate::interrupt::install();
     let runtime = XrRuntime::new(&())?;
