@@ -91,7 +91,7 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
         ..options.clone()
     })?;
     println!(
-        "device: {}; {} frames in flight",
+        "device: {}; frames in flight: {}",
         gpu.info().name,
         settings.config.frames_in_flight
     );
