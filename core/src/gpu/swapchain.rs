@@ -277,7 +277,7 @@ impl Swapchain {
     ///
     /// # Safety
     /// The frame that last acquired with `slot` has finished on the GPU (its fence waited on:
-    /// [`crate::render::FramesInFlight::begin`] does it), and its submission waited for the
+    /// `render::FramesInFlight::begin` does it), and its submission waited for the
     /// image's [`SwapchainImage::waits`] (an acquire's semaphore that nothing waited for is
     /// still signalled, and cannot be acquired with again).
     pub unsafe fn acquire(&mut self, gpu: &Gpu, slot: usize) -> Result<Acquired, GpuError> {
@@ -338,7 +338,7 @@ impl Swapchain {
     ///
     /// # Safety
     /// `cmd` is a command buffer of this device, recording outside a render pass; the sources
-    /// are in `TRANSFER_SRC_OPTIMAL` (a renderer's [`crate::render::Renderer::present_sources`],
+    /// are in `TRANSFER_SRC_OPTIMAL` (a renderer's `render::Renderer::present_sources`,
     /// recorded before into the same buffer) and outlive its execution.
     pub unsafe fn record_copy(
         &mut self,

@@ -14,6 +14,7 @@ use super::output::{apply_output_format, check_external_output, output_pass, out
 use super::pipeline::{PipelineDesc, StepContext};
 use super::probe::{add_probe, probe_pipeline};
 use super::radial_density::{add_radial_density, radial_mask_pipeline, reconstruct_pipeline};
+use super::scene_sizes::{lod_plan, plan_instance_buffers, spare_total};
 use super::steps::{DrawSet, OutputSource, Step};
 use super::stereo_scene::{scene_passes, scene_pipeline, FoveaPasses, ViewSet};
 use super::temporal::{accumulate_pipeline, add_accumulation, store_history_pipeline};
@@ -111,7 +112,8 @@ pub fn plan(
         cull_slots: Vec::new(),
         clusters: None,
         lod: lod_plan(config, scene),
-        scene_instances: scene.instance_count(),
+        scene_instances: scene.instance_count() + spare_total(scene, config.spare_instances),
+        spare_instances: config.spare_instances,
         fovea_layout,
         lit: scene.shading() == Shading::Lit,
         alpha_mask: scene.materials.iter().any(|m| m.alpha_cutoff.is_some()),
@@ -126,7 +128,7 @@ pub fn plan(
     assign_cull_slots(&mut plan);
     plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
     plan_queries(&mut plan, config, caps);
-    plan_instance_buffers(&mut plan, scene, caps, config.moving_instances);
+    plan_instance_buffers(&mut plan, scene, caps, config);
     apply_output_format(&mut plan, config.output_format);
     assign_stencil(&mut plan);
     derive_ops(&mut plan);
@@ -150,87 +152,6 @@ fn target_layout(stereo: StereoMode, caps: &DeviceCaps) -> TargetLayout {
         StereoMode::TwoPass => TargetLayout::Layered,
         StereoMode::PerObject | StereoMode::Instanced => TargetLayout::SideBySide,
     }
-}
-
-/// What the instances need: each frame slot's copy when they move; for culled draw sets, the
-/// scene's clusters as culled (or drawn whole, and why) and the id buffer sized for them.
-fn plan_instance_buffers(plan: &mut FramePlan, scene: &Scene, caps: &DeviceCaps, moving: bool) {
-    if moving {
-        let bytes = std::mem::size_of::<crate::scene::Instance>() * scene.instance_count().max(1);
-        plan.buffers.push(BufferPlan {
-            name: MOVING_INSTANCES,
-            bytes: bytes as u64,
-        });
-    }
-    if plan.cull_slots.is_empty() {
-        return;
-    }
-    plan.clusters = cluster_plan(scene).map(|c| ClusterPlan {
-        drawn_whole: clusters_drawn_whole(plan, caps),
-        ..c
-    });
-    let entries = if plan.clusters.is_some_and(|c| c.culled()) {
-        scene.cull_entries()
-    } else {
-        scene.instance_count()
-    };
-    // Near and far sets of one frame, each at most every instance (every cluster of a
-    // clustered one).
-    plan.buffers.push(BufferPlan {
-        name: INSTANCE_IDS,
-        bytes: 2 * 4 * (entries.max(1) as u64),
-    });
-}
-
-/// Level of detail, when asked for and the scene has levels.
-pub(crate) fn lod_plan(config: &RenderConfig, scene: &Scene) -> Option<LodPlan> {
-    let (levels, meshes) = scene.lod_counts();
-    config.lod.filter(|_| levels > 0).map(|l| LodPlan {
-        max_error_px: l.max_error_px,
-        levels,
-        meshes,
-    })
-}
-
-/// The scene's clusters, when it has any.
-pub(crate) fn cluster_plan(scene: &Scene) -> Option<ClusterPlan> {
-    let (clusters, meshes) = scene.cluster_counts();
-    let max_triangles = scene
-        .meshes
-        .iter()
-        .flat_map(|m| &m.clusters)
-        .map(|c| c.index_count / 3)
-        .max()?;
-    Some(ClusterPlan {
-        clusters,
-        meshes,
-        max_triangles,
-        drawn_whole: None,
-    })
-}
-
-/// Why a plan's clusters must be drawn whole: lavapipe 22.3's multiview clipping bug
-/// (`DriverQuirks::multiview_clipping_drops_views`) draws a mesh split into several draws
-/// differently from the mesh in one (measured on the atrium: up to 1.5k pixels of a 128² eye
-/// change, whether or not any cluster is culled; identical on 25.0), so a multiview pass that
-/// culls keeps whole meshes there.
-fn clusters_drawn_whole(plan: &FramePlan, caps: &DeviceCaps) -> Option<&'static str> {
-    let multiview_culls = plan
-        .passes
-        .iter()
-        .filter(|p| p.view_mask.count_ones() > 1)
-        .flat_map(|p| &p.steps)
-        .any(|s| {
-            matches!(
-                s,
-                Step::Scene {
-                    cull_slot: Some(_),
-                    ..
-                }
-            )
-        });
-    (caps.quirks.multiview_clipping_drops_views && multiview_culls)
-        .then_some("this driver's multiview clipping bug draws a mesh split into draws differently")
 }
 
 /// Each step's pipeline, as the builder that added the step states it.
@@ -300,6 +221,7 @@ fn resolve_effects(
     }
     validate_depth_range(config)?;
     validate_frames_in_flight(config)?;
+    validate_spare_instances(config)?;
     validate_features(config, caps)?;
     validate_culling(config)?;
     if scene.lights.len() > MAX_POINT_LIGHTS {

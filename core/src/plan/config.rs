@@ -201,9 +201,17 @@ pub struct RenderConfig {
     /// are. Off, the instances stay where the scene
     /// put them, in one buffer on the device.
     pub moving_instances: bool,
+    /// Room for instances added while rendering (`Renderer::add_instance`): this many absent
+    /// instances of each mesh, planned after the scene's own (which keep their numbers), so
+    /// the buffers are sized for them. Needs `moving_instances`; 0 to
+    /// [`MAX_SPARE_INSTANCES`], 0 by default.
+    pub spare_instances: u32,
     /// The format of the image the frame ends in (sRGB 8-bit by default).
     pub output_format: OutputFormat,
 }
+
+/// The most spare instances per mesh ([`RenderConfig::spare_instances`]).
+pub const MAX_SPARE_INSTANCES: u32 = 4096;
 
 /// The most frames a renderer keeps in flight ([`RenderConfig::frames_in_flight`]).
 pub const MAX_FRAMES_IN_FLIGHT: u32 = 4;
@@ -236,6 +244,7 @@ impl Default for RenderConfig {
             hidden_area_mesh: false,
             frames_in_flight: 2,
             moving_instances: false,
+            spare_instances: 0,
             output_format: OutputFormat::Srgb8,
         }
     }

@@ -18,6 +18,7 @@ mod pipeline;
 mod print;
 mod probe;
 mod radial_density;
+mod scene_sizes;
 mod steps;
 mod stereo_scene;
 mod temporal;
@@ -25,11 +26,10 @@ mod validate;
 mod workload;
 
 pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
-pub(crate) use build::cluster_plan;
 pub use build::plan;
 pub use config::{
     CullConfig, FoveaLayout, OutputFormat, OutputStage, RadialDensity, RadialDensityGeometry,
-    RenderConfig, StereoMode, MAX_FRAMES_IN_FLIGHT, MAX_VIEWS,
+    RenderConfig, StereoMode, MAX_FRAMES_IN_FLIGHT, MAX_SPARE_INSTANCES, MAX_VIEWS,
 };
 pub use model::{
     AttachmentPlan, AttachmentRole, BufferPlan, ClusterPlan, CountedSlot, Format,
@@ -40,6 +40,7 @@ pub use ops::{
     Access, AttachmentId, Barrier, ClearValue, Layout, LoadOp, PassBarriers, StoreOp, Touch,
 };
 pub use pipeline::{Constant, ConstantKind, PipelineDesc, VertexInput};
+pub(crate) use scene_sizes::cluster_plan;
 pub use steps::{
     CompareOp, CountedStep, DrawSet, OutputSource, OutputStep, StencilOp, StencilState, Step,
     MASK_BIT, NEAR_BIT, SKIP_BIT,

@@ -371,6 +371,9 @@ pub struct FramePlan {
     /// Instances of the scene the plan was made for: buffers are sized for them, and a
     /// renderer refuses another scene.
     pub scene_instances: usize,
+    /// Absent instances of each mesh planned after the scene's own, for instances added while
+    /// rendering ([`RenderConfig::spare_instances`](crate::plan::RenderConfig::spare_instances)).
+    pub spare_instances: u32,
     /// A foveated frame's pass layout, and why the planner chose it.
     pub fovea_layout: Option<FoveaLayoutChoice>,
     /// The scene has lit materials: its pipelines shade PBR with textures and lights, and its

@@ -398,6 +398,13 @@ impl FramePlan {
             "frame slots: {} (frames in flight; each slot its own uniforms, descriptor sets and query pools)",
             self.frame_slots
         )?;
+        if self.spare_instances > 0 {
+            writeln!(
+                f,
+                "spare instances: {} per mesh (absent until added; {} instances in the buffers)",
+                self.spare_instances, self.scene_instances
+            )?;
+        }
         if !self.buffers.is_empty() {
             writeln!(f, "effect buffers:")?;
             for b in &self.buffers {

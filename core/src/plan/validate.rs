@@ -224,6 +224,26 @@ pub(super) fn validate_frames_in_flight(config: &RenderConfig) -> Result<(), Con
     Ok(())
 }
 
+pub(super) fn validate_spare_instances(config: &RenderConfig) -> Result<(), ConfigError> {
+    let n = config.spare_instances;
+    if n > super::config::MAX_SPARE_INSTANCES {
+        return Err(ConfigError::new(
+            "spare_instances",
+            n,
+            format!("at most {} per mesh", super::config::MAX_SPARE_INSTANCES),
+        ));
+    }
+    if n > 0 && !config.moving_instances {
+        return Err(ConfigError::new(
+            "spare_instances",
+            n,
+            "0 unless moving_instances is on (instances are added into each frame slot's own \
+             buffer)",
+        ));
+    }
+    Ok(())
+}
+
 pub(super) fn validate_culling(config: &RenderConfig) -> Result<(), ConfigError> {
     match config.culling {
         Some(c) if !(c.draw_distance.is_finite() && c.draw_distance > config.near) => {

@@ -26,6 +26,8 @@ pub(crate) struct FrameCulling {
     hierarchy: CullHierarchy,
     /// Which of the scene's draws (meshes) each instance belongs to.
     draw_of: Vec<u32>,
+    /// Whether each instance is in the scene (empty: all are); absent ones are never kept.
+    present: Vec<bool>,
     /// Each instance of a clustered mesh placed (`None`: its mesh is drawn whole).
     placed: Vec<Option<PlacedClusters>>,
     /// Each instance of a mesh with levels: its bounding sphere and its longest axis's scale
@@ -142,6 +144,7 @@ impl FrameCulling {
                 .collect(),
             hierarchy: CullHierarchy::build(&spheres, HierarchyParams::default()),
             draw_of,
+            present: Vec::new(),
             placed,
             lod_bounds,
             draw_buckets,
@@ -155,6 +158,14 @@ impl FrameCulling {
             seen_by_fovea: Vec::new(),
             ids: Vec::new(),
             sets: vec![Vec::new(); plan.cull_slots.len()],
+        }
+    }
+
+    /// The same culling for a scene of which only the instances `present` says are in it.
+    pub fn with_present(self, present: &[bool]) -> Self {
+        FrameCulling {
+            present: present.to_vec(),
+            ..self
         }
     }
 
@@ -173,6 +184,7 @@ impl FrameCulling {
         let FrameCulling {
             hierarchy: h,
             draw_of,
+            present,
             placed,
             lod_bounds,
             draw_buckets,
@@ -345,6 +357,9 @@ impl FrameCulling {
             buckets.iter_mut().for_each(Vec::clear);
             let mut keep = |id: u32| {
                 let i = id as usize;
+                if present.get(i) == Some(&false) {
+                    return;
+                }
                 let tag = |seen: bool| if tagged && seen { FOVEA_TAG } else { 0 };
                 let draw = &draw_buckets[draw_of[i] as usize];
                 let instance_in_fovea = in_fovea.get(i) == Some(&true);

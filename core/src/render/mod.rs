@@ -11,6 +11,7 @@ mod far_view;
 mod frame_input;
 mod frame_slot;
 mod frames_in_flight;
+mod instances;
 mod lod_select;
 mod masks;
 mod materials;

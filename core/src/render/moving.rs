@@ -1,86 +1,197 @@
-//! Instances that move between frames ([`crate::plan::RenderConfig::moving_instances`]): the
-//! scene as it stands now, written into a frame slot's instance buffer when the slot's copy is
-//! older than the last move, and whether culling must place the instances again before the
-//! next frame.
+//! Instances that move, come and go between frames ([`RenderConfig::moving_instances`](crate::plan::RenderConfig::moving_instances),
+//! [`RenderConfig::spare_instances`](crate::plan::RenderConfig::spare_instances)): the scene as it stands now, written into a frame slot's
+//! instance buffer when the slot's copy is older than the last change; which instances are in
+//! the scene (absent ones are neither culled nor drawn); and whether culling must place the
+//! instances again before the next frame.
 
 use glam::Mat4;
 
 use crate::gpu::Buffer;
-use crate::scene::{Instance, Scene};
+use crate::scene::{Draw, Instance, Scene};
 use crate::vocab::ConfigError;
 
 pub(super) struct MovingInstances {
-    /// The scene as it stands now: its instances where they were last moved to. (A copy of
-    /// the scene the renderer was made with: culling places clusters and levels from its
-    /// meshes.)
+    /// The scene as it stands now, its spare instances included: its instances where they
+    /// were last put. (A copy of the scene the renderer was made with: culling places
+    /// clusters and levels from its meshes.)
     scene: Scene,
     /// Each instance's batch and place in it, in the order of the flattened instance buffer.
     places: Vec<(usize, usize)>,
     /// The instances as they stand, in buffer order: what every slot's buffer must hold.
     flat: Vec<Instance>,
-    /// Moves made so far.
-    moves: u64,
-    /// The moves culling last placed the instances after.
-    culled: u64,
-    /// Each frame slot's buffer: the moves it holds the instances after (`None`: unwritten).
+    /// Whether each instance is in the scene (false: removed, or a spare not added yet).
+    present: Vec<bool>,
+    /// The scene's own instances (numbered below this; the spares above).
+    own: usize,
+    /// Changes made so far (a move, an addition, a removal).
+    changes: u64,
+    /// The changes culling and the draws last followed.
+    followed: u64,
+    /// Each frame slot's buffer: the changes it holds the instances after (`None`: unwritten).
     written: Vec<Option<u64>>,
 }
 
+/// The scene after a change: what culling and the draws follow.
+pub(super) struct Changed<'a> {
+    pub scene: &'a Scene,
+    pub present: &'a [bool],
+    /// The draws of the present instances: each batch's runs of them.
+    pub draws: Vec<Draw>,
+}
+
 impl MovingInstances {
-    pub fn new(scene: &Scene, slots: usize) -> Self {
-        let places = scene
+    /// `scene` with its spare instances ([`Scene::with_spare_instances`]), of which the first
+    /// `own` are the scene's own, present from the start.
+    pub fn new(scene: &Scene, own: usize, slots: usize) -> Self {
+        let places: Vec<_> = scene
             .batches
             .iter()
             .enumerate()
             .filter(|(_, b)| !b.instances.is_empty())
             .flat_map(|(k, b)| (0..b.instances.len()).map(move |i| (k, i)))
             .collect();
+        let present = (0..places.len()).map(|i| i < own).collect();
         MovingInstances {
             scene: scene.clone(),
-            places,
             flat: scene.flat_instances(),
-            moves: 0,
-            culled: 0,
+            places,
+            present,
+            own,
+            // With spares, the first frame already draws fewer instances than the buffer holds.
+            changes: u64::from(own < scene.instance_count()),
+            followed: 0,
             written: vec![None; slots],
         }
     }
 
-    /// Puts instance `index` (in the order of the scene's draws: batch by batch) at `model`.
-    pub fn move_instance(&mut self, index: usize, model: Mat4) -> Result<(), ConfigError> {
-        let Some(&(batch, i)) = self.places.get(index) else {
-            return Err(ConfigError::new(
+    fn instance(&self, index: usize) -> Result<(usize, usize), ConfigError> {
+        let &place = self.places.get(index).ok_or_else(|| {
+            ConfigError::new(
                 "instance",
                 index,
                 format!(
-                    "below the scene's {} instances (instances are numbered batch by batch)",
+                    "below the {} instances planned (instances are numbered batch by batch, the \
+                     spare ones after the scene's)",
                     self.places.len()
+                ),
+            )
+        })?;
+        if !self.present[index] {
+            return Err(ConfigError::new(
+                "instance",
+                index,
+                "an instance in the scene (it was removed, or is a spare not added)",
+            ));
+        }
+        Ok(place)
+    }
+
+    fn put(&mut self, index: usize, instance: Instance) {
+        let (batch, i) = self.places[index];
+        self.scene.batches[batch].instances[i] = instance;
+        self.flat[index] = instance;
+        self.changes += 1;
+    }
+
+    /// Puts instance `index` at `model`.
+    pub fn move_instance(&mut self, index: usize, model: Mat4) -> Result<(), ConfigError> {
+        self.instance(index)?;
+        finite(model)?;
+        let mut instance = self.flat[index];
+        instance.model = model;
+        self.put(index, instance);
+        Ok(())
+    }
+
+    /// Adds `instance` of mesh `mesh` in an absent place of that mesh's; returns its number.
+    pub fn add_instance(&mut self, mesh: usize, instance: Instance) -> Result<usize, ConfigError> {
+        let meshes = self.scene.meshes.len();
+        if mesh >= meshes {
+            let limit = format!("below the scene's {meshes} meshes");
+            return Err(ConfigError::new("mesh", mesh, limit));
+        }
+        finite(instance.model)?;
+        let materials = self.scene.materials.len();
+        if materials > 0 && instance.material as usize >= materials {
+            let limit = format!("below the scene's {materials} materials");
+            return Err(ConfigError::new("material", instance.material, limit));
+        }
+        let of_mesh = |&i: &usize| self.scene.batches[self.places[i].0].mesh == mesh;
+        // A spare first, then a place an instance was removed from.
+        let free = (self.own..self.places.len())
+            .chain(0..self.own)
+            .filter(of_mesh)
+            .find(|&i| !self.present[i]);
+        let Some(index) = free else {
+            let places = (0..self.places.len()).filter(of_mesh).count();
+            return Err(ConfigError::new(
+                "spare_instances",
+                self.places.len() - self.own,
+                format!(
+                    "room for another instance of mesh {mesh}: its {places} places are all in \
+                     use (remove one, or plan more spare instances)"
                 ),
             ));
         };
-        if !model.is_finite() {
-            return Err(ConfigError::new(
-                "model",
-                format!("{:?}", model.to_cols_array()),
-                "a finite matrix",
-            ));
-        }
-        self.scene.batches[batch].instances[i].model = model;
-        self.flat[index].model = model;
-        self.moves += 1;
+        self.present[index] = true;
+        self.put(index, instance);
+        Ok(index)
+    }
+
+    /// Takes instance `index` out of the scene.
+    pub fn remove_instance(&mut self, index: usize) -> Result<(), ConfigError> {
+        self.instance(index)?;
+        self.present[index] = false;
+        self.changes += 1;
         Ok(())
     }
 
     /// Brings frame slot `slot`'s `buffer` up to the instances as they stand, when it is older.
     pub fn write_slot(&mut self, slot: usize, buffer: &mut Buffer) {
-        if self.written[slot] != Some(self.moves) {
+        if self.written[slot] != Some(self.changes) {
             buffer.write(&self.flat);
-            self.written[slot] = Some(self.moves);
+            self.written[slot] = Some(self.changes);
         }
     }
 
-    /// The scene as it stands, when an instance moved since the last call.
-    pub fn moved_scene(&mut self) -> Option<&Scene> {
-        let moved = std::mem::replace(&mut self.culled, self.moves) != self.moves;
-        moved.then_some(&self.scene)
+    /// The scene as it stands, when it changed since the last call.
+    pub fn changed(&mut self) -> Option<Changed<'_>> {
+        if std::mem::replace(&mut self.followed, self.changes) == self.changes {
+            return None;
+        }
+        let mut draws = Vec::new();
+        for draw in self.scene.draws() {
+            let mut run: Option<Draw> = None;
+            for i in draw.first_instance..draw.first_instance + draw.instance_count {
+                match (&mut run, self.present[i as usize]) {
+                    (Some(r), true) => r.instance_count += 1,
+                    (None, true) => {
+                        run = Some(Draw {
+                            first_instance: i,
+                            instance_count: 1,
+                            ..draw
+                        })
+                    }
+                    (r, false) => draws.extend(r.take()),
+                }
+            }
+            draws.extend(run);
+        }
+        Some(Changed {
+            scene: &self.scene,
+            present: &self.present,
+            draws,
+        })
     }
+}
+
+fn finite(model: Mat4) -> Result<(), ConfigError> {
+    if model.is_finite() {
+        return Ok(());
+    }
+    Err(ConfigError::new(
+        "model",
+        format!("{:?}", model.to_cols_array()),
+        "a finite matrix",
+    ))
 }

@@ -48,17 +48,20 @@ pub struct Renderer {
     /// reconstruction), in no particular order: each owns its resources and per-frame uniforms.
     executors: Vec<Box<dyn Executor>>,
     /// Per-frame culling (only when a pass draws a culled set).
-    culling: Option<FrameCulling>,
+    pub(super) culling: Option<FrameCulling>,
     /// The instances as they stand, when they move between frames.
-    moving: Option<MovingInstances>,
+    pub(super) moving: Option<MovingInstances>,
+    /// The draws of the instances in the scene, once some are absent (the scene's draws
+    /// otherwise).
+    pub(super) present_draws: Option<Vec<Draw>>,
     /// Each frame slot's buffers, bindings and queries.
-    slots: Vec<FrameSlot>,
+    pub(super) slots: Vec<FrameSlot>,
     /// The slot the next frame records into.
     next_slot: usize,
     pub(super) images: Vec<Image>,
     /// A lit scene's textures, materials and lights (after the bindings that refer to them).
     _materials: Option<MaterialSet>,
-    scene: SceneBuffers,
+    pub(super) scene: SceneBuffers,
     pub(super) readback: Option<Buffer>,
     light_dir: Vec3,
     /// Each eye's gaze, normalised (−1…1, x right, y up); moves the fovea views.
@@ -100,6 +103,11 @@ impl Renderer {
         scene: &Scene,
         output_images: &[vk::Image],
     ) -> Result<Self, GpuError> {
+        // The plan's spare instances join the scene, absent until added.
+        let own = scene.instance_count();
+        let spared =
+            (plan.spare_instances > 0).then(|| scene.with_spare_instances(plan.spare_instances));
+        let scene = spared.as_ref().unwrap_or(scene);
         check_scene(plan, scene)?;
         let scene_buffers = SceneBuffers::upload(gpu, scene)?;
         let materials = plan
@@ -158,7 +166,8 @@ impl Renderer {
             moving: plan
                 .moving_instances()
                 .is_some()
-                .then(|| MovingInstances::new(scene, slot_count)),
+                .then(|| MovingInstances::new(scene, own, slot_count)),
+            present_draws: None,
             slots,
             next_slot: 0,
             images,
@@ -368,7 +377,7 @@ impl Renderer {
         let start = Instant::now();
         let (tally, pass_ends) = {
             let draws = FrameDraws {
-                all: &self.scene.draws,
+                all: self.present_draws.as_ref().unwrap_or(&self.scene.draws),
                 culled: self.culling.as_ref().map_or(&[][..], |c| &c.sets),
             };
             let frame = &self.slots[slot];
@@ -450,39 +459,11 @@ impl Renderer {
         Ok(())
     }
 
-    /// Puts instance `index` (numbered as the scene's draws take them: batch by batch) at
-    /// `model` from the next frame on: it is drawn there, culled there, and its levels of
-    /// detail chosen there. The plan must have
-    /// [`RenderConfig::moving_instances`]; a bad index or a matrix that is not finite is an
-    /// error and moves nothing.
-    pub fn move_instance(&mut self, index: usize, model: Mat4) -> Result<(), ConfigError> {
-        match &mut self.moving {
-            Some(m) => m.move_instance(index, model),
-            None => Err(ConfigError::new(
-                "moving_instances",
-                false,
-                "a plan whose instances move (RenderConfig::moving_instances on)",
-            )),
-        }
-    }
-
     /// Works out the frame's views, writes slot `slot`'s uniforms and every executor's (and
     /// the instances, when they move), and culls into the slot's id buffer; returns the
     /// culling's CPU time in ms (placing moved instances again included).
     fn prepare(&mut self, slot: usize, world_from_head: Mat4) -> f64 {
-        let placing_ms = match &mut self.moving {
-            Some(moving) => {
-                let start = Instant::now();
-                if let (Some(scene), Some(_)) = (moving.moved_scene(), &self.culling) {
-                    self.culling = Some(FrameCulling::new(scene, &self.scene, &self.plan));
-                }
-                if let Some(buffer) = &mut self.slots[slot].instances {
-                    moving.write_slot(slot, buffer);
-                }
-                start.elapsed().as_secs_f64() * 1e3
-            }
-            None => 0.0,
-        };
+        let placing_ms = self.follow_instances(slot);
         let plan = &self.plan;
         let fovea = plan.foveation.map(|g| {
             let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
@@ -561,7 +542,7 @@ impl Renderer {
     pub(super) fn draws(&self, cull_slot: Option<usize>) -> &[Draw] {
         match (cull_slot, &self.culling) {
             (Some(slot), Some(culling)) => &culling.sets[slot],
-            _ => &self.scene.draws,
+            _ => self.present_draws.as_ref().unwrap_or(&self.scene.draws),
         }
     }
 

@@ -266,6 +266,23 @@ impl Scene {
             })
     }
 
+    /// The scene with `spare` instances of each mesh appended as one batch per mesh, after the
+    /// scene's own instances (which keep their numbers): the room a plan's
+    /// `RenderConfig::spare_instances` makes for instances added while rendering. The renderer keeps them absent until one is added.
+    pub fn with_spare_instances(&self, spare: u32) -> Scene {
+        let mut scene = self.clone();
+        if spare > 0 {
+            let instance = Instance::new(Mat4::IDENTITY, Vec3::ONE);
+            scene
+                .batches
+                .extend((0..self.meshes.len()).map(|mesh| DrawBatch {
+                    mesh,
+                    instances: vec![instance; spare as usize],
+                }));
+        }
+        scene
+    }
+
     /// Each instance's bounding sphere, in [`Scene::flat_instances`] order.
     pub fn instance_spheres(&self) -> Vec<Sphere> {
         let mesh_spheres: Vec<Sphere> = self.meshes.iter().map(Mesh::bounding_sphere).collect();
