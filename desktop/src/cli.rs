@@ -126,10 +126,11 @@ fn devices() -> Result<()> {
             d.max_multiview_views, d.sample_counts
         );
         println!(
-            "    fragment density map: {}; fragment shading rate (VRS): {}; lazily allocated memory: {}",
+            "    fragment density map: {}; fragment shading rate (VRS): {}; lazily allocated memory: {}; stencil masks (D32_SFLOAT_S8_UINT): {}",
             yes(d.fragment_density_map),
             yes(d.fragment_shading_rate),
-            yes(d.lazily_allocated_memory)
+            yes(d.lazily_allocated_memory),
+            yes(d.depth_stencil)
         );
         let applying: Vec<_> = d
             .quirks

@@ -300,6 +300,8 @@ pub struct DeviceInfo {
     pub fragment_density_map: bool,
     pub fragment_shading_rate: bool,
     pub lazily_allocated_memory: bool,
+    /// `D32_SFLOAT_S8_UINT` as a depth-stencil attachment (stencil masks need it).
+    pub depth_stencil: bool,
     /// What its driver gets wrong, from the driver's ID and version.
     pub quirks: DriverQuirks,
     /// Why foveate cannot use it, if it cannot.

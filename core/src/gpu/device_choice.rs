@@ -58,6 +58,12 @@ pub(super) fn candidates(instance: &ash::Instance) -> Result<Vec<Candidate>, Gpu
             .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
             .map(|i| i as u32);
         let multiview = multiview_features.multiview == vk::TRUE;
+        let features = |f| unsafe {
+            // SAFETY: a plain query on a valid physical device.
+            instance
+                .get_physical_device_format_properties(physical, f)
+                .optimal_tiling_features
+        };
         let unusable = if !api_ok {
             Some("needs Vulkan 1.1".to_string())
         } else if queue_family.is_none() {
@@ -65,12 +71,7 @@ pub(super) fn candidates(instance: &ash::Instance) -> Result<Vec<Candidate>, Gpu
         } else if !multiview {
             Some("no multiview".to_string())
         } else {
-            missing_format(|f| unsafe {
-                // SAFETY: a plain query on a valid physical device.
-                instance
-                    .get_physical_device_format_properties(physical, f)
-                    .optimal_tiling_features
-            })
+            missing_format(features)
         };
         let samples = props.limits.framebuffer_color_sample_counts
             & props.limits.framebuffer_depth_sample_counts;
@@ -119,6 +120,8 @@ pub(super) fn candidates(instance: &ash::Instance) -> Result<Vec<Candidate>, Gpu
             fragment_density_map: has_ext(ash::ext::fragment_density_map::NAME),
             fragment_shading_rate: has_ext(ash::khr::fragment_shading_rate::NAME),
             lazily_allocated_memory: lazily,
+            depth_stencil: features(vk::Format::D32_SFLOAT_S8_UINT)
+                .contains(vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT),
             unusable,
         };
         let score = match props.device_type {
@@ -137,10 +140,12 @@ pub(super) fn candidates(instance: &ash::Instance) -> Result<Vec<Candidate>, Gpu
     Ok(out)
 }
 
-/// The image formats foveate renders with, and what it does with each (optimal tiling). Of
-/// these only the 8-bit colour formats are ones every Vulkan device must offer so; depth with
-/// stencil is `D24_UNORM_S8_UINT` on some devices instead, which foveate does not use.
-const FORMATS: [(vk::Format, vk::FormatFeatureFlags, &str); 5] = {
+/// The image formats every plan of foveate's may render with, and what it does with each
+/// (optimal tiling). Of these only the 8-bit colour formats are ones every Vulkan device must
+/// offer so. Depth with stencil (`D32_SFLOAT_S8_UINT`; `D24_UNORM_S8_UINT` on some devices
+/// instead, which foveate does not use) is not among them: only plans with stencil masks need
+/// it, and the planner refuses those on a device without it (`DeviceCaps::depth_stencil`).
+const FORMATS: [(vk::Format, vk::FormatFeatureFlags, &str); 4] = {
     use vk::FormatFeatureFlags as F;
     let colour = F::from_raw(
         F::COLOR_ATTACHMENT.as_raw()
@@ -165,11 +170,6 @@ const FORMATS: [(vk::Format, vk::FormatFeatureFlags, &str); 5] = {
             "the temporal history and half-float outputs",
         ),
         (vk::Format::D32_SFLOAT, F::DEPTH_STENCIL_ATTACHMENT, "depth"),
-        (
-            vk::Format::D32_SFLOAT_S8_UINT,
-            F::DEPTH_STENCIL_ATTACHMENT,
-            "stencil masks",
-        ),
     ]
 };
 
@@ -223,22 +223,29 @@ pub(super) fn choose<'a>(
 mod tests {
     use super::*;
 
-    /// A device with every format as foveate uses it passes; one without a depth-stencil
-    /// D32_SFLOAT_S8_UINT (a tile GPU offering D24_UNORM_S8_UINT instead) is unusable, and the
-    /// reason names the format, what it lacks and what foveate needs it for.
+    /// A device with every format as foveate uses it passes; one without a depth D32_SFLOAT
+    /// is unusable, and the reason names the format, what it lacks and what foveate needs it
+    /// for. Lacking depth-stencil D32_SFLOAT_S8_UINT (a tile GPU offering D24_UNORM_S8_UINT
+    /// instead) leaves it usable: only plans with stencil masks need it (the planner's test).
     #[test]
     fn a_device_missing_a_format_is_unusable_naming_it() {
         let everything = |_| vk::FormatFeatureFlags::from_raw(u32::MAX);
         assert_eq!(missing_format(everything), None);
-        let no_d32s8 = |f| match f {
-            vk::Format::D32_SFLOAT_S8_UINT => vk::FormatFeatureFlags::SAMPLED_IMAGE,
-            _ => vk::FormatFeatureFlags::from_raw(u32::MAX),
+        let without = |missing: vk::Format| {
+            move |f| match f {
+                f if f == missing => vk::FormatFeatureFlags::SAMPLED_IMAGE,
+                _ => vk::FormatFeatureFlags::from_raw(u32::MAX),
+            }
         };
-        let why = missing_format(no_d32s8).expect("unusable");
+        assert_eq!(
+            missing_format(without(vk::Format::D32_SFLOAT_S8_UINT)),
+            None
+        );
+        let why = missing_format(without(vk::Format::D32_SFLOAT)).expect("unusable");
         assert!(
-            why.contains("D32_SFLOAT_S8_UINT")
+            why.contains("D32_SFLOAT")
                 && why.contains("DEPTH_STENCIL_ATTACHMENT")
-                && why.contains("stencil masks"),
+                && why.contains("depth"),
             "{why}"
         );
     }

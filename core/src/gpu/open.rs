@@ -247,6 +247,7 @@ fn device_caps(
             0.0
         },
         pipeline_statistics: on(enabled.pipeline_statistics_query),
+        depth_stencil: chosen.info.depth_stencil,
         quirks: chosen.info.quirks.clone(),
     }
 }

@@ -131,6 +131,7 @@ pub fn plan(
     plan_instance_buffers(&mut plan, scene, caps, config);
     apply_output_format(&mut plan, config.output_format);
     assign_stencil(&mut plan);
+    check_depth_stencil(&plan, config, caps)?;
     derive_ops(&mut plan);
     for (pass, barriers) in derive_barriers(&plan).into_iter().enumerate() {
         plan.passes[pass].barriers = barriers;

@@ -496,3 +496,29 @@ fn temporal_accumulation_plans_its_passes_only_when_asked() {
     let e = plan_err(&with(Some(Default::default()), 4));
     assert_eq!(e.field, "periphery_msaa");
 }
+
+/// A device without D32_SFLOAT_S8_UINT depth-stencil attachments (a tile GPU offering
+/// D24_UNORM_S8_UINT instead) plans frames without stencil masks, and refuses the HMD mask
+/// and foveation's masks naming the field and the format. Mutation: the check gone, the
+/// masked plans pass.
+#[test]
+fn stencil_masks_need_a_depth_stencil_format_the_device_has() {
+    let caps = DeviceCaps {
+        depth_stencil: false,
+        ..caps()
+    };
+    let scene = default_scene();
+    assert!(plan(&scene, &config(StereoMode::Multiview, 4), &caps).is_ok());
+    let masked = RenderConfig {
+        hmd_mask: true,
+        ..config(StereoMode::Multiview, 4)
+    };
+    for (config, field) in [(masked, "hmd_mask"), (foveated(true), "foveation")] {
+        assert!(plan(&scene, &config, &DeviceCaps::generic()).is_ok());
+        let error = plan(&scene, &config, &caps).unwrap_err().to_string();
+        assert!(
+            error.contains(field) && error.contains("D32_SFLOAT_S8_UINT"),
+            "{error}"
+        );
+    }
+}

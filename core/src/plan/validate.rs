@@ -1,6 +1,7 @@
 //! Validation: a configuration the device or foveate cannot render is refused with the field,
 //! the value and the limit.
 
+use super::model::{Format, FramePlan};
 use super::{
     ConfigError, DeviceCaps, FoveaLayout, RenderConfig, Resolution, StereoMode, MAX_VIEWS,
 };
@@ -350,4 +351,30 @@ pub(super) fn validate_features(
         ));
     }
     Ok(())
+}
+
+/// Stencil masks need depth-stencil attachments in a format the device may lack
+/// ([`DeviceCaps::depth_stencil`]); a plan without them does not.
+pub(super) fn check_depth_stencil(
+    plan: &FramePlan,
+    config: &RenderConfig,
+    caps: &DeviceCaps,
+) -> Result<(), ConfigError> {
+    let stencil = plan.attachments.iter().any(|a| a.format == Format::D32S8);
+    if caps.depth_stencil || !stencil {
+        return Ok(());
+    }
+    let (field, value) = match (config.hmd_mask, config.foveation.is_some()) {
+        (true, _) => ("hmd_mask", "true"),
+        (false, true) => ("foveation", "its stencil masks"),
+        (false, false) => ("stencil", "a stencil mask"),
+    };
+    Err(ConfigError::new(
+        field,
+        value,
+        format!(
+            "needs D32_SFLOAT_S8_UINT depth-stencil attachments (stencil masks), which {} lacks",
+            caps.device_name
+        ),
+    ))
 }

@@ -24,6 +24,9 @@ pub struct DeviceCaps {
     pub max_anisotropy: f32,
     /// `pipelineStatisticsQuery`: counting frames measure primitives per pass with it.
     pub pipeline_statistics: bool,
+    /// `D32_SFLOAT_S8_UINT` as a depth-stencil attachment: stencil masks (the HMD mask,
+    /// foveation's inset and outset masks) need it; a plan without them does not.
+    pub depth_stencil: bool,
     pub quirks: DriverQuirks,
 }
 
@@ -45,6 +48,7 @@ impl DeviceCaps {
             timestamps: true,
             max_anisotropy: 16.0,
             pipeline_statistics: true,
+            depth_stencil: true,
             quirks: DriverQuirks::default(),
         }
     }
