@@ -14,11 +14,70 @@ use foveate::scene::{default_scene, Scene};
 use foveate_tests::{assert_validation_clean, gpu};
 use glam::{Mat4, Vec2, Vec3};
 
+/// 64² per eye, the instances moving, one spare instance per mesh.
 fn small(config: RenderConfig) -> RenderConfig {
     RenderConfig {
         resolution: Some(Resolution::square(64)),
+        moving_instances: true,
+        spare_instances: 1,
         ..config
     }
+}
+
+/// The instance nearest the head in front of it, by its number.
+fn visible_instance(scene: &Scene) -> usize {
+    let head = scene.head.inverse();
+    let spheres = scene.instance_spheres();
+    (0..spheres.len())
+        .filter(|&i| head.transform_point3(spheres[i].center).z < -1.0)
+        .min_by(|&a, &b| {
+            let d = |i: usize| head.transform_point3(spheres[i].center).length();
+            d(a).total_cmp(&d(b))
+        })
+        .expect("something in front of the head")
+}
+
+/// What changes in the scene before frame `i`: the visible instance slides a little (frames
+/// 0 and 1), stays (2), is removed (3), stays away (4), is added again into its mesh's spare
+/// place (5) and slides on from there.
+fn change_scene(renderer: &mut Renderer, scene: &Scene, i: usize) {
+    let index = visible_instance(scene);
+    let original = scene.flat_instances()[index];
+    let slid = |i: usize| Mat4::from_translation(Vec3::new(0.05 * i as f32, 0.02, 0.0));
+    match i {
+        // No change: each slot must hold the instances as they stand, not as it last saw
+        // them.
+        2 | 4 => {}
+        3 => renderer.remove_instance(index).unwrap(),
+        5 => {
+            let mut added = original;
+            added.model = slid(i) * original.model;
+            let at = scene.instance_count() + mesh_of(scene, index);
+            let k = renderer.add_instance(mesh_of(scene, index), added).unwrap();
+            assert_eq!(k, at, "the mesh's spare");
+        }
+        6.. => {
+            let at = scene.instance_count() + mesh_of(scene, index);
+            renderer
+                .move_instance(at, slid(i) * original.model)
+                .unwrap();
+        }
+        _ => renderer
+            .move_instance(index, slid(i) * original.model)
+            .unwrap(),
+    }
+}
+
+/// The mesh of instance `index`.
+fn mesh_of(scene: &Scene, index: usize) -> usize {
+    let mut left = index;
+    for batch in &scene.batches {
+        if left < batch.instances.len() {
+            return batch.mesh;
+        }
+        left -= batch.instances.len();
+    }
+    panic!("no instance {index}");
 }
 
 /// Stereo, foveated with temporal accumulation (history carried from frame to frame), MFFR.
@@ -70,7 +129,9 @@ fn rendered_alone(
     let mut renderer = Renderer::new(gpu, &plan, scene).unwrap();
     inputs
         .iter()
-        .map(|input| {
+        .enumerate()
+        .map(|(i, input)| {
+            change_scene(&mut renderer, scene, i);
             renderer.render(input).unwrap();
             renderer.readback().unwrap()
         })
@@ -133,6 +194,7 @@ fn engine_loop(
                 "frame {i}'s figures"
             );
         }
+        change_scene(&mut renderer, scene, i);
         let device = gpu.device();
         let begin = vk::CommandBufferBeginInfo::default()
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
@@ -253,11 +315,12 @@ fn a_frame_recorded_into_the_callers_buffer_is_the_frame_render_frame_makes() {
     assert_validation_clean(&gpu);
 }
 
-/// Three frames in flight (two and three slots), the head and gaze moving: synchronization
-/// validation clean, and each frame's pixels those of the same frame rendered alone.
-/// Mutation: one shared uniform buffer instead of one per slot (frame N+1's views written
-/// while frame N runs) makes frames differ where the queue lets them overlap; dropping the
-/// plan's barriers into the next frame fails synchronization validation.
+/// Three frames in flight (two and three slots), the head and gaze moving, an instance
+/// moving, removed and added again: synchronization validation clean, and each frame's pixels
+/// those of the same frame rendered alone. Mutations: one shared uniform buffer instead of one
+/// per slot (frame N+1's views written while frame N runs), or one shared instance buffer,
+/// makes frames differ where the queue lets them overlap; dropping the plan's barriers into
+/// the next frame fails synchronization validation.
 #[test]
 fn frames_in_flight_are_each_the_frame_rendered_alone() {
     let gpu = gpu();
@@ -339,7 +402,8 @@ fn the_librarys_frame_loop_returns_each_frames_figures_one_round_later() {
     let mut frames = FramesInFlight::new(&renderer).unwrap();
     assert_eq!(frames.len(), 3);
     let mut figures = Vec::new();
-    for input in &inputs {
+    for (i, input) in inputs.iter().enumerate() {
+        change_scene(&mut renderer, &scene, i);
         figures.push(frames.render(&mut renderer, input).unwrap());
     }
     // Frames 0..3 fill the slots; frames 3..7 each return the figures of the frame 3 before.
