@@ -21,7 +21,6 @@ use crate::app::{Backend, DemoError, Drawn};
 pub fn demo_config() -> RenderConfig {
     RenderConfig {
         foveation: Some(FoveationConfig {
-            blend_band_px: -1.0,
             ..FoveationConfig::default()
         }),
         views: 4,

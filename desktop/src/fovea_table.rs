@@ -58,7 +58,6 @@ fn row_config(base: &RenderConfig, foveated: Option<(f32, FoveaLayout)>) -> Rend
             views: 4,
             foveation: Some(FoveationConfig {
                 ratio,
-                blend_band_px: -1.0,
                 ..FoveationConfig::default()
             }),
             fovea_layout: layout,

@@ -364,7 +364,9 @@ impl ConfigArgs {
             view_resolution: self.view_res,
             stencil: !self.no_stencil,
             fovea_size: self.fovea_size,
-            blend_band_px: self.blend_band.unwrap_or(-1.0),
+            blend_band_px: self
+                .blend_band
+                .unwrap_or(FoveationConfig::default().blend_band_px),
             debug_tint: self.tint,
             cull_fovea: !self.no_fovea_cull,
             periphery_sharpen: self.sharpen.unwrap_or(0.0),

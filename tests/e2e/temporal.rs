@@ -203,14 +203,14 @@ fn a_gaze_jump_leaves_no_ghost_of_the_fovea() {
     poses.push((scene.head, to));
     let (plan, jumped) = render_sequence(&gpu, &scene, &config, &poses, |f| f == 6);
     let (_, fresh) = render_sequence(&gpu, &scene, &config, &[(scene.head, to)], |_| true);
-    // The old hole, shrunk by two pixels, outside the new fovea.
+    // The old hole (the accumulation's), shrunk by two pixels, outside the new fovea.
     let g = plan.foveation.unwrap();
     let screen = (SCREEN, SCREEN);
     let old = fovea_views(&plan.eyes, g.ratio, [from; 2], screen);
     let new_periphery = periphery_only(&plan, to);
     let hole = Eye::BOTH.map(|e| {
         let centre = fovea_centre_px(plan.eyes.fov(e), old[e.index()], screen);
-        let radius = g.fovea_screen_px / 2.0 - g.blend_band_px - 2.0;
+        let radius = g.accumulated_hole_px / 2.0 - 2.0;
         (0..SCREEN * SCREEN)
             .map(|i| {
                 let p = Vec2::new((i % SCREEN) as f32 + 0.5, (i / SCREEN) as f32 + 0.5);

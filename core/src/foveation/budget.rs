@@ -42,7 +42,7 @@ impl PixelBudget {
             };
         }
         PixelBudget {
-            fovea: 2.0 * pi * (fovea_circle_px / 2.0).powi(2),
+            fovea: 2.0 * circle_in_view(fovea_circle_px, fovea, pi),
             periphery: 2.0 * (area(periphery) - pi * (periphery_hole_px / 2.0).powi(2)),
         }
     }
@@ -58,6 +58,27 @@ impl PixelBudget {
             std::f64::consts::PI,
         )
     }
+}
+
+/// The area of a circle of `diameter` centred in a view of `view` pixels: π r² while it fits
+/// (with `pi`, so Arm's rounded π reproduces their cells), else the part inside the view (the
+/// fovea's circle reaches past its view by the filter's margin when the fovea fills it).
+fn circle_in_view(diameter: f64, view: (u32, u32), pi: f64) -> f64 {
+    let r = diameter / 2.0;
+    let (a, b) = (view.0 as f64 / 2.0, view.1 as f64 / 2.0);
+    if r <= a.min(b) {
+        return pi * r * r;
+    }
+    // A quarter: ∫₀^min(a, r) min(b, √(r² − x²)) dx, with F the integral of √(r² − x²).
+    let f = |x: f64| 0.5 * (x * (r * r - x * x).max(0.0).sqrt() + r * r * (x / r).asin());
+    let (a, b) = (a.min(r), b);
+    let quarter = if r <= b {
+        f(a) - f(0.0)
+    } else {
+        let x0 = (r * r - b * b).sqrt();
+        b * x0.min(a) + if a > x0 { f(a) - f(x0) } else { 0.0 }
+    };
+    4.0 * quarter
 }
 
 /// One printed row of Arm's Tables 2–4.

@@ -30,7 +30,9 @@ pub struct FoveationConfig {
     /// whole fovea window.
     pub fovea_size: Option<u32>,
     /// Width in screen pixels of the band where fovea and periphery are blended; the periphery
-    /// keeps it so both images exist there. Negative: an eighth of the fovea's diameter.
+    /// keeps it so both images exist there. Negative (the default): an eighth of the fovea's
+    /// diameter. 0 is a hard edge (no seam either way: the stencil holes keep the filters'
+    /// margin, [`PERIPHERY_REACH_TEXELS`]).
     pub blend_band_px: f32,
     /// Tint the composed image: fovea green, band yellow, periphery blue.
     pub debug_tint: bool,
@@ -60,7 +62,8 @@ impl Default for FoveationConfig {
             view_resolution: None,
             stencil: true,
             fovea_size: None,
-            blend_band_px: 0.0,
+            // The band the measured verdicts use: an eighth of the fovea's diameter.
+            blend_band_px: -1.0,
             debug_tint: false,
             cull_fovea: true,
             periphery_sharpen: 0.0,
@@ -71,6 +74,19 @@ impl Default for FoveationConfig {
         }
     }
 }
+
+/// How far past the point it samples, in periphery texels, anything reading the periphery
+/// reaches: Catmull-Rom's 4×4 texels (2√2 diagonally), sharpening's taps a texel apart, the
+/// accumulation's 3×3 neighbourhood around its nearest jittered texel (about 3.2).
+pub const PERIPHERY_REACH_TEXELS: f32 = 3.5;
+
+/// How far past the point it samples, in fovea texels, the output's bilinear read of the fovea
+/// reaches (√2, diagonally).
+pub const FOVEA_REACH_TEXELS: f32 = 1.5;
+
+/// How far past the point it samples, in screen pixels, the output stage's filters reach into
+/// the accumulated periphery (it is at the screen's density).
+pub const ACCUMULATED_REACH_PX: f32 = 3.0;
 
 /// Foveation as the planner resolved it for a screen resolution.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -88,8 +104,12 @@ pub struct FoveationGeometry {
     pub fovea_screen_px: f32,
     /// The inset circle's diameter in fovea-view pixels.
     pub fovea_circle_px: f32,
-    /// The periphery's hole (what the fovea covers, less the blend band) in periphery pixels.
+    /// The periphery's stencil hole, in periphery pixels: what the fovea covers, less the
+    /// blend band and the reach of the filters that read the periphery near it.
     pub periphery_hole_px: f32,
+    /// With accumulation, the accumulated periphery's hole in screen pixels: what the fovea
+    /// covers, less the band and the reach of the output's filter.
+    pub accumulated_hole_px: f32,
     pub stencil: bool,
     pub blend_band_px: f32,
     pub debug_tint: bool,
@@ -183,14 +203,28 @@ impl FoveationConfig {
         // Fovea-view pixels per screen pixel, and periphery pixels per screen pixel.
         let fovea_scale = view.width as f32 / window_px;
         let periphery_scale = periphery_view.width as f32 / screen.width as f32;
+        // The holes stay inside what is still read: the band's inner edge, less the reach of
+        // the filters that read there (into the accumulated periphery, when accumulated; then
+        // into the periphery). Cut up to the edge, a band of 0 showed the cleared hole as a
+        // ring around the fovea.
+        let accumulated_reach = if self.periphery_temporal.is_some() {
+            ACCUMULATED_REACH_PX
+        } else {
+            0.0
+        };
+        let accumulated_hole_px = fovea_screen_px - 2.0 * (band + accumulated_reach);
+        let periphery_hole_px =
+            (accumulated_hole_px * periphery_scale - 2.0 * PERIPHERY_REACH_TEXELS).max(0.0);
         Ok(FoveationGeometry {
             ratio,
             fovea_view: view,
             periphery_view,
             periphery_msaa: self.periphery_msaa,
             fovea_screen_px,
-            fovea_circle_px: fovea_screen_px * fovea_scale,
-            periphery_hole_px: (fovea_screen_px - 2.0 * band) * periphery_scale,
+            // Past the circle by the bilinear footprint the output reads the fovea with.
+            fovea_circle_px: fovea_screen_px * fovea_scale + 2.0 * FOVEA_REACH_TEXELS,
+            periphery_hole_px,
+            accumulated_hole_px: accumulated_hole_px.max(0.0),
             stencil: self.stencil,
             blend_band_px: band,
             debug_tint: self.debug_tint,
@@ -225,6 +259,7 @@ mod tests {
         let g = FoveationConfig {
             ratio: 0.35,
             view_resolution: Some(366),
+            blend_band_px: 0.0,
             ..Default::default()
         }
         .geometry(screen)
@@ -234,24 +269,31 @@ mod tests {
             g.periphery_view, g.fovea_view,
             "Arm: one size for all four views"
         );
+        // Arm: the hole is view × ratio and the inset circle fills the fovea view; here each
+        // keeps the filters' margin from what the output reads.
         assert!(
-            (g.periphery_hole_px - 366.0 * 0.35).abs() < 0.01,
-            "Arm: the hole is view × ratio"
+            (g.periphery_hole_px - (366.0 * 0.35 - 2.0 * PERIPHERY_REACH_TEXELS)).abs() < 0.01,
+            "the hole: view × ratio, less the periphery filters' reach"
         );
         assert!(
-            (g.fovea_circle_px - 366.0).abs() < 0.01,
-            "the inset circle fills the fovea view"
+            (g.fovea_circle_px - (366.0 + 2.0 * FOVEA_REACH_TEXELS)).abs() < 0.01,
+            "the inset circle: the fovea view, and the fovea filter's reach"
         );
         let g = FoveationConfig {
             ratio: 0.5,
             fovea_size: Some(256),
+            blend_band_px: 0.0,
             ..Default::default()
         }
         .geometry(screen)
         .unwrap();
         assert_eq!(
             (g.fovea_view.width, g.fovea_circle_px, g.periphery_hole_px),
-            (512, 256.0, 128.0)
+            (
+                512,
+                256.0 + 2.0 * FOVEA_REACH_TEXELS,
+                128.0 - 2.0 * PERIPHERY_REACH_TEXELS
+            )
         );
     }
 
@@ -271,7 +313,13 @@ mod tests {
         .unwrap();
         assert_eq!(g.fovea_view, Resolution::square(256));
         assert_eq!(g.periphery_view, Resolution::square(512));
-        assert_eq!((g.fovea_circle_px, g.periphery_hole_px), (256.0, 128.0));
+        assert_eq!(
+            (g.fovea_circle_px, g.periphery_hole_px),
+            (
+                256.0 + 2.0 * FOVEA_REACH_TEXELS,
+                128.0 - 2.0 * PERIPHERY_REACH_TEXELS
+            )
+        );
         assert!(g.views_differ(4));
         let same = FoveationConfig::default().geometry(screen).unwrap();
         assert!(!same.views_differ(4));

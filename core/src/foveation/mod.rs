@@ -12,7 +12,10 @@ mod temporal;
 mod views;
 
 pub use budget::{arm_table, ArmRow, PixelBudget, ARM_PI, ARM_TABLE4_FOVEA};
-pub use config::{FoveationConfig, FoveationGeometry, PeripheryFilter};
+pub use config::{
+    FoveationConfig, FoveationGeometry, PeripheryFilter, ACCUMULATED_REACH_PX, FOVEA_REACH_TEXELS,
+    PERIPHERY_REACH_TEXELS,
+};
 pub use eye_movement::{
     amplitude_for_peak_velocity, saccade_duration_s, saccade_peak_velocity, EyeMovementModel,
     EyeTrace, GazeSpace, SaccadeEvent, SeededRng, TRUTH_HZ,

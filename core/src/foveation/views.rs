@@ -92,7 +92,7 @@ pub fn mask_shapes(g: &FoveationGeometry, eyes: &EyeParams, fovea: &[FovTangents
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::foveation::FoveationConfig;
+    use crate::foveation::{FoveationConfig, FOVEA_REACH_TEXELS, PERIPHERY_REACH_TEXELS};
     use crate::vocab::Resolution;
 
     #[test]
@@ -106,6 +106,7 @@ mod tests {
         };
         let g = FoveationConfig {
             ratio: 0.5,
+            blend_band_px: 0.0,
             ..Default::default()
         }
         .geometry(Resolution::square(256))
@@ -117,9 +118,12 @@ mod tests {
             "hole at the centre: {:?}",
             s[4]
         );
-        // The inset circle fills the fovea view; the hole is the fovea's size in periphery pixels.
+        // The inset circle fills the fovea view and the hole is the fovea's size in periphery
+        // pixels, each with the filters' margin.
+        let circle = (128.0 + 2.0 * FOVEA_REACH_TEXELS) / 128.0;
+        let hole = (64.0 - 2.0 * PERIPHERY_REACH_TEXELS) / 128.0;
         assert!(
-            (s[2].z - 1.0).abs() < 1e-6 && (s[4].z - 0.5).abs() < 1e-6,
+            (s[2].z - circle).abs() < 1e-6 && (s[4].z - hole).abs() < 1e-6,
             "{s:?}"
         );
         assert_eq!(s[6], Vec4::ZERO, "fovea views drop nothing");

@@ -103,7 +103,7 @@ impl Executor for TemporalAccumulation {
             depth: Vec4::new(
                 a,
                 b,
-                g.fovea_screen_px * 0.5 - g.blend_band_px,
+                g.accumulated_hole_px * 0.5,
                 1.0 / self.frames_accumulated as f32,
             ),
         };

@@ -173,7 +173,9 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     let screen = args.frame.screen(&args.res)?;
     let base = args.frame.base(&args.res)?;
     // Every foveated variant, checked before anything renders.
-    let default_band = args.blend_band.unwrap_or(-1.0);
+    let default_band = args
+        .blend_band
+        .unwrap_or(FoveationConfig::default().blend_band_px);
     let mut variants = Vec::new();
     for &ratio in &ratios {
         let with = |blend_band_px, periphery_sharpen| FoveationConfig {

@@ -99,7 +99,6 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
             };
             let foveation = FoveationConfig {
                 ratio,
-                blend_band_px: -1.0,
                 periphery_sharpen: sharpen,
                 ..Default::default()
             };

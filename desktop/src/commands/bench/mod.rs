@@ -125,7 +125,6 @@ pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         draw_distance: args.draw_distance,
         foveation: FoveationConfig {
             ratio: args.ratio,
-            blend_band_px: -1.0,
             ..FoveationConfig::default()
         },
         mffr: MffrConfig::named(&args.mffr, split)?,
