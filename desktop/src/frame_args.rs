@@ -359,17 +359,16 @@ impl ConfigArgs {
             Some(name) => name.parse::<PeripheryFilter>()?,
             None => PeripheryFilter::default(),
         };
+        let defaults = FoveationConfig::default();
         let foveation = self.foveate.map(|ratio| FoveationConfig {
             ratio,
             view_resolution: self.view_res,
             stencil: !self.no_stencil,
             fovea_size: self.fovea_size,
-            blend_band_px: self
-                .blend_band
-                .unwrap_or(FoveationConfig::default().blend_band_px),
+            blend_band_px: self.blend_band.unwrap_or(defaults.blend_band_px),
             debug_tint: self.tint,
             cull_fovea: !self.no_fovea_cull,
-            periphery_sharpen: self.sharpen.unwrap_or(0.0),
+            periphery_sharpen: self.sharpen.unwrap_or(defaults.periphery_sharpen),
             periphery_filter,
             periphery_density: self.periphery_density,
             periphery_msaa: self.periphery_msaa,
@@ -381,6 +380,7 @@ impl ConfigArgs {
                     ..default
                 }
             }),
+            ..defaults
         });
         let mffr = self
             .mffr

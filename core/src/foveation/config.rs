@@ -26,6 +26,11 @@ pub struct FoveationConfig {
     pub view_resolution: Option<u32>,
     /// Inset/outset stencil masks inside the pass.
     pub stencil: bool,
+    /// The masks keep the reach of the filters that read near their edges
+    /// ([`PERIPHERY_REACH_TEXELS`], [`FOVEA_REACH_TEXELS`]), so they change no output pixel.
+    /// Off, they are cut at the edges as in Arm's pixel tables: fewer pixels shaded, and a
+    /// seam of the cleared hole where the filters read into it (a ring at a band of 0).
+    pub mask_margins: bool,
     /// Diameter of the fovea region on the screen in pixels (Arm's Table 4: 256); default: the
     /// whole fovea window.
     pub fovea_size: Option<u32>,
@@ -61,6 +66,7 @@ impl Default for FoveationConfig {
             ratio: 0.35,
             view_resolution: None,
             stencil: true,
+            mask_margins: true,
             fovea_size: None,
             // The band the measured verdicts use: an eighth of the fovea's diameter.
             blend_band_px: -1.0,
@@ -207,14 +213,15 @@ impl FoveationConfig {
         // the filters that read there (into the accumulated periphery, when accumulated; then
         // into the periphery). Cut up to the edge, a band of 0 showed the cleared hole as a
         // ring around the fovea.
+        let margin = |reach: f32| if self.mask_margins { reach } else { 0.0 };
         let accumulated_reach = if self.periphery_temporal.is_some() {
-            ACCUMULATED_REACH_PX
+            margin(ACCUMULATED_REACH_PX)
         } else {
             0.0
         };
         let accumulated_hole_px = fovea_screen_px - 2.0 * (band + accumulated_reach);
         let periphery_hole_px =
-            (accumulated_hole_px * periphery_scale - 2.0 * PERIPHERY_REACH_TEXELS).max(0.0);
+            (accumulated_hole_px * periphery_scale - 2.0 * margin(PERIPHERY_REACH_TEXELS)).max(0.0);
         Ok(FoveationGeometry {
             ratio,
             fovea_view: view,
@@ -222,7 +229,7 @@ impl FoveationConfig {
             periphery_msaa: self.periphery_msaa,
             fovea_screen_px,
             // Past the circle by the bilinear footprint the output reads the fovea with.
-            fovea_circle_px: fovea_screen_px * fovea_scale + 2.0 * FOVEA_REACH_TEXELS,
+            fovea_circle_px: fovea_screen_px * fovea_scale + 2.0 * margin(FOVEA_REACH_TEXELS),
             periphery_hole_px,
             accumulated_hole_px: accumulated_hole_px.max(0.0),
             stencil: self.stencil,

@@ -123,6 +123,8 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
                 ratio,
                 view_resolution: Some(view),
                 stencil,
+                // Arm's masks: cut at the edges (foveate's keep the filters' margins).
+                mask_margins: false,
                 fovea_size,
                 blend_band_px: args.blend_band,
                 ..Default::default()
