@@ -23,7 +23,6 @@ pub fn demo_config() -> RenderConfig {
         foveation: Some(FoveationConfig {
             ..FoveationConfig::default()
         }),
-        views: 4,
         hmd_mask: true,
         output: OutputStage::Lens,
         ..RenderConfig::default()

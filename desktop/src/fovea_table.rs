@@ -55,7 +55,6 @@ fn row_config(base: &RenderConfig, foveated: Option<(f32, FoveaLayout)>) -> Rend
     match foveated {
         None => base.clone(),
         Some((ratio, layout)) => RenderConfig {
-            views: 4,
             foveation: Some(FoveationConfig {
                 ratio,
                 ..FoveationConfig::default()

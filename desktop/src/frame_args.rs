@@ -26,9 +26,9 @@ pub struct ConfigArgs {
     /// Per-eye resolution: N (square), WxH, or `native` for the headset's panel.
     #[arg(long, default_value = "1024")]
     pub res: String,
-    /// Views per pass (2 for stereo).
-    #[arg(long, default_value_t = 2)]
-    pub views: u32,
+    /// Views per pass (default: derived, 2 for stereo and 4 with foveation).
+    #[arg(long)]
+    pub views: Option<u32>,
     /// Interpupillary distance in millimetres (default 64).
     #[arg(long)]
     pub ipd_mm: Option<f32>,
@@ -408,12 +408,7 @@ impl ConfigArgs {
             mffr,
             resolution,
             stereo,
-            // Foveation renders four views unless the user asked for something else.
-            views: if foveation.is_some() && self.views == 2 {
-                4
-            } else {
-                self.views
-            },
+            views: self.views,
             foveation,
             msaa: self.msaa,
             ipd_m: self.ipd_mm.map(|mm| mm / 1000.0),

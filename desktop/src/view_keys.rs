@@ -71,7 +71,6 @@ impl ViewSettings {
                     }
                     None => Some(self.foveation),
                 };
-                c.views = if c.foveation.is_some() { 4 } else { 2 };
                 changed(self.foveation_label())
             }
             '[' | ']' => {
@@ -81,7 +80,6 @@ impl ViewSettings {
                 f.ratio = ((f.ratio + step) * 100.0).round() / 100.0;
                 f.ratio = f.ratio.clamp(RATIO_RANGE.0, RATIO_RANGE.1);
                 self.foveation = *f;
-                c.views = 4;
                 changed(self.foveation_label())
             }
             'l' => {
@@ -125,7 +123,6 @@ impl ViewSettings {
                 let f = c.foveation.get_or_insert(self.foveation);
                 f.debug_tint = !f.debug_tint;
                 self.foveation = *f;
-                c.views = 4;
                 changed(format!("tint {}", on_off(f.debug_tint)))
             }
             'q' => KeyAction::Quit,
@@ -179,12 +176,12 @@ mod tests {
     fn foveation_toggles_and_keeps_its_ratio() {
         let mut s = settings();
         assert_eq!(s.key(']'), KeyAction::Changed("foveated 0.40".into()));
-        assert_eq!(s.config.views, 4);
+        assert_eq!(s.config.view_count(), 4);
         assert_eq!(
             s.key('f'),
             KeyAction::Changed("stereo (foveation off)".into())
         );
-        assert_eq!((s.config.foveation, s.config.views), (None, 2));
+        assert_eq!((s.config.foveation, s.config.view_count()), (None, 2));
         s.key('f');
         assert_eq!(s.config.foveation.map(|f| f.ratio), Some(0.4));
         for _ in 0..20 {

@@ -17,7 +17,6 @@ fn a_second_renderer_for_the_same_plan_creates_no_render_pass_or_pipeline() {
     let scene = default_scene();
     let config = RenderConfig {
         resolution: Some(Resolution::square(64)),
-        views: 4,
         foveation: Some(FoveationConfig::default()),
         hmd_mask: true,
         ..RenderConfig::default()

@@ -37,7 +37,6 @@ fn base() -> RenderConfig {
 
 fn foveated(layout: FoveaLayout) -> RenderConfig {
     RenderConfig {
-        views: 4,
         foveation: Some(FoveationConfig {
             ratio: 0.35,
             ..FoveationConfig::default()

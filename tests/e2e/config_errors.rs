@@ -15,7 +15,7 @@ fn bad_configs_are_rejected_with_field_value_and_limit() {
     let cases: Vec<(RenderConfig, &str, &str, &str)> = vec![
         (
             RenderConfig {
-                views: 5,
+                views: Some(5),
                 ..base.clone()
             },
             "views",

@@ -42,7 +42,6 @@ fn each_frame_lands_in_the_image_selected_for_it() {
         RenderConfig::default(),
         RenderConfig {
             foveation: Some(FoveationConfig::default()),
-            views: 4,
             hmd_mask: true,
             ..RenderConfig::default()
         },

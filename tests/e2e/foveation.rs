@@ -16,7 +16,6 @@ use glam::Vec2;
 fn foveated(screen: u32, foveation: FoveationConfig, msaa: u32) -> RenderConfig {
     RenderConfig {
         stereo: StereoMode::Multiview,
-        views: 4,
         msaa,
         resolution: Some(Resolution::square(screen)),
         foveation: Some(foveation),

@@ -90,7 +90,6 @@ fn configs() -> [RenderConfig; 3] {
                 periphery_temporal: Some(TemporalConfig::default()),
                 ..FoveationConfig::default()
             }),
-            views: 4,
             msaa: 1,
             hmd_mask: true,
             ..RenderConfig::default()

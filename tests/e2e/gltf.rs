@@ -269,7 +269,6 @@ fn assimp_test_models_render_or_are_refused_clearly() {
             ratio: 0.5,
             ..FoveationConfig::default()
         }),
-        views: 4,
         output: foveate::plan::OutputStage::Lens,
         ..RenderConfig::default()
     };

@@ -25,7 +25,6 @@ fn pixels(image: &StereoImage) -> [&[u8]; 2] {
 fn foveated() -> RenderConfig {
     RenderConfig {
         stereo: StereoMode::Multiview,
-        views: 4,
         msaa: 1,
         resolution: Some(Resolution::square(RES)),
         foveation: Some(FoveationConfig {
@@ -99,7 +98,6 @@ fn a_late_fovea_is_judged_at_the_true_gaze() {
     let scene = default_scene();
     let plan = foveate::plan(&scene, &foveated(), gpu.caps()).unwrap();
     let reference_config = RenderConfig {
-        views: 2,
         msaa: 4,
         foveation: None,
         ..foveated()

@@ -148,7 +148,6 @@ fn the_periphery_takes_coarser_levels() {
         ..base()
     };
     let foveated = RenderConfig {
-        views: 4,
         foveation: Some(FoveationConfig {
             ratio: 0.35,
             ..FoveationConfig::default()

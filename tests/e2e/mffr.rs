@@ -289,7 +289,6 @@ fn mffr_composes_with_foveation() {
     let gpu = gpu();
     let scene = city_scene();
     let foveated = RenderConfig {
-        views: 4,
         foveation: Some(foveate::foveation::FoveationConfig {
             ratio: 0.5,
             ..Default::default()

@@ -21,7 +21,6 @@ fn small(config: RenderConfig) -> RenderConfig {
 fn foveated() -> RenderConfig {
     small(RenderConfig {
         foveation: Some(FoveationConfig::default()),
-        views: 4,
         ..RenderConfig::default()
     })
 }

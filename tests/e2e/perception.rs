@@ -12,7 +12,6 @@ use glam::{Mat4, Vec2};
 fn foveated(res: u32, sharpen: f32) -> RenderConfig {
     RenderConfig {
         stereo: StereoMode::Multiview,
-        views: 4,
         msaa: 1,
         resolution: Some(Resolution::square(res)),
         foveation: Some(FoveationConfig {
@@ -37,7 +36,6 @@ fn flicker_is_zero_when_nothing_moves() {
     let reference = foveate::plan(
         &scene,
         &RenderConfig {
-            views: 2,
             foveation: None,
             ..config.clone()
         },

@@ -28,7 +28,6 @@ fn foveated(hmd: &str, res: Resolution, ratio: f32) -> RenderConfig {
     RenderConfig {
         hmd: hmd.into(),
         resolution: Some(res),
-        views: 4,
         msaa: 1,
         foveation: Some(FoveationConfig {
             ratio,
@@ -68,7 +67,7 @@ proptest! {
             f.periphery_temporal = temporal.then(TemporalConfig::default);
         }
         if foveation.is_none() {
-            (config.foveation, config.views) = (None, 2);
+            config.foveation = None;
         }
         config.mffr = mffr.then(MffrConfig::default);
         config.radial_density = radial.then(RadialDensity::default);

@@ -16,7 +16,6 @@ const SCREEN: u32 = 128;
 fn config(screen: u32, temporal: Option<TemporalConfig>) -> RenderConfig {
     RenderConfig {
         stereo: StereoMode::Multiview,
-        views: 4,
         msaa: 1,
         resolution: Some(Resolution::square(screen)),
         output: OutputStage::Undistorted,
@@ -118,7 +117,6 @@ fn accumulation_converges_on_a_still_frame() {
     let gpu = gpu();
     let scene = atrium_scene();
     let stereo = RenderConfig {
-        views: 2,
         foveation: None,
         resolution: Some(Resolution::square(SCREEN * 4)),
         ..config(SCREEN, None)

@@ -143,7 +143,6 @@ fn switched_on_effects_add_what_they_need() {
             "foveation".into(),
             on(&|c| {
                 c.foveation = Some(FoveationConfig::default());
-                c.views = 4;
             }),
         ),
         (

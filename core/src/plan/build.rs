@@ -91,7 +91,7 @@ pub fn plan(
         eyes: e.eyes,
         eye_resolution: e.eye_resolution,
         stereo: config.stereo,
-        views: config.views,
+        views: config.view_count(),
         samples: config.msaa,
         near: config.near,
         far: scene.reach.map_or(config.far, |r| config.far.max(r)),

@@ -140,8 +140,9 @@ pub struct RenderConfig {
     /// Per-eye resolution; `None` uses the headset's panel resolution.
     pub resolution: Option<Resolution>,
     pub stereo: StereoMode,
-    /// Number of views rendered: 2 for stereo (4 arrives with foveation).
-    pub views: u32,
+    /// Views per pass: `None` (the default) derives them, 2 for stereo and 4 with foveation
+    /// (periphery and fovea per eye); a number given must be that one.
+    pub views: Option<u32>,
     /// MSAA samples on the scene pass: 1 or 4.
     pub msaa: u32,
     /// Interpupillary distance override in metres.
@@ -222,7 +223,7 @@ impl Default for RenderConfig {
             hmd: "index".into(),
             resolution: Some(Resolution::square(1024)),
             stereo: StereoMode::Multiview,
-            views: 2,
+            views: None,
             msaa: 4,
             ipd_m: None,
             cant_deg: None,
@@ -251,6 +252,13 @@ impl Default for RenderConfig {
 }
 
 impl RenderConfig {
+    /// The views per pass: as given, or derived from the configuration (2 for stereo, 4 with
+    /// foveation).
+    pub fn view_count(&self) -> u32 {
+        self.views
+            .unwrap_or(if self.foveation.is_some() { 4 } else { 2 })
+    }
+
     /// The same frame as a counting frame: fragment counters on, timestamps off (its time is
     /// not a measurement). Timed frames use `self` with counting off.
     pub fn counting(&self) -> RenderConfig {

@@ -83,9 +83,12 @@ fn no_masks_no_stencil() {
 
 #[test]
 fn foveation_needs_four_views_and_multiview() {
+    // Left out, the views follow the configuration; given, they must be those.
+    assert_eq!(planned(&foveated(true)).views, 4);
+    assert_eq!(planned(&config(StereoMode::Multiview, 4)).views, 2);
     let e = rejected(
         &RenderConfig {
-            views: 2,
+            views: Some(2),
             ..foveated(true)
         },
         &caps(),
@@ -101,7 +104,7 @@ fn foveation_needs_four_views_and_multiview() {
     assert_eq!(e.field, "stereo");
     let e = rejected(
         &RenderConfig {
-            views: 4,
+            views: Some(4),
             ..config(StereoMode::Multiview, 4)
         },
         &caps(),

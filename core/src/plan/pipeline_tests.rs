@@ -22,7 +22,6 @@ fn base(stereo: StereoMode) -> RenderConfig {
 /// Configurations reaching every step kind, submission and shader variant.
 fn configurations() -> Vec<(Scene, RenderConfig)> {
     let foveated = |layout, count_fragments| RenderConfig {
-        views: 4,
         foveation: Some(FoveationConfig {
             ratio: 0.5,
             stencil: true,
@@ -173,7 +172,6 @@ fn every_stage_gets_exactly_the_constants_its_shader_declares() {
 #[test]
 fn pipelines_that_differ_in_a_constant_are_not_the_same_value() {
     let config = RenderConfig {
-        views: 4,
         foveation: Some(FoveationConfig {
             ratio: 0.5,
             ..Default::default()

@@ -23,7 +23,6 @@ fn foveated(hmd: &str, resolution: Option<Resolution>, ratio: f32) -> RenderConf
     RenderConfig {
         hmd: hmd.into(),
         resolution,
-        views: 4,
         foveation: Some(FoveationConfig {
             ratio,
             ..Default::default()
@@ -177,7 +176,7 @@ prop_compose! {
             hmd: HMD_PROFILES.get(profile).map_or("no-such-headset", |p| p.name).into(),
             resolution: res.map(|(width, height)| Resolution { width, height }),
             stereo,
-            views: views.unwrap_or(right_views),
+            views: Some(views.unwrap_or(right_views)),
             msaa,
             ipd_m: ipd,
             cant_deg: cant,

@@ -61,7 +61,7 @@ fn scene_targets(
     let (width, layers) = match layout {
         TargetLayout::Layered if two_pass => (eye.width, 1),
         TargetLayout::Layered if two_pass_fovea => (eye.width, 2),
-        TargetLayout::Layered => (eye.width, config.views),
+        TargetLayout::Layered => (eye.width, config.view_count()),
         TargetLayout::SideBySide => (eye.width * 2, 1),
         TargetLayout::PerEye => (eye.width, 1),
     };
@@ -141,7 +141,7 @@ fn scene_targets(
             add("fovea views", output_role, Format::Rgba8Srgb, 1, true, 2),
         ],
         _ => vec![add(
-            if config.views == 4 {
+            if config.view_count() == 4 {
                 "views (periphery, fovea)"
             } else {
                 "stereo colour"

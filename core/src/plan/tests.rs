@@ -26,7 +26,6 @@ pub(super) fn attachment<'a>(plan: &'a FramePlan, u: &Use) -> &'a AttachmentPlan
 
 pub(super) fn foveated(stencil: bool) -> RenderConfig {
     RenderConfig {
-        views: 4,
         foveation: Some(crate::foveation::FoveationConfig {
             ratio: 0.5,
             stencil,
@@ -226,7 +225,6 @@ fn query_pools_get_spare_slots_where_queries_span_views() {
     let mut quirky = caps();
     quirky.quirks.queries_after_multiview_span_views = true;
     let foveated = RenderConfig {
-        views: 4,
         foveation: Some(crate::foveation::FoveationConfig::default()),
         fovea_layout: FoveaLayout::OnePass,
         ..config(StereoMode::Multiview, 1)
@@ -355,7 +353,7 @@ fn bad_configs_name_field_value_and_limit() {
     let base = config(StereoMode::Multiview, 4);
     let e = rejected(
         &RenderConfig {
-            views: 5,
+            views: Some(5),
             ..base.clone()
         },
         &caps(),
@@ -471,7 +469,7 @@ fn device_limits_are_the_limits() {
     two_views.max_multiview_views = 2;
     let e = rejected(
         &RenderConfig {
-            views: 3,
+            views: Some(3),
             ..base.clone()
         },
         &two_views,

@@ -87,10 +87,11 @@ pub(super) fn validate_resolution(
 
 pub(super) fn validate_views(config: &RenderConfig, caps: &DeviceCaps) -> Result<(), ConfigError> {
     let limit = MAX_VIEWS.min(caps.max_multiview_views);
-    if config.views == 0 || config.views > limit {
+    let views = config.view_count();
+    if views == 0 || views > limit {
         return Err(ConfigError::new(
             "views",
-            config.views,
+            views,
             format!(
                 "at most {limit} (foveate renders up to {MAX_VIEWS} views in one pass; this device's maxMultiviewViewCount is {})",
                 caps.max_multiview_views
@@ -98,13 +99,13 @@ pub(super) fn validate_views(config: &RenderConfig, caps: &DeviceCaps) -> Result
         ));
     }
     let wanted = if config.foveation.is_some() { 4 } else { 2 };
-    if config.views != wanted {
+    if views != wanted {
         let why = if wanted == 4 {
-            "foveated rendering uses exactly 4 views (periphery and fovea per eye)"
+            "foveated rendering uses exactly 4 views (periphery and fovea per eye); leave views out to derive them"
         } else {
-            "stereo rendering uses exactly 2 views (4 with foveation)"
+            "stereo rendering uses exactly 2 views (4 with foveation); leave views out to derive them"
         };
-        return Err(ConfigError::new("views", config.views, why));
+        return Err(ConfigError::new("views", views, why));
     }
     if config.foveation.is_some() && config.stereo != StereoMode::Multiview {
         return Err(ConfigError::new(

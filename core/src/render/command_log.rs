@@ -212,7 +212,6 @@ mod tests {
             ]
         );
         let foveated = |fovea_layout| RenderConfig {
-            views: 4,
             foveation: Some(FoveationConfig::default()),
             hmd_mask: true,
             fovea_layout,
@@ -320,7 +319,6 @@ mod tests {
     fn counting_frames_fence_their_counters() {
         let (_, log) = log_of(
             &RenderConfig {
-                views: 4,
                 foveation: Some(FoveationConfig::default()),
                 fovea_layout: FoveaLayout::OnePass,
                 ..base()
@@ -351,7 +349,6 @@ mod tests {
     #[test]
     fn passes_begin_with_the_plans_clears() {
         let (_, log) = log_of(&RenderConfig {
-            views: 4,
             foveation: Some(FoveationConfig::default()),
             fovea_layout: FoveaLayout::OnePass,
             msaa: 1,
@@ -471,7 +468,6 @@ mod tests {
     fn each_pass_records_the_barriers_its_images_need() {
         use crate::plan::Touch::*;
         let (plan, commands) = log_of(&RenderConfig {
-            views: 4,
             msaa: 4,
             foveation: Some(FoveationConfig::default()),
             fovea_layout: FoveaLayout::OnePass,

@@ -458,7 +458,6 @@ mod tests {
         let scene = default_scene().with_lod().unwrap();
         let plan = |layout, cull_fovea| {
             let config = RenderConfig {
-                views: 4,
                 foveation: Some(FoveationConfig {
                     ratio: 0.35,
                     cull_fovea,

@@ -237,7 +237,6 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         });
         for (name, foveation) in distinct {
             let config = RenderConfig {
-                views: 4,
                 foveation: Some(*foveation),
                 ..base.clone()
             };
@@ -576,7 +575,6 @@ fn latency(options: &GpuOptions, args: &CompareArgs, acuity: Acuity) -> Result<(
                 _ => format!("foveated {ratio}, band {band}, MSAA {msaa}"),
             };
             let config = RenderConfig {
-                views: 4,
                 msaa,
                 foveation: Some(foveation),
                 ..base.clone()

@@ -119,7 +119,6 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     for (name, foveation) in variants {
         foveation.geometry(screen)?;
         let config = RenderConfig {
-            views: 4,
             msaa: 4,
             foveation: Some(foveation),
             ..base.clone()

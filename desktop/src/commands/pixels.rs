@@ -53,7 +53,7 @@ pub(crate) fn coverage(gpu: &Gpu, config: &RenderConfig) -> Result<Vec<u64>> {
         ..config.clone()
     };
     let stats = counting_frame(gpu, &scene, &config, [Vec2::ZERO; 2], scene.head)?;
-    Ok(stats.per_view(CountedStep::Probe)[..config.views as usize].to_vec())
+    Ok(stats.per_view(CountedStep::Probe)[..config.view_count() as usize].to_vec())
 }
 
 pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
@@ -130,7 +130,6 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
                 ..Default::default()
             };
             let config = RenderConfig {
-                views: 4,
                 foveation: Some(foveation),
                 ..base.clone()
             };

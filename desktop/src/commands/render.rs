@@ -109,7 +109,6 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         let foveated = args.config.config(modes[0])?;
         let reference = foveate::RenderConfig {
             foveation: None,
-            views: 2,
             ..foveated.clone()
         };
         runs.push(("stereo reference".into(), reference, args.out.clone()));

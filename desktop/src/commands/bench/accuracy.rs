@@ -54,7 +54,6 @@ fn points(
     let foveated = |foveation: FoveationConfig| {
         with(&|c| {
             c.foveation = Some(foveation);
-            c.views = 4;
         })
     };
     for ratio in [0.25, 0.35, 0.5, 0.7] {

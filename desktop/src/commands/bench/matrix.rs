@@ -101,7 +101,6 @@ impl Settings {
             } else {
                 StereoMode::TwoPass
             },
-            views: if t.foveate { 4 } else { 2 },
             msaa: self.msaa,
             // Far enough for everything within the draw distance.
             far: self.draw_distance * 2.0,
