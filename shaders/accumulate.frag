@@ -2,7 +2,7 @@
 #extension GL_EXT_multiview : require
 
 // Temporal accumulation of the periphery, per eye (gl_ViewIndex), one fragment per screen
-// pixel of the rendered field (seed 001 §3.6; Yang, Nehab & Sander 2009 "Amortized
+// pixel of the rendered field (Di Donato 2017 §3.6; Yang, Nehab & Sander 2009 "Amortized
 // supersampling"; Karis 2014 "High quality temporal supersampling"). The periphery views were
 // rendered shifted by a sub-pixel jitter (Halton 2, 3), so over frames their samples land all
 // over each screen pixel: the history, kept at the screen's density, gathers them, and so holds

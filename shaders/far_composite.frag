@@ -1,9 +1,9 @@
 #version 450
 #extension GL_EXT_multiview : require
 
-// MFFR: the far image composited into a view (seed 000 §4.3). Each pixel's ray is carried into
+// MFFR: the far image composited into a view (Preißner 2020 §4.3). Each pixel's ray is carried into
 // the far image: at infinity (rotation only) or, for depth shift, at the depth the far image
-// holds there, found by fixed-point iteration (seed 000 §4.3.6). Stencil decides which pixels
+// holds there, found by fixed-point iteration (Preißner 2020 §4.3.6). Stencil decides which pixels
 // receive it (near-first) or the near field overwrites it (far-first).
 layout(constant_id = 0) const uint VIEW_SOURCE = 0; // 0: gl_ViewIndex, 1: push constant
 layout(constant_id = 2) const bool DEPTH_SHIFT = false;

@@ -6,7 +6,7 @@
 // polynomial in tangent units — then fetched from what the frame rendered. A foveated frame's
 // composition happens here too: the periphery view upscaled bilinearly and the fovea view
 // over it inside the fovea circle, blended with smoothstep across the band at the circle's
-// edge (seed 001 §3.3, §3.6.1).
+// edge (Di Donato 2017 §3.3, §3.6.1).
 
 // Where each eye's image is (plan::OutputSource): 0 layer `eye` of `images`; 1 both eyes side
 // by side in `images`; 2 `images` for the left eye, `second` for the right; 3 foveated: the

@@ -1,4 +1,4 @@
-// Radial density masking (seed 000 §4.4.2, after Vlachos, GDC 2016): in the periphery, 2x2
+// Radial density masking (Preißner 2020 §4.4.2, after Vlachos, GDC 2016): in the periphery, 2x2
 // pixel quads are skipped with a density that falls with the distance from the lens centre —
 // none inside INNER, every other quad (a checkerboard) out to OUTER, three quads in four beyond.
 // Distances are in units of the lens ellipse's radii (1 = the lens edge). The plan fixes every

@@ -5,7 +5,7 @@
 // modes differ only in how the frame is submitted, never in what is shaded.
 //   0: multiview (gl_ViewIndex)
 //   1: push constant (two-pass and per-object modes)
-//   2: instanced stereo (instance index low bit; seed 004's clip-space half viewport)
+//   2: instanced stereo (instance index low bit; Wilson 2015's clip-space half viewport)
 layout(constant_id = 0) const uint VIEW_SOURCE = 0;
 // Emulated guard band (1/K, see PassPlan::guard_band): the viewport is K times larger than the
 // render area, so x and y shrink by K to land on the same pixels.

@@ -1,8 +1,8 @@
 //! Measurements over the culling module, kept outside it so that `cull` stays pure geometry
 //! (this module also needs the scene's rails and timing statistics): the culling benchmarks
 //! behind `foveate cull-bench` and the criterion bench: Hale's
-//! intersection tables (seed 002, Tables 4.1–4.4) in form, and stereo strategies on the thesis
-//! scene along the rails (seed 000 §5–6). Every time is measured with `Instant` in this run;
+//! intersection tables (Hale 2018, Tables 4.1–4.4) in form, and stereo strategies on the thesis
+//! scene along the rails (Preißner 2020 §5–6). Every time is measured with `Instant` in this run;
 //! ratios are to a baseline measured in the same run.
 
 use std::hint::black_box;

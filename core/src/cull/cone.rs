@@ -1,4 +1,4 @@
-//! Circular and elliptical cones (Hale, seed 002 §3.2) and their intersection tests.
+//! Circular and elliptical cones (Hale 2018 §3.2) and their intersection tests.
 //!
 //! Hale's sphere test (his Listing 3.2) rejects spheres behind `z = −r·cos θ` without checking
 //! whether they contain the apex — a false negative for a sphere around the apex. The test here
@@ -92,7 +92,7 @@ impl Cone {
 
     /// Conservative box test: the box's bounding sphere first, then exact-or-conservative
     /// refinements (apex in box, a corner in the cone, an edge crossing the cone, the axis
-    /// crossing a face — seed 002 §3.2.2 and Eberly).
+    /// crossing a face — Hale 2018 §3.2.2 and Eberly).
     pub fn intersects_aabb(&self, b: &Aabb) -> bool {
         let bound = Sphere::new(b.center(), b.extents().length());
         if !self.intersects_sphere(&bound) {

@@ -1,4 +1,4 @@
-//! Static instances in a chunk grid with an octree per chunk (Tachyon, seed 000 §3.2), traversed
+//! Static instances in a chunk grid with an octree per chunk (Tachyon; Preißner 2020 §3.2), traversed
 //! in parallel. Objects are stored in depth-first order, so every subtree owns one contiguous
 //! range: a node entirely inside the view is accepted as a single range — a draw-call-sized
 //! unit — without testing its objects.

@@ -368,7 +368,7 @@ impl StereoCull for DualCone {
     }
 }
 
-/// One eye's frustum per frame, alternating (seed 000 §3.4). Objects only the other eye sees
+/// One eye's frustum per frame, alternating (Preißner 2020 §3.4). Objects only the other eye sees
 /// are missed for a frame — expected, and measured by [`super::CullStats`].
 #[derive(Clone, Copy, Debug)]
 pub struct RoundRobin {

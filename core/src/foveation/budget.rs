@@ -1,5 +1,5 @@
-//! The analytic pixel budget of a foveated frame (seed 001, Tables 2–4). Issue 4 measures the
-//! same quantities on the GPU and compares them with these formulas.
+//! The analytic pixel budget of a foveated frame (Di Donato 2017, Tables 2–4). `foveate pixels`
+//! measures the same quantities on the GPU and compares them with these formulas.
 
 /// Arm's tables were computed with π taken as 3.14; pass it to reproduce their printed cells.
 #[allow(clippy::approx_constant)] // deliberately Arm's rounded π, not ours

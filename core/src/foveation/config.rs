@@ -16,7 +16,7 @@ named_enum!(PeripheryFilter, "periphery filter", [
     PeripheryFilter::CatmullRom => "catmull-rom",
 ]);
 
-/// What a user chooses about foveation (seed 001 §3.3–3.6).
+/// What a user chooses about foveation (Di Donato 2017 §3.3–3.6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FoveationConfig {
     /// Arm's ratio: the fovea window is `ratio` times the periphery's extent, and each view's

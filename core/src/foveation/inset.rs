@@ -3,7 +3,7 @@ use glam::Vec2;
 use crate::view::FovTangents;
 
 /// The fovea views' full field of view for a periphery of `fov_ext_deg` and a resolution
-/// ratio: FOV_ins = 2·atan(tan(FOV_ext / 2) · ratio) (seed 001 §3.3).
+/// ratio: FOV_ins = 2·atan(tan(FOV_ext / 2) · ratio) (Di Donato 2017 §3.3).
 pub fn inset_fov_deg(fov_ext_deg: f64, ratio: f64) -> f64 {
     2.0 * ((fov_ext_deg.to_radians() / 2.0).tan() * ratio)
         .atan()

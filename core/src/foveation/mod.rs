@@ -1,4 +1,4 @@
-//! Foveation maths that needs no GPU (Arm whitepaper, seed 001 §3): the inset field of view,
+//! Foveation maths that needs no GPU (Arm's white paper, Di Donato 2017 §3): the inset field of view,
 //! where the fovea views look for a gaze, the analytic pixel budget of Tables 2–4, and gaze
 //! input that never panics on bad samples, a simulated eye, and the tracker's latency.
 

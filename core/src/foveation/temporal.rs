@@ -1,4 +1,4 @@
-//! Temporal accumulation of the periphery (seed 001 §3.6; the technique of TAA and its
+//! Temporal accumulation of the periphery (Di Donato 2017 §3.6; the technique of TAA and its
 //! upsampling variants: Yang, Nehab & Sander 2009, "Amortized supersampling"; Karis 2014,
 //! "High quality temporal supersampling"): each frame the periphery views are shifted by a
 //! sub-pixel offset from a Halton sequence, and the output pass's periphery comes from a history

@@ -51,7 +51,7 @@ impl FromStr for SplitDistance {
     }
 }
 
-/// Which field reaches each eye's pixels first (seed 000 §4.3.2–4.3.3).
+/// Which field reaches each eye's pixels first (Preißner 2020 §4.3.2–4.3.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum MffrOrder {
     /// The far image is composited into every eye pixel, then the near field drawn over it.
@@ -67,10 +67,10 @@ pub enum MffrVariant {
     /// Rendered from the head centre, reprojected by rotation only: each eye is off by half the
     /// disparity of what it sees.
     Centre,
-    /// Rendered from the left eye on even frames and the right eye on odd ones (seed 000
+    /// Rendered from the left eye on even frames and the right eye on odd ones (Preißner 2020
     /// §4.3.7): one eye exact, the other off by the full disparity, alternating.
     AlternateEye,
-    /// Rendered from the head centre and shifted per pixel by its own depth (seed 000 §4.3.6).
+    /// Rendered from the head centre and shifted per pixel by its own depth (Preißner 2020 §4.3.6).
     DepthShift,
 }
 

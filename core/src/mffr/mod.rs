@@ -1,4 +1,4 @@
-//! Monoscopic far-field rendering (seed 000 §4.3): the near field in stereo, the far field once
+//! Monoscopic far-field rendering (Preißner 2020 §4.3): the near field in stereo, the far field once
 //! from one viewpoint, composited into each eye by reprojection.
 //!
 //! The maths here needs no GPU: the split distance from a disparity threshold, the one far

@@ -13,7 +13,7 @@ use crate::vocab::named_enum;
 /// foveate's own limit on views in one pass: two eyes, or two eyes × (periphery, fovea).
 pub const MAX_VIEWS: u32 = 4;
 
-/// How the two eyes' views are submitted (seed 004, and Vulkan multiview).
+/// How the two eyes' views are submitted (Wilson 2015, and Vulkan multiview).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum StereoMode {
     /// One render pass, view mask 0b11, `gl_ViewIndex` picks the eye (`VK_KHR_multiview`).
@@ -23,7 +23,7 @@ pub enum StereoMode {
     /// One pass, each object drawn twice with the view state (viewport, eye index) switched.
     PerObject,
     /// One pass, instance count doubled; the eye comes from the instance index and each eye is
-    /// squeezed into its half of a double-wide target with a clip distance (seed 004).
+    /// squeezed into its half of a double-wide target with a clip distance (Wilson 2015).
     Instanced,
 }
 
@@ -113,7 +113,7 @@ named_enum!(FoveaLayout, "fovea layout", [
     FoveaLayout::TwoPass => "two-pass",
 ]);
 
-/// Per-frame culling of the scene's instances on the CPU (seed 000 §3): distance culling at the
+/// Per-frame culling of the scene's instances on the CPU (Preißner 2020 §3): distance culling at the
 /// draw distance and a stereo strategy's volume, over the scene's chunk-and-octree hierarchy.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CullConfig {
@@ -277,7 +277,7 @@ impl RenderConfig {
     }
 }
 
-/// Radial density masking as a user chooses it (seed 000 §4.4.2; builder: `radial_density.rs`).
+/// Radial density masking as a user chooses it (Preißner 2020 §4.4.2; builder: `radial_density.rs`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RadialDensity {
     /// Inside this radius (1 = the lens edge) every quad is shaded.

@@ -1,4 +1,4 @@
-//! Radial density masking (seed 000 §4.4.2, after Vlachos, GDC 2016): in the scene pass, a
+//! Radial density masking (Preißner 2020 §4.4.2, after Vlachos, GDC 2016): in the scene pass, a
 //! stencil mask skips 2×2 pixel quads in the periphery — every other quad past `inner`, three in
 //! four past `outer`, distances in units of the lens ellipse — and a reconstruction pass fills the
 //! skipped quads from their kept neighbours. Shaders: `radial_density.glsl`, `radial_mask.frag`,

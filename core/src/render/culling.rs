@@ -1,4 +1,4 @@
-//! Per-frame culling in the renderer (seed 000 §3): the scene's instances in the chunk-and-octree
+//! Per-frame culling in the renderer (Preißner 2020 §3): the scene's instances in the chunk-and-octree
 //! hierarchy, culled into the plan's cull slots — both eyes' set, each eye's own set (per-eye
 //! culling of a two-pass frame), MFFR's near and far fields, or a foveated frame's fovea set
 //! (alone, or as tags on the periphery's) — and written as the instance ids the indirect scene

@@ -1,4 +1,4 @@
-//! MFFR in the renderer (seed 000 §4.3): the per-frame near/far split of the scene's instances,
+//! MFFR in the renderer (Preißner 2020 §4.3): the per-frame near/far split of the scene's instances,
 //! and the far composite's resources. The far pass itself is a scene pass drawn from the far
 //! view; the composite is a full-view draw inside each eye pass.
 

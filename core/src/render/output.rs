@@ -1,4 +1,4 @@
-//! The output stage (seed 001 §3.3–3.4, §3.6.1): what the display shows, per eye — for the
+//! The output stage (Di Donato 2017 §3.3–3.4, §3.6.1): what the display shows, per eye — for the
 //! lens, each pixel undistorted then fetched; for a foveated frame, the periphery upscaled
 //! bilinearly and the fovea blended over it with smoothstep across the band: its descriptor set,
 //! sampler and uniforms (its pipeline is its step's, like every other).

@@ -1,5 +1,5 @@
 //! Recording the stereo scene step: the scene's geometry, submitted as the pass's strategy
-//! says (seed 004: multiview, one eye, instanced, each object twice).
+//! says (Wilson 2015: multiview, one eye, instanced, each object twice).
 
 use super::recorder::{Recorder, Rect};
 use crate::mffr::FAR_VIEW_INDEX;

@@ -1,4 +1,4 @@
-//! A far-heavy scene for MFFR (seed 000 §4.3.1: only scenes with much beyond the split gain):
+//! A far-heavy scene for MFFR (Preißner 2020 §4.3.1: only scenes with much beyond the split gain):
 //! a city of blocks from 28 m out to 400 m in every direction, a few objects near the viewer.
 
 use glam::{Mat4, Quat, Vec3};

@@ -1,5 +1,5 @@
 //! Clusters: a mesh's triangles in runs of at most 32 to 256 (124 by default), each with a bounding sphere and a cone of its normals, so that a draw set culls the parts of
-//! a large mesh its views cannot see (seed 001 §3.2: four views raise the vertex load until the
+//! a large mesh its views cannot see (Di Donato 2017 §3.2: four views raise the vertex load until the
 //! GPU is vertex-bound). meshoptimizer builds them: its greedy builder keeps a cluster's
 //! triangles adjacent and facing alike, which is what makes the bounds tight.
 //!

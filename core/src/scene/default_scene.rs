@@ -97,7 +97,7 @@ pub fn default_scene() -> Scene {
 
 /// A fill-bound scene: 24 walls facing the viewer, each wider than any headset's view, drawn
 /// back to front so every fragment of every wall passes the depth test (24× overdraw) — the
-/// workload foveation is meant for (seed 001 §2.2: "fragment bound").
+/// workload foveation is meant for (Di Donato 2017 §2.2: "fragment bound").
 pub fn fill_scene() -> Scene {
     let walls = (0..24u32)
         .map(|i| {

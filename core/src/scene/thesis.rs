@@ -1,4 +1,4 @@
-//! The benchmark scene of the Tachyon thesis (seed 000 §5.1) and its camera rails.
+//! The benchmark scene of the Tachyon thesis (Preißner 2020 §5.1) and its camera rails.
 //!
 //! 711 × 22 × 711 grid counts at spacing 3.6, each position jittered by the thesis' sin/cos/tan
 //! entropy; a cube everywhere except where the x+z, y−z and z counts are all multiples of 11,

@@ -1,5 +1,5 @@
 //! Lens distortion: where the eye sees each display pixel through the headset's lens, which is
-//! what the output stage needs to pre-distort the rendered image (seed 001 §2: the lens's
+//! what the output stage needs to pre-distort the rendered image (Di Donato 2017 §2: the lens's
 //! pincushion distortion, countered by the compositor's barrel distortion).
 
 use glam::Vec2;

@@ -100,7 +100,7 @@ pub const HMD_PROFILES: &[HmdProfile] = &[
     // Oculus Rift CV1: 1080×1200 OLED per eye (Oculus specification). Tangents: Oculus runtime
     // default FOV of the left eye as recorded by hmdq (hmdgdb, "Oculus Rift CV1 (90Hz)"):
     // left 0.964926, right 0.715264, up 0.889498, down 1.110925 — the asymmetric eye Hale's
-    // thesis (seed 002, §4) struggled to fit with a circular cone.
+    // thesis (Hale 2018, §4) struggled to fit with a circular cone.
     HmdProfile {
         name: "rift-cv1",
         display_name: "Oculus Rift CV1",
@@ -140,7 +140,7 @@ pub const HMD_PROFILES: &[HmdProfile] = &[
         eye_tracker: None,
         source: "Meta spec (panel, 120 Hz); tangents and hidden area: hmdq (hmdgdb); lens: Cardboard 2015 stand-in",
     },
-    // --- Eye-tracked headsets and the volume headset (issue 27). No per-eye tangents are
+    // --- Eye-tracked headsets and the volume headset. No per-eye tangents are
     // recorded for these in the sources we have (hmdgdb has none), so each field is estimated
     // from the maker's published field of view: the published horizontal figure is taken as the
     // binocular field, each eye's outer half-angle half of it and its inner one 7° less (the
@@ -150,7 +150,7 @@ pub const HMD_PROFILES: &[HmdProfile] = &[
     // stand-in distorts more than they do, so lens-output error figures are pessimistic.
     // Meta Quest Pro: 1800×1920 LCD per eye, 90 Hz, 106° H × 96° V (Meta's specification);
     // eye tracking built in; rate unpublished; ≈ 50 ms end-to-end latency as measured reports
-    // put it (issue 24's sources; estimated).
+    // put it (estimated).
     HmdProfile {
         name: "quest-pro",
         display_name: "Meta Quest Pro",
@@ -299,7 +299,7 @@ impl HmdProfile {
 
     /// The lens-visible region of an eye with field of view `fov`: an ellipse hiding the
     /// published hidden-area fraction or, for a profile without one, the circular fallback
-    /// (the ellipse inscribed in the image, hiding 1 − π/4 ≈ 21.5 %; seed 000 §4.2's "fast
+    /// (the ellipse inscribed in the image, hiding 1 − π/4 ≈ 21.5 %; Preißner 2020 §4.2's "fast
     /// circular approximation mask").
     pub fn lens_region(&self, fov: FovTangents) -> LensRegion {
         match self.hidden_area_fraction {

@@ -1,4 +1,4 @@
-//! The thesis' configuration matrix (seed 000 §5.3): every permutation of its four
+//! The thesis' configuration matrix (Preißner 2020 §5.3): every permutation of its four
 //! optimisations, and each multiview one again with foveation on — all runtime configuration.
 
 use foveate::cull::Strategy;

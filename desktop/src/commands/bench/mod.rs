@@ -1,4 +1,4 @@
-//! `foveate bench`: the thesis' benchmark (seed 000 §5–6) on its scene along its rails — every
+//! `foveate bench`: the thesis' benchmark (Preißner 2020 §5–6) on its scene along its rails — every
 //! permutation of superfrustum, multiview, stencil mask and MFFR, each multiview one also
 //! foveated — per-frame times and counts, the thesis' tables with ratios to the baseline,
 //! memory and traffic per configuration, the accuracy-vs-time curve, and plots.
