@@ -22,3 +22,9 @@ pub mod vocab;
 pub mod xr;
 
 pub use plan::{plan, ConfigError, FramePlan, RenderConfig, StereoMode};
+
+/// The Vulkan bindings the API speaks in (command buffers, images, semaphores): use this one,
+/// so the versions match.
+pub use ash;
+/// The maths types the API speaks in (`Mat4`, `Vec2`, …): use this one, so the versions match.
+pub use glam;
