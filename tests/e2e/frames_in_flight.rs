@@ -371,6 +371,13 @@ fn a_frames_figures_are_its_own() {
     }
     let last = renderer.frame_stats(records[2]).unwrap().unwrap();
     assert!(last.gpu_ms.unwrap() > 0.0 && last.draw_calls > 0);
+    // Each pass's time comes with the plan's name for it.
+    let named: Vec<_> = last.gpu_pass_times().collect();
+    assert_eq!(named.len(), plan.passes.len());
+    for ((name, ms), pass) in named.iter().zip(&plan.passes) {
+        assert!(*name == pass.name && *ms > 0.0, "{name}: {ms}");
+        assert_eq!(last.gpu_pass_ms_of(pass.name), Some(*ms));
+    }
     // Frame 0's slot (of 2) held frame 2 since.
     let error = renderer.frame_stats(records[0]).unwrap_err().to_string();
     assert!(

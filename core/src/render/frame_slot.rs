@@ -161,6 +161,7 @@ impl FrameSlot {
             frame_ms: frame.cpu_record_ms + frame.cpu_cull_ms,
             gpu_ms,
             gpu_pass_ms,
+            pass_names: plan.passes.iter().map(|p| p.name).collect(),
             fragments: Vec::new(),
             far_fragments: None,
             steps,

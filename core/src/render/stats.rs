@@ -17,8 +17,11 @@ pub struct FrameStats {
     pub frame_ms: f64,
     /// GPU time between the frame's first and last timestamp (when timestamps are planned).
     pub gpu_ms: Option<f64>,
-    /// GPU time of each planned pass, in plan order (when timestamps are planned).
+    /// GPU time of each planned pass, in plan order (when timestamps are planned); named by
+    /// [`FrameStats::gpu_pass_times`].
     pub gpu_pass_ms: Vec<f64>,
+    /// Each planned pass's name, in plan order, as the plan prints it.
+    pub pass_names: Vec<&'static str>,
     /// Fragments the scene draws shaded per eye view, over every eye pass (when fragment
     /// counting is planned; empty otherwise). Masks, composites and probes are in
     /// [`FrameStats::steps`].
@@ -86,6 +89,21 @@ impl StepFragments {
 }
 
 impl FrameStats {
+    /// Each pass's GPU time with its name, in plan order (none without timestamps).
+    pub fn gpu_pass_times(&self) -> impl Iterator<Item = (&'static str, f64)> + '_ {
+        self.pass_names
+            .iter()
+            .copied()
+            .zip(self.gpu_pass_ms.iter().copied())
+    }
+
+    /// The GPU time of the pass named `name` (as the plan prints it), when timed.
+    pub fn gpu_pass_ms_of(&self, name: &str) -> Option<f64> {
+        self.gpu_pass_times()
+            .find(|(n, _)| *n == name)
+            .map(|(_, ms)| ms)
+    }
+
     /// A counting frame: the scene's fragments per eye view (`views` of them) and, with MFFR,
     /// the far view's, from the per-step counts.
     pub(super) fn split_scene_fragments(&mut self, views: u32, mffr: bool) {
