@@ -34,6 +34,19 @@ for driver in $drivers; do
     passed=$((passed + p)) failed=$((failed + f))
     summary+=("$driver: $p passed, $f failed")
 done
+# The library's examples (core/examples), each run as a user would run it.
+echo "=== the examples"
+ran=() broke=()
+for example in headless own_images engine_loop judge; do
+    if cargo run -q -p foveate --features flip --example "$example" >"$log" 2>&1; then
+        ran+=("$example")
+    else
+        cat "$log"
+        broke+=("$example")
+        status=1
+    fi
+done
+summary+=("examples: ${#ran[@]} ran (${ran[*]}), ${#broke[@]} failed ${broke[*]}")
 printf '%s\n' "${summary[@]}"
 if [ "${FOVEATE_SKIP_LINT:-0}" != "1" ]; then
     cargo fmt --all -- --check || status=1

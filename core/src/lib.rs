@@ -6,6 +6,11 @@
 //! or rendered and waited for ([`render::Renderer::render_frame`]), with GPU timestamps and
 //! exact per-view fragment counts. The device may be foveate's ([`gpu::Gpu::new`]) or an
 //! engine's ([`gpu::Gpu::from_engine`]).
+//!
+//! The examples in `core/examples/` go from a first headless frame to an engine's frame loop
+//! (`headless`, `own_images`, `engine_loop`, `judge`), and `docs/embedding.md` walks through
+//! them. Features: `flip` (NVIDIA's FLIP and the eccentricity-aware FLIP in [`metrics`]),
+//! `clusters` (meshes split into culled clusters), `xr` (OpenXR).
 
 pub mod cull;
 pub mod foveation;
