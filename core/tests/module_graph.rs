@@ -283,6 +283,8 @@ fn functions(text: &str) -> Vec<(String, usize, usize)> {
         }
         let mut depth = 0i32;
         let mut opened = false;
+        // Brackets of the signature: a `;` inside them (`[f32; 2]`) ends nothing.
+        let mut brackets = 0i32;
         'lines: for (end, l) in lines.iter().enumerate().skip(start) {
             for c in l.chars() {
                 match c {
@@ -291,7 +293,9 @@ fn functions(text: &str) -> Vec<(String, usize, usize)> {
                         opened = true;
                     }
                     '}' => depth -= 1,
-                    ';' if !opened => break 'lines, // a declaration without a body
+                    '(' | '[' if !opened => brackets += 1,
+                    ')' | ']' if !opened => brackets -= 1,
+                    ';' if !opened && brackets == 0 => break 'lines, // a declaration without a body
                     _ => {}
                 }
                 if opened && depth == 0 {
@@ -344,11 +348,17 @@ fn no_function_in_render_or_plan_is_over_120_lines() {
 /// and its length runs from `fn` to the closing brace.
 #[test]
 fn function_lengths_are_counted_from_fn_to_its_closing_brace() {
-    let text = "fn a() {\n    let s = \"}\";\n    let c = '{';\n    // }\n}\nfn b(x: &'static str);\nfn c<'a>(x: &'a u8) -> u8 {\n    *x\n}\n";
+    let text = "fn a() {\n    let s = \"}\";\n    let c = '{';\n    // }\n}\nfn b(x: &'static str);\nfn c<'a>(x: &'a u8) -> u8 {\n    *x\n}\nfn d(\n    x: [f32; 2],\n) {\n}\n";
     let found = functions(text);
     assert_eq!(
         found,
-        vec![("a".to_string(), 1, 5), ("c".to_string(), 7, 3)],
+        vec![
+            ("a".to_string(), 1, 5),
+            ("c".to_string(), 7, 3),
+            // A `;` in the signature's brackets (an array type) is not a declaration's end:
+            // the counter once skipped such functions (`culling::cull`, 241 lines).
+            ("d".to_string(), 10, 4)
+        ],
         "{found:?}"
     );
 }

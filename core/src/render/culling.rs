@@ -7,16 +7,13 @@
 
 use glam::{Mat4, Vec3};
 
-use super::cluster_cull::ClusterTest;
-use super::lod_select::{lod_level, LodView};
+use super::cull_slots::{CullFrame, FrameCull, Selection};
+use super::lod_select::lod_level;
 use super::scene_buffers::SceneBuffers;
-use crate::cull::{
-    CullHierarchy, CullView, Frustum, HierarchyParams, Sphere, StereoFrusta, Strategy, Superfrustum,
-};
+use crate::cull::{CullHierarchy, Frustum, HierarchyParams, Sphere, StereoFrusta};
 use crate::plan::{DrawSet, FramePlan, Step};
 use crate::scene::{Cluster, Draw, PlacedClusters, Scene};
 use crate::view::{Eye, EyeParams, FovTangents, LensRegion};
-use crate::vocab::Resolution;
 
 /// The top bit of a culled id in the one-pass fovea layout: the fovea superfrustum keeps the
 /// instance (`FOVEA_TAG` in `shaders/scene.vert`).
@@ -181,6 +178,33 @@ impl FrameCulling {
         far: Option<&Frustum>,
         fovea: Option<&[FovTangents; 2]>,
     ) {
+        let at = FrameCull {
+            plan,
+            world_from_head,
+            frame,
+            far,
+            fovea,
+        };
+        let frame = CullFrame::new(at, self.lens_regions, self.draw_distance, self.near_reach);
+        self.ids.clear();
+        for (slot, &draw_set) in plan.cull_slots.iter().enumerate() {
+            let selection = frame.select(
+                &self.hierarchy,
+                draw_set,
+                self.fovea_draws[slot],
+                &mut self.in_fovea,
+                self.draw_of.len(),
+            );
+            let tagged = draw_set == DrawSet::FoveaTagged;
+            self.fill_buckets(&selection, tagged, frame.lod);
+            self.emit_set(slot);
+        }
+    }
+
+    /// Sorts the instances `selection` keeps into the draw buckets: each present instance's
+    /// level of detail, or its clusters the set may see, or the whole mesh; `tagged`: ids of
+    /// what the fovea views see carry [`FOVEA_TAG`].
+    fn fill_buckets(&mut self, selection: &Selection, tagged: bool, lod: Option<f32>) {
         let FrameCulling {
             hierarchy: h,
             draw_of,
@@ -188,229 +212,74 @@ impl FrameCulling {
             placed,
             lod_bounds,
             draw_buckets,
-            fovea_draws,
-            lens_regions,
-            draw_distance,
-            near_reach,
             buckets,
             in_fovea,
             seen_by_fovea,
-            ids,
-            sets,
+            ..
         } = self;
-        let draw_distance = *draw_distance;
-        let centre = world_from_head.transform_point3(Vec3::ZERO);
-        let strategy = plan.culling.map_or(Strategy::PerEye, |c| c.strategy);
-        let view = |distance| CullView {
-            eyes: &plan.eyes,
-            world_from_head,
-            near: plan.near,
-            draw_distance: distance,
-            frame,
-            lens_regions,
-        };
-        let clustered = plan.clusters.is_some_and(|c| c.culled());
-        let lod = plan.lod.map(|l| l.max_error_px);
-        // Both eyes' frusta once a frame, when a slot culls per eye, clusters are culled or
-        // levels chosen.
-        let frusta = (clustered
-            || lod.is_some()
-            || plan
-                .cull_slots
-                .iter()
-                .any(|s| matches!(s, DrawSet::VisibleToEye(_))))
-        .then(|| StereoFrusta::new(&plan.eyes, world_from_head, plan.near, draw_distance));
-        let eyes = || {
-            let frusta = frusta.as_ref().expect("computed with clusters");
-            frusta.eyes.map(|f| f.origin)
-        };
-        let superfrustum = |eyes: &EyeParams, distance| {
-            Superfrustum::new(eyes, world_from_head, plan.near, distance).frustum
-        };
-        // The fovea views as eyes whose fields are the fovea windows.
-        let fovea_eyes = || {
-            let fovea = fovea.expect("fovea sets are planned with foveation");
-            EyeParams {
-                left_fov: fovea[0],
-                right_fov: fovea[1],
-                ..plan.eyes
+        buckets.iter_mut().for_each(Vec::clear);
+        let mut keep = |id: u32| {
+            let i = id as usize;
+            if present.get(i) == Some(&false) {
+                return;
             }
-        };
-        // The superfrustum around both fovea frusta.
-        let fovea_frustum = || superfrustum(&fovea_eyes(), draw_distance);
-        // The views a set's level of detail must satisfy (none without level of detail): the
-        // eyes at the scene passes' pixels (a foveated frame's periphery's), the fovea views
-        // at theirs, the MFFR far view at its own.
-        let lod_views = |frusta: &[Frustum], pixels: Resolution| -> Vec<LodView> {
-            match lod {
-                Some(_) => frusta.iter().map(|f| LodView::new(f, pixels)).collect(),
-                None => Vec::new(),
-            }
-        };
-        let eye_pixels = plan
-            .foveation
-            .map_or(plan.eye_resolution, |g| g.periphery_view);
-        let eye_views = || {
-            frusta
-                .as_ref()
-                .map_or(Vec::new(), |f| lod_views(&f.eyes, eye_pixels))
-        };
-        let fovea_views = || match (lod, plan.foveation) {
-            (Some(_), Some(g)) => {
-                let frusta =
-                    StereoFrusta::new(&fovea_eyes(), world_from_head, plan.near, draw_distance);
-                lod_views(&frusta.eyes, g.fovea_view)
-            }
-            _ => Vec::new(),
-        };
-        let test = |frustum, eyes, distance| ClusterTest {
-            frustum,
-            eyes,
-            centre,
-            distance,
-        };
-        // Both eyes' clusters within the draw distance (the stereo sets and the periphery's).
-        let stereo_test = || {
-            clustered.then(|| {
-                test(
-                    superfrustum(&plan.eyes, draw_distance),
-                    eyes(),
-                    draw_distance,
-                )
-            })
-        };
-        ids.clear();
-        for (slot, (set, draw_set)) in sets.iter_mut().zip(&plan.cull_slots).enumerate() {
-            // The eyes' (or periphery's) views, and the fovea views where they draw the set.
-            let stereo_views = || {
-                let mut views = eye_views();
-                if fovea_draws[slot] {
-                    views.extend(fovea_views());
+            let tag = |seen: bool| if tagged && seen { FOVEA_TAG } else { 0 };
+            let draw = &draw_buckets[draw_of[i] as usize];
+            let instance_in_fovea = in_fovea.get(i) == Some(&true);
+            let level = match (lod, lod_bounds.get(i).and_then(Option::as_ref)) {
+                (Some(px), Some((bounds, scale))) => {
+                    let views = if tagged && instance_in_fovea {
+                        &selection.tagged_views
+                    } else {
+                        &selection.views
+                    };
+                    lod_level(views, px, bounds, *scale, &draw.lod_errors)
                 }
-                views
+                _ => 0,
             };
-            // What the slot draws (`None`: every instance), its clusters' test, the views its
-            // levels are chosen for, the test whose failure tags a cluster as unseen by the
-            // fovea views, and the views a tagged instance's level must also satisfy.
-            let mut fovea_tags = None;
-            let mut tagged_views = Vec::new();
-            let (kept, clusters, views) = match draw_set {
-                DrawSet::All => (None, None, stereo_views()),
-                DrawSet::Visible => (
-                    Some(strategy.cull(h, &view(draw_distance))),
-                    stereo_test(),
-                    stereo_views(),
-                ),
-                DrawSet::VisibleToEye(e) => {
-                    let frusta = frusta.as_ref().expect("computed for per-eye slots");
-                    let frustum = frusta.eyes[e.index()];
-                    let mut views = eye_views();
-                    if !views.is_empty() {
-                        views = vec![views[e.index()]];
-                    }
-                    (
-                        Some(h.cull(&frustum, centre, draw_distance)),
-                        clustered.then(|| test(frustum, [frustum.origin; 2], draw_distance)),
-                        views,
-                    )
-                }
-                DrawSet::NearField => {
-                    let reach = near_reach.expect("a near field is planned with MFFR");
-                    (
-                        Some(strategy.cull(h, &view(reach))),
-                        clustered.then(|| test(superfrustum(&plan.eyes, reach), eyes(), reach)),
-                        eye_views(),
-                    )
-                }
-                DrawSet::FarField => {
-                    let far = far.expect("a far field is planned with MFFR");
-                    let pixels = plan.mffr.map_or(plan.eye_resolution, |m| m.resolution);
-                    (
-                        Some(h.cull(far, centre, draw_distance)),
-                        clustered.then(|| test(*far, [far.origin; 2], draw_distance)),
-                        lod_views(std::slice::from_ref(far), pixels),
-                    )
-                }
-                DrawSet::Fovea => {
-                    let frustum = fovea_frustum();
-                    (
-                        Some(h.cull(&frustum, centre, draw_distance)),
-                        clustered.then(|| test(frustum, eyes(), draw_distance)),
-                        fovea_views(),
-                    )
-                }
-                DrawSet::FoveaTagged => {
-                    let frustum = fovea_frustum();
-                    in_fovea.clear();
-                    in_fovea.resize(draw_of.len(), false);
-                    for i in h.cull(&frustum, centre, draw_distance).visible.indices() {
-                        in_fovea[h.ids[i as usize] as usize] = true;
-                    }
-                    fovea_tags = clustered.then(|| test(frustum, eyes(), draw_distance));
-                    let periphery = plan.culling.map(|_| strategy.cull(h, &view(draw_distance)));
-                    let views = eye_views();
-                    tagged_views = [views.clone(), fovea_views()].concat();
-                    (periphery, stereo_test(), views)
-                }
-            };
-            let tagged = *draw_set == DrawSet::FoveaTagged;
-            buckets.iter_mut().for_each(Vec::clear);
-            let mut keep = |id: u32| {
-                let i = id as usize;
-                if present.get(i) == Some(&false) {
-                    return;
-                }
-                let tag = |seen: bool| if tagged && seen { FOVEA_TAG } else { 0 };
-                let draw = &draw_buckets[draw_of[i] as usize];
-                let instance_in_fovea = in_fovea.get(i) == Some(&true);
-                let level = match (lod, lod_bounds.get(i).and_then(Option::as_ref)) {
-                    (Some(px), Some((bounds, scale))) => {
-                        let views = if tagged && instance_in_fovea {
-                            &tagged_views
-                        } else {
-                            &views
-                        };
-                        lod_level(views, px, bounds, *scale, &draw.lod_errors)
-                    }
-                    _ => 0,
-                };
-                if level > 0 {
-                    buckets[draw.lod_bucket(level)].push(id | tag(instance_in_fovea));
-                    return;
-                }
-                match (placed[i].as_ref(), clusters.as_ref()) {
-                    (Some(p), Some(test)) => {
-                        seen_by_fovea.clear();
-                        seen_by_fovea.resize(draw.clusters.len(), false);
-                        if let Some(f) = fovea_tags.as_ref().filter(|_| instance_in_fovea) {
-                            f.kept(p, &draw.clusters)
-                                .for_each(|j| seen_by_fovea[j] = true);
-                        }
-                        for j in test.kept(p, &draw.clusters) {
-                            buckets[draw.first + 1 + j].push(id | tag(seen_by_fovea[j]));
-                        }
-                    }
-                    _ => buckets[draw.first].push(id | tag(instance_in_fovea)),
-                }
-            };
-            match &kept {
-                Some(r) => r.visible.indices().for_each(|i| keep(h.ids[i as usize])),
-                None => (0..draw_of.len() as u32).for_each(keep),
+            if level > 0 {
+                buckets[draw.lod_bucket(level)].push(id | tag(instance_in_fovea));
+                return;
             }
-            set.clear();
-            for draw in draw_buckets.iter() {
-                for (b, range) in draw.ranges().enumerate() {
-                    let bucket = &buckets[draw.first + b];
-                    if bucket.is_empty() {
-                        continue;
+            match (placed[i].as_ref(), selection.clusters.as_ref()) {
+                (Some(p), Some(test)) => {
+                    seen_by_fovea.clear();
+                    seen_by_fovea.resize(draw.clusters.len(), false);
+                    let fovea_tags = selection.fovea_tags.as_ref();
+                    if let Some(f) = fovea_tags.filter(|_| instance_in_fovea) {
+                        f.kept(p, &draw.clusters)
+                            .for_each(|j| seen_by_fovea[j] = true);
                     }
-                    set.push(Draw {
-                        mesh: range,
-                        first_instance: ids.len() as u32,
-                        instance_count: bucket.len() as u32,
-                    });
-                    ids.extend_from_slice(bucket);
+                    for j in test.kept(p, &draw.clusters) {
+                        buckets[draw.first + 1 + j].push(id | tag(seen_by_fovea[j]));
+                    }
                 }
+                _ => buckets[draw.first].push(id | tag(instance_in_fovea)),
+            }
+        };
+        match &selection.kept {
+            Some(r) => r.visible.indices().for_each(|i| keep(h.ids[i as usize])),
+            None => (0..draw_of.len() as u32).for_each(keep),
+        }
+    }
+
+    /// Slot `slot`'s draws from the filled buckets: one draw per non-empty bucket, its ids
+    /// appended to the frame's.
+    fn emit_set(&mut self, slot: usize) {
+        let set = &mut self.sets[slot];
+        set.clear();
+        for draw in &self.draw_buckets {
+            for (b, range) in draw.ranges().enumerate() {
+                let bucket = &self.buckets[draw.first + b];
+                if bucket.is_empty() {
+                    continue;
+                }
+                set.push(Draw {
+                    mesh: range,
+                    first_instance: self.ids.len() as u32,
+                    instance_count: bucket.len() as u32,
+                });
+                self.ids.extend_from_slice(bucket);
             }
         }
     }

@@ -4,6 +4,7 @@
 mod cluster_cull;
 mod command_log;
 mod counting;
+mod cull_slots;
 mod culling;
 mod descriptors;
 mod executor;
