@@ -46,7 +46,7 @@ for example in headless own_images engine_loop judge; do
         status=1
     fi
 done
-summary+=("examples: ${#ran[@]} ran (${ran[*]}), ${#broke[@]} failed ${broke[*]}")
+summary+=("examples: ${#ran[@]} ran (${ran[*]}), ${#broke[@]} failed${broke[*]:+ (${broke[*]})}")
 printf '%s\n' "${summary[@]}"
 if [ "${FOVEATE_SKIP_LINT:-0}" != "1" ]; then
     cargo fmt --all -- --check || status=1
