@@ -1006,3 +1006,27 @@ fn xr_without_a_runtime_or_with_bad_arguments_is_a_clear_error() {
     }
     std::fs::remove_dir_all(&empty).unwrap();
 }
+
+/// Every headset profile is offered where a user looks for one: `--help` and the options
+/// table of the command-line docs. Mutation: a profile added to the library and not to either
+/// fails it.
+#[test]
+fn help_and_the_options_table_list_every_headset() {
+    let help = stdout(&foveate(&["render", "--help"]));
+    let table = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/commands/README.md"),
+    )
+    .unwrap();
+    let row = table
+        .lines()
+        .find(|l| l.starts_with("| `--hmd`"))
+        .expect("the --hmd row");
+    for profile in foveate::view::HMD_PROFILES {
+        assert!(help.contains(profile.name), "--help lacks {}", profile.name);
+        assert!(
+            row.contains(&format!("`{}`", profile.name)),
+            "the options table lacks {}",
+            profile.name
+        );
+    }
+}
