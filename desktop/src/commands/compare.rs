@@ -130,32 +130,7 @@ struct Row {
 
 pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     crate::interrupt::install();
-    anyhow::ensure!(args.frames >= 1, "invalid frames = 0: at least 1");
-    crate::outputs::files(&[args.csv.as_deref(), args.latency.frames_csv.as_deref()])?;
-    if let Some(stem) = args.pareto.as_deref().filter(|p| !p.as_os_str().is_empty()) {
-        crate::outputs::plot(stem)?;
-    }
-    if let Some(dir) = &args.heatmaps {
-        crate::outputs::folder(dir)?;
-    }
-    if let Some(stem) = &args.latency.latency_plot {
-        crate::outputs::plot(stem)?;
-    }
-    if let Some(budget) = args.recommend {
-        anyhow::ensure!(
-            budget.is_finite() && budget > 0.0,
-            "invalid recommend = {budget}: a FLIP budget above 0 (FLIP runs 0..1)"
-        );
-    }
-    anyhow::ensure!(
-        args.mar_slope.is_finite() && args.mar_slope > 0.0 && args.mar_slope <= 10.0,
-        "invalid mar-slope = {}: 0 < slope ≤ 10 arcmin per degree (Guenter et al.: 1.32–1.65)",
-        args.mar_slope
-    );
-    let acuity = Acuity {
-        slope_arcmin_per_deg: args.mar_slope,
-        ..Acuity::default()
-    };
+    let acuity = checked_acuity(args)?;
     if args.table {
         return table(options, args);
     }
@@ -167,82 +142,19 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         "invalid frames = {}: at least 2 (the first is a warm-up)",
         args.frames
     );
-    let ratios = args.ratios.clone().unwrap_or(vec![0.7, 0.5, 0.35]);
     let gaze = crate::gaze_arg::gaze_from(&args.gaze)?;
     let scene = args.frame.scene(&args.scene)?;
     let screen = args.frame.screen(&args.res)?;
     let base = args.frame.base(&args.res)?;
     // Every foveated variant, checked before anything renders.
-    let default_band = args
-        .blend_band
-        .unwrap_or(FoveationConfig::default().blend_band_px);
-    let mut variants = Vec::new();
-    for &ratio in &ratios {
-        let with = |blend_band_px, periphery_sharpen| FoveationConfig {
-            ratio,
-            blend_band_px,
-            periphery_sharpen,
-            ..Default::default()
-        };
-        variants.push((format!("foveated {ratio}"), with(default_band, 0.0)));
-        for &band in &args.bands {
-            variants.push((format!("foveated {ratio}, band {band}"), with(band, 0.0)));
-        }
-        for &sharpen in &args.sharpen {
-            anyhow::ensure!(
-                sharpen > 0.0,
-                "invalid sharpen = {sharpen}: 0 < sharpen ≤ 1 (leave it out for none)"
-            );
-            let name = format!("foveated {ratio}, sharpen {sharpen}");
-            variants.push((name, with(default_band, sharpen)));
-        }
-        if args.catmull_rom {
-            let f = FoveationConfig {
-                periphery_filter: PeripheryFilter::CatmullRom,
-                ..with(default_band, 0.0)
-            };
-            variants.push((format!("foveated {ratio}, catmull-rom"), f));
-        }
-    }
-    variants = with_view_sets(variants, &args.densities, &args.periphery_msaa);
-    if args.temporal {
-        variants = with_temporal(variants);
-    }
-    for (_, f) in &variants {
-        f.geometry(screen)?;
-    }
+    let variants = foveated_variants(args, screen)?;
     if let Some(dir) = &args.heatmaps {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let gpu = Gpu::new(options)?;
     // The reference first (full meshes, whatever `--lod` asks of the rows), then every row:
     // all measured side by side in one group.
-    let reference = RenderConfig {
-        lod: None,
-        ..base.clone()
-    };
-    let mut named = vec![("reference".to_string(), 4, reference)];
-    for &msaa in &args.msaa {
-        named.push((format!("stereo, MSAA {msaa}"), msaa, base.clone()));
-        if args.radial_density {
-            let config = RenderConfig {
-                radial_density: Some(RadialDensity::default()),
-                ..base.clone()
-            };
-            named.push((format!("radial density, MSAA {msaa}"), msaa, config));
-        }
-        // A periphery sample count equal to the row's is the row itself (unless accumulated).
-        let distinct = variants.iter().filter(|(_, f)| {
-            f.periphery_temporal.is_some() || f.periphery_msaa.is_none_or(|m| m != msaa)
-        });
-        for (name, foveation) in distinct {
-            let config = RenderConfig {
-                foveation: Some(*foveation),
-                ..base.clone()
-            };
-            named.push((format!("{name}, MSAA {msaa}"), msaa, config));
-        }
-    }
+    let named = compared_rows(args, &base, &variants);
     let configs: Vec<RenderConfig> = named
         .iter()
         .map(|(_, msaa, c)| RenderConfig {
@@ -266,14 +178,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     }
     let reference = judged.remove(0).measured;
     if let Some(dir) = &args.heatmaps {
-        for ((name, ..), j) in named.iter().skip(1).zip(&judged) {
-            let (maps, pixels) = (&j.accuracy.perceptual.maps, &j.pixels);
-            let picture = RgbaImage::side_by_side(
-                &heat_map(&maps[0], &pixels[0]),
-                &heat_map(&maps[1], &pixels[1]),
-            );
-            picture.save(&dir.join(format!("{}.png", slug(name))))?;
-        }
+        write_heat_maps(dir, &named, &judged)?;
     }
     let (rows, measured): (Vec<Row>, Vec<FrameAccuracy>) = named
         .into_iter()
@@ -318,9 +223,153 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             if args.csv.is_some() { " and the CSV" } else { "" }
         )));
     }
+    report_picks(args, &rows, &measured, &reference)?;
+    gpu.check_validation()?;
+    csv(&rows, &measured, reference.frame_ms)?.save(args.csv.as_deref())
+}
+
+/// The arguments `compare` checks before anything opens; the eye's acuity they set.
+fn checked_acuity(args: &CompareArgs) -> Result<Acuity> {
+    anyhow::ensure!(args.frames >= 1, "invalid frames = 0: at least 1");
+    crate::outputs::files(&[args.csv.as_deref(), args.latency.frames_csv.as_deref()])?;
+    if let Some(stem) = args.pareto.as_deref().filter(|p| !p.as_os_str().is_empty()) {
+        crate::outputs::plot(stem)?;
+    }
+    if let Some(dir) = &args.heatmaps {
+        crate::outputs::folder(dir)?;
+    }
+    if let Some(stem) = &args.latency.latency_plot {
+        crate::outputs::plot(stem)?;
+    }
+    if let Some(budget) = args.recommend {
+        anyhow::ensure!(
+            budget.is_finite() && budget > 0.0,
+            "invalid recommend = {budget}: a FLIP budget above 0 (FLIP runs 0..1)"
+        );
+    }
+    anyhow::ensure!(
+        args.mar_slope.is_finite() && args.mar_slope > 0.0 && args.mar_slope <= 10.0,
+        "invalid mar-slope = {}: 0 < slope ≤ 10 arcmin per degree (Guenter et al.: 1.32–1.65)",
+        args.mar_slope
+    );
+    let acuity = Acuity {
+        slope_arcmin_per_deg: args.mar_slope,
+        ..Acuity::default()
+    };
+    Ok(acuity)
+}
+
+/// Every foveated configuration the arguments ask for, each checked against the screen.
+fn foveated_variants(
+    args: &CompareArgs,
+    screen: foveate::plan::Resolution,
+) -> Result<Vec<(String, FoveationConfig)>> {
+    let ratios = args.ratios.clone().unwrap_or(vec![0.7, 0.5, 0.35]);
+    let default_band = args
+        .blend_band
+        .unwrap_or(FoveationConfig::default().blend_band_px);
+    let mut variants = Vec::new();
+    for &ratio in &ratios {
+        let with = |blend_band_px, periphery_sharpen| FoveationConfig {
+            ratio,
+            blend_band_px,
+            periphery_sharpen,
+            ..Default::default()
+        };
+        variants.push((format!("foveated {ratio}"), with(default_band, 0.0)));
+        for &band in &args.bands {
+            variants.push((format!("foveated {ratio}, band {band}"), with(band, 0.0)));
+        }
+        for &sharpen in &args.sharpen {
+            anyhow::ensure!(
+                sharpen > 0.0,
+                "invalid sharpen = {sharpen}: 0 < sharpen ≤ 1 (leave it out for none)"
+            );
+            let name = format!("foveated {ratio}, sharpen {sharpen}");
+            variants.push((name, with(default_band, sharpen)));
+        }
+        if args.catmull_rom {
+            let f = FoveationConfig {
+                periphery_filter: PeripheryFilter::CatmullRom,
+                ..with(default_band, 0.0)
+            };
+            variants.push((format!("foveated {ratio}, catmull-rom"), f));
+        }
+    }
+    variants = with_view_sets(variants, &args.densities, &args.periphery_msaa);
+    if args.temporal {
+        variants = with_temporal(variants);
+    }
+    for (_, f) in &variants {
+        f.geometry(screen)?;
+    }
+    Ok(variants)
+}
+
+/// The rows measured, each named with its sample count: the reference (stereo, 4×, full
+/// meshes) first, then per MSAA stereo, radial density when asked, and every foveated
+/// variant.
+fn compared_rows(
+    args: &CompareArgs,
+    base: &RenderConfig,
+    variants: &[(String, FoveationConfig)],
+) -> Vec<(String, u32, RenderConfig)> {
+    let reference = RenderConfig {
+        lod: None,
+        ..base.clone()
+    };
+    let mut named = vec![("reference".to_string(), 4, reference)];
+    for &msaa in &args.msaa {
+        named.push((format!("stereo, MSAA {msaa}"), msaa, base.clone()));
+        if args.radial_density {
+            let config = RenderConfig {
+                radial_density: Some(RadialDensity::default()),
+                ..base.clone()
+            };
+            named.push((format!("radial density, MSAA {msaa}"), msaa, config));
+        }
+        // A periphery sample count equal to the row's is the row itself (unless accumulated).
+        let distinct = variants.iter().filter(|(_, f)| {
+            f.periphery_temporal.is_some() || f.periphery_msaa.is_none_or(|m| m != msaa)
+        });
+        for (name, foveation) in distinct {
+            let config = RenderConfig {
+                foveation: Some(*foveation),
+                ..base.clone()
+            };
+            named.push((format!("{name}, MSAA {msaa}"), msaa, config));
+        }
+    }
+    named
+}
+
+/// One eFLIP heat map per judged row (both eyes side by side), named after the row.
+fn write_heat_maps(
+    dir: &std::path::Path,
+    named: &[(String, u32, RenderConfig)],
+    judged: &[crate::side_by_side::Judged],
+) -> Result<()> {
+    for ((name, ..), j) in named.iter().skip(1).zip(judged) {
+        let (maps, pixels) = (&j.accuracy.perceptual.maps, &j.pixels);
+        let picture = RgbaImage::side_by_side(
+            &heat_map(&maps[0], &pixels[0]),
+            &heat_map(&maps[1], &pixels[1]),
+        );
+        picture.save(&dir.join(format!("{}.png", slug(name))))?;
+    }
+    Ok(())
+}
+
+/// The picks the arguments ask for: iso-error, iso-time, the Pareto frontier and its plot.
+fn report_picks(
+    args: &CompareArgs,
+    rows: &[Row],
+    measured: &[FrameAccuracy],
+    reference: &Measured,
+) -> Result<()> {
     let points: Vec<Point> = rows
         .iter()
-        .zip(&measured)
+        .zip(measured)
         .map(|(r, m)| Point {
             time: r.run.frame_ms / reference.frame_ms,
             error: m.perceptual.eccentric.map_or(0.0, |e| e.p99),
@@ -342,7 +391,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         say(&what, most_accurate_within_time(&points, budget));
     }
     if let Some(plot) = &args.pareto {
-        print_frontier(&rows, &points);
+        print_frontier(rows, &points);
         // The target: foveation as accurate as aliased stereo, for less time.
         let aliased = rows.iter().position(|r| r.name == "stereo, MSAA 1");
         if let Some(s) = aliased {
@@ -370,7 +419,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             };
             let accuracy: Vec<AccuracyPoint> = rows
                 .iter()
-                .zip(&measured)
+                .zip(measured)
                 .zip(&points)
                 .map(|((r, m), p)| AccuracyPoint {
                     family: family(r),
@@ -392,8 +441,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             println!("wrote {} and .svg", plot.with_extension("png").display());
         }
     }
-    gpu.check_validation()?;
-    csv(&rows, &measured, reference.frame_ms)?.save(args.csv.as_deref())
+    Ok(())
 }
 
 fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
