@@ -121,86 +121,16 @@ const UNJUDGED: FrameError = FrameError {
 
 pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()> {
     let trackings = trackings(args)?;
-    anyhow::ensure!(
-        args.trace_s.is_finite() && args.trace_s > 0.0 && args.trace_s <= 60.0,
-        "invalid trace-s = {}: 0 < seconds ≤ 60",
-        args.trace_s
-    );
-    for (name, value) in [
-        ("after-ms", args.after_ms),
-        ("suppression-ms", args.suppression_ms),
-    ] {
-        anyhow::ensure!(
-            value.is_finite() && (0.0..=1000.0).contains(&value),
-            "invalid {name} = {value}: 0 to 1000 ms"
-        );
-    }
-    let tracker_hz = args
-        .tracker_hz
-        .or(sweep.hmd_tracker_hz.map(f64::from))
-        .unwrap_or(120.0);
-    anyhow::ensure!(
-        tracker_hz.is_finite() && (1.0..=10_000.0).contains(&tracker_hz),
-        "invalid tracker-hz = {tracker_hz}: 1 to 10000 Hz"
-    );
+    let tracker_hz = checked_tracker_hz(args, sweep)?;
     let display_hz = sweep.hmd_refresh_hz as f64;
-    let mut configs = vec![
-        RenderConfig {
-            msaa: 4,
-            ..sweep.base.clone()
-        },
-        RenderConfig {
-            msaa: 1,
-            ..sweep.base.clone()
-        },
-    ];
-    configs.extend(sweep.foveated.iter().map(|(_, _, c)| c.clone()));
-    let plans = configs
-        .iter()
-        .map(|c| foveate::plan(sweep.scene, c, gpu.caps()))
-        .collect::<Result<Vec<_>, _>>()?;
+    let (configs, plans) = sweep_configs(gpu, sweep)?;
     let space = GazeSpace {
         fov: plans[0].eyes.fov(Eye::Left),
     };
     // Display frames start once the longest latency has a history behind it.
     let lead = 0.2 + trackings.iter().map(|k| k.latency_ms).fold(0.0, f64::max) / 1000.0;
-    let (trace, tracker, source) = match &args.gaze_trace {
-        Some(path) => {
-            let truth = parse_gaze_csv(path)?;
-            anyhow::ensure!(
-                truth.len() >= 2,
-                "gaze trace {}: {} samples, at least 2",
-                path.display(),
-                truth.len()
-            );
-            let trace = EyeTrace {
-                saccades: Vec::new(),
-                truth: truth.clone(),
-            };
-            (trace, truth, format!("recorded trace {}", path.display()))
-        }
-        None => {
-            let trace = EyeMovementModel::default().simulate(space, lead + args.trace_s, args.seed);
-            let tracker = trace.sampled(tracker_hz);
-            let source = format!(
-                "eye-movement model (seed {}), tracker at {tracker_hz} Hz",
-                args.seed
-            );
-            (trace, tracker, source)
-        }
-    };
-    let start = trace.truth[0].t + lead;
-    let end = start + args.trace_s;
-    let saccades: Vec<SaccadeEvent> = detect_saccades(&trace.truth, space, 1.0)
-        .into_iter()
-        .filter(|s| s.onset_s >= start && s.landing_s + args.after_ms / 1000.0 <= end)
-        .collect();
-    let frames = judged_frames(&trace, &saccades, start, end, display_hz, args.after_ms);
-    anyhow::ensure!(
-        !frames.is_empty(),
-        "the gaze trace has no saccade of 1° or more with {} ms after it between {start:.2} s and {end:.2} s: a longer --trace-s or another --seed",
-        args.after_ms
-    );
+    let (trace, tracker, source) = gaze_source(args, space, lead, tracker_hz)?;
+    let (saccades, frames) = judged_span(args, &trace, space, lead, display_hz)?;
     // Each tracking's displayed gaze per judged frame.
     let shown: Vec<Vec<Vec2>> = trackings
         .iter()
@@ -210,17 +140,17 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
             Ok(displayed(&tracker, &frames, latency, space))
         })
         .collect::<Result<_>>()?;
+    let amplitudes: Vec<String> = saccades
+        .iter()
+        .map(|s| format!("{:.1}°", s.amplitude_deg))
+        .collect();
     println!(
         "device: {}; scene {}, {}; {source}; display at {display_hz} Hz; {} saccades ({}), {} frames judged from each onset to {} ms after landing; eFLIP at each frame's true gaze",
         gpu.info().name,
         sweep.scene_name,
         crate::frame_args::headset_line(&plans[0]),
         saccades.len(),
-        saccades
-            .iter()
-            .map(|s| format!("{:.1}°", s.amplitude_deg))
-            .collect::<Vec<_>>()
-            .join(", "),
+        amplitudes.join(", "),
         frames.len(),
         args.after_ms
     );
@@ -259,46 +189,7 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
     let budget = sweep
         .budget
         .unwrap_or(worst_after_landing(&stereo, &frames, &saccades));
-    // Which (tracking, frame) showed each distinct gaze: every configuration renders each once.
-    let mut by_gaze: HashMap<[u32; 2], Vec<(usize, usize)>> = HashMap::new();
-    for (k, gazes) in shown.iter().enumerate() {
-        for (i, g) in gazes.iter().enumerate() {
-            by_gaze
-                .entry(g.to_array().map(f32::to_bits))
-                .or_default()
-                .push((k, i));
-        }
-    }
-    let mut gazes: Vec<[u32; 2]> = by_gaze.keys().copied().collect();
-    gazes.sort();
-    // Per configuration, per tracking, per judged frame.
-    let mut judged: Vec<Vec<Vec<FrameError>>> = Vec::new();
-    for (c, (name, _, _)) in sweep.foveated.iter().enumerate() {
-        let plan = &plans[c + 2];
-        let mut renderer = Renderer::new(gpu, plan, sweep.scene)?;
-        let bar = crate::progress::bar(&format!("latency: {name}"), gazes.len() as u64);
-        let mut rows = vec![vec![UNJUDGED; frames.len()]; trackings.len()];
-        for key in &gazes {
-            if crate::interrupt::requested() {
-                // Its tables compare every configuration at once: no partial table is a result.
-                return Err(crate::interrupt::stopped(&format!(
-                    "the latency sweep stopped in configuration {} of {}: nothing written",
-                    c + 1,
-                    sweep.foveated.len()
-                )));
-            }
-            let g = Vec2::from_array(key.map(f32::from_bits));
-            renderer.set_gaze([g; 2])?;
-            renderer.render_frame(sweep.scene.head)?;
-            let image = renderer.readback()?;
-            for &(k, i) in &by_gaze[key] {
-                rows[k][i] = judge(&image, plan, frames[i].truth, g)?;
-            }
-            bar.inc(1);
-        }
-        bar.finish_and_clear();
-        judged.push(rows);
-    }
+    let judged = judge_foveated(gpu, sweep, &plans, &shown, &frames, &judge)?;
     gpu.check_validation()?;
     let windows = Windows {
         frames: &frames,
@@ -325,50 +216,247 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
         }
     );
     print_table(&trackings, sweep, &summaries, &windows, &times, stereo_row);
-    let mut csv = CsvTable::new(&[
-        "latency_ms",
-        "prediction",
-        "config",
-        "ratio",
-        "time_ratio",
-        "eflip_p99_worst_after_landing",
-        "eflip_p99_worst_in_saccade",
-        "eflip_p99_mean",
-        "ms_above_budget",
-        "ms_above_budget_beyond_suppression",
-        "budget",
-    ])?;
-    for (k, tracking) in trackings.iter().enumerate() {
-        for (c, (name, ratio, _)) in sweep.foveated.iter().enumerate() {
-            let s = summaries[c][k];
-            csv.row(&[
-                &tracking.latency_ms,
-                &tracking.prediction.name(),
-                name,
-                ratio,
-                &format!("{:.4}", times[c + 2]),
-                &format!("{:.6}", s.worst_after),
-                &format!("{:.6}", s.worst_during),
-                &format!("{:.6}", s.mean_p99),
-                &format!("{:.1}", s.above_ms),
-                &format!("{:.1}", s.beyond_suppression_ms),
-                &format!("{budget:.6}"),
-            ])?;
+    let outputs = SweepOutputs {
+        trackings: &trackings,
+        sweep,
+        frames: &frames,
+        saccades: &saccades,
+        shown: &shown,
+        judged: &judged,
+        summaries: &summaries,
+        times: &times,
+        budget,
+    };
+    outputs.summary_csv()?;
+    if let Some(stem) = &args.latency_plot {
+        outputs.plots(stem)?;
+    }
+    if let Some(path) = &args.frames_csv {
+        outputs.frames_csv(path)?;
+    }
+    Ok(())
+}
+
+/// The configurations a sweep times — the reference (stereo, 4×), aliased stereo, then the
+/// foveated ones — and their plans.
+fn sweep_configs(gpu: &Gpu, sweep: &Sweep) -> Result<(Vec<RenderConfig>, Vec<FramePlan>)> {
+    let stereo = |msaa| RenderConfig {
+        msaa,
+        ..sweep.base.clone()
+    };
+    let mut configs = vec![stereo(4), stereo(1)];
+    configs.extend(sweep.foveated.iter().map(|(_, _, c)| c.clone()));
+    let plans = configs
+        .iter()
+        .map(|c| foveate::plan(sweep.scene, c, gpu.caps()))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((configs, plans))
+}
+
+/// The saccades within the judged span (`lead` seconds into the trace, `--trace-s` long) with
+/// `--after-ms` after their landing, and the display frames judged around them.
+fn judged_span(
+    args: &LatencyArgs,
+    trace: &EyeTrace,
+    space: GazeSpace,
+    lead: f64,
+    display_hz: f64,
+) -> Result<(Vec<SaccadeEvent>, Vec<Frame>)> {
+    let start = trace.truth[0].t + lead;
+    let end = start + args.trace_s;
+    let saccades: Vec<SaccadeEvent> = detect_saccades(&trace.truth, space, 1.0)
+        .into_iter()
+        .filter(|s| s.onset_s >= start && s.landing_s + args.after_ms / 1000.0 <= end)
+        .collect();
+    let frames = judged_frames(trace, &saccades, start, end, display_hz, args.after_ms);
+    anyhow::ensure!(
+        !frames.is_empty(),
+        "the gaze trace has no saccade of 1° or more with {} ms after it between {start:.2} s and {end:.2} s: a longer --trace-s or another --seed",
+        args.after_ms
+    );
+    Ok((saccades, frames))
+}
+
+/// The figures `latency_sweep` checks before it renders; the tracker's rate.
+fn checked_tracker_hz(args: &LatencyArgs, sweep: &Sweep) -> Result<f64> {
+    anyhow::ensure!(
+        args.trace_s.is_finite() && args.trace_s > 0.0 && args.trace_s <= 60.0,
+        "invalid trace-s = {}: 0 < seconds ≤ 60",
+        args.trace_s
+    );
+    for (name, value) in [
+        ("after-ms", args.after_ms),
+        ("suppression-ms", args.suppression_ms),
+    ] {
+        anyhow::ensure!(
+            value.is_finite() && (0.0..=1000.0).contains(&value),
+            "invalid {name} = {value}: 0 to 1000 ms"
+        );
+    }
+    let tracker_hz = args
+        .tracker_hz
+        .or(sweep.hmd_tracker_hz.map(f64::from))
+        .unwrap_or(120.0);
+    anyhow::ensure!(
+        tracker_hz.is_finite() && (1.0..=10_000.0).contains(&tracker_hz),
+        "invalid tracker-hz = {tracker_hz}: 1 to 10000 Hz"
+    );
+    Ok(tracker_hz)
+}
+
+/// The true gaze over time, what the tracker sampled of it, and where both came from: a
+/// recorded trace, or the eye-movement model's from `lead` seconds before the judged span.
+fn gaze_source(
+    args: &LatencyArgs,
+    space: GazeSpace,
+    lead: f64,
+    tracker_hz: f64,
+) -> Result<(EyeTrace, Vec<GazeSample>, String)> {
+    Ok(match &args.gaze_trace {
+        Some(path) => {
+            let truth = parse_gaze_csv(path)?;
+            anyhow::ensure!(
+                truth.len() >= 2,
+                "gaze trace {}: {} samples, at least 2",
+                path.display(),
+                truth.len()
+            );
+            let trace = EyeTrace {
+                saccades: Vec::new(),
+                truth: truth.clone(),
+            };
+            (trace, truth, format!("recorded trace {}", path.display()))
+        }
+        None => {
+            let trace = EyeMovementModel::default().simulate(space, lead + args.trace_s, args.seed);
+            let tracker = trace.sampled(tracker_hz);
+            let source = format!(
+                "eye-movement model (seed {}), tracker at {tracker_hz} Hz",
+                args.seed
+            );
+            (trace, tracker, source)
+        }
+    })
+}
+
+/// Every foveated configuration's error per tracking and judged frame: each distinct gaze
+/// the trackings displayed is rendered once and judged for every frame that showed it.
+fn judge_foveated(
+    gpu: &Gpu,
+    sweep: &Sweep,
+    plans: &[FramePlan],
+    shown: &[Vec<Vec2>],
+    frames: &[Frame],
+    judge: &dyn Fn(&StereoImage, &FramePlan, Vec2, Vec2) -> Result<FrameError>,
+) -> Result<Vec<Vec<Vec<FrameError>>>> {
+    // Which (tracking, frame) showed each distinct gaze: every configuration renders each once.
+    let mut by_gaze: HashMap<[u32; 2], Vec<(usize, usize)>> = HashMap::new();
+    for (k, gazes) in shown.iter().enumerate() {
+        for (i, g) in gazes.iter().enumerate() {
+            by_gaze
+                .entry(g.to_array().map(f32::to_bits))
+                .or_default()
+                .push((k, i));
         }
     }
-    csv.save(sweep.csv.as_deref())?;
-    if let Some(stem) = &args.latency_plot {
-        for (c, (name, ..)) in sweep.foveated.iter().enumerate() {
-            let curves: Vec<LatencyCurve> = trackings
+    let mut gazes: Vec<[u32; 2]> = by_gaze.keys().copied().collect();
+    gazes.sort();
+    // Per configuration, per tracking, per judged frame.
+    let mut judged: Vec<Vec<Vec<FrameError>>> = Vec::new();
+    for (c, (name, _, _)) in sweep.foveated.iter().enumerate() {
+        let plan = &plans[c + 2];
+        let mut renderer = Renderer::new(gpu, plan, sweep.scene)?;
+        let bar = crate::progress::bar(&format!("latency: {name}"), gazes.len() as u64);
+        let mut rows = vec![vec![UNJUDGED; frames.len()]; shown.len()];
+        for key in &gazes {
+            if crate::interrupt::requested() {
+                // Its tables compare every configuration at once: no partial table is a result.
+                return Err(crate::interrupt::stopped(&format!(
+                    "the latency sweep stopped in configuration {} of {}: nothing written",
+                    c + 1,
+                    sweep.foveated.len()
+                )));
+            }
+            let g = Vec2::from_array(key.map(f32::from_bits));
+            renderer.set_gaze([g; 2])?;
+            renderer.render_frame(sweep.scene.head)?;
+            let image = renderer.readback()?;
+            for &(k, i) in &by_gaze[key] {
+                rows[k][i] = judge(&image, plan, frames[i].truth, g)?;
+            }
+            bar.inc(1);
+        }
+        bar.finish_and_clear();
+        judged.push(rows);
+    }
+    Ok(judged)
+}
+
+/// What a finished sweep writes: its table as CSV, its plots, its frames.
+struct SweepOutputs<'a> {
+    trackings: &'a [Tracking],
+    sweep: &'a Sweep<'a>,
+    frames: &'a [Frame],
+    saccades: &'a [SaccadeEvent],
+    shown: &'a [Vec<Vec2>],
+    judged: &'a [Vec<Vec<FrameError>>],
+    summaries: &'a [Vec<Summary>],
+    times: &'a [f64],
+    budget: f64,
+}
+
+impl SweepOutputs<'_> {
+    /// One row per tracking and configuration (to `--csv`, or stdout).
+    fn summary_csv(&self) -> Result<()> {
+        let mut csv = CsvTable::new(&[
+            "latency_ms",
+            "prediction",
+            "config",
+            "ratio",
+            "time_ratio",
+            "eflip_p99_worst_after_landing",
+            "eflip_p99_worst_in_saccade",
+            "eflip_p99_mean",
+            "ms_above_budget",
+            "ms_above_budget_beyond_suppression",
+            "budget",
+        ])?;
+        for (k, tracking) in self.trackings.iter().enumerate() {
+            for (c, (name, ratio, _)) in self.sweep.foveated.iter().enumerate() {
+                let s = self.summaries[c][k];
+                csv.row(&[
+                    &tracking.latency_ms,
+                    &tracking.prediction.name(),
+                    name,
+                    ratio,
+                    &format!("{:.4}", self.times[c + 2]),
+                    &format!("{:.6}", s.worst_after),
+                    &format!("{:.6}", s.worst_during),
+                    &format!("{:.6}", s.mean_p99),
+                    &format!("{:.1}", s.above_ms),
+                    &format!("{:.1}", s.beyond_suppression_ms),
+                    &format!("{:.6}", self.budget),
+                ])?;
+            }
+        }
+        csv.save(self.sweep.csv.as_deref())?;
+        Ok(())
+    }
+
+    /// One plot per configuration: the error around each saccade, per tracking.
+    fn plots(&self, stem: &std::path::Path) -> Result<()> {
+        for (c, (name, ..)) in self.sweep.foveated.iter().enumerate() {
+            let curves: Vec<LatencyCurve> = self
+                .trackings
                 .iter()
                 .enumerate()
                 .map(|(k, tracking)| LatencyCurve {
                     label: format!("{} ms, {}", tracking.latency_ms, tracking.prediction.name()),
-                    saccades: (0..saccades.len())
+                    saccades: (0..self.saccades.len())
                         .map(|s| {
-                            let mine = frames.iter().zip(&judged[c][k]);
+                            let mine = self.frames.iter().zip(&self.judged[c][k]);
                             mine.filter(|(f, _)| f.saccade == s)
-                                .map(|(f, e)| ((f.t - saccades[s].landing_s) * 1000.0, e.p99))
+                                .map(|(f, e)| ((f.t - self.saccades[s].landing_s) * 1000.0, e.p99))
                                 .collect()
                         })
                         .collect(),
@@ -376,15 +464,18 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
                 .collect();
             let caption = format!("{name}: the error at the true gaze around each saccade, per tracker latency and prediction");
             let file = format!("{}-{}", stem.display(), crate::file_names::slug(name));
-            latency_plot(&curves, budget, &caption, std::path::Path::new(&file))?;
+            latency_plot(&curves, self.budget, &caption, std::path::Path::new(&file))?;
         }
         println!(
             "wrote {} latency plots as {}-*.png/svg",
-            sweep.foveated.len(),
+            self.sweep.foveated.len(),
             stem.display()
         );
+        Ok(())
     }
-    if let Some(path) = &args.frames_csv {
+
+    /// Every judged frame of every tracking and configuration.
+    fn frames_csv(&self, path: &std::path::Path) -> Result<()> {
         let mut per_frame = CsvTable::new(&[
             "latency_ms",
             "prediction",
@@ -401,11 +492,11 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
             "eflip_p99_band",
             "eflip_p99_periphery",
         ])?;
-        for (k, tracking) in trackings.iter().enumerate() {
-            for (c, (name, _, _)) in sweep.foveated.iter().enumerate() {
-                for (i, f) in frames.iter().enumerate() {
-                    let e = judged[c][k][i];
-                    let since = (f.t - saccades[f.saccade].landing_s) * 1000.0;
+        for (k, tracking) in self.trackings.iter().enumerate() {
+            for (c, (name, _, _)) in self.sweep.foveated.iter().enumerate() {
+                for (i, f) in self.frames.iter().enumerate() {
+                    let e = self.judged[c][k][i];
+                    let since = (f.t - self.saccades[f.saccade].landing_s) * 1000.0;
                     per_frame.row(&[
                         &tracking.latency_ms,
                         &tracking.prediction.name(),
@@ -414,8 +505,8 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
                         &format!("{since:.1}"),
                         &f.truth.x,
                         &f.truth.y,
-                        &shown[k][i].x,
-                        &shown[k][i].y,
+                        &self.shown[k][i].x,
+                        &self.shown[k][i].y,
                         &format!("{:.6}", e.p99),
                         &format!("{:.6}", e.mean),
                         &opt(e.regions[0], 6),
@@ -426,8 +517,8 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
             }
         }
         per_frame.save(Some(path))?;
+        Ok(())
     }
-    Ok(())
 }
 
 /// Every latency without prediction (the baseline), and each latency above 0 with each other
