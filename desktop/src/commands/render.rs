@@ -141,25 +141,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
                 " (this device has none)"
             }
         );
-        let mut filter = GazeFilter::new(0.5);
-        let mut frames: Vec<FrameStats> = Vec::new();
-        let bar = crate::progress::bar(label, args.frames as u64);
-        for i in 0..args.frames {
-            if let Some(trace) = &trace {
-                // The latest sample at or before this frame's time (90 Hz).
-                let t = i as f64 / 90.0;
-                let k = trace.partition_point(|s| s.t <= t);
-                if k > 0 {
-                    renderer.set_gaze(filter.update(&trace[k - 1]))?;
-                }
-            }
-            let stats = renderer.render_frame(scene.head)?;
-            if i > 0 || args.frames == 1 {
-                frames.push(stats);
-            }
-            bar.inc(1);
-        }
-        bar.finish_and_clear();
+        let frames = timed_frames(&mut renderer, &scene, args, trace.as_deref(), label)?;
         let image = renderer.readback()?;
         if !args.reference {
             save(&image.side_by_side(), out, "left eye | right eye")?;
@@ -168,30 +150,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         gpu.check_validation()?;
         let counts = counting_frame(&gpu, &scene, config, renderer.gaze(), scene.head)?;
         gpu.check_validation()?;
-        let series = |f: fn(&FrameStats) -> f64| frames.iter().map(f).collect::<Vec<_>>();
-        let last = frames.last().expect("at least one frame");
-        results.push(ModeResult {
-            label: label.clone(),
-            frame: Stats::of(&series(|f| f.frame_ms)).expect("at least one frame"),
-            gpu: Stats::of(&frames.iter().filter_map(|f| f.gpu_ms).collect::<Vec<_>>()),
-            record: Stats::of(&series(|f| f.cpu_record_ms)).expect("at least one frame"),
-            cull: Stats::of(&series(|f| f.cpu_cull_ms)).expect("at least one frame"),
-            passes: plan
-                .passes
-                .iter()
-                .enumerate()
-                .filter_map(|(i, p)| {
-                    let times: Vec<f64> = frames
-                        .iter()
-                        .filter_map(|f| f.gpu_pass_ms.get(i).copied())
-                        .collect();
-                    Stats::of(&times).map(|s| (p.name, s.median))
-                })
-                .collect(),
-            draw_calls: last.draw_calls,
-            triangles: last.triangles,
-            counts,
-        });
+        results.push(mode_result(label, &plan, &frames, counts));
         // Per pixel of the eye views the scene pass renders (a foveated frame's periphery).
         let pixels = plan
             .foveation
@@ -200,34 +159,107 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         print_result(results.last().expect("just pushed"), pixels);
     }
     if args.reference {
-        // The foveated frame above its stereo reference.
-        let ((reference, reference_plan, _), (foveated, plan, gaze)) = (&images[0], &images[1]);
-        let both = foveate::metrics::RgbaImage::stacked(
-            &foveated.side_by_side(),
-            &reference.side_by_side(),
-        );
-        save(
-            &both,
-            &args.out,
-            "foveated above, stereo reference below; left eye | right eye",
-        )?;
-        if args.config.tint {
-            println!(
-                "\naccuracy against the reference: not measured on a tinted frame (leave out --tint)"
-            );
-        } else {
-            let pixels = EyePixels::both(reference_plan, *gaze, plan.foveation.as_ref());
-            let a = frame_accuracy(
-                reference.eyes(),
-                foveated.eyes(),
-                &pixels,
-                Acuity::default(),
-            )?;
-            print_accuracy(&a, *gaze);
-        }
+        save_beside_reference(args, &images)?;
     }
     if results.len() > 1 {
         print_comparison(&results);
+    }
+    Ok(())
+}
+
+/// The timed frames of one run (the first dropped as a warm-up unless it is the only one),
+/// the gaze following `trace` at 90 Hz when there is one.
+fn timed_frames(
+    renderer: &mut Renderer,
+    scene: &foveate::scene::Scene,
+    args: &RenderArgs,
+    trace: Option<&[GazeSample]>,
+    label: &str,
+) -> Result<Vec<FrameStats>> {
+    let mut filter = GazeFilter::new(0.5);
+    let mut frames: Vec<FrameStats> = Vec::new();
+    let bar = crate::progress::bar(label, args.frames as u64);
+    for i in 0..args.frames {
+        if let Some(trace) = trace {
+            // The latest sample at or before this frame's time (90 Hz).
+            let t = i as f64 / 90.0;
+            let k = trace.partition_point(|s| s.t <= t);
+            if k > 0 {
+                renderer.set_gaze(filter.update(&trace[k - 1]))?;
+            }
+        }
+        let stats = renderer.render_frame(scene.head)?;
+        if i > 0 || args.frames == 1 {
+            frames.push(stats);
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(frames)
+}
+
+/// One run's figures: medians of its timed frames, each pass's median GPU time by name, the
+/// last frame's draws, and the counting frame's counts.
+fn mode_result(
+    label: &str,
+    plan: &foveate::FramePlan,
+    frames: &[FrameStats],
+    counts: FrameStats,
+) -> ModeResult {
+    let series = |f: fn(&FrameStats) -> f64| frames.iter().map(f).collect::<Vec<_>>();
+    let last = frames.last().expect("at least one frame");
+    ModeResult {
+        label: label.to_string(),
+        frame: Stats::of(&series(|f| f.frame_ms)).expect("at least one frame"),
+        gpu: Stats::of(&frames.iter().filter_map(|f| f.gpu_ms).collect::<Vec<_>>()),
+        record: Stats::of(&series(|f| f.cpu_record_ms)).expect("at least one frame"),
+        cull: Stats::of(&series(|f| f.cpu_cull_ms)).expect("at least one frame"),
+        passes: plan
+            .passes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| {
+                let times: Vec<f64> = frames
+                    .iter()
+                    .filter_map(|f| f.gpu_pass_ms.get(i).copied())
+                    .collect();
+                Stats::of(&times).map(|s| (p.name, s.median))
+            })
+            .collect(),
+        draw_calls: last.draw_calls,
+        triangles: last.triangles,
+        counts,
+    }
+}
+
+/// `--reference`: the foveated frame saved above its stereo reference, and its accuracy
+/// against it (not on a tinted frame).
+fn save_beside_reference(
+    args: &RenderArgs,
+    images: &[(foveate::render::StereoImage, foveate::FramePlan, glam::Vec2)],
+) -> Result<()> {
+    // The foveated frame above its stereo reference.
+    let ((reference, reference_plan, _), (foveated, plan, gaze)) = (&images[0], &images[1]);
+    let both =
+        foveate::metrics::RgbaImage::stacked(&foveated.side_by_side(), &reference.side_by_side());
+    save(
+        &both,
+        &args.out,
+        "foveated above, stereo reference below; left eye | right eye",
+    )?;
+    if args.config.tint {
+        println!(
+            "\naccuracy against the reference: not measured on a tinted frame (leave out --tint)"
+        );
+    } else {
+        let pixels = EyePixels::both(reference_plan, *gaze, plan.foveation.as_ref());
+        let a = frame_accuracy(
+            reference.eyes(),
+            foveated.eyes(),
+            &pixels,
+            Acuity::default(),
+        )?;
+        print_accuracy(&a, *gaze);
     }
     Ok(())
 }
