@@ -150,47 +150,17 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
                         .find(|r| r.view == view && (r.ratio - ratio as f64).abs() < 1e-6)
                 })
                 .flatten();
-            let printed = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.0}"));
-            println!(
-                "{:>9} {:>5} {:>10.0} | {:>9.0} | {:>9} {:>10.0} | {:>9.0} | {:>9} {:>9.0} | {:>9} {:>6.1} | {:>6}",
-                format!("{view}x{view}"),
-                4,
+            let row = MeasuredRow {
+                number,
+                view,
+                ratio,
                 fovea,
-                analytic.fovea,
-                printed(arm.map(|r| r.fovea)),
                 periphery,
-                analytic.periphery,
-                printed(arm.map(|r| r.periphery)),
-                total,
-                printed(arm.map(|r| r.total)),
+                analytic,
                 reduction,
-                arm.map_or("-".to_string(), |r| format!("{:.1}", r.reduction_percent)),
-            );
-            let arm_cell = |f: fn(&ArmRow) -> f64| arm.map_or(String::new(), |r| f(r).to_string());
-            csv.row(&[
-                &number,
-                &view,
-                &ratio,
-                &fovea,
-                &format!("{:.1}", analytic.fovea),
-                &arm_cell(|r| r.fovea),
-                &periphery,
-                &format!("{:.1}", analytic.periphery),
-                &arm_cell(|r| r.periphery),
-                &total,
-                &arm_cell(|r| r.total),
-                &format!("{reduction:.2}"),
-                &arm_cell(|r| r.reduction_percent),
-            ])?;
-            if let Some(r) = arm {
-                let found = r.discrepancies(number);
-                if !found.is_empty() {
-                    notes.push(format!(
-                        "Table {number}, {view}x{view}: Arm's own cells are inconsistent: {}",
-                        found.join("; ")
-                    ));
-                }
-            }
+                arm,
+            };
+            report_row(&row, &mut csv, &mut notes)?;
         }
     }
     println!("\n(analytic: the formulas with the true pi; Arm's tables used pi = 3.14 and truncate their percentages; every cell Arm printed is shown as printed)");
@@ -199,4 +169,74 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
     }
     gpu.check_validation()?;
     csv.save(args.csv.as_deref())
+}
+
+/// One measured row of a table: its view, the pixels measured, the formula's and Arm's.
+struct MeasuredRow {
+    number: u32,
+    view: u32,
+    ratio: f32,
+    fovea: f64,
+    periphery: f64,
+    analytic: PixelBudget,
+    reduction: f64,
+    arm: Option<&'static ArmRow>,
+}
+
+/// Prints `row`, adds it to `csv`, and notes where Arm's own cells disagree with their
+/// formulas.
+fn report_row(row: &MeasuredRow, csv: &mut CsvTable, notes: &mut Vec<String>) -> Result<()> {
+    let MeasuredRow {
+        number,
+        view,
+        ratio,
+        fovea,
+        periphery,
+        ref analytic,
+        reduction,
+        arm,
+    } = *row;
+    let total = fovea + periphery;
+    let printed = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.0}"));
+    println!(
+        "{:>9} {:>5} {:>10.0} | {:>9.0} | {:>9} {:>10.0} | {:>9.0} | {:>9} {:>9.0} | {:>9} {:>6.1} | {:>6}",
+        format!("{view}x{view}"),
+        4,
+        fovea,
+        analytic.fovea,
+        printed(arm.map(|r| r.fovea)),
+        periphery,
+        analytic.periphery,
+        printed(arm.map(|r| r.periphery)),
+        total,
+        printed(arm.map(|r| r.total)),
+        reduction,
+        arm.map_or("-".to_string(), |r| format!("{:.1}", r.reduction_percent)),
+    );
+    let arm_cell = |f: fn(&ArmRow) -> f64| arm.map_or(String::new(), |r| f(r).to_string());
+    csv.row(&[
+        &number,
+        &view,
+        &ratio,
+        &fovea,
+        &format!("{:.1}", analytic.fovea),
+        &arm_cell(|r| r.fovea),
+        &periphery,
+        &format!("{:.1}", analytic.periphery),
+        &arm_cell(|r| r.periphery),
+        &total,
+        &arm_cell(|r| r.total),
+        &format!("{reduction:.2}"),
+        &arm_cell(|r| r.reduction_percent),
+    ])?;
+    if let Some(r) = arm {
+        let found = r.discrepancies(number);
+        if !found.is_empty() {
+            notes.push(format!(
+                "Table {number}, {view}x{view}: Arm's own cells are inconsistent: {}",
+                found.join("; ")
+            ));
+        }
+    }
+    Ok(())
 }
