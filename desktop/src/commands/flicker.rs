@@ -90,6 +90,71 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     let scene = args.frame.scene(&args.scene)?;
     let screen = args.frame.screen(&args.res)?;
     let base = args.frame.base(&args.res)?;
+    let configs = flicker_configs(args, &base, screen)?;
+    let reference = RenderConfig {
+        msaa: 4,
+        ..base.clone()
+    };
+    let motions = motions(args, &scene);
+    let gpu = Gpu::new(options)?;
+    let plans = std::iter::once(&reference)
+        .chain(configs.iter().map(|(_, c)| c))
+        .map(|c| foveate::plan(&scene, c, gpu.caps()))
+        .collect::<Result<Vec<_>, _>>()?;
+    println!(
+        "device: {}; scene {}, {}, output {}; {} frames at {RATE_HZ} Hz per motion: saccades (seed {}, head still), walking ({} m/s, turning {}°/s, gaze ahead)",
+        gpu.info().name,
+        args.scene,
+        crate::frame_args::headset_line(&plans[0]),
+        base.output,
+        args.frames,
+        args.seed,
+        foveate::scene::WALK_SPEED_M_S,
+        foveate::scene::TURN_DEG_S
+    );
+    let bar = crate::progress::bar("flicker", (motions.len() as u32 * args.frames) as u64);
+    let mut results = Vec::new();
+    // Ctrl-C or SIGTERM: the motions finished so far are printed and written.
+    let mut interrupted = false;
+    for motion in &motions {
+        let measured = MotionRun {
+            gpu: &gpu,
+            scene: &scene,
+            plans: &plans,
+            configs: &configs,
+            flip: args.flip,
+            bar: &bar,
+        }
+        .measure(motion)?;
+        match measured {
+            Some(rows) => results.extend(rows),
+            None => {
+                interrupted = true;
+                break;
+            }
+        }
+    }
+    bar.finish_and_clear();
+    print_table(&results);
+    gpu.check_validation()?;
+    write_csv(&results, args.csv.as_deref())?;
+    if interrupted {
+        return Err(crate::interrupt::stopped(&format!(
+            "flicker stopped during a motion; the {} motions finished before it are in the table above{}",
+            results.len() / configs.len().max(1),
+            if args.csv.is_some() { " and the CSV" } else { "" }
+        )));
+    }
+    Ok(())
+}
+
+/// The rows compared: aliased stereo, then every foveated variant the arguments ask for (each
+/// checked against the screen), at 4× MSAA.
+fn flicker_configs(
+    args: &FlickerArgs,
+    base: &RenderConfig,
+    screen: foveate::plan::Resolution,
+) -> Result<Vec<(String, RenderConfig)>> {
     let mut variants = Vec::new();
     for &ratio in &args.ratios {
         for sharpen in std::iter::once(0.0).chain(args.sharpen.iter().copied()) {
@@ -125,13 +190,15 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         };
         configs.push((format!("{name}, MSAA 4"), config));
     }
-    let reference = RenderConfig {
-        msaa: 4,
-        ..base.clone()
-    };
+    Ok(configs)
+}
+
+/// The two motions: saccades with the head still (a simulated trace), and a walk with the
+/// gaze ahead.
+fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene) -> [Motion; 2] {
     let seconds = args.frames as f64 / RATE_HZ;
     let trace = simulated_trace(seconds, RATE_HZ, args.seed);
-    let motions = [
+    [
         Motion {
             name: "saccades",
             frames: trace.iter().map(|s| (scene.head, s.left)).collect(),
@@ -147,45 +214,43 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
                 })
                 .collect(),
         },
-    ];
-    let gpu = Gpu::new(options)?;
-    let plans = std::iter::once(&reference)
-        .chain(configs.iter().map(|(_, c)| c))
-        .map(|c| foveate::plan(&scene, c, gpu.caps()))
-        .collect::<Result<Vec<_>, _>>()?;
-    println!(
-        "device: {}; scene {}, {}, output {}; {} frames at {RATE_HZ} Hz per motion: saccades (seed {}, head still), walking ({} m/s, turning {}°/s, gaze ahead)",
-        gpu.info().name,
-        args.scene,
-        crate::frame_args::headset_line(&plans[0]),
-        base.output,
-        args.frames,
-        args.seed,
-        foveate::scene::WALK_SPEED_M_S,
-        foveate::scene::TURN_DEG_S
-    );
-    let bar = crate::progress::bar("flicker", (motions.len() as u32 * args.frames) as u64);
-    let mut results = Vec::new();
-    // Ctrl-C or SIGTERM: the motions finished so far are printed and written.
-    let mut interrupted = false;
-    'motions: for motion in &motions {
-        bar.set_message(motion.name);
+    ]
+}
+
+/// What measuring one motion needs: every configuration's renderer is made from these.
+struct MotionRun<'a> {
+    gpu: &'a Gpu,
+    scene: &'a foveate::scene::Scene,
+    /// The reference's plan, then each configuration's.
+    plans: &'a [foveate::FramePlan],
+    configs: &'a [(String, RenderConfig)],
+    /// Judge every Nth frame with eFLIP.
+    flip: Option<u32>,
+    bar: &'a indicatif::ProgressBar,
+}
+
+impl MotionRun<'_> {
+    /// Every configuration along `motion`, frames interleaved with the reference's: one row
+    /// each; `None` when interrupted.
+    fn measure(&self, motion: &Motion) -> Result<Option<Vec<Row>>> {
+        let mut rows = Vec::new();
+        self.bar.set_message(motion.name);
         let (first_pose, first_gaze) = motion.frames[0];
         let mut renderers = Vec::new();
-        for plan in &plans {
-            let mut renderer = Renderer::new(&gpu, plan, &scene)?;
+        for plan in self.plans {
+            let mut renderer = Renderer::new(self.gpu, plan, self.scene)?;
             renderer.set_gaze([first_gaze; 2])?;
             settle(&mut renderer, first_pose)?;
             renderers.push(renderer);
         }
-        let mut meters: Vec<Flicker> = configs.iter().map(|_| Flicker::default()).collect();
-        let mut judged: Vec<Vec<ErrorSummary>> = configs.iter().map(|_| Vec::new()).collect();
+        let mut meters: Vec<Flicker> = self.configs.iter().map(|_| Flicker::default()).collect();
+        let mut judged: Vec<Vec<ErrorSummary>> = self.configs.iter().map(|_| Vec::new()).collect();
         // Each configuration's pixel map, made anew only when the gaze moves.
-        let mut maps: Vec<Option<(Vec2, [EyePixels; 2])>> = configs.iter().map(|_| None).collect();
+        let mut maps: Vec<Option<(Vec2, [EyePixels; 2])>> =
+            self.configs.iter().map(|_| None).collect();
         for (frame, &(pose, gaze)) in motion.frames.iter().enumerate() {
             if crate::interrupt::requested() {
-                interrupted = true;
-                break 'motions;
+                return Ok(None);
             }
             // Frames of every configuration interleaved, the reference first.
             let mut images = Vec::new();
@@ -195,13 +260,13 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
                 images.push(renderer.readback()?);
             }
             for (i, (meter, map)) in meters.iter_mut().zip(&mut maps).enumerate() {
-                let plan = &plans[i + 1];
+                let plan = &self.plans[i + 1];
                 if map.as_ref().is_none_or(|(at, _)| *at != gaze) {
                     *map = Some((gaze, EyePixels::both(plan, gaze, plan.foveation.as_ref())));
                 }
                 let (_, pixels) = map.as_ref().expect("just made");
                 meter.push(images[0].eyes(), images[i + 1].eyes(), pixels)?;
-                if args.flip.is_some_and(|every| frame % every as usize == 0) {
+                if self.flip.is_some_and(|every| frame % every as usize == 0) {
                     let error = perceptual_error(
                         images[0].eyes(),
                         images[i + 1].eyes(),
@@ -211,20 +276,22 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
                     judged[i].extend(error.eccentric);
                 }
             }
-            bar.inc(1);
+            self.bar.inc(1);
         }
-        for (((name, _), meter), frames) in configs.iter().zip(&meters).zip(&judged) {
-            results.push(Row {
+        for (((name, _), meter), frames) in self.configs.iter().zip(&meters).zip(&judged) {
+            rows.push(Row {
                 motion: motion.name,
                 name: name.clone(),
                 flicker: meter.summary(),
                 accuracy: AlongMotion::of(frames),
             });
         }
+        Ok(Some(rows))
     }
-    bar.finish_and_clear();
-    print_table(&results);
-    gpu.check_validation()?;
+}
+
+/// The rows as CSV, to `path` or stdout.
+fn write_csv(results: &[Row], path: Option<&std::path::Path>) -> Result<()> {
     let mut csv = CsvTable::new(&[
         "motion",
         "config",
@@ -238,7 +305,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         "eflip_p99",
         "eflip_p99_worst",
     ])?;
-    for row in &results {
+    for row in results {
         let (s, a) = (&row.flicker, row.accuracy);
         let mean = |e: Option<ErrorSummary>| opt(e.map(|e| e.mean), 6);
         csv.row(&[
@@ -255,15 +322,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
             &opt(a.map(|a| a.worst_p99), 6),
         ])?;
     }
-    csv.save(args.csv.as_deref())?;
-    if interrupted {
-        return Err(crate::interrupt::stopped(&format!(
-            "flicker stopped during a motion; the {} motions finished before it are in the table above{}",
-            results.len() / configs.len().max(1),
-            if args.csv.is_some() { " and the CSV" } else { "" }
-        )));
-    }
-    Ok(())
+    csv.save(path)
 }
 
 /// One configuration along one motion.
