@@ -101,6 +101,41 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         args.msaa,
         args.frames
     );
+    print_columns();
+    let mut csv = mffr_csv()?;
+    for split_text in &args.splits {
+        let split: SplitDistance = split_text.parse()?;
+        let configs = split_configs(args, &base, split)?;
+        let label = format!("split {split}");
+        let group = Group {
+            scene: &scene,
+            configs: &configs,
+            gaze: Vec2::ZERO,
+            rounds: args.frames,
+            label: &label,
+        };
+        let judged = sweep(&gpu, &group, Acuity::default())?;
+        let reference = &judged[0].measured;
+        let reference_both = reference.image.side_by_side();
+        for (i, j) in judged.iter().enumerate() {
+            let row = VariantRow {
+                index: i,
+                judged: j,
+                reference,
+                reference_both: &reference_both,
+                split_text,
+            };
+            row.report(&mut csv)?;
+        }
+        println!();
+    }
+    println!("(far×, dens: the far pass's MSAA samples and its pixel density as a fraction of the eyes'; ratio: frame time to the stereo row of the same split, measured in the same rounds; PSNR/SSIM, FLIP (mean) and eFLIP (the eccentricity-aware FLIP's 99th percentile, gaze ahead): both eyes against that stereo reference, over the pixels the lens shows; bound: the disparity error the variant allows at the split, in eye pixels; matched: pixels equal to a reference pixel at most `bound` away along the row; sky px: pixels showing sky where the reference does not — a crack at the split would show here, as do silhouettes moved by up to `bound`)");
+    gpu.check_validation()?;
+    csv.save(args.csv.as_deref())
+}
+
+/// The columns `mffr` prints.
+fn print_columns() {
     println!(
         "\n{:<14} {:>9} {:>7} {:>4} {:>5} {:>9} {:>6} {:>8} {:>8} {:>10} {:>10} {:>10} {:>6} {:>6} {:>7} {:>7} {:>7} {:>8} {:>7}",
         "variant",
@@ -123,7 +158,11 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         "matched",
         "sky px"
     );
-    let mut csv = CsvTable::new(&[
+}
+
+/// The CSV `mffr` writes, one row per variant and split.
+fn mffr_csv() -> Result<CsvTable> {
+    CsvTable::new(&[
         "variant",
         "split",
         "split_m",
@@ -144,84 +183,97 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
         "bound_px",
         "matched_within_bound",
         "sky_through_px",
-    ])?;
-    for split_text in &args.splits {
-        let split: SplitDistance = split_text.parse()?;
-        let far_msaa: Vec<Option<u32>> = match args.far_msaa.as_slice() {
-            [] => vec![None],
-            m => m.iter().copied().map(Some).collect(),
-        };
-        let mut configs = vec![base.clone()];
-        for name in &args.variants {
-            for &msaa in &far_msaa {
-                for &density in &args.far_density {
-                    configs.push(RenderConfig {
-                        mffr: Some(MffrConfig {
-                            far_msaa: msaa,
-                            far_density: density,
-                            ..MffrConfig::named(name, split)?
-                        }),
-                        ..base.clone()
-                    });
-                }
+    ])
+}
+
+/// The configurations one split measures: stereo (the reference), then each variant at each
+/// far sample count and density asked for.
+fn split_configs(
+    args: &MffrArgs,
+    base: &RenderConfig,
+    split: SplitDistance,
+) -> Result<Vec<RenderConfig>> {
+    let far_msaa: Vec<Option<u32>> = match args.far_msaa.as_slice() {
+        [] => vec![None],
+        m => m.iter().copied().map(Some).collect(),
+    };
+    let mut configs = vec![base.clone()];
+    for name in &args.variants {
+        for &msaa in &far_msaa {
+            for &density in &args.far_density {
+                configs.push(RenderConfig {
+                    mffr: Some(MffrConfig {
+                        far_msaa: msaa,
+                        far_density: density,
+                        ..MffrConfig::named(name, split)?
+                    }),
+                    ..base.clone()
+                });
             }
         }
-        let label = format!("split {split}");
-        let group = Group {
-            scene: &scene,
-            configs: &configs,
-            gaze: Vec2::ZERO,
-            rounds: args.frames,
-            label: &label,
+    }
+    Ok(configs)
+}
+
+/// One judged variant of a split, against that split's stereo reference.
+struct VariantRow<'a> {
+    index: usize,
+    judged: &'a crate::side_by_side::Judged,
+    reference: &'a crate::side_by_side::Measured,
+    reference_both: &'a RgbaImage,
+    split_text: &'a str,
+}
+
+impl VariantRow<'_> {
+    /// Prints the row and adds it to `csv`: time, fragments, accuracy, the disparity bound and
+    /// how much of the image holds within it, and sky showing through.
+    fn report(&self, csv: &mut CsvTable) -> Result<()> {
+        let (i, j, reference, reference_both) =
+            (self.index, self.judged, self.reference, self.reference_both);
+        let (m, plan, accuracy) = (&j.measured, &j.measured.plan, &j.accuracy);
+        let image = m.image.side_by_side();
+        let (name, split_m, disparity, bound) = match &plan.mffr {
+            Some(g) => {
+                let bound = match g.config.variant {
+                    MffrVariant::AlternateEye => g.disparity_at_split_px,
+                    _ => g.disparity_at_split_px / 2.0,
+                };
+                (g.config.name(), g.split_m, g.disparity_at_split_px, bound)
+            }
+            None if i == 0 => ("stereo", f32::NAN, f32::NAN, 0.0),
+            None => ("(no far field)", f32::NAN, f32::NAN, 0.0),
         };
-        let judged = sweep(&gpu, &group, Acuity::default())?;
-        let reference = &judged[0].measured;
-        let reference_both = reference.image.side_by_side();
-        for (i, j) in judged.iter().enumerate() {
-            let (m, plan, accuracy) = (&j.measured, &j.measured.plan, &j.accuracy);
-            let image = m.image.side_by_side();
-            let (name, split_m, disparity, bound) = match &plan.mffr {
-                Some(g) => {
-                    let bound = match g.config.variant {
-                        MffrVariant::AlternateEye => g.disparity_at_split_px,
-                        _ => g.disparity_at_split_px / 2.0,
-                    };
-                    (g.config.name(), g.split_m, g.disparity_at_split_px, bound)
-                }
-                None if i == 0 => ("stereo", f32::NAN, f32::NAN, 0.0),
-                None => ("(no far field)", f32::NAN, f32::NAN, 0.0),
-            };
-            let (far_samples, far_density) = plan.mffr.map_or((0, f32::NAN), |g| {
-                (
-                    g.config.far_msaa.unwrap_or(plan.samples),
-                    g.config.far_density,
-                )
-            });
-            let psnr = accuracy.psnr.unwrap_or(f64::NAN);
-            let ssim = accuracy.ssim.unwrap_or(f64::NAN);
-            let e = &accuracy.perceptual;
-            let (flip, eflip) = (
-                e.flip.map_or(f64::NAN, |s| s.mean),
-                e.eccentric.map_or(f64::NAN, |s| s.p99),
-            );
-            let radius = bound.ceil() as u32;
-            let matched = m
-                .image
-                .left
-                .matched_within(&reference.image.left, radius, 24)?
-                * 0.5
-                + m.image
-                    .right
-                    .matched_within(&reference.image.right, radius, 24)?
-                    * 0.5;
-            let cracks = sky_through(&image, &reference_both);
-            let (far_ms, eyes_ms) = if plan.far_pass().is_some() {
-                (m.gpu_pass_ms[0], m.gpu_pass_ms[1..].iter().sum::<f64>())
-            } else {
-                (0.0, m.gpu_pass_ms.iter().sum())
-            };
-            let ratio = m.frame_ms / reference.frame_ms;
-            println!(
+        let (far_samples, far_density) = plan.mffr.map_or((0, f32::NAN), |g| {
+            (
+                g.config.far_msaa.unwrap_or(plan.samples),
+                g.config.far_density,
+            )
+        });
+        let psnr = accuracy.psnr.unwrap_or(f64::NAN);
+        let ssim = accuracy.ssim.unwrap_or(f64::NAN);
+        let e = &accuracy.perceptual;
+        let (flip, eflip) = (
+            e.flip.map_or(f64::NAN, |s| s.mean),
+            e.eccentric.map_or(f64::NAN, |s| s.p99),
+        );
+        let radius = bound.ceil() as u32;
+        let matched = m
+            .image
+            .left
+            .matched_within(&reference.image.left, radius, 24)?
+            * 0.5
+            + m.image
+                .right
+                .matched_within(&reference.image.right, radius, 24)?
+                * 0.5;
+        let cracks = sky_through(&image, reference_both);
+        let (far_ms, eyes_ms) = if plan.far_pass().is_some() {
+            (m.gpu_pass_ms[0], m.gpu_pass_ms[1..].iter().sum::<f64>())
+        } else {
+            (0.0, m.gpu_pass_ms.iter().sum())
+        };
+        let ratio = m.frame_ms / reference.frame_ms;
+        println!(
                 "{:<14} {:>9} {:>7.2} {:>4} {:>5.2} {:>9.2} {:>6.3} {:>8.2} {:>8.2} {:>10} {:>10} {:>10} {:>6} {:>6.4} {:>7.4} {:>7.3} {:>7.2} {:>7.2}% {:>7}",
                 name,
                 if i == 0 { "-".to_string() } else { format!("{split_m:.1}m") },
@@ -243,32 +295,28 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
                 100.0 * matched,
                 cracks
             );
-            csv.row(&[
-                &name,
-                split_text,
-                &split_m,
-                &disparity,
-                &far_samples,
-                &far_density,
-                &format!("{:.3}", m.frame_ms),
-                &format!("{ratio:.4}"),
-                &format!("{far_ms:.3}"),
-                &format!("{eyes_ms:.3}"),
-                &m.far_fragments,
-                &m.eye_fragments,
-                &m.total_fragments,
-                &format!("{psnr:.3}"),
-                &format!("{ssim:.5}"),
-                &format!("{flip:.5}"),
-                &format!("{eflip:.5}"),
-                &bound,
-                &format!("{matched:.5}"),
-                &cracks,
-            ])?;
-        }
-        println!();
+        csv.row(&[
+            &name,
+            &self.split_text,
+            &split_m,
+            &disparity,
+            &far_samples,
+            &far_density,
+            &format!("{:.3}", m.frame_ms),
+            &format!("{ratio:.4}"),
+            &format!("{far_ms:.3}"),
+            &format!("{eyes_ms:.3}"),
+            &m.far_fragments,
+            &m.eye_fragments,
+            &m.total_fragments,
+            &format!("{psnr:.3}"),
+            &format!("{ssim:.5}"),
+            &format!("{flip:.5}"),
+            &format!("{eflip:.5}"),
+            &bound,
+            &format!("{matched:.5}"),
+            &cracks,
+        ])?;
+        Ok(())
     }
-    println!("(far×, dens: the far pass's MSAA samples and its pixel density as a fraction of the eyes'; ratio: frame time to the stereo row of the same split, measured in the same rounds; PSNR/SSIM, FLIP (mean) and eFLIP (the eccentricity-aware FLIP's 99th percentile, gaze ahead): both eyes against that stereo reference, over the pixels the lens shows; bound: the disparity error the variant allows at the split, in eye pixels; matched: pixels equal to a reference pixel at most `bound` away along the row; sky px: pixels showing sky where the reference does not — a crack at the split would show here, as do silhouettes moved by up to `bound`)");
-    gpu.check_validation()?;
-    csv.save(args.csv.as_deref())
 }
