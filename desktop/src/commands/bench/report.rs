@@ -322,6 +322,30 @@ impl Report {
                 ", one configuration after another"
             }
         );
+        self.time_tables(&mut t);
+        self.per_frame_table(&mut t);
+        self.memory_tables(&mut t);
+        if !self.accuracy.is_empty() {
+            t.push('\n');
+            t.push_str(&super::accuracy::table(&self.accuracy));
+        }
+        if let Some(best) = self
+            .rows
+            .iter()
+            .filter(|r| r.toggles.is_some())
+            .min_by(|a, b| a.ratio_median.total_cmp(&b.ratio_median))
+        {
+            let _ = writeln!(
+                t,
+                "\nBest configuration: {} at {:.3}x the baseline's median frame time ({:.2} ms against {:.2} ms).",
+                best.name, best.ratio_median, best.frame_ms.median, self.rows[0].frame_ms.median
+            );
+        }
+        t
+    }
+
+    /// The time tables, one per group of configurations.
+    fn time_tables(&self, t: &mut String) {
         type Keep<'a> = &'a dyn Fn(&RowSummary) -> bool;
         let groups: [(&str, Keep); 4] = [
             ("Individual optimisations (thesis Table 6.1 form)", &|r| {
@@ -363,6 +387,10 @@ impl Report {
             }
             t.push('\n');
         }
+    }
+
+    /// Per frame: CPU time, draw calls, triangles, pixels shaded.
+    fn per_frame_table(&self, t: &mut String) {
         let _ = writeln!(
             t,
             "## Per frame: CPU time, draw calls, triangles, pixels shaded (medians)\n"
@@ -391,6 +419,10 @@ impl Report {
                 r.name, r.cpu_ms.median, r.draw_calls.median, r.triangles.median,
             );
         }
+    }
+
+    /// The baseline's resources, and each configuration's memory and traffic.
+    fn memory_tables(&self, t: &mut String) {
         let _ = writeln!(t, "\n## Memory and traffic (thesis Table 6.3 in form)\n");
         let _ = writeln!(t, "The baseline frame's resources:\n");
         let _ = writeln!(t, "| resource | what | MiB | kind |");
@@ -432,23 +464,6 @@ impl Report {
                 added
             );
         }
-        if !self.accuracy.is_empty() {
-            t.push('\n');
-            t.push_str(&super::accuracy::table(&self.accuracy));
-        }
-        if let Some(best) = self
-            .rows
-            .iter()
-            .filter(|r| r.toggles.is_some())
-            .min_by(|a, b| a.ratio_median.total_cmp(&b.ratio_median))
-        {
-            let _ = writeln!(
-                t,
-                "\nBest configuration: {} at {:.3}x the baseline's median frame time ({:.2} ms against {:.2} ms).",
-                best.name, best.ratio_median, best.frame_ms.median, self.rows[0].frame_ms.median
-            );
-        }
-        t
     }
 
     fn frames_csv(&self) -> Result<String> {
