@@ -72,6 +72,40 @@ const PIECES: u32 = 12;
 const HEAD: Vec3 = Vec3::new(0.0, 1.6, 10.5);
 
 /// The atrium, lit. Looking down its length from one end, eye height 1.6 m.
+/// The atrium's meshes, by index.
+const BOXES: usize = 0;
+const COLUMN_MESH: usize = 1;
+const BALUSTER: usize = 2;
+const SPHERE: usize = 3;
+const FLOOR: usize = 4;
+const WHITE: Vec3 = Vec3::ONE;
+const NONE: Quat = Quat::IDENTITY;
+
+/// The atrium's batches as they are filled, one per mesh, in the order of the scene's parts.
+struct Atrium {
+    batches: Vec<DrawBatch>,
+}
+
+impl Atrium {
+    fn put(
+        &mut self,
+        mesh: usize,
+        material: u32,
+        scale: Vec3,
+        rotation: Quat,
+        at: Vec3,
+        tint: Vec3,
+    ) {
+        self.batches[mesh].instances.push(
+            Instance::new(
+                Mat4::from_scale_rotation_translation(scale, rotation, at),
+                tint,
+            )
+            .with_material(material),
+        );
+    }
+}
+
 pub fn atrium_scene() -> Scene {
     let meshes = vec![
         cube(),
@@ -81,29 +115,40 @@ pub fn atrium_scene() -> Scene {
         // Fine under the viewer, coarse far away (the same quirk).
         ground_grid(26.0, 0.25),
     ];
-    let (boxes, column, baluster, sphere, floor) = (0, 1, 2, 3, 4);
-    let mut batches: Vec<DrawBatch> = (0..meshes.len())
-        .map(|mesh| DrawBatch {
-            mesh,
-            instances: Vec::new(),
-        })
-        .collect();
-    let mut put =
-        |mesh: usize, material: u32, scale: Vec3, rotation: Quat, at: Vec3, tint: Vec3| {
-            batches[mesh].instances.push(
-                Instance::new(
-                    Mat4::from_scale_rotation_translation(scale, rotation, at),
-                    tint,
-                )
-                .with_material(material),
-            );
-        };
-    let white = Vec3::ONE;
-    let none = Quat::IDENTITY;
-    let length = 2.0 * HALF_LENGTH;
+    let mut a = Atrium {
+        batches: (0..meshes.len())
+            .map(|mesh| DrawBatch {
+                mesh,
+                instances: Vec::new(),
+            })
+            .collect(),
+    };
+    walls_and_galleries(&mut a);
+    floor_ends_and_door(&mut a);
+    arcades(&mut a);
+    courtyard(&mut a);
+    let batches = a.batches;
+    Scene {
+        meshes,
+        batches,
+        head: look_at_head(HEAD, Vec3::new(0.0, 2.6, -10.0)),
+        light_dir: Vec3::new(-0.35, -1.0, -0.45).normalize(),
+        materials: materials(),
+        lights: [(-3.3, -7.0), (3.3, -7.0), (-3.3, 2.5), (3.3, 2.5)]
+            .map(|(x, z)| PointLight {
+                position: Vec3::new(x, 2.9, z),
+                color: Vec3::new(1.0, 0.72, 0.45) * 8.0,
+                range: 9.0,
+            })
+            .to_vec(),
+        reach: None,
+    }
+}
+
+fn walls_and_galleries(a: &mut Atrium) {
     // Outer walls (stone below, plaster above), the galleries over the aisles (wood beneath, a
     // stone edge), their rails and architraves: each the courtyard's length, in pieces.
-    let piece = length / PIECES as f32;
+    let piece = 2.0 * HALF_LENGTH / PIECES as f32;
     for side in [-1.0f32, 1.0] {
         let x = side * COLONNADE_X;
         let runs = [
@@ -122,99 +167,106 @@ pub fn atrium_scene() -> Scene {
         for (material, (w, h), x, y) in runs {
             for k in 0..PIECES {
                 let z = -HALF_LENGTH + piece * (k as f32 + 0.5);
-                put(
-                    boxes,
+                a.put(
+                    BOXES,
                     material,
                     Vec3::new(w, h, piece),
-                    none,
+                    NONE,
                     Vec3::new(x, y, z),
-                    white,
+                    WHITE,
                 );
             }
         }
     }
-    // The floor, centred under the viewer; the end walls.
-    put(
-        floor,
+}
+
+fn floor_ends_and_door(a: &mut Atrium) {
+    // The FLOOR, centred under the viewer; the end walls.
+    a.put(
+        FLOOR,
         MARBLE,
         Vec3::ONE,
-        none,
+        NONE,
         Vec3::new(HEAD.x, 0.0, HEAD.z),
-        white,
+        WHITE,
     );
     for end in [-1.0f32, 1.0] {
-        put(
-            boxes,
+        a.put(
+            BOXES,
             STONE,
             Vec3::new(2.0 * WALL_X, 9.0, 0.4),
-            none,
+            NONE,
             Vec3::new(0.0, 4.5, end * HALF_LENGTH),
-            white,
+            WHITE,
         );
     }
     // A great door in the far wall, and its bronze boss.
-    put(
-        boxes,
+    a.put(
+        BOXES,
         WOOD,
         Vec3::new(2.4, 3.6, 0.2),
-        none,
+        NONE,
         Vec3::new(0.0, 1.8, -HALF_LENGTH + 0.25),
-        white,
+        WHITE,
     );
-    put(
-        sphere,
+    a.put(
+        SPHERE,
         BRONZE,
         Vec3::splat(0.25),
-        none,
+        NONE,
         Vec3::new(0.0, 1.6, -HALF_LENGTH + 0.4),
-        white,
+        WHITE,
     );
+}
 
+/// Both colonnades: two storeys of columns, round arches between them, balusters along the
+/// gallery and fabric hanging in every other bay.
+fn arcades(a: &mut Atrium) {
     for side in [-1.0f32, 1.0] {
         let x = side * COLONNADE_X;
         for i in 0..BAYS {
             let z = -HALF_LENGTH + 1.75 + BAY * i as f32;
             // Ground storey: base, shaft, capital.
-            put(
-                boxes,
+            a.put(
+                BOXES,
                 STONE,
                 Vec3::new(0.8, 0.3, 0.8),
-                none,
+                NONE,
                 Vec3::new(x, 0.15, z),
-                white,
+                WHITE,
             );
-            put(
-                column,
+            a.put(
+                COLUMN_MESH,
                 COLUMN,
                 Vec3::new(0.55, 2.9, 0.55),
-                none,
+                NONE,
                 Vec3::new(x, 1.75, z),
-                white,
+                WHITE,
             );
-            put(
-                boxes,
+            a.put(
+                BOXES,
                 STONE,
                 Vec3::new(0.8, 0.3, 0.8),
-                none,
+                NONE,
                 Vec3::new(x, 3.35, z),
-                white,
+                WHITE,
             );
             // Upper storey: a slimmer shaft on the gallery.
-            put(
-                column,
+            a.put(
+                COLUMN_MESH,
                 COLUMN,
                 Vec3::new(0.4, 2.6, 0.4),
-                none,
+                NONE,
                 Vec3::new(x, 6.5, z),
-                white,
+                WHITE,
             );
-            put(
-                boxes,
+            a.put(
+                BOXES,
                 STONE,
                 Vec3::new(0.6, 0.25, 0.6),
-                none,
+                NONE,
                 Vec3::new(x, 7.9, z),
-                white,
+                WHITE,
             );
             if i + 1 == BAYS {
                 continue;
@@ -223,21 +275,21 @@ pub fn atrium_scene() -> Scene {
             let centre = Vec3::new(x, 3.5, z + BAY * 0.5);
             let radius = BAY * 0.5 - 0.35;
             for k in 0..9 {
-                let a = std::f32::consts::PI * (k as f32 + 0.5) / 9.0;
-                let at = centre + Vec3::new(0.0, radius * a.sin(), -radius * a.cos());
-                let rotation = Quat::from_rotation_x(a - std::f32::consts::FRAC_PI_2);
-                put(boxes, STONE, Vec3::new(0.5, 0.3, 0.36), rotation, at, white);
+                let angle = std::f32::consts::PI * (k as f32 + 0.5) / 9.0;
+                let at = centre + Vec3::new(0.0, radius * angle.sin(), -radius * angle.cos());
+                let rotation = Quat::from_rotation_x(angle - std::f32::consts::FRAC_PI_2);
+                a.put(BOXES, STONE, Vec3::new(0.5, 0.3, 0.36), rotation, at, WHITE);
             }
             // Balusters along the gallery's edge, and hanging fabric in every other bay.
             for b in 0..8 {
                 let bz = z + 0.45 + 0.2 * b as f32;
-                put(
-                    baluster,
+                a.put(
+                    BALUSTER,
                     COLUMN,
                     Vec3::new(0.1, 0.8, 0.1),
-                    none,
+                    NONE,
                     Vec3::new(x, 5.35, bz),
-                    white,
+                    WHITE,
                 );
             }
             if i % 2 == 0 {
@@ -246,97 +298,83 @@ pub fn atrium_scene() -> Scene {
                     Vec3::new(0.15, 0.45, 0.2),
                     Vec3::new(0.15, 0.2, 0.6),
                 ][(i as usize / 2) % 3];
-                put(
-                    boxes,
+                a.put(
+                    BOXES,
                     FABRIC,
                     Vec3::new(0.04, 2.2, 1.8),
-                    none,
+                    NONE,
                     Vec3::new(x - side * 0.3, 6.6, z + BAY * 0.5),
                     tint,
                 );
             }
         }
     }
+}
 
+fn courtyard(a: &mut Atrium) {
     // In the courtyard: a fountain, vases on pedestals and benches, the nearest at arm's length.
-    put(
-        column,
+    a.put(
+        COLUMN_MESH,
         MARBLE,
         Vec3::new(3.0, 0.6, 3.0),
-        none,
+        NONE,
         Vec3::new(0.0, 0.3, -2.0),
-        white,
+        WHITE,
     );
-    put(
-        column,
+    a.put(
+        COLUMN_MESH,
         COLUMN,
         Vec3::new(0.4, 1.6, 0.4),
-        none,
+        NONE,
         Vec3::new(0.0, 1.1, -2.0),
-        white,
+        WHITE,
     );
-    put(
-        sphere,
+    a.put(
+        SPHERE,
         BRONZE,
         Vec3::splat(0.45),
-        none,
+        NONE,
         Vec3::new(0.0, 2.2, -2.0),
-        white,
+        WHITE,
     );
     for (k, z) in [-10.0f32, -6.0, 2.0, 6.0].into_iter().enumerate() {
         for side in [-1.0f32, 1.0] {
             let at = Vec3::new(side * 2.3, 0.0, z);
-            put(
-                boxes,
+            a.put(
+                BOXES,
                 STONE,
                 Vec3::new(0.6, 0.9, 0.6),
-                none,
+                NONE,
                 at + Vec3::Y * 0.45,
-                white,
+                WHITE,
             );
-            put(
-                sphere,
+            a.put(
+                SPHERE,
                 BRONZE,
                 Vec3::new(0.35, 0.45, 0.35),
-                none,
+                NONE,
                 at + Vec3::Y * 1.3,
-                white,
+                WHITE,
             );
             let bench = Quat::from_rotation_y(0.1 * (k as f32 - 1.5));
-            put(
-                boxes,
+            a.put(
+                BOXES,
                 WOOD,
                 Vec3::new(0.5, 0.1, 1.8),
                 bench,
                 Vec3::new(side * 1.4, 0.45, z + 1.6),
-                white,
+                WHITE,
             );
         }
     }
-    put(
-        boxes,
+    a.put(
+        BOXES,
         WOOD,
         Vec3::new(0.5, 0.1, 1.4),
         Quat::from_rotation_y(0.4),
         Vec3::new(0.6, 0.7, 9.0),
-        white,
+        WHITE,
     );
-
-    Scene {
-        meshes,
-        batches,
-        head: look_at_head(HEAD, Vec3::new(0.0, 2.6, -10.0)),
-        light_dir: Vec3::new(-0.35, -1.0, -0.45).normalize(),
-        materials: materials(),
-        lights: [(-3.3, -7.0), (3.3, -7.0), (-3.3, 2.5), (3.3, 2.5)]
-            .map(|(x, z)| PointLight {
-                position: Vec3::new(x, 2.9, z),
-                color: Vec3::new(1.0, 0.72, 0.45) * 8.0,
-                range: 9.0,
-            })
-            .to_vec(),
-        reach: None,
-    }
 }
 
 #[cfg(test)]
