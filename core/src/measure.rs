@@ -61,9 +61,23 @@ fn sphere_cone_acos(cone: &Cone, s: &Sphere) -> bool {
     angle <= half || distance <= s.radius
 }
 
-/// The intersection tables: `side`³ objects (Hale: 64³) tested `passes` times (Hale: 10) against
-/// a cone off the origin with a non-axis-aligned normal and the frustum of the same angle.
-pub fn hale_tables(side: usize, passes: usize) -> Vec<MicroRow> {
+/// The objects Hale's tables test: a grid of spheres, points and boxes in front of a cone and
+/// the frustum of the same angle (and a second eye's of each), and a triangle mesh.
+struct MicroWorkload {
+    spheres: Vec<Sphere>,
+    points: Vec<Vec3>,
+    boxes: Vec<Aabb>,
+    soa: SphereSoa,
+    triangles: Vec<Triangle>,
+    frustum: Frustum,
+    second_frustum: Frustum,
+    cone: Cone,
+    second_cone: Cone,
+    view: crate::cull::ConeView,
+}
+
+/// `side`³ objects.
+fn micro_workload(side: usize) -> MicroWorkload {
     let n = side * side * side;
     let half_angle = 0.6f32;
     let origin = Vec3::new(1.0, 2.0, 3.0);
@@ -120,7 +134,36 @@ pub fn hale_tables(side: usize, passes: usize) -> Vec<MicroRow> {
             )
         })
         .collect();
+    MicroWorkload {
+        spheres,
+        points,
+        boxes,
+        soa,
+        triangles,
+        frustum,
+        second_frustum,
+        cone,
+        second_cone,
+        view,
+    }
+}
 
+/// The intersection tables: `side`³ objects (Hale: 64³) tested `passes` times (Hale: 10) against
+/// a cone off the origin with a non-axis-aligned normal and the frustum of the same angle.
+pub fn hale_tables(side: usize, passes: usize) -> Vec<MicroRow> {
+    let MicroWorkload {
+        spheres,
+        points,
+        boxes,
+        soa,
+        triangles,
+        frustum,
+        second_frustum,
+        cone,
+        second_cone,
+        view,
+    } = micro_workload(side);
+    let n = spheres.len();
     let count = |f: &dyn Fn(usize) -> bool, len: usize| (0..len).filter(|&i| f(i)).count() as u64;
     let mut rows: Vec<MicroRow> = Vec::new();
     let mut row = |table, name, tests: usize, pass: &mut dyn FnMut() -> u64| {
