@@ -268,40 +268,7 @@ impl Loader<'_> {
         ) {
             return Ok(None);
         }
-        let positions = primitive
-            .get(&gltf::Semantic::Positions)
-            .ok_or("has no POSITION attribute")?;
-        self.check(
-            &positions,
-            "POSITION",
-            &[Dimensions::Vec3],
-            &[DataType::F32],
-        )?;
-        let normals = primitive.get(&gltf::Semantic::Normals);
-        if let Some(a) = &normals {
-            self.check(a, "NORMAL", &[Dimensions::Vec3], &[DataType::F32])?;
-        }
-        let uvs = primitive.get(&gltf::Semantic::TexCoords(0));
-        if let Some(a) = &uvs {
-            self.check(
-                a,
-                "TEXCOORD_0",
-                &[Dimensions::Vec2],
-                &[DataType::F32, DataType::U8, DataType::U16],
-            )?;
-        }
-        let tangents = primitive.get(&gltf::Semantic::Tangents);
-        if let Some(a) = &tangents {
-            self.check(a, "TANGENT", &[Dimensions::Vec4], &[DataType::F32])?;
-        }
-        if let Some(a) = primitive.indices() {
-            self.check(
-                &a,
-                "indices",
-                &[Dimensions::Scalar],
-                &[DataType::U8, DataType::U16, DataType::U32],
-            )?;
-        }
+        let (uvs, tangents) = self.check_attributes(primitive)?;
         let reader = primitive.reader(|b| self.buffers.get(b.index()).map(Vec::as_slice));
         let positions: Vec<[f32; 3]> = reader
             .read_positions()
@@ -340,7 +307,7 @@ impl Loader<'_> {
             None => vec![[0.0; 2]; count],
         };
         same_count("TEXCOORD_0", uv.len())?;
-        let mut vertices: Vec<Vertex> = positions
+        let vertices: Vec<Vertex> = positions
             .iter()
             .zip(&uv)
             .map(|(&position, &uv)| Vertex {
@@ -350,33 +317,13 @@ impl Loader<'_> {
                 tangent: [0.0; 4],
             })
             .collect();
-        let (mut vertices, indices) = match reader.read_normals() {
-            Some(n) => {
-                let normals: Vec<[f32; 3]> = n.collect();
-                same_count("NORMAL", normals.len())?;
-                for (v, n) in vertices.iter_mut().zip(normals) {
-                    v.normal = Vec3::from(finite_or_zero(n))
-                        .normalize_or(Vec3::Y)
-                        .to_array();
-                }
-                (vertices, indices)
-            }
-            None => {
-                // glTF: without normals, flat shading.
-                let (v, i) = unweld(&vertices, &indices);
-                vertices = v;
-                for t in i.chunks_exact(3) {
-                    let p = [0, 1, 2].map(|k| Vec3::from(vertices[t[k] as usize].position));
-                    let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(Vec3::Y);
-                    for &k in t {
-                        vertices[k as usize].normal = n.to_array();
-                    }
-                }
-                (vertices, i)
-            }
-        };
+        let normals = reader.read_normals().map(|n| n.collect::<Vec<[f32; 3]>>());
+        if let Some(n) = &normals {
+            same_count("NORMAL", n.len())?;
+        }
+        let (mut vertices, indices) = with_normals(vertices, indices, normals);
         match reader.read_tangents() {
-            Some(t) if tangents.is_some() => {
+            Some(t) if tangents => {
                 let t: Vec<[f32; 4]> = t.collect();
                 same_count("TANGENT", t.len())?;
                 for (v, t) in vertices.iter_mut().zip(t) {
@@ -384,10 +331,51 @@ impl Loader<'_> {
                     v.tangent = [t[0], t[1], t[2], if t[3] < 0.0 { -1.0 } else { 1.0 }];
                 }
             }
-            _ if uvs.is_some() => generate_tangents(&mut vertices, &indices),
+            _ if uvs => generate_tangents(&mut vertices, &indices),
             _ => {}
         }
         Ok(Some((vertices, indices)))
+    }
+
+    /// Refuses a primitive whose attributes the reader would misread: no POSITION, or an
+    /// attribute of a type or shape foveate does not read. Returns whether it has texture
+    /// coordinates and tangents.
+    fn check_attributes(&self, primitive: &gltf::Primitive) -> Result<(bool, bool), String> {
+        let positions = primitive
+            .get(&gltf::Semantic::Positions)
+            .ok_or("has no POSITION attribute")?;
+        self.check(
+            &positions,
+            "POSITION",
+            &[Dimensions::Vec3],
+            &[DataType::F32],
+        )?;
+        let normals = primitive.get(&gltf::Semantic::Normals);
+        if let Some(a) = &normals {
+            self.check(a, "NORMAL", &[Dimensions::Vec3], &[DataType::F32])?;
+        }
+        let uvs = primitive.get(&gltf::Semantic::TexCoords(0));
+        if let Some(a) = &uvs {
+            self.check(
+                a,
+                "TEXCOORD_0",
+                &[Dimensions::Vec2],
+                &[DataType::F32, DataType::U8, DataType::U16],
+            )?;
+        }
+        let tangents = primitive.get(&gltf::Semantic::Tangents);
+        if let Some(a) = &tangents {
+            self.check(a, "TANGENT", &[Dimensions::Vec4], &[DataType::F32])?;
+        }
+        if let Some(a) = primitive.indices() {
+            self.check(
+                &a,
+                "indices",
+                &[Dimensions::Scalar],
+                &[DataType::U8, DataType::U16, DataType::U32],
+            )?;
+        }
+        Ok((uvs.is_some(), tangents.is_some()))
     }
 
     /// Refuses an accessor the reader would misread or read past its buffer: sparse, without
@@ -579,6 +567,36 @@ impl Loader<'_> {
         let texels = Arc::new(resized.into_raw());
         self.images.insert(image.index(), texels.clone());
         Ok(texels)
+    }
+}
+
+/// The vertices with their normals: the file's, or without them (glTF: flat shading) each
+/// triangle's own, its vertices unwelded.
+fn with_normals(
+    mut vertices: Vec<Vertex>,
+    indices: Vec<u32>,
+    normals: Option<Vec<[f32; 3]>>,
+) -> (Vec<Vertex>, Vec<u32>) {
+    match normals {
+        Some(normals) => {
+            for (v, n) in vertices.iter_mut().zip(normals) {
+                v.normal = Vec3::from(finite_or_zero(n))
+                    .normalize_or(Vec3::Y)
+                    .to_array();
+            }
+            (vertices, indices)
+        }
+        None => {
+            let (mut vertices, i) = unweld(&vertices, &indices);
+            for t in i.chunks_exact(3) {
+                let p = [0, 1, 2].map(|k| Vec3::from(vertices[t[k] as usize].position));
+                let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(Vec3::Y);
+                for &k in t {
+                    vertices[k as usize].normal = n.to_array();
+                }
+            }
+            (vertices, i)
+        }
     }
 }
 
