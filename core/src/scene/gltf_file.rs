@@ -19,7 +19,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
 use super::gltf_geometry::{
-    add_back_faces, finite_or_zero, framing_head, generate_tangents, triangle_list, unweld,
+    add_back_faces, finite_or_zero, framing_head, generate_tangents, triangle_list, with_normals,
 };
 use super::gltf_uri::{load_buffer, read_uri};
 use super::textures::unorm8;
@@ -567,36 +567,6 @@ impl Loader<'_> {
         let texels = Arc::new(resized.into_raw());
         self.images.insert(image.index(), texels.clone());
         Ok(texels)
-    }
-}
-
-/// The vertices with their normals: the file's, or without them (glTF: flat shading) each
-/// triangle's own, its vertices unwelded.
-fn with_normals(
-    mut vertices: Vec<Vertex>,
-    indices: Vec<u32>,
-    normals: Option<Vec<[f32; 3]>>,
-) -> (Vec<Vertex>, Vec<u32>) {
-    match normals {
-        Some(normals) => {
-            for (v, n) in vertices.iter_mut().zip(normals) {
-                v.normal = Vec3::from(finite_or_zero(n))
-                    .normalize_or(Vec3::Y)
-                    .to_array();
-            }
-            (vertices, indices)
-        }
-        None => {
-            let (mut vertices, i) = unweld(&vertices, &indices);
-            for t in i.chunks_exact(3) {
-                let p = [0, 1, 2].map(|k| Vec3::from(vertices[t[k] as usize].position));
-                let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(Vec3::Y);
-                for &k in t {
-                    vertices[k as usize].normal = n.to_array();
-                }
-            }
-            (vertices, i)
-        }
     }
 }
 

@@ -1,6 +1,6 @@
 //! Geometry the glTF loader derives from a file: the head that frames a scene without a
-//! camera, triangle lists from strips and fans, unwelded and double-sided meshes, and
-//! MikkTSpace tangents where a file has none.
+//! camera, triangle lists from strips and fans, unwelded and double-sided meshes, flat normals
+//! and MikkTSpace tangents where a file has none.
 
 use glam::{Mat4, Vec3, Vec4};
 use gltf::mesh::Mode;
@@ -149,5 +149,35 @@ pub(super) fn generate_tangents(vertices: &mut [Vertex], indices: &[u32]) {
     }
     if !mikktspace::generate_tangents(&mut Geometry { vertices, indices }) {
         log::debug!("mikktspace generated no tangents; the frame comes from derivatives");
+    }
+}
+
+/// The vertices with their normals: the file's, or without them (glTF: flat shading) each
+/// triangle's own, its vertices unwelded.
+pub(super) fn with_normals(
+    mut vertices: Vec<Vertex>,
+    indices: Vec<u32>,
+    normals: Option<Vec<[f32; 3]>>,
+) -> (Vec<Vertex>, Vec<u32>) {
+    match normals {
+        Some(normals) => {
+            for (v, n) in vertices.iter_mut().zip(normals) {
+                v.normal = Vec3::from(finite_or_zero(n))
+                    .normalize_or(Vec3::Y)
+                    .to_array();
+            }
+            (vertices, indices)
+        }
+        None => {
+            let (mut vertices, i) = unweld(&vertices, &indices);
+            for t in i.chunks_exact(3) {
+                let p = [0, 1, 2].map(|k| Vec3::from(vertices[t[k] as usize].position));
+                let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(Vec3::Y);
+                for &k in t {
+                    vertices[k as usize].normal = n.to_array();
+                }
+            }
+            (vertices, i)
+        }
     }
 }
