@@ -11,7 +11,7 @@ use foveate::mffr::MffrConfig;
 use foveate::plan::{RenderConfig, Resolution, MAX_FRAMES_IN_FLIGHT};
 use foveate::render::{FrameInput, FramesInFlight, Renderer, StereoImage};
 use foveate::scene::{default_scene, Scene};
-use foveate_tests::{assert_validation_clean, gpu};
+use foveate_tests::{assert_validation_clean, gpu, mesh_of, visible_instance};
 use glam::{Mat4, Vec2, Vec3};
 
 /// 64² per eye, the instances moving, one spare instance per mesh.
@@ -22,19 +22,6 @@ fn small(config: RenderConfig) -> RenderConfig {
         spare_instances: 1,
         ..config
     }
-}
-
-/// The instance nearest the head in front of it, by its number.
-fn visible_instance(scene: &Scene) -> usize {
-    let head = scene.head.inverse();
-    let spheres = scene.instance_spheres();
-    (0..spheres.len())
-        .filter(|&i| head.transform_point3(spheres[i].center).z < -1.0)
-        .min_by(|&a, &b| {
-            let d = |i: usize| head.transform_point3(spheres[i].center).length();
-            d(a).total_cmp(&d(b))
-        })
-        .expect("something in front of the head")
 }
 
 /// What changes in the scene before frame `i`: the visible instance slides a little (frames
@@ -66,18 +53,6 @@ fn change_scene(renderer: &mut Renderer, scene: &Scene, i: usize) {
             .move_instance(index, slid(i) * original.model)
             .unwrap(),
     }
-}
-
-/// The mesh of instance `index`.
-fn mesh_of(scene: &Scene, index: usize) -> usize {
-    let mut left = index;
-    for batch in &scene.batches {
-        if left < batch.instances.len() {
-            return batch.mesh;
-        }
-        left -= batch.instances.len();
-    }
-    panic!("no instance {index}");
 }
 
 /// Stereo, foveated with temporal accumulation (history carried from frame to frame), MFFR.

@@ -7,7 +7,7 @@ use foveate::cull::Strategy;
 use foveate::plan::{CullConfig, RenderConfig, Resolution, MAX_SPARE_INSTANCES};
 use foveate::render::Renderer;
 use foveate::scene::{default_scene, DrawBatch, Instance, Scene};
-use foveate_tests::{assert_validation_clean, gpu};
+use foveate_tests::{assert_validation_clean, gpu, mesh_of, visible_instance};
 use glam::{Mat4, Vec3};
 
 fn config(culling: Option<CullConfig>) -> RenderConfig {
@@ -17,19 +17,6 @@ fn config(culling: Option<CullConfig>) -> RenderConfig {
         culling,
         ..RenderConfig::default()
     }
-}
-
-/// The instance nearest the head in front of it (so it shows), by its index in draw order.
-fn visible_instance(scene: &Scene) -> usize {
-    let head = scene.head.inverse();
-    let spheres = scene.instance_spheres();
-    (0..spheres.len())
-        .filter(|&i| head.transform_point3(spheres[i].center).z < -1.0)
-        .min_by(|&a, &b| {
-            let d = |i: usize| head.transform_point3(spheres[i].center).length();
-            d(a).total_cmp(&d(b))
-        })
-        .expect("something in front of the head")
 }
 
 /// `scene` with instance `index` (draw order) at `model`.
@@ -148,18 +135,6 @@ fn changed(scene: &Scene, index: usize, added: &[Instance]) -> Scene {
         instances: added.to_vec(),
     });
     scene
-}
-
-/// The mesh of instance `index` (draw order).
-fn mesh_of(scene: &Scene, index: usize) -> usize {
-    let mut left = index;
-    for batch in &scene.batches {
-        if left < batch.instances.len() {
-            return batch.mesh;
-        }
-        left -= batch.instances.len();
-    }
-    panic!("no instance {index}");
 }
 
 /// Two spare instances per mesh: absent, they change nothing in the image or the counts; an

@@ -224,3 +224,28 @@ impl Drop for Xvfb {
         let _ = self.child.wait();
     }
 }
+
+/// The instance nearest the head in front of it, by its number.
+pub fn visible_instance(scene: &Scene) -> usize {
+    let head = scene.head.inverse();
+    let spheres = scene.instance_spheres();
+    (0..spheres.len())
+        .filter(|&i| head.transform_point3(spheres[i].center).z < -1.0)
+        .min_by(|&a, &b| {
+            let d = |i: usize| head.transform_point3(spheres[i].center).length();
+            d(a).total_cmp(&d(b))
+        })
+        .expect("something in front of the head")
+}
+
+/// The mesh of instance `index`.
+pub fn mesh_of(scene: &Scene, index: usize) -> usize {
+    let mut left = index;
+    for batch in &scene.batches {
+        if left < batch.instances.len() {
+            return batch.mesh;
+        }
+        left -= batch.instances.len();
+    }
+    panic!("no instance {index}");
+}
