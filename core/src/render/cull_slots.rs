@@ -170,10 +170,17 @@ impl<'a> CullFrame<'a> {
         }
     }
 
-    fn test(&self, frustum: Frustum, eyes: [Vec3; 2], distance: f32) -> Option<ClusterTest> {
-        self.clustered.then_some(ClusterTest {
-            frustum,
-            eyes,
+    /// A slot's clusters' test, when the scene's clusters are culled (only then are the
+    /// frustum and the projection centres worked out).
+    fn test(
+        &self,
+        frustum: impl FnOnce() -> Frustum,
+        eyes: impl FnOnce() -> [Vec3; 2],
+        distance: f32,
+    ) -> Option<ClusterTest> {
+        self.clustered.then(|| ClusterTest {
+            frustum: frustum(),
+            eyes: eyes(),
             centre: self.centre,
             distance,
         })
@@ -181,15 +188,9 @@ impl<'a> CullFrame<'a> {
 
     /// Both eyes' clusters within the draw distance (the stereo sets and the periphery's).
     fn stereo_test(&self) -> Option<ClusterTest> {
-        self.clustered.then(|| {
-            let frustum = self.superfrustum(&self.plan.eyes, self.draw_distance);
-            ClusterTest {
-                frustum,
-                eyes: self.eyes(),
-                centre: self.centre,
-                distance: self.draw_distance,
-            }
-        })
+        let distance = self.draw_distance;
+        let frustum = || self.superfrustum(&self.plan.eyes, distance);
+        self.test(frustum, || self.eyes(), distance)
     }
 
     /// What a slot drawing `draw_set` selects from `h`; `fovea_draws`: the fovea views draw
@@ -233,17 +234,16 @@ impl<'a> CullFrame<'a> {
                 }
                 selection(
                     Some(h.cull(&frustum, centre, distance)),
-                    self.test(frustum, [frustum.origin; 2], distance),
+                    self.test(|| frustum, || [frustum.origin; 2], distance),
                     views,
                 )
             }
             DrawSet::NearField => {
                 let reach = self.near_reach.expect("a near field is planned with MFFR");
-                let frustum = self.superfrustum(&self.plan.eyes, reach);
-                let test = self.clustered.then(|| self.eyes());
+                let frustum = || self.superfrustum(&self.plan.eyes, reach);
                 selection(
                     Some(self.strategy.cull(h, &self.view(reach))),
-                    test.and_then(|eyes| self.test(frustum, eyes, reach)),
+                    self.test(frustum, || self.eyes(), reach),
                     self.eye_views(),
                 )
             }
@@ -255,16 +255,15 @@ impl<'a> CullFrame<'a> {
                     .map_or(self.plan.eye_resolution, |m| m.resolution);
                 selection(
                     Some(h.cull(far, centre, distance)),
-                    self.test(*far, [far.origin; 2], distance),
+                    self.test(|| *far, || [far.origin; 2], distance),
                     self.lod_views(std::slice::from_ref(far), pixels),
                 )
             }
             DrawSet::Fovea => {
                 let frustum = self.fovea_frustum();
-                let eyes = self.clustered.then(|| self.eyes());
                 selection(
                     Some(h.cull(&frustum, centre, distance)),
-                    eyes.and_then(|eyes| self.test(frustum, eyes, distance)),
+                    self.test(|| frustum, || self.eyes(), distance),
                     self.fovea_views(),
                 )
             }
@@ -284,7 +283,6 @@ impl<'a> CullFrame<'a> {
         for i in h.cull(&frustum, centre, distance).visible.indices() {
             in_fovea[h.ids[i as usize] as usize] = true;
         }
-        let eyes = self.clustered.then(|| self.eyes());
         let views = self.eye_views();
         Selection {
             kept: self
@@ -294,7 +292,7 @@ impl<'a> CullFrame<'a> {
             clusters: self.stereo_test(),
             tagged_views: [views.clone(), self.fovea_views()].concat(),
             views,
-            fovea_tags: eyes.and_then(|eyes| self.test(frustum, eyes, distance)),
+            fovea_tags: self.test(|| frustum, || self.eyes(), distance),
         }
     }
 }

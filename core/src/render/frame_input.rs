@@ -134,12 +134,26 @@ pub(super) fn eyes_fit(eyes: &EyeParams, planned: &EyeParams) -> Result<(), Conf
 
 /// A head pose the frame can be rendered from: every element finite.
 pub(super) fn head_is_finite(world_from_head: Mat4) -> Result<(), ConfigError> {
-    if world_from_head.is_finite() {
+    finite_matrix(
+        "world_from_head",
+        world_from_head,
+        "a finite matrix (a lost head-tracking sample: keep the last good pose)",
+    )
+}
+
+/// `matrix`, handed in as `field`, with every element finite; else an error naming the field,
+/// the matrix and `limit`.
+pub(super) fn finite_matrix(
+    field: &'static str,
+    matrix: Mat4,
+    limit: &str,
+) -> Result<(), ConfigError> {
+    if matrix.is_finite() {
         return Ok(());
     }
     Err(ConfigError::new(
-        "world_from_head",
-        format!("{:?}", world_from_head.to_cols_array()),
-        "a finite matrix (a lost head-tracking sample: keep the last good pose)",
+        field,
+        format!("{:?}", matrix.to_cols_array()),
+        limit,
     ))
 }

@@ -6,6 +6,7 @@
 
 use glam::Mat4;
 
+use super::frame_input::finite_matrix;
 use crate::gpu::Buffer;
 use crate::scene::{Draw, Instance, Scene};
 use crate::vocab::ConfigError;
@@ -186,12 +187,5 @@ impl MovingInstances {
 }
 
 fn finite(model: Mat4) -> Result<(), ConfigError> {
-    if model.is_finite() {
-        return Ok(());
-    }
-    Err(ConfigError::new(
-        "model",
-        format!("{:?}", model.to_cols_array()),
-        "a finite matrix",
-    ))
+    finite_matrix("model", model, "a finite matrix")
 }
