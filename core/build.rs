@@ -1,4 +1,4 @@
-//! Compiles the GLSL in `../shaders` to SPIR-V with `glslc`.
+//! Compiles the GLSL in `shaders/` to SPIR-V with `glslc`.
 //!
 //! Each entry is (source, output name, extra defines); the SPIR-V lands in `OUT_DIR` and is
 //! embedded by `src/shaders.rs`.
@@ -79,7 +79,7 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
 ];
 
 fn main() {
-    let src_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders");
+    let src_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     println!("cargo:rerun-if-changed={}", src_dir.display());
     println!("cargo:rerun-if-env-changed=GLSLC");

@@ -10,7 +10,7 @@ use foveate::plan::{Constant, ConstantKind};
 
 /// (id → (name, GLSL type)) over every file of `shaders/`, each id declared alike everywhere.
 fn glsl_constants() -> BTreeMap<u32, (String, String)> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let mut found: BTreeMap<u32, (String, String)> = BTreeMap::new();
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
