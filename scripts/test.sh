@@ -51,6 +51,11 @@ printf '%s\n' "${summary[@]}"
 if [ "${FOVEATE_SKIP_LINT:-0}" != "1" ]; then
     cargo fmt --all -- --check || status=1
     cargo clippy --workspace --all-targets -q -- -D warnings || status=1
+    # The library as a user gets it (no `internals`): every public item documented
+    # (missing_docs), and its docs built without a warning (broken links).
+    cargo clippy -p foveate --features flip,clusters,xr -q -- -D warnings || status=1
+    RUSTDOCFLAGS="-D warnings" cargo doc -q -p foveate --no-deps --features flip,clusters,xr \
+        || status=1
 fi
 # One closing total over every driver: cargo's own last line is the (empty) doc-test run.
 echo "tests: $passed passed, $failed failed"

@@ -8,9 +8,9 @@ use std::marker::PhantomData;
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::{Acquired, Gpu, Presented, Swapchain};
 use foveate::plan::OutputStage;
+use foveate::plan::{FramePlan, RenderConfig};
 use foveate::render::{FrameInput, FramesInFlight, Renderer};
 use foveate::scene::{default_scene, Scene, Shading};
-use foveate::{FramePlan, RenderConfig};
 use glam::Vec2;
 use raw_window_handle::{HasWindowHandle, RawDisplayHandle};
 

@@ -30,7 +30,7 @@ fn main() {
     let display = event_loop.display_handle().expect("display").as_raw();
     let gpu = gpu_with(Some(display));
     // Small eyes: this tests the lifecycle, not the picture (the viewer's test compares pixels).
-    let config = foveate::RenderConfig {
+    let config = foveate::plan::RenderConfig {
         resolution: Some(Resolution::square(64)),
         ..demo_config()
     };

@@ -11,10 +11,10 @@ use foveate::ash::vk;
 use foveate::foveation::FoveationConfig;
 use foveate::glam::{Mat4, Vec3};
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::plan::RenderConfig;
 use foveate::plan::Resolution;
 use foveate::render::{FrameInput, FrameRecord, Renderer};
 use foveate::scene::default_scene;
-use foveate::RenderConfig;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // An engine lends its own device with `Gpu::from_engine`; here foveate opens one.

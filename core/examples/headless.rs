@@ -8,10 +8,10 @@
 use foveate::foveation::FoveationConfig;
 use foveate::glam::Vec2;
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::plan::RenderConfig;
 use foveate::plan::Resolution;
 use foveate::render::{FrameInput, Renderer};
 use foveate::scene::default_scene;
-use foveate::RenderConfig;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = std::env::args().nth(1).map_or_else(

@@ -13,10 +13,10 @@ use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::{eccentric_flip_map, Acuity};
 use foveate::metrics::{ErrorSummary, EyePixels};
 use foveate::plan::Resolution;
+use foveate::plan::{FramePlan, RenderConfig};
 use foveate::render::{FrameInput, Renderer, StereoImage};
 use foveate::scene::{default_scene, Scene};
 use foveate::view::Eye;
-use foveate::{FramePlan, RenderConfig};
 
 /// One frame of `config` at `gaze`: its plan and image.
 fn frame(

@@ -9,10 +9,10 @@
 use foveate::foveation::FoveationConfig;
 use foveate::glam::{Mat4, Vec3};
 use foveate::gpu::{Gpu, GpuOptions, Image};
+use foveate::plan::RenderConfig;
 use foveate::plan::{OutputFormat, Resolution};
 use foveate::render::{output_image_desc, FrameInput, Renderer};
 use foveate::scene::default_scene;
-use foveate::RenderConfig;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let gpu = Gpu::new(&GpuOptions::default())?;
@@ -40,7 +40,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let head = scene.head * Mat4::from_translation(Vec3::new(0.05 * frame as f32, 0.0, 0.0));
         // Each frame names the image it ends in; the renderer makes its framebuffers for an
         // image the first time it sees it.
-        let input = FrameInput::new(head).with_output(images[frame % images.len()].raw);
+        let input = FrameInput::new(head).with_output(images[frame % images.len()].raw());
         let stats = renderer.render(&input)?;
         println!(
             "frame {frame} into image {}: GPU {:.2} ms",

@@ -33,7 +33,7 @@ impl CsvTable {
     /// Writes the table where `--csv` asked for it, and says so.
     pub fn save(self, path: Option<&Path>) -> Result<()> {
         if let Some(path) = path {
-            foveate::vocab::write_atomic(path, self.into_string()?.as_bytes())?;
+            foveate::write_atomic(path, self.into_string()?.as_bytes())?;
             println!("wrote {}", path.display());
         }
         Ok(())

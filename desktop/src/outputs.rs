@@ -1,12 +1,12 @@
 //! Output paths checked before the work that fills them: a run of minutes or hours must not end
 //! by finding that it cannot write its result. (The writes themselves are atomic:
-//! `foveate::vocab::write_atomic`.)
+//! `foveate::write_atomic`.)
 
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
+use foveate::check_writable;
 use foveate::metrics::RgbaImage;
-use foveate::vocab::check_writable;
 
 /// Files given by path (`-` is standard output, always writable).
 pub fn files(paths: &[Option<&Path>]) -> Result<()> {

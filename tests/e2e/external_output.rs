@@ -58,7 +58,7 @@ fn each_frame_lands_in_the_image_selected_for_it() {
         let plan = foveate::plan(&scene, &external, gpu.caps()).unwrap();
         let desc = output_image_desc(&plan);
         let images: Vec<Image> = (0..2).map(|_| Image::new(&gpu, &desc).unwrap()).collect();
-        let raw: Vec<_> = images.iter().map(|i| i.raw).collect();
+        let raw: Vec<_> = images.iter().map(|i| i.raw()).collect();
         let mut renderer = Renderer::with_output_images(&gpu, &plan, &scene, &raw).unwrap();
         for (index, head) in heads.iter().enumerate() {
             renderer.select_output(index).unwrap();

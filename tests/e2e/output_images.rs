@@ -56,7 +56,7 @@ fn images_handed_in_frame_by_frame_each_hold_their_frame() {
             .map(|i| scene.head * Mat4::from_translation(Vec3::new(0.05 * i as f32, 0.0, 0.0)))
             .collect();
         for (i, head) in heads.iter().enumerate() {
-            let input = FrameInput::new(*head).with_output(images[i % 3].raw);
+            let input = FrameInput::new(*head).with_output(images[i % 3].raw());
             renderer.render(&input).unwrap();
         }
         // Each image holds the last frame handed it (images are numbered as first handed in).
@@ -88,10 +88,10 @@ fn output_images_beyond_the_limit_or_plan_are_refused() {
         .collect();
     for image in &images[..MAX_OUTPUT_IMAGES] {
         renderer
-            .render(&FrameInput::new(scene.head).with_output(image.raw))
+            .render(&FrameInput::new(scene.head).with_output(image.raw()))
             .unwrap();
     }
-    let last = FrameInput::new(scene.head).with_output(images[MAX_OUTPUT_IMAGES].raw);
+    let last = FrameInput::new(scene.head).with_output(images[MAX_OUTPUT_IMAGES].raw());
     let error = renderer.render(&last).unwrap_err().to_string();
     assert!(error.contains(&MAX_OUTPUT_IMAGES.to_string()), "{error}");
     let owned = foveate::plan(&scene, &small(RenderConfig::default()), gpu.caps()).unwrap();
@@ -137,7 +137,7 @@ fn every_output_format_reads_back_as_the_srgb_frame() {
                 let handed = Image::new(&gpu, &desc).unwrap();
                 let mut input = FrameInput::new(scene.head);
                 if external_output {
-                    input = input.with_output(handed.raw);
+                    input = input.with_output(handed.raw());
                 }
                 renderer.render(&input).unwrap();
                 let got = renderer.readback().unwrap();

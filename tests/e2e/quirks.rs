@@ -160,7 +160,17 @@ fn slots_written_after_multiview(gpu: &Gpu, views: u32, query: vk::QueryType) ->
         },
     )
     .unwrap();
-    let view = image.view(0, views, true).unwrap();
+    let view_info = vk::ImageViewCreateInfo::default()
+        .image(image.raw())
+        .view_type(vk::ImageViewType::TYPE_2D_ARRAY)
+        .format(vk::Format::R8G8B8A8_UNORM)
+        .subresource_range(vk::ImageSubresourceRange {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: views,
+        });
     let attachment = [vk::AttachmentDescription::default()
         .format(vk::Format::R8G8B8A8_UNORM)
         .samples(vk::SampleCountFlags::TYPE_1)
@@ -185,7 +195,8 @@ fn slots_written_after_multiview(gpu: &Gpu, views: u32, query: vk::QueryType) ->
     // SAFETY (this function): every handle is created here, used by one waited submission and
     // destroyed before returning.
     let render_pass = unsafe { device.create_render_pass(&info, None) }.unwrap();
-    let views_raw = [view.raw];
+    let view = unsafe { device.create_image_view(&view_info, None) }.unwrap();
+    let views_raw = [view];
     let fb_info = vk::FramebufferCreateInfo::default()
         .render_pass(render_pass)
         .attachments(&views_raw)
@@ -244,9 +255,9 @@ fn slots_written_after_multiview(gpu: &Gpu, views: u32, query: vk::QueryType) ->
     unsafe {
         device.destroy_query_pool(pool, None);
         device.destroy_framebuffer(framebuffer, None);
+        device.destroy_image_view(view, None);
         device.destroy_render_pass(render_pass, None);
     }
-    drop(view);
     assert_validation_clean(gpu);
     available
 }

@@ -93,7 +93,7 @@ fn kept_pixels_are_exact_and_skipped_quads_reconstructed() {
         .radial_density
         .unwrap();
     let (image, _) = render(&gpu, &scene, &c);
-    let sky = foveate::render::SKY.map(|v| (v.powf(1.0 / 2.2) * 255.0).round() as u8);
+    let sky = foveate::plan::SKY.map(|v| (v.powf(1.0 / 2.2) * 255.0).round() as u8);
     for eye in Eye::BOTH {
         let (a, b) = (reference.eye(eye), image.eye(eye));
         let state = |x: u32, y: u32| skipped(&g, eye, (x / 2, y / 2));

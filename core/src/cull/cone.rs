@@ -12,10 +12,15 @@ use super::{rounding_slack, Aabb, Relation, Sphere};
 /// A single acute cone: apex `origin`, unit `axis`, half-angle θ ∈ (0°, 90°).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cone {
+    /// Its apex.
     pub origin: Vec3,
+    /// Its unit axis.
     pub axis: Vec3,
+    /// tan θ.
     pub tan: f32,
+    /// sin θ.
     pub sin: f32,
+    /// cos θ.
     pub cos: f32,
     /// 1 / cos θ.
     pub sec: f32,
@@ -43,6 +48,7 @@ impl Cone {
         }
     }
 
+    /// Its half-angle θ in radians.
     pub fn half_angle(&self) -> f32 {
         self.tan.atan()
     }
@@ -228,6 +234,7 @@ fn sphere_in_axis_frame(a: f32, perp_sq: f32, cc: f32, r: f32, cone: &Cone) -> b
 /// A cone with its view rotation precomputed (see [`Cone::view`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ConeView {
+    /// The cone.
     pub cone: Cone,
     /// World to cone frame: the axis becomes +Z.
     pub cone_from_world: Mat3,
@@ -235,6 +242,7 @@ pub struct ConeView {
 
 impl ConeView {
     #[inline]
+    /// Conservative: false only if no point of the sphere lies in the cone.
     pub fn intersects_sphere(&self, s: &Sphere) -> bool {
         let q = self.cone_from_world * (s.center - self.cone.origin);
         let r = s.radius + rounding_slack(q.abs().max_element() + s.radius);
@@ -264,10 +272,13 @@ fn bound_slack(b: &Aabb) -> f32 {
 /// x²/tx² + y²/ty² ≤ z², z > 0 — Hale's proposed fit for asymmetric fields of view.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EllipticalCone {
+    /// Its apex.
     pub origin: Vec3,
     /// World to cone frame.
     pub cone_from_world: Mat3,
+    /// The half-width of its cross-section at unit depth.
     pub tan_x: f32,
+    /// The half-height of its cross-section at unit depth.
     pub tan_y: f32,
     /// x scale making it circular, and that circular cone (apex at the origin, axis +Z).
     scale_x: f32,
@@ -275,6 +286,7 @@ pub struct EllipticalCone {
 }
 
 impl EllipticalCone {
+    /// The cone with apex `origin`, frame `cone_from_world` and cross-section `tan_x` × `tan_y` at unit depth.
     pub fn new(origin: Vec3, cone_from_world: Mat3, tan_x: f32, tan_y: f32) -> Self {
         let circular = Cone::new(Vec3::ZERO, Vec3::Z, tan_y.atan());
         EllipticalCone {
@@ -287,6 +299,7 @@ impl EllipticalCone {
         }
     }
 
+    /// Whether `p` lies in it.
     pub fn contains_point(&self, p: Vec3) -> bool {
         let q = self.cone_from_world * (p - self.origin);
         q.z > 0.0 && (q.x / self.tan_x).powi(2) + (q.y / self.tan_y).powi(2) <= q.z * q.z

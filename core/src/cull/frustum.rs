@@ -8,7 +8,9 @@ use crate::view::FovTangents;
 /// Each plane is (inward unit normal, offset): a point p is inside when n·(p − origin) + d ≥ 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frustum {
+    /// The eye: the planes are relative to it.
     pub origin: Vec3,
+    /// Left, right, bottom, top, near, far: (inward unit normal, offset).
     pub planes: [Vec4; 6],
     /// The eight corners relative to `origin` (so they keep `f32` precision far from the world
     /// origin): near (l-d, r-d, r-u, l-u), then far in the same order.

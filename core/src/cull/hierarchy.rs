@@ -84,18 +84,22 @@ impl CullStats {
 /// Accepted objects as ranges of the hierarchy's object order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct VisibleSet {
+    /// The ranges, in order, none empty.
     pub ranges: Vec<Range<u32>>,
 }
 
 impl VisibleSet {
+    /// How many objects were accepted.
     pub fn len(&self) -> u64 {
         self.ranges.iter().map(|r| (r.end - r.start) as u64).sum()
     }
 
+    /// Whether none was.
     pub fn is_empty(&self) -> bool {
         self.ranges.is_empty()
     }
 
+    /// The accepted objects' positions in the hierarchy's order (see [`CullHierarchy::ids`]).
     pub fn indices(&self) -> impl Iterator<Item = u32> + '_ {
         self.ranges.iter().flat_map(|r| r.clone())
     }
@@ -111,7 +115,9 @@ impl VisibleSet {
 /// The result of culling one frame.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CullResult {
+    /// What was accepted.
     pub visible: VisibleSet,
+    /// How the traversal went.
     pub stats: CullStats,
 }
 
@@ -125,6 +131,7 @@ pub struct CullHierarchy {
 }
 
 impl CullHierarchy {
+    /// The hierarchy over `spheres` (one per object): a grid of chunks, an octree in each.
     pub fn build(spheres: &[Sphere], params: HierarchyParams) -> Self {
         let size = params.chunk_size;
         let key = |c: Vec3| {
@@ -178,14 +185,17 @@ impl CullHierarchy {
         }
     }
 
+    /// How many objects it holds.
     pub fn len(&self) -> usize {
         self.ids.len()
     }
 
+    /// Whether it holds none.
     pub fn is_empty(&self) -> bool {
         self.ids.is_empty()
     }
 
+    /// How many grid chunks it has.
     pub fn chunk_count(&self) -> usize {
         self.chunks.len()
     }

@@ -3,18 +3,18 @@
 //! chunk-grid + octree hierarchy traversed in parallel. No Vulkan here.
 //!
 //! Every fast `f32` test is conservative — it never rejects an object that touches the volume —
-//! and is checked against slow `f64` oracles ([`oracle`]) by property tests over the hard cases.
+//! and is checked against slow `f64` oracles by property tests over the hard cases.
 
 mod batch;
 mod bounds;
 mod cone;
 mod frustum;
 mod hierarchy;
-pub mod oracle;
+internal_mod!(oracle);
 mod stereo;
 mod triangle;
 
-pub use batch::{batch_kernel, BatchError, SphereSoa};
+internal_use!(batch::{batch_kernel, BatchError, SphereSoa});
 pub use bounds::{Aabb, Relation, Sphere};
 pub use cone::{Cone, ConeView, EllipticalCone};
 pub use frustum::Frustum;

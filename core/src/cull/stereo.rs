@@ -7,6 +7,7 @@ use crate::view::{Eye, EyeParams, FovTangents, LensRegion};
 
 /// A culling volume for a stereo pair: does an object need drawing for either eye?
 pub trait StereoCull: Sync {
+    /// The strategy's name, as [`Strategy::name`] spells it.
     fn name(&self) -> &'static str;
     /// Conservative: false only if the sphere cannot be seen by the eyes this strategy covers.
     fn sphere(&self, s: &Sphere) -> bool;
@@ -46,10 +47,12 @@ impl StereoCull for Frustum {
 /// Both eyes' frusta for a head pose, near plane and draw distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StereoFrusta {
+    /// Left, then right.
     pub eyes: [Frustum; 2],
 }
 
 impl StereoFrusta {
+    /// Both eyes' frusta for the head at `world_from_head`, from `near` to `far` metres.
     pub fn new(eyes: &EyeParams, world_from_head: Mat4, near: f32, far: f32) -> Self {
         let frustum = |eye| {
             Frustum::from_eye(
@@ -68,6 +71,7 @@ impl StereoFrusta {
 /// Two frusta, their union, with early accept on the first.
 #[derive(Clone, Copy, Debug)]
 pub struct PerEye {
+    /// The two eyes' frusta.
     pub frusta: StereoFrusta,
 }
 
@@ -100,13 +104,16 @@ impl StereoCull for PerEye {
 /// containing both frusta — for asymmetric and canted eyes too, without symmetrising.
 #[derive(Clone, Copy, Debug)]
 pub struct Superfrustum {
+    /// The frustum containing both eyes'.
     pub frustum: Frustum,
     /// Distance of the apex behind the eyes' baseline (Oddou's recession for parallel eyes).
     pub recession: f32,
+    /// Its field, as tangents from its apex.
     pub fov: FovTangents,
 }
 
 impl Superfrustum {
+    /// The superfrustum of both eyes for the head at `world_from_head`, from `near` to `far` metres.
     pub fn new(eyes: &EyeParams, world_from_head: Mat4, near: f32, far: f32) -> Self {
         let in_head = StereoFrusta::new(eyes, Mat4::IDENTITY, near, far);
         let mut apex = outer_planes_meet(eyes).unwrap_or(Vec3::ZERO);
@@ -307,12 +314,16 @@ fn enclosing_axis(rays: &[Vec3]) -> Vec3 {
 /// frustum corners the lens hides.
 #[derive(Clone, Copy, Debug)]
 pub struct DualCone {
+    /// The circular cones, left then right.
     pub cones: [Cone; 2],
+    /// The elliptical cones, left then right.
     pub elliptical_cones: [EllipticalCone; 2],
+    /// Whether the elliptical cones are the ones tested.
     pub elliptical: bool,
 }
 
 impl DualCone {
+    /// One cone per eye around its lens-visible `regions`, circular or `elliptical`.
     pub fn new(
         eyes: &EyeParams,
         world_from_head: Mat4,
@@ -372,11 +383,14 @@ impl StereoCull for DualCone {
 /// are missed for a frame — expected, and measured by [`super::CullStats`].
 #[derive(Clone, Copy, Debug)]
 pub struct RoundRobin {
+    /// This frame's eye's frustum.
     pub frustum: Frustum,
+    /// This frame's eye.
     pub eye: Eye,
 }
 
 impl RoundRobin {
+    /// The eye of `frame`: left on even frames, right on odd ones.
     pub fn new(frusta: &StereoFrusta, frame: u64) -> Self {
         let eye = if frame.is_multiple_of(2) {
             Eye::Left
@@ -395,14 +409,20 @@ single_frustum_culler!(RoundRobin, "round robin");
 /// The strategies by name, for benchmarks and the CLI.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Strategy {
+    /// [`PerEye`].
     PerEye,
+    /// [`Superfrustum`].
     Superfrustum,
+    /// [`DualCone`], circular.
     DualCone,
+    /// [`DualCone`], elliptical.
     DualEllipticalCone,
+    /// [`RoundRobin`].
     RoundRobin,
 }
 
 impl Strategy {
+    /// Every strategy, in the order the benchmarks print them.
     pub const ALL: [Strategy; 5] = [
         Strategy::PerEye,
         Strategy::Superfrustum,
@@ -422,6 +442,7 @@ impl Strategy {
         Strategy::ALL.into_iter().find(|s| s.name() == name)
     }
 
+    /// Its name on the command line and in the printout.
     pub fn name(self) -> &'static str {
         match self {
             Strategy::PerEye => "per-eye",
@@ -436,11 +457,17 @@ impl Strategy {
 /// Everything a strategy needs to build its volume for one frame.
 #[derive(Clone, Copy, Debug)]
 pub struct CullView<'a> {
+    /// The eyes.
     pub eyes: &'a EyeParams,
+    /// The head's pose this frame.
     pub world_from_head: Mat4,
+    /// Near plane, metres.
     pub near: f32,
+    /// How far objects are drawn, metres.
     pub draw_distance: f32,
+    /// The frame's number (round robin alternates on it).
     pub frame: u64,
+    /// Each eye's lens-visible region (the cones fit it).
     pub lens_regions: &'a [LensRegion; 2],
 }
 

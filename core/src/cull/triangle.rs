@@ -5,12 +5,16 @@ use super::{Cone, Frustum};
 /// A triangle, for GPU-style primitive culling (Hale §3.2.2, Table 4.4).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
+    /// First corner.
     pub a: Vec3,
+    /// Second corner.
     pub b: Vec3,
+    /// Third corner.
     pub c: Vec3,
 }
 
 impl Triangle {
+    /// The triangle `a`, `b`, `c`.
     pub fn new(a: Vec3, b: Vec3, c: Vec3) -> Self {
         Self { a, b, c }
     }

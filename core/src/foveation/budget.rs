@@ -8,11 +8,14 @@ pub const ARM_PI: f64 = 3.14;
 /// Pixels shaded per frame, both eyes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PixelBudget {
+    /// Pixels the fovea views shade.
     pub fovea: f64,
+    /// Pixels the periphery views shade.
     pub periphery: f64,
 }
 
 impl PixelBudget {
+    /// Both.
     pub fn total(&self) -> f64 {
         self.fovea + self.periphery
     }

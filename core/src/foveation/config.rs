@@ -116,11 +116,17 @@ pub struct FoveationGeometry {
     /// With accumulation, the accumulated periphery's hole in screen pixels: what the fovea
     /// covers, less the band and the reach of the output's filter.
     pub accumulated_hole_px: f32,
+    /// [`FoveationConfig::stencil`].
     pub stencil: bool,
+    /// The blend band's width in screen pixels, as resolved from [`FoveationConfig::blend_band_px`].
     pub blend_band_px: f32,
+    /// [`FoveationConfig::debug_tint`].
     pub debug_tint: bool,
+    /// [`FoveationConfig::cull_fovea`].
     pub cull_fovea: bool,
+    /// [`FoveationConfig::periphery_sharpen`].
     pub periphery_sharpen: f32,
+    /// [`FoveationConfig::periphery_filter`].
     pub periphery_filter: PeripheryFilter,
     /// Temporal accumulation of the periphery, when on.
     pub temporal: Option<TemporalConfig>,

@@ -56,6 +56,7 @@ fn min_jerk(s: f64) -> f64 {
 /// to a direction and back.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GazeSpace {
+    /// The eye's field, as tangents.
     pub fov: FovTangents,
 }
 
@@ -108,10 +109,12 @@ impl GazeSpace {
 pub struct SeededRng(u32);
 
 impl SeededRng {
+    /// The stream from `seed` (any value; 0 is as good as another).
     pub fn new(seed: u32) -> Self {
         SeededRng(seed.wrapping_mul(2_654_435_761).max(1))
     }
 
+    /// The next number, in 0..=1.
     pub fn uniform(&mut self) -> f32 {
         let s = &mut self.0;
         *s ^= *s << 13;
@@ -135,8 +138,11 @@ impl SeededRng {
 /// One saccade the model made: when it started and landed, and how far it went.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SaccadeEvent {
+    /// When it started (s).
     pub onset_s: f64,
+    /// When it landed (s).
     pub landing_s: f64,
+    /// How far it went (degrees).
     pub amplitude_deg: f64,
 }
 
@@ -144,7 +150,9 @@ pub struct SaccadeEvent {
 /// sample invalid while the eye is closed, and the saccades it made (microsaccades left out).
 #[derive(Clone, Debug, PartialEq)]
 pub struct EyeTrace {
+    /// The true gaze, at [`TRUTH_HZ`].
     pub truth: Vec<GazeSample>,
+    /// The saccades made, in order.
     pub saccades: Vec<SaccadeEvent>,
 }
 
@@ -158,8 +166,11 @@ pub struct EyeMovementModel {
     pub fixation_s: (f64, f64),
     /// Fraction of gaze shifts that are pursuits rather than saccades.
     pub pursuit_fraction: f64,
+    /// Blinks per second.
     pub blinks_per_s: f64,
+    /// How long a blink closes the eye (s).
     pub blink_s: f64,
+    /// Microsaccades per second.
     pub microsaccades_per_s: f64,
     /// Drift per axis (°/√s).
     pub drift_deg_per_sqrt_s: f64,

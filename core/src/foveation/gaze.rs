@@ -14,27 +14,45 @@ const MAX_TRACE_BYTES: u64 = 1 << 30;
 /// (−1…1, x right, y up; 0 is the image centre), and the tracker's validity flag.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GazeSample {
+    /// Time in seconds.
     pub t: f64,
+    /// The left eye's gaze.
     pub left: Vec2,
+    /// The right eye's gaze.
     pub right: Vec2,
+    /// The tracker's validity flag (false while the eye is closed or lost).
     pub valid: bool,
 }
 
 #[derive(Debug, thiserror::Error)]
+/// Why a gaze trace could not be read.
 pub enum GazeError {
     /// The cause is in the message (not a separate source), so an error chain says it once.
     #[error("gaze trace {path}: {why}")]
-    Io { path: String, why: String },
-    #[error("gaze trace {path}, line {line}: {message} (expected `time,left_x,left_y,right_x,right_y,valid`)")]
-    Parse {
+    Io {
+        /** The trace file. */
         path: String,
+        /** What went wrong. */
+        why: String,
+    },
+    #[error("gaze trace {path}, line {line}: {message} (expected `time,left_x,left_y,right_x,right_y,valid`)")]
+    /// A line is not a sample.
+    Parse {
+        /// The trace file.
+        path: String,
+        /// The line, from 1.
         line: usize,
+        /// What is wrong with it.
         message: String,
     },
     #[error("gaze trace {path}: {usable} usable samples of {samples} (valid, finite, in -1..1); a trace needs at least two")]
+    /// Fewer than two usable samples.
     TooFewSamples {
+        /// The trace file.
         path: String,
+        /// Samples read.
         samples: usize,
+        /// Of those, usable ones.
         usable: usize,
     },
 }
@@ -136,11 +154,13 @@ pub fn check_gaze(gaze: [Vec2; 2]) -> Result<(), ConfigError> {
 /// returns to the centre.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GazeFilter {
+    /// Seconds without a good sample before the gaze returns to the centre.
     pub timeout: f64,
     last_good: Option<(f64, [Vec2; 2])>,
 }
 
 impl GazeFilter {
+    /// A filter that returns to the centre after `timeout` seconds without a good sample.
     pub fn new(timeout: f64) -> Self {
         GazeFilter {
             timeout,
@@ -154,6 +174,7 @@ impl GazeFilter {
         s.valid && ok(s.left) && ok(s.right)
     }
 
+    /// The gaze to render with after sample `s`, each eye.
     pub fn update(&mut self, s: &GazeSample) -> [Vec2; 2] {
         if Self::is_good(s) {
             self.last_good = Some((s.t, [s.left, s.right]));

@@ -24,12 +24,14 @@ pub enum Prediction {
 }
 
 impl Prediction {
+    /// Every prediction, in the order the sweeps print them.
     pub const ALL: [Prediction; 3] = [
         Prediction::None,
         Prediction::Linear,
         Prediction::SaccadeLanding,
     ];
 
+    /// Its name on the command line and in the printout.
     pub fn name(self) -> &'static str {
         match self {
             Prediction::None => "none",
@@ -52,7 +54,9 @@ impl std::str::FromStr for Prediction {
 /// The eye tracker's end-to-end latency and the prediction that counters it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GazeLatency {
+    /// The tracker's latency in seconds.
     pub latency_s: f64,
+    /// What predicts the gaze across it.
     pub prediction: Prediction,
 }
 
@@ -66,6 +70,7 @@ impl GazeLatency {
         prediction: Prediction::None,
     };
 
+    /// `latency_ms` (0 to [`MAX_LATENCY_MS`]) and `prediction`; an error names the value.
     pub fn new(latency_ms: f64, prediction: Prediction) -> Result<Self, String> {
         if !(latency_ms.is_finite() && (0.0..=MAX_LATENCY_MS).contains(&latency_ms)) {
             return Err(format!(

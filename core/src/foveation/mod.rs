@@ -11,7 +11,8 @@ mod latency;
 mod temporal;
 mod views;
 
-pub use budget::{arm_table, ArmRow, PixelBudget, ARM_PI, ARM_TABLE4_FOVEA};
+pub use budget::PixelBudget;
+internal_use!(budget::{arm_table, ArmRow, ARM_PI, ARM_TABLE4_FOVEA});
 pub use config::{
     FoveationConfig, FoveationGeometry, PeripheryFilter, ACCUMULATED_REACH_PX, FOVEA_REACH_TEXELS,
     PERIPHERY_REACH_TEXELS,

@@ -37,6 +37,7 @@ impl Default for TemporalConfig {
 }
 
 impl TemporalConfig {
+    /// Checks every field against its range; the error names the first out of it.
     pub fn validate(&self) -> Result<(), ConfigError> {
         if !(self.blend > 0.0 && self.blend <= 1.0) {
             return Err(ConfigError::new(

@@ -8,10 +8,15 @@ use ash::vk;
 /// `TRANSFER_SRC_OPTIMAL` (where a renderer leaves its outputs).
 #[derive(Clone, Copy, Debug)]
 pub struct BlitSource {
+    /// The image.
     pub image: vk::Image,
+    /// Its layer shown.
     pub layer: u32,
+    /// The first column shown.
     pub x: u32,
+    /// Columns shown.
     pub width: u32,
+    /// Rows shown, from the top.
     pub height: u32,
 }
 

@@ -290,15 +290,25 @@ impl Drop for DeviceOwner {
 /// What `foveate devices` prints about a physical device.
 #[derive(Clone, Debug)]
 pub struct DeviceInfo {
+    /// Its index in the instance's device list (what `--device` takes).
     pub index: usize,
+    /// The device's name.
     pub name: String,
+    /// Integrated, discrete, virtual or CPU.
     pub device_type: String,
+    /// The Vulkan version it supports.
     pub api_version: String,
+    /// The driver's name and version.
     pub driver: String,
+    /// The most views one multiview pass may have.
     pub max_multiview_views: u32,
+    /// Sample counts a colour and depth attachment both support.
     pub sample_counts: Vec<u32>,
+    /// Whether it offers `VK_EXT_fragment_density_map`.
     pub fragment_density_map: bool,
+    /// Whether it offers `VK_KHR_fragment_shading_rate`.
     pub fragment_shading_rate: bool,
+    /// Whether it has lazily allocated memory (tile GPUs: attachments that may live on tile only).
     pub lazily_allocated_memory: bool,
     /// `D32_SFLOAT_S8_UINT` as a depth-stencil attachment (stencil masks need it).
     pub depth_stencil: bool,
@@ -311,10 +321,15 @@ pub struct DeviceInfo {
 /// Raw handles of an opened [`Gpu`], for an OpenXR session's graphics binding.
 #[derive(Clone, Copy, Debug)]
 pub struct RawHandles {
+    /// The instance.
     pub instance: vk::Instance,
+    /// The physical device.
     pub physical: vk::PhysicalDevice,
+    /// The logical device.
     pub device: vk::Device,
+    /// The queue family foveate submits to.
     pub queue_family: u32,
+    /// The queue's index in its family.
     pub queue_index: u32,
 }
 
@@ -460,14 +475,17 @@ impl Gpu {
         }
     }
 
+    /// What the device can do, as the planner reads it.
     pub fn caps(&self) -> &DeviceCaps {
         &self.caps
     }
 
+    /// The device's description, as `foveate devices` prints it.
     pub fn info(&self) -> &DeviceInfo {
         &self.info
     }
 
+    /// The `ash` device, to record and submit with.
     pub fn device(&self) -> &ash::Device {
         &self.dev.device
     }

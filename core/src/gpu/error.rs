@@ -6,43 +6,91 @@ use crate::vocab::ConfigError;
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
     #[error("cannot load the Vulkan loader ({0}); install `libvulkan1` and a driver (`mesa-vulkan-drivers` provides lavapipe)")]
+    /// The Vulkan loader could not be opened.
     Loader(String),
     #[error("{call} failed: {result}")]
+    /// A Vulkan call failed.
     Vk {
+        /// The call, as Vulkan names it.
         call: &'static str,
+        /// What it returned.
         result: vk::Result,
     },
     #[error("no usable Vulkan device (Vulkan 1.1 with a graphics queue and multiview); install `mesa-vulkan-drivers` for lavapipe")]
+    /// No device has what foveate needs.
     NoDevice,
     #[error("the Vulkan device {name} cannot run foveate: {why}")]
-    Unusable { name: String, why: String },
+    /// The chosen device lacks something foveate needs.
+    Unusable {
+        /** The device's name. */
+        name: String,
+        /** What it lacks. */
+        why: String,
+    },
     #[error("the OpenXR runtime could not make Vulkan objects: {0}")]
+    /// The OpenXR runtime failed to make the Vulkan instance or device.
     Runtime(String),
     #[error("no Vulkan device matches `{wanted}`; available: {available}")]
-    DeviceNotFound { wanted: String, available: String },
+    /// `GpuOptions::device` matched no device.
+    DeviceNotFound {
+        /** What was asked for. */
+        wanted: String,
+        /** The devices there are. */
+        available: String,
+    },
     #[error("validation was requested but VK_LAYER_KHRONOS_validation is not installed (`apt-get install vulkan-validationlayers`)")]
+    /// Validation was asked for and the layer is missing.
     NoValidationLayer,
     #[error("GPU memory: {0}")]
+    /// An allocation failed.
     Memory(#[from] gpu_allocator::AllocationError),
     #[error(transparent)]
+    /// A configuration value was refused.
     Config(#[from] ConfigError),
     #[error("pipeline cache {path}: {error}")]
-    PipelineCache { path: String, error: String },
+    /// The pipeline cache file could not be read or written.
+    PipelineCache {
+        /** The file. */
+        path: String,
+        /** What went wrong. */
+        error: String,
+    },
     #[error("cannot present to the window: {0}")]
+    /// The window's surface cannot be presented to.
     NoPresentation(String),
     #[error("the plan renders into output images handed in per frame (an OpenXR swapchain's), but none were given")]
+    /// The plan renders into handed-in images and the frame had none.
     NoOutputImages,
     #[error("output image {index} asked for, but {count} were handed in")]
-    NoSuchOutputImage { index: usize, count: usize },
+    /// An output image index past those handed in.
+    NoSuchOutputImage {
+        /** The index asked for. */
+        index: usize,
+        /** How many were handed in. */
+        count: usize,
+    },
     #[error("more than {limit} distinct output images handed in to one renderer: reuse images (a swapchain's), or make a new renderer")]
-    TooManyOutputImages { limit: usize },
+    /// More distinct output images than a renderer keeps framebuffers for.
+    TooManyOutputImages {
+        /** The most it keeps ([`crate::render::MAX_OUTPUT_IMAGES`]). */
+        limit: usize,
+    },
     #[error("readback asked for before any frame was rendered")]
+    /// Readback before any frame.
     NoFrameRendered,
     #[error("the figures of frame {frame} were asked for after its frame slot {slot} was recorded into again: read a frame's figures before the renderer cycles back to its slot")]
-    FrameSlotReused { frame: u64, slot: usize },
+    /// A frame's figures asked for after its slot was reused.
+    FrameSlotReused {
+        /** The frame's number. */
+        frame: u64,
+        /** Its slot. */
+        slot: usize,
+    },
     #[error("frames in flight: {0}")]
+    /// A frame loop misused (a slot begun twice, a frame from another loop).
     FramesInFlight(String),
     #[error("Vulkan validation reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
+    /// Validation messages (only with validation on).
     Validation(Vec<String>),
 }
 

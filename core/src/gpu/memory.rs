@@ -119,16 +119,16 @@ enum ImageMemory {
 /// A 2D (array) image and its memory.
 pub struct Image {
     dev: Arc<DeviceOwner>,
-    pub raw: vk::Image,
-    pub format: vk::Format,
-    pub width: u32,
-    pub height: u32,
-    pub layers: u32,
-    pub samples: u32,
-    pub mip_levels: u32,
-    pub aspect: vk::ImageAspectFlags,
+    pub(crate) raw: vk::Image,
+    pub(crate) format: vk::Format,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) layers: u32,
+    pub(crate) samples: u32,
+    pub(crate) mip_levels: u32,
+    pub(crate) aspect: vk::ImageAspectFlags,
     /// Whether its memory is lazily allocated.
-    pub lazy: bool,
+    pub(crate) lazy: bool,
     memory: Option<ImageMemory>,
     /// Someone else's image (an OpenXR swapchain's): viewed and rendered to, never destroyed.
     borrowed: bool,
@@ -136,18 +136,41 @@ pub struct Image {
 
 /// What to create an image with.
 pub struct ImageDesc<'a> {
+    /// Its debug label.
     pub name: &'a str,
+    /// Its format.
     pub format: vk::Format,
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// Array layers.
     pub layers: u32,
+    /// Samples per pixel.
     pub samples: u32,
     /// Mip levels (1 for attachments; a full chain for textures).
     pub mip_levels: u32,
+    /// What it will be used for.
     pub usage: vk::ImageUsageFlags,
 }
 
 impl Image {
+    /// The Vulkan image, to hand to [`crate::render::FrameInput::with_output`] or to record
+    /// with; it stays valid while this value lives.
+    pub fn raw(&self) -> vk::Image {
+        self.raw
+    }
+
+    /// Width and height in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// Samples per pixel.
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
     /// Creates an image; a `TRANSIENT_ATTACHMENT` image goes into lazily allocated memory when
     /// the device has it (tile GPUs), else into ordinary device-local memory.
     pub fn new(gpu: &Gpu, desc: &ImageDesc<'_>) -> Result<Self, GpuError> {
@@ -248,13 +271,18 @@ impl Image {
 
     /// A view of `count` layers from `base`: 2D for one layer, 2D array otherwise (multiview
     /// framebuffers need the array view even when the image has exactly its views' layers).
-    pub fn view(&self, base: u32, count: u32, array: bool) -> Result<ImageView, GpuError> {
+    pub(crate) fn view(&self, base: u32, count: u32, array: bool) -> Result<ImageView, GpuError> {
         self.view_of(self.aspect, base, count, array)
     }
 
     /// A view for sampling: like [`Image::view`], but of the depth alone in a depth/stencil
     /// image (a sampled view has one aspect).
-    pub fn sampled_view(&self, base: u32, count: u32, array: bool) -> Result<ImageView, GpuError> {
+    pub(crate) fn sampled_view(
+        &self,
+        base: u32,
+        count: u32,
+        array: bool,
+    ) -> Result<ImageView, GpuError> {
         let aspect = if self.aspect.contains(vk::ImageAspectFlags::DEPTH) {
             vk::ImageAspectFlags::DEPTH
         } else {
@@ -288,7 +316,7 @@ impl Image {
         Ok(ImageView::from_raw(&self.dev, raw))
     }
 
-    pub fn range(&self, base_layer: u32, layer_count: u32) -> vk::ImageSubresourceRange {
+    pub(crate) fn range(&self, base_layer: u32, layer_count: u32) -> vk::ImageSubresourceRange {
         vk::ImageSubresourceRange {
             aspect_mask: self.aspect,
             base_mip_level: 0,

@@ -17,13 +17,15 @@ mod swapchain;
 
 pub use blit_layout::BlitSource;
 pub use context::{DeviceInfo, Gpu, GpuOptions, RawHandles, VulkanCreator};
-pub use error::{GpuError, VkResultExt};
-pub use handles::{
+pub use error::GpuError;
+internal_use!(error::VkResultExt);
+internal_use!(handles::{
     CommandPool, DescriptorPool, DescriptorSetLayout, Fence, Framebuffer, ImageView, Pipeline,
     PipelineCache, PipelineLayout, QueryPool, RenderPass, Sampler, Semaphore, ShaderModule,
-};
+});
 pub(crate) use memory::pod_bytes;
-pub use memory::{Buffer, Image, ImageDesc, MemoryLocation};
+pub use memory::{Image, ImageDesc};
+internal_use!(memory::{Buffer, MemoryLocation});
 pub use open::EngineDevice;
 pub use swapchain::{Acquired, Presented, Swapchain, SwapchainImage};
 

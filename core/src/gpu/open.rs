@@ -19,12 +19,16 @@ use crate::vocab::DeviceCaps;
 /// none of these handles.
 #[derive(Clone, Debug)]
 pub struct EngineDevice {
+    /// The engine's instance.
     pub instance: vk::Instance,
+    /// The physical device `device` was made on.
     pub physical: vk::PhysicalDevice,
+    /// The engine's device.
     pub device: vk::Device,
     /// The queue foveate's own submissions go to (set-up uploads, readback, and
     /// a renderer's `render_frame`); a graphics queue.
     pub queue_family: u32,
+    /// The queue's index in `queue_family`.
     pub queue_index: u32,
     /// The core features the engine enabled on `device`: foveate uses those of them it can use
     /// (fragment stores and atomics for counting frames, clip distances, depth clamp,

@@ -21,6 +21,7 @@ impl Gpu {
         self.wait(&fence)
     }
 
+    #[doc(hidden)]
     pub fn command_pool(&self, flags: vk::CommandPoolCreateFlags) -> Result<CommandPool, GpuError> {
         let info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(self.queue_family)
@@ -30,6 +31,7 @@ impl Gpu {
         Ok(CommandPool::from_raw(&self.dev, raw))
     }
 
+    #[doc(hidden)]
     pub fn allocate_command_buffer(
         &self,
         pool: &CommandPool,
@@ -43,6 +45,7 @@ impl Gpu {
         Ok(buffers[0])
     }
 
+    #[doc(hidden)]
     pub fn fence(&self) -> Result<Fence, GpuError> {
         let raw = unsafe {
             self.device()

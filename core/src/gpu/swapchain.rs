@@ -79,7 +79,9 @@ pub struct Swapchain {
     stale: bool,
     /// Where the last copy put each source (top-left, bottom-right).
     placed: Vec<[vk::Offset3D; 2]>,
+    /// The swapchain images' format.
     pub format: vk::Format,
+    /// The swapchain images' size.
     pub extent: vk::Extent2D,
 }
 

@@ -12,14 +12,19 @@ use crate::view::Eye;
 /// blend band, and the periphery beyond. A frame without foveation is all periphery.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Region {
+    /// Inside the inset circle, less the blend band.
     Fovea,
+    /// The blend band, where fovea and periphery mix.
     Band,
+    /// Beyond the circle (or everything, without foveation).
     Periphery,
 }
 
 impl Region {
+    /// Every region, inside out.
     pub const ALL: [Region; 3] = [Region::Fovea, Region::Band, Region::Periphery];
 
+    /// Its name in tables.
     pub fn name(self) -> &'static str {
         match self {
             Region::Fovea => "fovea",
@@ -34,6 +39,7 @@ impl Region {
 pub struct DisplayPixel {
     /// Degrees between the pixel's direction and the gaze.
     pub eccentricity_deg: f64,
+    /// The region it lies in.
     pub region: Region,
 }
 
@@ -42,8 +48,11 @@ pub struct DisplayPixel {
 /// wholly inside the headset's lens region.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EyePixels {
+    /// The output image's width.
     pub width: u32,
+    /// The output image's height.
     pub height: u32,
+    /// Each pixel, row after row.
     pub pixels: Vec<Option<DisplayPixel>>,
     /// Display pixels per degree at the lens axis ([`FramePlan::pixels_per_degree`]).
     pub ppd: f64,
@@ -138,6 +147,7 @@ impl EyePixels {
         Eye::BOTH.map(|e| EyePixels::new(plan, e, gaze, foveation))
     }
 
+    /// The pixel at column `x`, row `y` (panics outside the image).
     pub fn at(&self, x: u32, y: u32) -> Option<DisplayPixel> {
         self.pixels[(y * self.width + x) as usize]
     }

@@ -23,7 +23,9 @@ use super::{ImageError, RgbaImage};
 /// (arcmin, eccentricity e in degrees).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Acuity {
+    /// The minimum angle of resolution at the gaze (arcmin).
     pub mar0_arcmin: f64,
+    /// How fast it grows with eccentricity (arcmin per degree).
     pub slope_arcmin_per_deg: f64,
 }
 
@@ -67,7 +69,9 @@ pub fn flip_map(reference: &RgbaImage, test: &RgbaImage, ppd: f64) -> Result<Vec
 /// the eye has there (see the module's model), for display `ppd` at the gaze.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FlipMaps {
+    /// Each pixel's FLIP at the display's ppd, row after row.
     pub plain: Vec<f32>,
+    /// Each pixel's FLIP at the ppd the eye has there, row after row.
     pub eccentric: Vec<f32>,
 }
 

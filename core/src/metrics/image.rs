@@ -1,7 +1,7 @@
 //! Comparing images: SSIM, PSNR (over a region or all), matching within a disparity bound,
 //! difference images. The image type itself is the vocabulary's ([`RgbaImage`]).
 
-pub use crate::vocab::{ImageError, RgbaImage};
+pub use crate::vocab::{FileError, ImageError, RgbaImage};
 
 impl RgbaImage {
     /// Rec. 709 luma of every pixel in 0..1 (on the stored sRGB values, as SSIM is defined).

@@ -14,7 +14,7 @@ pub mod temporal;
 mod timing;
 
 pub use display::{EyePixels, Region};
-pub use image::{ImageError, RgbaImage};
+pub use image::{FileError, ImageError, RgbaImage};
 pub use per_second::{PerSecond, SecondSummary};
 pub use summary::ErrorSummary;
 pub use timing::Stats;

@@ -16,6 +16,7 @@ pub struct PerSecond {
 /// One second's medians.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SecondSummary {
+    /// Frames in the second.
     pub frames: usize,
     /// Median wall time per frame (render and present).
     pub frame_ms: f64,

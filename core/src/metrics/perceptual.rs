@@ -13,10 +13,13 @@ pub struct FrameAccuracy {
     /// PSNR (dB; infinite: identical) and SSIM over every visible pixel (SSIM: every window
     /// wholly visible).
     pub psnr: Option<f64>,
+    /// SSIM over every window wholly visible.
     pub ssim: Option<f64>,
     /// The same per region, in `Region::ALL`'s order (`None`: the region is empty).
     pub region_psnr: [Option<f64>; 3],
+    /// SSIM per region.
     pub region_ssim: [Option<f64>; 3],
+    /// FLIP and the eccentricity-aware FLIP.
     pub perceptual: PerceptualError,
 }
 

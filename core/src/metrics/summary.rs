@@ -3,9 +3,13 @@
 /// What an error map says: its mean and upper percentiles over the pixels it covers.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ErrorSummary {
+    /// The mean.
     pub mean: f64,
+    /// The 95th percentile.
     pub p95: f64,
+    /// The 99th percentile.
     pub p99: f64,
+    /// Pixels summarised.
     pub pixels: usize,
 }
 

@@ -23,7 +23,9 @@ pub struct Flicker {
 /// first, and per region (each frame's own regions, so a moving fovea's band moves with it).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FlickerSummary {
+    /// Over every visible pixel (`None`: none was).
     pub all: Option<ErrorSummary>,
+    /// Per region, in `Region::ALL`'s order.
     pub regions: [Option<ErrorSummary>; 3],
     /// Frame-to-frame changes measured (frames pushed less one).
     pub changes: usize,
@@ -66,6 +68,7 @@ impl Flicker {
         Ok(())
     }
 
+    /// What the frames pushed so far amount to.
     pub fn summary(&self) -> FlickerSummary {
         FlickerSummary {
             all: ErrorSummary::of(&self.all),

@@ -2,11 +2,17 @@
 /// An empty series' summary (`Default`) is all zeros.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Stats {
+    /// Measurements.
     pub count: usize,
+    /// The median.
     pub median: f64,
+    /// The mean.
     pub mean: f64,
+    /// The 95th percentile.
     pub p95: f64,
+    /// The least.
     pub min: f64,
+    /// The greatest.
     pub max: f64,
 }
 

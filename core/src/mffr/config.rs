@@ -77,8 +77,11 @@ pub enum MffrVariant {
 /// Monoscopic far-field rendering, as the user asks for it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MffrConfig {
+    /// Where the far field begins.
     pub split: SplitDistance,
+    /// Which field is drawn first.
     pub order: MffrOrder,
+    /// Where the far view is rendered from.
     pub variant: MffrVariant,
     /// The far pass's MSAA samples (`None`: the frame's). Far edges move less than a pixel
     /// between the eyes but alias like near ones: fewer samples are a price in accuracy.
@@ -130,6 +133,7 @@ impl MffrConfig {
             .ok_or_else(|| ConfigError::new("mffr", name, format!("one of {}", names.join(", "))))
     }
 
+    /// Its name on the command line (`--mffr`).
     pub fn name(&self) -> &'static str {
         match (self.order, self.variant) {
             (MffrOrder::FarFirst, MffrVariant::Centre) => "far-first",

@@ -16,6 +16,7 @@ pub fn split_for_disparity(ipd_m: f32, focal_px: f32, threshold_px: f32) -> f32 
 /// MFFR as resolved for one frame plan: where the split is and what the far pass renders.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MffrGeometry {
+    /// The configuration.
     pub config: MffrConfig,
     /// Eye-space depth where each eye's near field ends.
     pub split_m: f32,
@@ -27,6 +28,7 @@ pub struct MffrGeometry {
     pub far_fov: FovTangents,
     /// The far pass's near plane (≤ the split: canted eyes' split planes tilt towards it).
     pub far_near: f32,
+    /// The far pass's far plane.
     pub far: f32,
     /// The far image's size at the eyes' pixel density times the config's `far_density`.
     pub resolution: Resolution,
@@ -185,7 +187,9 @@ fn covering_view(
 /// view depth `s` on the ray through view NDC `(x, y)` is `origin + s · direction · (x, y, 1, 0)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FarReprojection {
+    /// The matrix that turns a view's NDC ray into the far image's clip space.
     pub direction: Mat4,
+    /// The far clip position of the view's origin.
     pub origin: Vec4,
 }
 

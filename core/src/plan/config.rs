@@ -28,6 +28,7 @@ pub enum StereoMode {
 }
 
 impl StereoMode {
+    /// Every mode, in the order the benchmarks print them.
     pub const ALL: [StereoMode; 4] = [
         StereoMode::Multiview,
         StereoMode::TwoPass,
@@ -35,6 +36,7 @@ impl StereoMode {
         StereoMode::Instanced,
     ];
 
+    /// Its name on the command line and in the printout.
     pub fn name(self) -> &'static str {
         match self {
             StereoMode::Multiview => "multiview",
@@ -139,6 +141,7 @@ pub struct RenderConfig {
     pub hmd: String,
     /// Per-eye resolution; `None` uses the headset's panel resolution.
     pub resolution: Option<Resolution>,
+    /// How the eyes are submitted: multiview by default.
     pub stereo: StereoMode,
     /// Views per pass: `None` (the default) derives them, 2 for stereo and 4 with foveation
     /// (periphery and fovea per eye); a number given must be that one.
@@ -151,7 +154,9 @@ pub struct RenderConfig {
     pub cant_deg: Option<f32>,
     /// Left-eye FOV tangents overriding the profile's (the right eye mirrors them).
     pub fov: Option<FovTangents>,
+    /// Near plane in metres.
     pub near: f32,
+    /// Far plane in metres.
     pub far: f32,
     /// A counting frame: every step that shades fragments counts them per view (atomic
     /// counters in the fragment shaders). Off by default: timed frames carry no counters, so
@@ -269,6 +274,7 @@ impl RenderConfig {
         }
     }
 
+    /// The headset profile `hmd` names, or an error listing the names.
     pub fn hmd_profile(&self) -> Result<&'static HmdProfile, ConfigError> {
         HmdProfile::by_name(&self.hmd).ok_or_else(|| {
             let names: Vec<_> = HMD_PROFILES.iter().map(|p| p.name).collect();
@@ -298,9 +304,11 @@ impl Default for RadialDensity {
 /// Radial density masking as planned: the configuration and each eye's lens ellipse in NDC.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RadialDensityGeometry {
+    /// The configuration.
     pub config: RadialDensity,
     /// Centre x, y and radius x, y per eye.
     pub lens: [Vec4; 2],
+    /// The view's size in pixels.
     pub view: Resolution,
 }
 

@@ -26,6 +26,7 @@ pub enum Format {
 }
 
 impl Format {
+    /// Bytes one pixel of one sample takes in memory.
     pub fn bytes_per_pixel(self) -> u64 {
         match self {
             Format::Rgba8Srgb | Format::Rgba8Unorm | Format::D32 => 4,
@@ -35,14 +36,18 @@ impl Format {
         }
     }
 
+    /// Whether this is a depth (or depth/stencil) format.
     pub fn is_depth(self) -> bool {
         matches!(self, Format::D32 | Format::D32S8)
     }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What an attachment holds.
 pub enum AttachmentRole {
+    /// Colour (possibly multisampled).
     Color,
+    /// Depth, or depth and stencil.
     Depth,
     /// Single-sample target an MSAA colour attachment resolves into inside the pass.
     Resolve,
@@ -51,12 +56,19 @@ pub enum AttachmentRole {
 /// One image the frame renders into, and its fate.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AttachmentPlan {
+    /// Its name in the printout and in debug labels.
     pub name: &'static str,
+    /// What it holds.
     pub role: AttachmentRole,
+    /// Its format.
     pub format: Format,
+    /// Samples per pixel (1 without MSAA).
     pub samples: u32,
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// Array layers: one per view it holds.
     pub layers: u32,
     /// Read after the frame (readback or presentation).
     pub read_after_frame: bool,
@@ -67,6 +79,7 @@ pub struct AttachmentPlan {
 }
 
 impl AttachmentPlan {
+    /// Its size in memory: every layer and sample.
     pub fn bytes(&self) -> u64 {
         self.width as u64
             * self.height as u64
@@ -83,14 +96,21 @@ impl AttachmentPlan {
 /// A pass's use of (some layers of) an attachment, with the ops derived from intent.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Use {
+    /// The attachment used.
     pub attachment: AttachmentId,
+    /// The first layer used (a view's layer).
     pub base_layer: u32,
+    /// How many layers, from `base_layer`.
     pub layer_count: u32,
+    /// Read, written or both.
     pub access: Access,
+    /// What the pass starts it with.
     pub load: LoadOp,
+    /// Whether the pass keeps what it wrote.
     pub store: StoreOp,
     /// Layout at the pass's start and end (derived: [`Layout::around`]).
     pub initial_layout: Layout,
+    /// Layout at the pass's end.
     pub final_layout: Layout,
     /// What a cleared use starts as; `None` unless `load` clears.
     pub clear: Option<ClearValue>,
@@ -173,16 +193,21 @@ impl PassKind {
 /// One render pass of the frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PassPlan {
+    /// Its name in the printout, debug labels and per-pass times.
     pub name: &'static str,
+    /// What the pass draws.
     pub kind: PassKind,
     /// Multiview view mask; 0 for a pass without multiview.
     pub view_mask: u32,
+    /// The colour attachment.
     pub color: Use,
+    /// The depth (and stencil) attachment, if any.
     pub depth: Option<Use>,
     /// In-pass MSAA resolve target (`pResolveAttachments`).
     pub resolve: Option<Use>,
     /// Attachments of earlier passes this pass samples.
     pub samples: Vec<AttachmentId>,
+    /// How its views are submitted (multiview, pass per eye, instanced …).
     pub submission: Submission,
     /// What the pass does, in order (mask fans, far composite, scene, probe; or composition).
     pub steps: Vec<Step>,
@@ -232,6 +257,7 @@ impl PassPlan {
         }
     }
 
+    /// Every attachment use of the pass: colour, depth, resolve.
     pub fn uses(&self) -> impl Iterator<Item = &Use> {
         [
             Some(&self.color),
@@ -303,7 +329,9 @@ pub enum TargetLayout {
 /// counter slots (views 0–3, then the MFFR far view) start at [`FramePlan::counter_base`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CountedSlot {
+    /// The pass (index into [`FramePlan::passes`]).
     pub pass: usize,
+    /// What the counted step draws.
     pub step: CountedStep,
 }
 
@@ -313,23 +341,36 @@ pub const COUNTER_SLOTS_PER_STEP: u32 = MAX_VIEWS + 1;
 /// A buffer that exists only because an effect asked for it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BufferPlan {
+    /// Its name in the printout.
     pub name: &'static str,
+    /// Its size.
     pub bytes: u64,
 }
 
 /// Everything a frame consists of, decided before any Vulkan object exists.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FramePlan {
+    /// The headset the frame is for.
     pub hmd: &'static HmdProfile,
+    /// Each eye's field, offset and the IPD.
     pub eyes: EyeParams,
+    /// Pixels per eye at the output.
     pub eye_resolution: Resolution,
+    /// How the eyes are submitted.
     pub stereo: StereoMode,
+    /// Views per pass: 2, or 4 with foveation.
     pub views: u32,
+    /// MSAA samples per pixel (1 without).
     pub samples: u32,
+    /// Near plane, metres.
     pub near: f32,
+    /// Far plane, metres (reverse Z: depth 0 there).
     pub far: f32,
+    /// How views map to render targets.
     pub layout: TargetLayout,
+    /// Every image the frame renders into.
     pub attachments: Vec<AttachmentPlan>,
+    /// The passes, in submission order.
     pub passes: Vec<PassPlan>,
     /// Effect-only buffers (e.g. the fragment counter); empty when no such effect is on.
     pub buffers: Vec<BufferPlan>,
@@ -401,7 +442,9 @@ pub struct FramePlan {
 /// is sized for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ClusterPlan {
+    /// Clusters over all meshes.
     pub clusters: usize,
+    /// Meshes split into clusters.
     pub meshes: usize,
     /// Triangles in the largest cluster.
     pub max_triangles: u32,
@@ -423,6 +466,7 @@ pub struct LodPlan {
     pub max_error_px: f32,
     /// Simplified levels over all meshes, and the meshes that have them.
     pub levels: usize,
+    /// Meshes with simplified levels.
     pub meshes: usize,
 }
 
@@ -433,6 +477,7 @@ pub struct FoveaLayoutChoice {
     pub layout: super::FoveaLayout,
     /// Whether the fovea views draw only what their frusta see.
     pub cull: bool,
+    /// Why this layout was chosen (printed with the plan).
     pub reason: String,
 }
 
@@ -440,11 +485,14 @@ pub struct FoveaLayoutChoice {
 /// display's edges show the rendered field's edges.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LensOutput {
+    /// The lens's radial distortion.
     pub distortion: RadialDistortion,
+    /// Each eye's display field, as tangents.
     pub display: [FovTangents; 2],
 }
 
 impl LensOutput {
+    /// The lens output for `distortion`, with each eye's display field solved from `eyes`.
     pub fn new(distortion: RadialDistortion, eyes: &EyeParams) -> Self {
         LensOutput {
             distortion,
@@ -510,6 +558,7 @@ impl FramePlan {
         self.buffers.iter().find(|b| b.name == FRAGMENT_COUNTER)
     }
 
+    /// Whether the plan counts fragments per view (a counting frame).
     pub fn count_fragments(&self) -> bool {
         self.fragment_counter().is_some()
     }

@@ -19,19 +19,27 @@ pub enum Access {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What a pass does with an attachment's contents as it begins (Vulkan's load op).
 pub enum LoadOp {
+    /// Cleared to the use's clear value.
     Clear,
+    /// Loaded: the contents an earlier pass left (on a tile GPU, read from memory).
     Load,
+    /// Undefined: the pass overwrites every pixel.
     DontCare,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What a pass does with an attachment's contents as it ends (Vulkan's store op).
 pub enum StoreOp {
+    /// Stored: someone reads them later (on a tile GPU, written to memory).
     Store,
+    /// Discarded: nobody reads them.
     DontCare,
 }
 
 impl LoadOp {
+    /// The load op an access implies: cleared, overwritten (don't care) or kept (load).
     pub fn from_access(access: Access) -> Self {
         match access {
             Access::Clear => LoadOp::Clear,
@@ -57,7 +65,9 @@ impl StoreOp {
 pub enum Layout {
     /// Contents not needed: the driver may discard them.
     Undefined,
+    /// Being rendered to as colour.
     ColorAttachment,
+    /// Being rendered to as depth and stencil.
     DepthStencilAttachment,
     /// Ready for the copy that reads the frame's output back.
     TransferSrc,
@@ -99,7 +109,12 @@ pub enum ClearValue {
     /// Linear-light RGBA.
     Color([f32; 4]),
     /// Reverse-Z depth (0 is the far plane) and stencil.
-    DepthStencil { depth: f32, stencil: u32 },
+    DepthStencil {
+        /** Reverse-Z depth. */
+        depth: f32,
+        /** Stencil value. */
+        stencil: u32,
+    },
 }
 
 /// An attachment can live only on tile (transient, lazily allocated where the device offers
@@ -164,6 +179,7 @@ pub enum Touch {
 }
 
 impl Touch {
+    /// Whether this touch writes the attachment.
     pub fn writes(self) -> bool {
         matches!(self, Touch::ColourAttachment | Touch::DepthAttachment)
     }
@@ -172,15 +188,20 @@ impl Touch {
 /// One dependency: `from` (an earlier touch of `attachment`) done and visible before `to`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Barrier {
+    /// The attachment.
     pub attachment: AttachmentId,
+    /// The earlier touch, done before the barrier.
     pub from: Touch,
+    /// The later touch, waiting for it.
     pub to: Touch,
 }
 
 /// A pass's barriers: those it waits on as it begins, those it signals as it ends.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct PassBarriers {
+    /// Barriers the pass waits on as it begins.
     pub wait: Vec<Barrier>,
+    /// Barriers the pass signals as it ends.
     pub signal: Vec<Barrier>,
 }
 

@@ -28,16 +28,27 @@ pub enum Constant {
     FoveaTags,
     /// Radial density masking: the view's size, the radii and each eye's lens ellipse.
     ViewWidth,
+    /// Radial density masking: the view's height.
     ViewHeight,
+    /// Radial density masking: the inner radius.
     Inner,
+    /// Radial density masking: the outer radius.
     Outer,
+    /// Radial density masking: the left lens ellipse's centre x.
     LeftCx,
+    /// Radial density masking: the left lens ellipse's centre y.
     LeftCy,
+    /// Radial density masking: the left lens ellipse's radius x.
     LeftRx,
+    /// Radial density masking: the left lens ellipse's radius y.
     LeftRy,
+    /// Radial density masking: the right lens ellipse's centre x.
     RightCx,
+    /// Radial density masking: the right lens ellipse's centre y.
     RightCy,
+    /// Radial density masking: the right lens ellipse's radius x.
     RightRx,
+    /// Radial density masking: the right lens ellipse's radius y.
     RightRy,
     /// The output stage: pre-distort for the lens.
     Lens,
@@ -54,8 +65,11 @@ pub enum Constant {
 /// How a constant's 32 bits read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ConstantKind {
+    /// An unsigned integer.
     Uint,
+    /// A 32-bit float.
     Float,
+    /// A boolean (0 or 1).
     Bool,
 }
 
@@ -123,6 +137,7 @@ impl Constant {
         }
     }
 
+    /// Its `constant_id` in the GLSL.
     pub fn id(self) -> u32 {
         self.declaration().0
     }
@@ -140,10 +155,13 @@ pub enum VertexInput {
 /// A pipeline as the plan states it. Samples come from the pass's colour attachment.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PipelineDesc {
+    /// The vertex shader.
     pub vertex: &'static ShaderBinary,
+    /// The fragment shader.
     pub fragment: &'static ShaderBinary,
     /// Values (raw bits) of the constants the two shaders declare, in [`Constant`] order.
     pub constants: Vec<(Constant, u32)>,
+    /// Which vertices it reads.
     pub vertex_input: VertexInput,
     /// Back faces culled (counter-clockwise faces the viewer); masks and full-view draws are
     /// two-dimensional and cull nothing.
@@ -152,9 +170,11 @@ pub struct PipelineDesc {
     pub depth_test: bool,
     /// Depth clamped instead of clipped at the near and far planes.
     pub depth_clamp: bool,
+    /// Its stencil test and write, if any.
     pub stencil: Option<StencilState>,
     /// The stencil reference set per draw, not by the pipeline (mask fans).
     pub dynamic_stencil_reference: bool,
+    /// Whether it writes colour (mask fans write only stencil).
     pub writes_colour: bool,
 }
 
@@ -189,10 +209,12 @@ impl PipelineDesc {
         self
     }
 
+    /// Sets a boolean `constant`.
     pub fn flag(self, constant: Constant, on: bool) -> Self {
         self.constant(constant, on as u32)
     }
 
+    /// Sets a float `constant`.
     pub fn float(self, constant: Constant, value: f32) -> Self {
         self.constant(constant, value.to_bits())
     }

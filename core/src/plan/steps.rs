@@ -42,13 +42,16 @@ pub enum CountedStep {
     Output,
     /// Radial density masking's mask (a full-view draw) and its reconstruction.
     RadialMask,
+    /// Radial density reconstruction (a full-view draw per eye).
     Reconstruct,
     /// Temporal accumulation of the periphery, and the copy that keeps its history.
     Accumulate,
+    /// The copy that keeps the accumulated periphery's history.
     StoreHistory,
 }
 
 impl CountedStep {
+    /// Its name in the printout and in per-view fragment counts.
     pub fn name(self) -> &'static str {
         match self {
             CountedStep::Mask => "mask",
@@ -68,30 +71,41 @@ impl CountedStep {
 /// circle, a periphery outside its hole). Bit 1: set where the MFFR near field drew
 /// (near-first), so the far composite fills only what it left.
 pub const MASK_BIT: u32 = 1;
+/// Stencil bit 1 (see [`MASK_BIT`]).
 pub const NEAR_BIT: u32 = 2;
 /// Stencil bit 2: set on the quads radial density masking skips.
 pub const SKIP_BIT: u32 = 4;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+/// A stencil comparison.
 pub enum CompareOp {
+    /// Always passes.
     Always,
+    /// Passes where the masked stencil value equals the masked reference.
     Equal,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+/// What a passing fragment does to the stencil value.
 pub enum StencilOp {
+    /// Keeps it.
     Keep,
+    /// Replaces it with the reference (through the write mask).
     Replace,
 }
 
 /// A step's stencil test and write (front and back alike).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct StencilState {
+    /// The test.
     pub compare: CompareOp,
+    /// The bits the test compares.
     pub compare_mask: u32,
+    /// The value compared with, and written by `Replace`.
     pub reference: u32,
     /// What a passing fragment does to the stencil value (failing ones keep it).
     pub pass: StencilOp,
+    /// The bits a write may change.
     pub write_mask: u32,
 }
 
@@ -102,23 +116,37 @@ pub enum Step {
     /// `MASK_BIT`, then its drop shapes cleared (the reference is set per fan set), then —
     /// with `hidden_area` — a runtime's hidden-area triangles cleared too.
     MaskFans {
+        /// How the fans write the stencil.
         stencil: StencilState,
+        /// Whether a runtime's hidden-area triangles are cleared too.
         hidden_area: bool,
     },
     /// The MFFR far image composited into every view: first (the near field drawn over it)
     /// or after the scene into the pixels it left (near-first).
-    FarComposite { stencil: Option<StencilState> },
+    FarComposite {
+        /** The stencil test of the near-first composite, if any. */
+        stencil: Option<StencilState>,
+    },
     /// The scene's meshes: `draw_set`, culled each frame into the plan's cull slot `cull_slot`
     /// unless it is every instance.
     Scene {
+        /// The instances drawn.
         draw_set: DrawSet,
+        /// The plan's cull slot that culls them each frame, if they are culled.
         cull_slot: Option<usize>,
+        /// The stencil test (masks), if any.
         stencil: Option<StencilState>,
     },
     /// The coverage probe: a full-view draw under the masks, counted per view.
-    Probe { stencil: Option<StencilState> },
+    Probe {
+        /** The stencil test (masks), if any. */
+        stencil: Option<StencilState>,
+    },
     /// Radial density masking: a full-view draw marking the skipped quads (`SKIP_BIT`).
-    RadialMask { stencil: StencilState },
+    RadialMask {
+        /** How the mask marks the skipped quads. */
+        stencil: StencilState,
+    },
     /// Radial density reconstruction: a full-view draw per eye filling the skipped quads.
     Reconstruct,
     /// The output stage: a full-view draw per eye sampling what the frame rendered, composing a
@@ -152,7 +180,12 @@ pub enum OutputSource {
     /// A foveated frame: eye `e`'s periphery is layer `e` of the first sampled image, its fovea
     /// layer `fovea_layer + e` of the last (the same image for the one-pass layout); with
     /// `sharpen`, the periphery is sharpened as it is upscaled.
-    Foveated { fovea_layer: u32, sharpen: bool },
+    Foveated {
+        /** The first layer of the fovea views in the last sampled image. */
+        fovea_layer: u32,
+        /** Whether the periphery is sharpened as it is upscaled. */
+        sharpen: bool,
+    },
 }
 
 impl OutputSource {
@@ -192,6 +225,7 @@ impl Step {
         }
     }
 
+    /// The step's stencil test, if it has one.
     pub fn stencil(&self) -> Option<StencilState> {
         match *self {
             Step::MaskFans { stencil, .. } | Step::RadialMask { stencil } => Some(stencil),

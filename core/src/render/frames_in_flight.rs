@@ -32,7 +32,7 @@ struct Slot {
 /// use foveate::render::{FrameInput, FramesInFlight, Renderer};
 /// let gpu = Gpu::new(&GpuOptions::default())?;
 /// let scene = foveate::scene::default_scene();
-/// let plan = foveate::plan(&scene, &foveate::RenderConfig::default(), gpu.caps())?;
+/// let plan = foveate::plan(&scene, &foveate::plan::RenderConfig::default(), gpu.caps())?;
 /// let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
 /// let mut frames = FramesInFlight::new(&renderer)?;
 /// for _ in 0..100 {

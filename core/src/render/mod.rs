@@ -38,14 +38,13 @@ mod temporal;
 mod views;
 mod vulkan_recorder;
 
-pub use crate::plan::SKY;
-pub use command_log::{Command, CommandLog};
+internal_use!(command_log::{Command, CommandLog});
 pub use frame_input::{FrameInput, FrameRecord};
 pub use frames_in_flight::{BegunFrame, FramesInFlight};
 pub use output_targets::MAX_OUTPUT_IMAGES;
 pub use readback::StereoImage;
-pub use record::record_frame;
-pub use recorder::{FrameDraws, Recorder, Rect};
+internal_use!(record::record_frame);
+internal_use!(recorder::{FrameDraws, Recorder, Rect});
 pub use renderer::{counting_frame, Renderer};
 pub use stats::{FrameStats, PassStatistics, StepFragments};
 

@@ -13,11 +13,14 @@ use crate::view::Eye;
 /// The two eyes' images of the last frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StereoImage {
+    /// The left eye.
     pub left: RgbaImage,
+    /// The right eye.
     pub right: RgbaImage,
 }
 
 impl StereoImage {
+    /// The image of `eye`.
     pub fn eye(&self, eye: Eye) -> &RgbaImage {
         match eye {
             Eye::Left => &self.left,
@@ -30,6 +33,7 @@ impl StereoImage {
         [&self.left, &self.right]
     }
 
+    /// Both eyes side by side, left first.
     pub fn side_by_side(&self) -> RgbaImage {
         RgbaImage::side_by_side(&self.left, &self.right)
     }

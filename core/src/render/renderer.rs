@@ -187,6 +187,7 @@ impl Renderer {
         &self.gpu
     }
 
+    /// The plan the renderer was made from.
     pub fn plan(&self) -> &FramePlan {
         &self.plan
     }
@@ -318,7 +319,7 @@ impl Renderer {
     ///
     /// let gpu = Gpu::new(&GpuOptions::default())?; // or Gpu::from_engine: the engine's device
     /// let scene = foveate::scene::default_scene();
-    /// let config = foveate::RenderConfig { frames_in_flight: 2, ..Default::default() };
+    /// let config = foveate::plan::RenderConfig { frames_in_flight: 2, ..Default::default() };
     /// let plan = foveate::plan(&scene, &config, gpu.caps())?;
     /// let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
     /// // The engine's command buffers and fences, one per frame slot.

@@ -77,12 +77,14 @@ pub(super) const PASS_STATISTICS: vk::QueryPipelineStatisticFlags =
 pub struct StepFragments {
     /// The pass's name, as the plan prints it.
     pub pass: &'static str,
+    /// What the step draws.
     pub step: CountedStep,
     /// Per view: views 0–3, then the MFFR far view.
     pub views: [u64; COUNTER_SLOTS_PER_STEP as usize],
 }
 
 impl StepFragments {
+    /// Fragments over every view.
     pub fn total(&self) -> u64 {
         self.views.iter().sum()
     }

@@ -106,6 +106,7 @@ impl Atrium {
     }
 }
 
+/// The atrium: an arcaded courtyard, lit and textured, looked down from one end at eye height.
 pub fn atrium_scene() -> Scene {
     let meshes = vec![
         cube(),

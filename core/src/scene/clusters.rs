@@ -24,6 +24,7 @@ pub const CLUSTER_TRIANGLES_RANGE: std::ops::RangeInclusive<u32> = 32..=256;
 pub struct Cluster {
     /// Where the run starts in the mesh's index buffer, and how long it is (three per triangle).
     pub first_index: u32,
+    /// Indices in the run (three per triangle).
     pub index_count: u32,
     /// A sphere around its vertices, in the mesh's space.
     pub bounds: Sphere,
@@ -37,7 +38,9 @@ pub struct Cluster {
 /// triangle faces away (Real-Time Rendering 4th ed. §19.3).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NormalCone {
+    /// The cone's unit axis, in the mesh's space.
     pub axis: Vec3,
+    /// The cone's cutoff (see above).
     pub cutoff: f32,
 }
 
@@ -49,6 +52,7 @@ pub struct ClusterSettings {
 }
 
 impl ClusterSettings {
+    /// At most `max_triangles` per cluster: a multiple of 4 in the range the error names.
     pub fn new(max_triangles: u32) -> Result<Self, ConfigError> {
         if !CLUSTER_TRIANGLES_RANGE.contains(&max_triangles) || !max_triangles.is_multiple_of(4) {
             return Err(ConfigError::new(
@@ -77,6 +81,7 @@ impl Default for ClusterSettings {
 #[derive(Debug, thiserror::Error)]
 pub enum ClusterError {
     #[error("clusters and level of detail: this build of foveate has no meshoptimizer to build them (the `clusters` feature is off; the Android library is built without it)")]
+    /// Built without the `clusters` feature.
     NotBuilt,
 }
 
@@ -125,6 +130,7 @@ pub struct PlacedClusters {
 }
 
 impl PlacedClusters {
+    /// The clusters of `instance`.
     pub fn new(instance: &Instance) -> Self {
         let model = instance.model;
         let model64 = model.as_dmat4();

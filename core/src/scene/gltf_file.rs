@@ -31,7 +31,9 @@ use crate::vocab::read_bounded;
 #[derive(Debug, thiserror::Error)]
 #[error("scene file {}: {problem}", path.display())]
 pub struct SceneFileError {
+    /// The file.
     pub path: PathBuf,
+    /// What is wrong with it.
     pub problem: String,
 }
 

@@ -39,6 +39,7 @@ pub struct LodLevel {
 }
 
 impl LodLevel {
+    /// Its triangles.
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }
@@ -52,6 +53,7 @@ pub struct LodSettings {
 }
 
 impl LodSettings {
+    /// At most `max_error_px` pixels of projected error, in the range the error names.
     pub fn new(max_error_px: f32) -> Result<Self, ConfigError> {
         if !LOD_ERROR_PX_RANGE.contains(&max_error_px) {
             return Err(ConfigError::new(

@@ -55,12 +55,15 @@ pub enum Surface {
 /// A PBR metallic-roughness material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
+    /// Its name (the glTF material's, or the built-in one's).
     pub name: Cow<'static, str>,
+    /// Its textures: a procedural pattern or a glTF's images.
     pub surface: Surface,
     /// Multiplies the base colour texture (as does each instance's colour).
     pub base_color: Vec3,
     /// Multiply the texture's metallic and roughness.
     pub metallic: f32,
+    /// Multiplies the texture's roughness.
     pub roughness: f32,
     /// Texture repeats per metre with world-space box mapping (each face textured along its
     /// dominant axis, so scaled boxes tile evenly); 0 uses the mesh's texture coordinates.
@@ -73,8 +76,11 @@ pub struct Material {
 /// A point light: position, colour times intensity, and the range where it fades to nothing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointLight {
+    /// World position.
     pub position: Vec3,
+    /// Linear colour times intensity.
     pub color: Vec3,
+    /// Distance in metres where it fades to nothing.
     pub range: f32,
 }
 

@@ -43,8 +43,10 @@ pub const THESIS_PREVIEW_SCALE: f32 = 0.02;
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     #[error(transparent)]
+    /// No scene has that name.
     Name(#[from] crate::vocab::ConfigError),
     #[error(transparent)]
+    /// The scene file could not be loaded.
     File(#[from] SceneFileError),
 }
 
@@ -84,8 +86,11 @@ use crate::cull::{Aabb, Sphere};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vertex {
+    /// Position in the mesh's space.
     pub position: [f32; 3],
+    /// Unit normal.
     pub normal: [f32; 3],
+    /// Texture coordinates.
     pub uv: [f32; 2],
     /// xyz along +u, w the bitangent's sign (glTF's convention); all zero: no tangent, and a
     /// normal map takes its frame from screen-space derivatives (the built-in shapes).
@@ -95,8 +100,11 @@ pub struct Vertex {
 /// Indexed triangle geometry.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mesh {
+    /// Its name (the glTF mesh's, or the shape's).
     pub name: String,
+    /// Its vertices.
     pub vertices: Vec<Vertex>,
+    /// Three indices into `vertices` per triangle, counter-clockwise from the front.
     pub indices: Vec<u32>,
     /// Its triangles in clusters, each a contiguous run of `indices`; empty: drawn and culled
     /// whole ([`Scene::with_clusters`]).
@@ -107,6 +115,7 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// Its triangles.
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }
@@ -129,6 +138,7 @@ impl Mesh {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Instance {
+    /// The object's world pose (mesh space to world).
     pub model: Mat4,
     /// Flat shading's colour; lit, the tint of its material's base colour.
     pub color: Vec4,
@@ -138,6 +148,7 @@ pub struct Instance {
 }
 
 impl Instance {
+    /// An instance at `model`, coloured `rgb`, material 0.
     pub fn new(model: Mat4, rgb: Vec3) -> Self {
         Self {
             model,
@@ -165,22 +176,29 @@ impl Instance {
 /// All instances of one mesh: one instanced draw call.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DrawBatch {
+    /// Index into [`Scene::meshes`].
     pub mesh: usize,
+    /// The mesh's placements.
     pub instances: Vec<Instance>,
 }
 
 /// A draw as the renderer records it: mesh, and a range of the flattened instance buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Draw {
+    /// Index into [`Scene::meshes`].
     pub mesh: usize,
+    /// The first instance, in the flattened instance buffer.
     pub first_instance: u32,
+    /// How many instances from it.
     pub instance_count: u32,
 }
 
 /// Meshes, their instances and where the viewer's head is.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
+    /// The meshes.
     pub meshes: Vec<Mesh>,
+    /// Each mesh's instances: one batch per mesh drawn.
     pub batches: Vec<DrawBatch>,
     /// World pose of the head (the point between the eyes).
     pub head: Mat4,
@@ -236,6 +254,7 @@ impl Scene {
         self
     }
 
+    /// Instances over all batches.
     pub fn instance_count(&self) -> usize {
         self.batches.iter().map(|b| b.instances.len()).sum()
     }

@@ -5,6 +5,7 @@ use glam::{Mat4, Vec3};
 /// Walking speed (m/s) and head turn (degrees/s) of [`walking_pose`]: an unhurried walk while
 /// looking around.
 pub const WALK_SPEED_M_S: f32 = 1.4;
+/// Head turn in degrees per second (see [`WALK_SPEED_M_S`]).
 pub const TURN_DEG_S: f32 = 20.0;
 
 /// The head `seconds` into a walk from `start`: forward (the head's -z) at walking speed, turning

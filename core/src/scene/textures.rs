@@ -12,7 +12,9 @@ pub const TEXTURE_SIZE: u32 = 256;
 /// An RGBA8 texture with its full mip chain, level 0 first, each level row-major.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
+    /// Level 0's width and height (a power of two).
     pub size: u32,
+    /// Each level's RGBA8 texels, level 0 first.
     pub levels: Vec<Vec<u8>>,
 }
 

@@ -13,7 +13,9 @@ use super::{cube, uv_sphere, DrawBatch, Instance, Scene};
 use crate::cull::Sphere;
 use crate::vocab::ConfigError;
 
+/// The thesis scene's grid: 711 × 22 × 711 positions.
 pub const THESIS_COUNTS: [u32; 3] = [711, 22, 711];
+/// Metres between grid positions.
 pub const THESIS_SPACING: f32 = 3.6;
 /// Frames of one rails loop (the thesis ran two loops in 5400 frames).
 pub const RAIL_LOOP_FRAMES: u64 = 2700;
@@ -21,6 +23,7 @@ pub const RAIL_LOOP_FRAMES: u64 = 2700;
 /// What stands at a grid position.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ThesisObject {
+    /// A unit cube.
     Cube,
     /// High-poly type 0, 1 or 2 (the thesis: robot, material sphere, helmet).
     HighPoly(u8),
@@ -47,8 +50,11 @@ pub fn entropy(x: f32, y: f32, z: f32) -> Vec3 {
 
 /// The scene's instances, generated deterministically.
 pub struct ThesisScene {
+    /// The grid's counts along x, y and z.
     pub counts: [u32; 3],
+    /// Each object's position.
     pub positions: Vec<Vec3>,
+    /// What stands at each position.
     pub objects: Vec<ThesisObject>,
 }
 
@@ -66,10 +72,12 @@ impl ThesisScene {
         Ok([h, THESIS_COUNTS[1], h])
     }
 
+    /// How many objects the scene has at `scale`.
     pub fn instance_count(scale: f32) -> Result<u64, ConfigError> {
         Ok(Self::counts(scale)?.iter().map(|&c| c as u64).product())
     }
 
+    /// The scene at `scale` (0 < scale ≤ 1), generated deterministically.
     pub fn new(scale: f32) -> Result<Self, ConfigError> {
         let counts = Self::counts(scale)?;
         let [nx, ny, nz] = counts;
@@ -95,10 +103,12 @@ impl ThesisScene {
         })
     }
 
+    /// How many objects it has.
     pub fn len(&self) -> usize {
         self.positions.len()
     }
 
+    /// Whether it has none.
     pub fn is_empty(&self) -> bool {
         self.positions.is_empty()
     }

@@ -12,7 +12,9 @@ use super::FovTangents;
 /// further out, the more magnified.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RadialDistortion {
+    /// The r² coefficient.
     pub k1: f32,
+    /// The r⁴ coefficient.
     pub k2: f32,
 }
 

@@ -12,6 +12,7 @@ pub const MAX_HIDDEN_TRIANGLES: usize = 128;
 /// One view's hidden triangles: tangent-space points (x right, y up, on the plane z = −1).
 #[derive(Clone, Debug, PartialEq)]
 pub struct HiddenArea {
+    /// The triangles, at most [`MAX_HIDDEN_TRIANGLES`].
     pub triangles: Vec<[Vec2; 3]>,
 }
 

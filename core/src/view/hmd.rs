@@ -9,6 +9,7 @@ use super::{EyeParams, FovTangents, LensRegion, RadialDistortion};
 pub struct HmdProfile {
     /// Short name used on the command line (`--hmd index`).
     pub name: &'static str,
+    /// Its name in full, for the printout.
     pub display_name: &'static str,
     /// Physical panel pixels per eye (width, height).
     pub panel_per_eye: (u32, u32),
@@ -48,6 +49,7 @@ pub struct EyeTracker {
 /// therefore representative of a VR lens, not these headsets' exact images.
 pub const CARDBOARD_2015_LENS: RadialDistortion = RadialDistortion { k1: 0.34, k2: 0.55 };
 
+/// The interpupillary distance used when a profile has none: 64 mm.
 pub const DEFAULT_IPD_M: f32 = 0.064;
 
 /// The profiles foveate knows, each citing where its numbers come from.

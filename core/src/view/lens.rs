@@ -9,6 +9,7 @@ use super::{polygon, FovTangents};
 /// The lens-visible region of one eye in tangent space (x = tan right, y = tan up).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LensRegion {
+    /// The field the region lies in.
     pub fov: FovTangents,
     /// Ellipse scale relative to the inscribed ellipse (1 = touches the image edges).
     pub scale: f32,

@@ -23,13 +23,17 @@ use glam::{Mat4, Quat, Vec3};
 /// Which eye of a stereo pair.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Eye {
+    /// The left eye.
     Left,
+    /// The right eye.
     Right,
 }
 
 impl Eye {
+    /// Both eyes, left first.
     pub const BOTH: [Eye; 2] = [Eye::Left, Eye::Right];
 
+    /// Its name in the printout.
     pub fn name(self) -> &'static str {
         match self {
             Eye::Left => "left",
@@ -37,6 +41,7 @@ impl Eye {
         }
     }
 
+    /// 0 for the left eye, 1 for the right.
     pub fn index(self) -> usize {
         match self {
             Eye::Left => 0,
@@ -57,9 +62,13 @@ impl Eye {
 /// contains its own axis: the edges sit at x/−z = −left, +right and y/−z = +up, −down.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FovTangents {
+    /// Tangent of the angle to the left edge.
     pub left: f32,
+    /// Tangent of the angle to the right edge.
     pub right: f32,
+    /// Tangent of the angle to the top edge.
     pub up: f32,
+    /// Tangent of the angle to the bottom edge.
     pub down: f32,
 }
 
@@ -97,6 +106,7 @@ impl FovTangents {
         }
     }
 
+    /// Left, right, up, down.
     pub fn as_array(self) -> [f32; 4] {
         [self.left, self.right, self.up, self.down]
     }
@@ -121,7 +131,9 @@ impl FovTangents {
 /// (each eye yawed away from the nose by `cant_rad`, as on headsets with canted displays).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EyeParams {
+    /// The left eye's field.
     pub left_fov: FovTangents,
+    /// The right eye's field.
     pub right_fov: FovTangents,
     /// Interpupillary distance in metres.
     pub ipd_m: f32,
@@ -130,6 +142,7 @@ pub struct EyeParams {
 }
 
 impl EyeParams {
+    /// The field of `eye`.
     pub fn fov(&self, eye: Eye) -> FovTangents {
         match eye {
             Eye::Left => self.left_fov,

@@ -2,11 +2,13 @@
 /// `gpu::Gpu::caps`; built by hand in tests so the planner is tested without a GPU.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DeviceCaps {
+    /// The device's name.
     pub device_name: String,
     /// `maxMultiviewViewCount`; 0 when multiview is unsupported.
     pub max_multiview_views: u32,
     /// Sample counts usable for both colour and depth attachments (bit n set = 2ⁿ samples).
     pub framebuffer_sample_counts: u32,
+    /// `maxImageDimension2D`.
     pub max_image_dimension_2d: u32,
     /// `maxViewportDimensions` (the smaller of the two).
     pub max_viewport_dimension: u32,
@@ -14,10 +16,13 @@ pub struct DeviceCaps {
     pub viewport_bounds: (f32, f32),
     /// Whether a memory type with `LAZILY_ALLOCATED` exists (tile GPUs; lavapipe has none).
     pub lazily_allocated_memory: bool,
+    /// `fragmentStoresAndAtomics`: counting frames need it.
     pub fragment_stores_and_atomics: bool,
+    /// `shaderClipDistance`: instanced stereo needs it.
     pub shader_clip_distance: bool,
     /// `depthClamp`: primitives are not clipped against the near and far planes.
     pub depth_clamp: bool,
+    /// Timestamps on the graphics queue: frames are timed with them.
     pub timestamps: bool,
     /// `samplerAnisotropy` and `maxSamplerAnisotropy` (0 without the feature): lit materials
     /// sample anisotropically where offered, trilinearly otherwise.
@@ -27,6 +32,7 @@ pub struct DeviceCaps {
     /// `D32_SFLOAT_S8_UINT` as a depth-stencil attachment: stencil masks (the HMD mask,
     /// foveation's inset and outset masks) need it; a plan without them does not.
     pub depth_stencil: bool,
+    /// What its driver gets wrong.
     pub quirks: DriverQuirks,
 }
 
@@ -53,6 +59,7 @@ impl DeviceCaps {
         }
     }
 
+    /// Whether `samples` per pixel are usable for colour and depth alike.
     pub fn supports_samples(&self, samples: u32) -> bool {
         samples.is_power_of_two() && self.framebuffer_sample_counts & samples != 0
     }

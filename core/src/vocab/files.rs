@@ -12,7 +12,9 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, thiserror::Error)]
 #[error("cannot write {}: {why}", path.display())]
 pub struct FileError {
+    /// The file.
     pub path: PathBuf,
+    /// What went wrong.
     pub why: String,
 }
 

@@ -10,22 +10,50 @@ use super::files::{check_writable, write_atomic, FileError};
 #[derive(Debug, thiserror::Error)]
 pub enum ImageError {
     #[error("cannot read image {}: {why}", path.display())]
-    Read { path: PathBuf, why: String },
+    /// The file could not be read or decoded.
+    Read {
+        /** The file. */
+        path: PathBuf,
+        /** What went wrong. */
+        why: String,
+    },
     #[error("cannot write image {}: {why}", path.display())]
-    Encode { path: PathBuf, why: String },
+    /// The image could not be encoded.
+    Encode {
+        /** The file. */
+        path: PathBuf,
+        /** What went wrong. */
+        why: String,
+    },
     #[error("{0}")]
+    /// The file could not be written.
     Write(FileError),
     #[error("cannot write image {}: its extension names no format foveate writes ({}); use .png, or .jpg/.jpeg", path.display(), if extension.is_empty() { "none" } else { extension })]
-    UnknownFormat { path: PathBuf, extension: String },
+    /// The file's extension names no format foveate writes.
+    UnknownFormat {
+        /** The file. */
+        path: PathBuf,
+        /** Its extension (empty: none). */
+        extension: String,
+    },
     #[error("images differ in size: {a:?} vs {b:?}")]
-    SizeMismatch { a: (u32, u32), b: (u32, u32) },
+    /// Two images compared differ in size.
+    SizeMismatch {
+        /** The first's width and height. */
+        a: (u32, u32),
+        /** The second's width and height. */
+        b: (u32, u32),
+    },
 }
 
 /// An 8-bit sRGB RGBA image, rows top to bottom.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RgbaImage {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `width × height` pixels of 4 bytes, row after row.
     pub data: Vec<u8>,
 }
 
@@ -40,6 +68,7 @@ impl From<image::RgbaImage> for RgbaImage {
 }
 
 impl RgbaImage {
+    /// A `width` × `height` image, transparent black.
     pub fn new(width: u32, height: u32) -> Self {
         Self {
             width,
@@ -48,6 +77,7 @@ impl RgbaImage {
         }
     }
 
+    /// The pixel at column `x`, row `y` (panics outside the image, as indexing does).
     pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
         let i = (y as usize * self.width as usize + x as usize) * 4;
         [
@@ -58,6 +88,7 @@ impl RgbaImage {
         ]
     }
 
+    /// Sets the pixel at column `x`, row `y` (panics outside the image, as indexing does).
     pub fn set_pixel(&mut self, x: u32, y: u32, p: [u8; 4]) {
         let i = (y as usize * self.width as usize + x as usize) * 4;
         self.data[i..i + 4].copy_from_slice(&p);
@@ -121,7 +152,7 @@ impl RgbaImage {
     }
 
     /// Checks, before the work that makes the image, that `path` names a format foveate writes
-    /// and can be written ([`check_writable`]).
+    /// and can be written: its folder exists and a file can be made there.
     pub fn check_output(path: &Path) -> Result<(), ImageError> {
         check_writable(path).map_err(ImageError::Write)?;
         Self::format_for(path).map(|_| ())

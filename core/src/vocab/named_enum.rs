@@ -5,6 +5,7 @@
 macro_rules! named_enum {
     ($t:ty, $field:literal, [$($v:path => $name:literal),+ $(,)?]) => {
         impl $t {
+            /// Its name on the command line and in the printout.
             pub fn name(self) -> &'static str {
                 match self {
                     $($v => $name,)+

@@ -6,11 +6,14 @@ use super::ConfigError;
 /// Per-eye render resolution in pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Resolution {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
 }
 
 impl Resolution {
+    /// `n` × `n` pixels.
     pub fn square(n: u32) -> Self {
         Self {
             width: n,
@@ -18,6 +21,7 @@ impl Resolution {
         }
     }
 
+    /// Width times height.
     pub fn pixels(self) -> u64 {
         self.width as u64 * self.height as u64
     }

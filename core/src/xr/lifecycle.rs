@@ -13,13 +13,21 @@
 /// The runtime's session states (`XrSessionState`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SessionState {
+    /// Created, not yet ready.
     Idle,
+    /// Ready to begin.
     Ready,
+    /// Running, frames not shown.
     Synchronized,
+    /// Frames shown, no input focus.
     Visible,
+    /// Frames shown, with input focus.
     Focused,
+    /// The session must end.
     Stopping,
+    /// The session is being lost.
     LossPending,
+    /// The application should exit.
     Exiting,
 }
 
@@ -57,6 +65,7 @@ pub enum FrameOutcome {
 
 /// What the lifecycle does through: the OpenXR session in `foveate xr`, a recording in tests.
 pub trait SessionBackend {
+    /// What its calls fail with.
     type Error;
     /// `xrBeginSession`, then the swapchains and renderers.
     fn begin(&mut self) -> Result<(), Self::Error>;
@@ -94,6 +103,7 @@ pub struct Lifecycle<B: SessionBackend> {
 }
 
 impl<B: SessionBackend> Lifecycle<B> {
+    /// A lifecycle in `Idle`, driving `backend`.
     pub fn new(backend: B) -> Self {
         Lifecycle {
             backend,
@@ -106,14 +116,17 @@ impl<B: SessionBackend> Lifecycle<B> {
         }
     }
 
+    /// The session's state as last told.
     pub fn state(&self) -> SessionState {
         self.state
     }
 
+    /// The backend.
     pub fn backend(&self) -> &B {
         &self.backend
     }
 
+    /// The backend, to change.
     pub fn backend_mut(&mut self) -> &mut B {
         &mut self.backend
     }
@@ -128,6 +141,7 @@ impl<B: SessionBackend> Lifecycle<B> {
         self.ended
     }
 
+    /// Moves the session on for one runtime event: begins, ends, or drops everything as the state calls for.
     pub fn handle(&mut self, event: RuntimeEvent) -> Result<(), B::Error> {
         if self.ended.is_some() {
             return Ok(());

@@ -16,14 +16,19 @@ pub(super) const STEREO: xr::ViewConfigurationType = xr::ViewConfigurationType::
 /// What the runtime offered, for the log and the run's summary.
 #[derive(Clone, Debug)]
 pub struct RuntimeReport {
+    /// The runtime's name and version.
     pub runtime: String,
+    /// The headset's name.
     pub system: String,
     /// The extensions of interest the runtime offers, by name.
     pub extensions: Vec<&'static str>,
+    /// The view configurations it offers.
     pub view_configurations: Vec<String>,
     /// Each eye's recommended and largest image size.
     pub recommended: Resolution,
+    /// Each eye's largest image size.
     pub max: Resolution,
+    /// Whether it has an eye tracker (`XR_EXT_eye_gaze_interaction`).
     pub eye_gaze: bool,
 }
 
@@ -38,6 +43,7 @@ pub type Platform = xr::AndroidPlatformInfo;
 pub struct XrRuntime {
     pub(super) instance: xr::Instance,
     pub(super) system: xr::SystemId,
+    /// What it offered.
     pub report: RuntimeReport,
     /// The runtime offers `XR_KHR_visibility_mask` (enabled).
     pub(super) visibility_mask: bool,

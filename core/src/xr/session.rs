@@ -58,6 +58,7 @@ pub enum GazeSource {
 pub struct XrSettings {
     /// The frame as the user configured it; the runtime sets its size, fields and IPD.
     pub config: RenderConfig,
+    /// Where the gaze comes from.
     pub gaze: GazeSource,
     /// Check the first rendered frame's submitted image against a render of the same views.
     pub check_pixels: bool,
@@ -76,20 +77,24 @@ pub struct Pacing {
 /// What a finished run measured.
 #[derive(Clone, Debug, Default)]
 pub struct XrSummary {
+    /// Frames rendered (not counting those submitted empty).
     pub frames_rendered: u64,
     /// Frames the session keeps in flight: each recorded and submitted without waiting for
     /// the GPU, whose figures are read when its slot comes round again.
     pub frames_in_flight: usize,
+    /// The runtime's frame timing.
     pub pacing: Pacing,
     /// Wall time of each rendered frame (the runtime's wait excluded: locate, record, submit;
     /// with frames in flight, the wait for the frame that held the slot before), ms.
     pub frame_ms: Vec<f64>,
+    /// How often the runtime's views changed enough to plan the frame again.
     pub replans: u64,
     /// The last rendered frame's draw calls and triangles recorded (the workload beside the
     /// times).
     pub draws: (u64, u64),
     /// How far the runtime's eyes lay from foveate's eye model (largest over the run).
     pub eye_fit_error: (f32, f32),
+    /// The first frame checked against a render of the same views, when asked for.
     pub pixels: Option<PixelCheck>,
     /// The HMD mask's hidden fractions, when it took the runtime's mesh.
     pub mask_hidden: Option<MaskFractions>,
@@ -104,6 +109,7 @@ pub struct MaskFractions {
     pub ellipse: [f64; 2],
     /// The profile's published fraction, if it has one.
     pub published: Option<f32>,
+    /// The profile the fractions are the figures of.
     pub profile: &'static str,
 }
 
@@ -132,10 +138,12 @@ pub struct XrSession<'g> {
     started: Option<Instant>,
     last_display_time: Option<i64>,
     second: PerSecond,
+    /// What the run measured so far.
     pub summary: XrSummary,
 }
 
 impl<'g> XrSession<'g> {
+    /// A session on `runtime` rendering `scene` on `gpu`, as `settings` say.
     pub fn new(
         runtime: &XrRuntime,
         gpu: &'g Gpu,

@@ -9,7 +9,9 @@ use crate::view::{Eye, EyeParams, FovTangents};
 /// A rigid pose: OpenXR's `XrPosef` (orientation x, y, z, w; position in metres).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {
+    /// Orientation as a unit quaternion (x, y, z, w).
     pub orientation: [f32; 4],
+    /// Position in metres.
     pub position: [f32; 3],
 }
 
@@ -44,6 +46,7 @@ pub struct FittedEyes {
     /// The head: midway between the eyes, looking down their mean forward with their baseline
     /// as +X.
     pub world_from_head: Mat4,
+    /// The eye model fitted to the runtime's views.
     pub eyes: EyeParams,
     /// The largest distance from a runtime eye's position to the model's (metres).
     pub position_error_m: f32,

@@ -222,7 +222,7 @@ struct MotionRun<'a> {
     gpu: &'a Gpu,
     scene: &'a foveate::scene::Scene,
     /// The reference's plan, then each configuration's.
-    plans: &'a [foveate::FramePlan],
+    plans: &'a [foveate::plan::FramePlan],
     configs: &'a [(String, RenderConfig)],
     /// Judge every Nth frame with eFLIP.
     flip: Option<u32>,

@@ -7,7 +7,7 @@ use foveate::metrics::flip::Acuity;
 use foveate::metrics::RgbaImage;
 use foveate::mffr::{MffrConfig, MffrVariant, SplitDistance};
 use foveate::plan::RenderConfig;
-use foveate::render::SKY;
+use foveate::plan::SKY;
 use foveate::scene::named_scene;
 use glam::Vec2;
 

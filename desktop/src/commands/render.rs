@@ -7,8 +7,8 @@ use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::{frame_accuracy, FrameAccuracy};
 use foveate::metrics::{ErrorSummary, EyePixels, Stats};
+use foveate::plan::StereoMode;
 use foveate::render::{counting_frame, FrameStats, Renderer};
-use foveate::StereoMode;
 use glam::Vec2;
 
 use crate::frame_args::ConfigArgs;
@@ -104,10 +104,10 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     let scene = args.config.scene()?;
     println!("device: {}", gpu.info().name);
     // Each run: its label, its configuration, where its image goes.
-    let mut runs: Vec<(String, foveate::RenderConfig, PathBuf)> = Vec::new();
+    let mut runs: Vec<(String, foveate::plan::RenderConfig, PathBuf)> = Vec::new();
     if args.reference {
         let foveated = args.config.config(modes[0])?;
-        let reference = foveate::RenderConfig {
+        let reference = foveate::plan::RenderConfig {
             foveation: None,
             ..foveated.clone()
         };
@@ -202,7 +202,7 @@ fn timed_frames(
 /// last frame's draws, and the counting frame's counts.
 fn mode_result(
     label: &str,
-    plan: &foveate::FramePlan,
+    plan: &foveate::plan::FramePlan,
     frames: &[FrameStats],
     counts: FrameStats,
 ) -> ModeResult {
@@ -236,7 +236,11 @@ fn mode_result(
 /// against it (not on a tinted frame).
 fn save_beside_reference(
     args: &RenderArgs,
-    images: &[(foveate::render::StereoImage, foveate::FramePlan, glam::Vec2)],
+    images: &[(
+        foveate::render::StereoImage,
+        foveate::plan::FramePlan,
+        glam::Vec2,
+    )],
 ) -> Result<()> {
     // The foveated frame above its stereo reference.
     let ((reference, reference_plan, _), (foveated, plan, gaze)) = (&images[0], &images[1]);

@@ -348,7 +348,7 @@ fn foveation_table(gpu: &Gpu, args: &BenchArgs) -> Result<()> {
         args.msaa,
         args.foveation_frames
     );
-    foveate::vocab::write_atomic(
+    foveate::write_atomic(
         &md,
         (header + &crate::fovea_table::markdown(&rows)).as_bytes(),
     )?;

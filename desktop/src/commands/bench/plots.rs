@@ -47,7 +47,7 @@ macro_rules! plot_files {
         write_png(&rgb, size, $png)?;
         let mut svg = String::new();
         $draw(SVGBackend::with_string(&mut svg, size).into_drawing_area())?;
-        foveate::vocab::write_atomic($svg, svg.as_bytes())?;
+        foveate::write_atomic($svg, svg.as_bytes())?;
     }};
 }
 

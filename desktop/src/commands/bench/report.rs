@@ -275,7 +275,7 @@ impl Report {
         print!("{tables}");
         let write = |name: &str, text: &str| -> Result<()> {
             let path = out.join(name);
-            foveate::vocab::write_atomic(&path, text.as_bytes()).map_err(anyhow::Error::from)
+            foveate::write_atomic(&path, text.as_bytes()).map_err(anyhow::Error::from)
         };
         write("tables.md", &tables)?;
         let frames_csv = self.frames_csv()?;
@@ -287,7 +287,7 @@ impl Report {
         for (path, text) in [(csv, &frames_csv), (json, &json_text)] {
             match path {
                 Some(p) if p == Path::new("-") => println!("{text}"),
-                Some(p) => foveate::vocab::write_atomic(p, text.as_bytes())?,
+                Some(p) => foveate::write_atomic(p, text.as_bytes())?,
                 None => {}
             }
         }
