@@ -84,7 +84,7 @@ fn bad_configs_are_rejected_with_field_value_and_limit() {
     assert!(e.limit.contains("it supports 1"), "{e}");
 }
 
-/// Lavapipe offers 1 and 4 samples only, so MSAA 8 is refused there (issue 2's example).
+/// Lavapipe offers 1 and 4 samples only, so MSAA 8 is refused there.
 #[test]
 fn msaa_8_is_refused_on_this_device_when_unsupported() {
     let gpu = gpu();

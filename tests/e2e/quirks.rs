@@ -140,7 +140,7 @@ fn layered_two_pass_and_the_resolve_quirk() {
 /// views, writes: how many consecutive slots of its pool become available. The spec gives such
 /// a query one slot (only a query inside a multiview pass spans the views); lavapipe 25.0 (not
 /// 22.3) keeps the ended pass's view mask and writes one slot per view, past the end of a pool
-/// sized by the spec — the crash of issue 28. Raw Vulkan, nothing of foveate's renderer, so
+/// sized by the spec — the crash foveate once hit. Raw Vulkan, nothing of foveate's renderer, so
 /// this is the driver's behaviour alone: the pool has spare slots, so the extra writes land
 /// inside it and can be counted.
 fn slots_written_after_multiview(gpu: &Gpu, views: u32, query: vk::QueryType) -> u32 {
@@ -262,7 +262,7 @@ fn slots_written_after_multiview(gpu: &Gpu, views: u32, query: vk::QueryType) ->
     available
 }
 
-/// Issue 28's crash, reproduced without foveate's renderer and priced exactly: after a
+/// That crash, reproduced without foveate's renderer and priced exactly: after a
 /// multiview pass, a timestamp or a pipeline-statistics query recorded outside any pass writes
 /// one slot on a driver without `queries_after_multiview_span_views`, one per view on one with
 /// it (lavapipe 25.0.7: a pool sized for one slot per query is overrun and the driver's worker
