@@ -72,7 +72,7 @@ pub enum GpuError {
     #[error("more than {limit} distinct output images handed in to one renderer: reuse images (a swapchain's), or make a new renderer")]
     /// More distinct output images than a renderer keeps framebuffers for.
     TooManyOutputImages {
-        /** The most it keeps ([`crate::render::MAX_OUTPUT_IMAGES`]). */
+        /** The most it keeps (`render::MAX_OUTPUT_IMAGES`). */
         limit: usize,
     },
     #[error("readback asked for before any frame was rendered")]

@@ -155,7 +155,7 @@ pub struct ImageDesc<'a> {
 }
 
 impl Image {
-    /// The Vulkan image, to hand to [`crate::render::FrameInput::with_output`] or to record
+    /// The Vulkan image, to hand to `render::FrameInput::with_output` or to record
     /// with; it stays valid while this value lives.
     pub fn raw(&self) -> vk::Image {
         self.raw

@@ -4,6 +4,7 @@
 //! Pure: no Vulkan objects are created here, so every rule is unit-tested without a GPU and
 //! `foveate plan` prints exactly what the renderer will build.
 
+mod attachments;
 mod barriers;
 mod build;
 mod config;
@@ -26,15 +27,15 @@ mod validate;
 mod workload;
 
 pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
+pub use attachments::{AttachmentPlan, AttachmentRole, Format, Use};
 pub use build::plan;
 pub use config::{
     CullConfig, FoveaLayout, OutputFormat, OutputStage, RadialDensity, RadialDensityGeometry,
     RenderConfig, StereoMode, MAX_FRAMES_IN_FLIGHT, MAX_SPARE_INSTANCES, MAX_VIEWS,
 };
 pub use model::{
-    AttachmentPlan, AttachmentRole, BufferPlan, ClusterPlan, CountedSlot, Format,
-    FoveaLayoutChoice, FramePlan, LensOutput, LodPlan, PassKind, PassPlan, Submission,
-    TargetLayout, Use, COUNTER_SLOTS_PER_STEP, SKY,
+    BufferPlan, ClusterPlan, CountedSlot, FoveaLayoutChoice, FramePlan, LensOutput, LodPlan,
+    PassKind, PassPlan, Submission, TargetLayout, COUNTER_SLOTS_PER_STEP, SKY,
 };
 pub use ops::{
     Access, AttachmentId, Barrier, ClearValue, Layout, LoadOp, PassBarriers, StoreOp, Touch,

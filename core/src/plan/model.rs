@@ -1,148 +1,15 @@
-//! The plan's model: attachments with their uses, passes with their steps, the frame plan.
-//! Built by `build`, completed by `derive`; what it costs in memory and traffic is `workload`.
+//! The plan's model: passes with their steps, the frame plan (attachments and their uses are in
+//! `attachments`). Built by `build`, completed by `derive`; what it costs in memory and traffic
+//! is `workload`.
 
-use super::ops::{Access, AttachmentId, ClearValue, Layout, LoadOp, PassBarriers, StoreOp};
+pub(super) use super::attachments::{AttachmentPlan, AttachmentRole, Format, Use};
+use super::ops::{AttachmentId, PassBarriers};
 use super::pipeline::PipelineDesc;
 use super::steps::{CountedStep, DrawSet, Step};
 use super::{CullConfig, Resolution, StereoMode, MAX_VIEWS};
 use crate::foveation::FoveationGeometry;
 use crate::mffr::{MffrGeometry, MffrOrder};
 use crate::view::{Eye, EyeParams, FovTangents, HmdProfile, LensRegion, RadialDistortion};
-
-/// Pixel formats the planner uses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
-    /// Colour: 8-bit sRGB, so MSAA resolves and blending happen in linear light.
-    Rgba8Srgb,
-    /// Colour: 8-bit linear values (an output an engine or runtime takes as linear).
-    Rgba8Unorm,
-    /// Colour in linear half floats: a temporal history, whose small steps 8 bits would lose
-    /// (and whose alpha holds each pixel's depth).
-    Rgba16F,
-    /// Reverse-Z depth without stencil.
-    D32,
-    /// Reverse-Z depth with stencil, only when an effect writes stencil masks.
-    D32S8,
-}
-
-impl Format {
-    /// Bytes one pixel of one sample takes in memory.
-    pub fn bytes_per_pixel(self) -> u64 {
-        match self {
-            Format::Rgba8Srgb | Format::Rgba8Unorm | Format::D32 => 4,
-            Format::Rgba16F => 8,
-            // D32_SFLOAT_S8_UINT is commonly stored as 4 + 1 bytes (plus padding).
-            Format::D32S8 => 5,
-        }
-    }
-
-    /// Whether this is a depth (or depth/stencil) format.
-    pub fn is_depth(self) -> bool {
-        matches!(self, Format::D32 | Format::D32S8)
-    }
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-/// What an attachment holds.
-pub enum AttachmentRole {
-    /// Colour (possibly multisampled).
-    Color,
-    /// Depth, or depth and stencil.
-    Depth,
-    /// Single-sample target an MSAA colour attachment resolves into inside the pass.
-    Resolve,
-}
-
-/// One image the frame renders into, and its fate.
-#[derive(Clone, Debug, PartialEq)]
-pub struct AttachmentPlan {
-    /// Its name in the printout and in debug labels.
-    pub name: &'static str,
-    /// What it holds.
-    pub role: AttachmentRole,
-    /// Its format.
-    pub format: Format,
-    /// Samples per pixel (1 without MSAA).
-    pub samples: u32,
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
-    /// Array layers: one per view it holds.
-    pub layers: u32,
-    /// Read after the frame (readback or presentation).
-    pub read_after_frame: bool,
-    /// Sampled by a later pass (a texture, not an attachment, there).
-    pub sampled: bool,
-    /// Never loaded nor stored by any pass: may live on tile only.
-    pub transient: bool,
-}
-
-impl AttachmentPlan {
-    /// Its size in memory: every layer and sample.
-    pub fn bytes(&self) -> u64 {
-        self.width as u64
-            * self.height as u64
-            * self.layers as u64
-            * self.samples as u64
-            * self.format.bytes_per_pixel()
-    }
-
-    pub(super) fn layer_bytes(&self) -> u64 {
-        self.bytes() / self.layers as u64
-    }
-}
-
-/// A pass's use of (some layers of) an attachment, with the ops derived from intent.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Use {
-    /// The attachment used.
-    pub attachment: AttachmentId,
-    /// The first layer used (a view's layer).
-    pub base_layer: u32,
-    /// How many layers, from `base_layer`.
-    pub layer_count: u32,
-    /// Read, written or both.
-    pub access: Access,
-    /// What the pass starts it with.
-    pub load: LoadOp,
-    /// Whether the pass keeps what it wrote.
-    pub store: StoreOp,
-    /// Layout at the pass's start and end (derived: [`Layout::around`]).
-    pub initial_layout: Layout,
-    /// Layout at the pass's end.
-    pub final_layout: Layout,
-    /// What a cleared use starts as; `None` unless `load` clears.
-    pub clear: Option<ClearValue>,
-}
-
-impl Use {
-    pub(super) fn new(
-        attachment: AttachmentId,
-        base_layer: u32,
-        layer_count: u32,
-        access: Access,
-    ) -> Self {
-        // Ops are placeholders until `derive_ops` has seen the whole frame.
-        Self {
-            attachment,
-            base_layer,
-            layer_count,
-            access,
-            load: LoadOp::from_access(access),
-            store: StoreOp::DontCare,
-            initial_layout: Layout::Undefined,
-            final_layout: Layout::Undefined,
-            clear: None,
-        }
-    }
-
-    pub(super) fn overlaps(&self, other: &Use) -> bool {
-        self.attachment == other.attachment
-            && self.base_layer < other.base_layer + other.layer_count
-            && other.base_layer < self.base_layer + self.layer_count
-    }
-}
 
 /// How a pass submits the scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
