@@ -70,6 +70,11 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
         "store_history_counting.frag.spv",
         &["COUNT_FRAGMENTS"],
     ),
+    ("flip_prepare.comp", "flip_prepare.comp.spv", &[]),
+    ("flip_reduce.comp", "flip_reduce.comp.spv", &[]),
+    ("flip_horizontal.comp", "flip_horizontal.comp.spv", &[]),
+    ("flip_vertical.comp", "flip_vertical.comp.spv", &[]),
+    ("flip_combine.comp", "flip_combine.comp.spv", &[]),
     ("far_composite.frag", "far_composite.frag.spv", &[]),
     (
         "far_composite.frag",

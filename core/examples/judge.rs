@@ -1,16 +1,18 @@
 //! Judging a foveated frame against its full-quality reference: the same frame rendered
 //! without foveation at 4× MSAA, then per eye PSNR, FLIP at the display's pixels per degree, and
 //! the eccentricity-aware FLIP (each pixel judged at the acuity the eye has there, from the
-//! gaze) over the pixels the lens shows. Needs the `flip` feature (NVIDIA's FLIP, C++).
+//! gaze) over the pixels the lens shows, judged on the GPU (`judge::FlipJudge`); NVIDIA's
+//! reference FLIP on the CPU (`metrics::flip`, feature `flip`) is the oracle it is tested against.
 //!
 //! ```text
-//! cargo run -p foveate --features flip --example judge
+//! cargo run -p foveate --example judge
 //! ```
 
 use foveate::foveation::FoveationConfig;
 use foveate::glam::Vec2;
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::metrics::flip::{eccentric_flip_map, Acuity};
+use foveate::judge::FlipJudge;
+use foveate::metrics::Acuity;
 use foveate::metrics::{ErrorSummary, EyePixels};
 use foveate::plan::Resolution;
 use foveate::plan::{FramePlan, RenderConfig};
@@ -49,11 +51,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Where each output pixel lies for the eye: seen through the lens or not, its angle from
     // the gaze, and the region (fovea, band, periphery) of the foveated frame.
     let eyes = EyePixels::both(&plan, gaze, plan.foveation.as_ref());
+    let (width, height) = (plan.eye_resolution.width, plan.eye_resolution.height);
+    let mut judge = FlipJudge::new(&gpu, width, height)?;
     for eye in Eye::BOTH {
         let pixels = &eyes[eye.index()];
         let (want, got) = (want.eye(eye), got.eye(eye));
         let eccentricity = |x, y| pixels.at(x, y).map(|p| p.eccentricity_deg);
-        let maps = eccentric_flip_map(want, got, pixels.ppd, Acuity::default(), &eccentricity)?;
+        let maps = judge.flip_maps(want, got, pixels.ppd, Acuity::default(), &eccentricity)?;
         let summary = |map: &[f32]| ErrorSummary::of(&pixels.select(map, |_| true));
         let (plain, eccentric) = (summary(&maps.plain), summary(&maps.eccentric));
         println!(

@@ -109,6 +109,7 @@ macro_rules! internal_mod {
 pub mod cull;
 pub mod foveation;
 pub mod gpu;
+pub mod judge;
 pub mod metrics;
 pub mod mffr;
 pub mod plan;

@@ -107,10 +107,18 @@ pub const ACCUMULATE_FRAG_COUNTING: ShaderBinary = spirv!("accumulate_counting.f
 pub const STORE_HISTORY_FRAG: ShaderBinary = spirv!("store_history.frag.spv");
 pub const STORE_HISTORY_FRAG_COUNTING: ShaderBinary = spirv!("store_history_counting.frag.spv");
 
+/// FLIP's compute passes on the GPU (`shaders/flip_common.glsl`): both images to YCxCz, a
+/// pyramid level, the separable filters' two halves, and one ppd level's error per pixel.
+pub const FLIP_PREPARE_COMP: ShaderBinary = spirv!("flip_prepare.comp.spv");
+pub const FLIP_REDUCE_COMP: ShaderBinary = spirv!("flip_reduce.comp.spv");
+pub const FLIP_HORIZONTAL_COMP: ShaderBinary = spirv!("flip_horizontal.comp.spv");
+pub const FLIP_VERTICAL_COMP: ShaderBinary = spirv!("flip_vertical.comp.spv");
+pub const FLIP_COMBINE_COMP: ShaderBinary = spirv!("flip_combine.comp.spv");
+
 /// Vertices of one mask fan (128 triangles; see `shaders/mask.vert`).
 pub const MASK_VERTICES: u32 = 128 * 3;
 
-/// Every shader the renderer can use (the spirv-val test walks this list).
+/// Every shader the renderer and the judge can use (the spirv-val test walks this list).
 pub const ALL: &[ShaderBinary] = &[
     SCENE_VERT,
     SCENE_VERT_INDIRECT,
@@ -138,4 +146,9 @@ pub const ALL: &[ShaderBinary] = &[
     ACCUMULATE_FRAG_COUNTING,
     STORE_HISTORY_FRAG,
     STORE_HISTORY_FRAG_COUNTING,
+    FLIP_PREPARE_COMP,
+    FLIP_REDUCE_COMP,
+    FLIP_HORIZONTAL_COMP,
+    FLIP_VERTICAL_COMP,
+    FLIP_COMBINE_COMP,
 ];

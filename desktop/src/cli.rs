@@ -20,6 +20,10 @@ pub struct Cli {
     /// Enable VK_LAYER_KHRONOS_validation and fail on any message (env FOVEATE_VALIDATION=1).
     #[arg(long, global = true)]
     validation: bool,
+    /// Where FLIP judges frames: gpu (compute passes on the rendering device) or cpu (NVIDIA's
+    /// reference, the oracle; slow).
+    #[arg(long, global = true, value_enum, default_value_t)]
+    metric: crate::metric::Metric,
 }
 
 #[derive(Subcommand)]
@@ -54,6 +58,9 @@ enum Command {
     /// multiview, stencil mask and MFFR (and the multiview ones foveated), its tables with
     /// ratios to the baseline, memory and traffic, accuracy against time, and plots.
     Bench(crate::commands::bench::BenchArgs),
+    /// What judging a frame costs: eFLIP of a foveated frame against its reference at a
+    /// headset's panel on the GPU, and with --cpu on the CPU beside it, with both maps compared.
+    Judge(crate::commands::judge::JudgeArgs),
     /// The frame on an OpenXR runtime's headset (Monado's simulated one in CI): the runtime
     /// makes the Vulkan device, places the eyes each frame and takes the output stage's images.
     Xr(crate::commands::xr::XrArgs),
@@ -71,6 +78,7 @@ impl Cli {
     }
 
     pub fn run(&self) -> Result<()> {
+        crate::metric::choose(self.metric);
         match &self.command {
             Command::Devices => devices(),
             Command::Plan(args) => {
@@ -108,6 +116,7 @@ impl Cli {
             Command::Mask(args) => crate::commands::mask::mask(&self.gpu_options(), args),
             Command::Bench(args) => crate::commands::bench::bench(&self.gpu_options(), args),
             Command::Xr(args) => crate::commands::xr::xr(&self.gpu_options(), args),
+            Command::Judge(args) => crate::commands::judge::judge(&self.gpu_options(), args),
         }
     }
 }

@@ -11,6 +11,7 @@ mod frame_args;
 mod frontier;
 mod gaze_arg;
 mod interrupt;
+mod metric;
 mod outputs;
 mod progress;
 mod side_by_side;

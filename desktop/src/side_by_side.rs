@@ -6,8 +6,8 @@
 
 use anyhow::Result;
 use foveate::gpu::Gpu;
-use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::{frame_accuracy, FrameAccuracy};
+use foveate::metrics::Acuity;
 use foveate::metrics::{EyePixels, Stats};
 use foveate::plan::{FramePlan, RenderConfig};
 use foveate::render::{counting_frame, Renderer, StereoImage};
@@ -150,12 +150,19 @@ pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity) -> Result<Vec<Judged>> {
     let reference_image = measured[0].image.clone();
     let bar = crate::progress::bar(&format!("{label}: FLIP"), total as u64);
     let mut judged = Vec::new();
+    let mut flip = crate::metric::flip_mapper(gpu);
     for m in measured {
         if crate::interrupt::requested() {
             break;
         }
         let pixels = EyePixels::both(&reference_plan, gaze, m.plan.foveation.as_ref());
-        let accuracy = frame_accuracy(reference_image.eyes(), m.image.eyes(), &pixels, acuity)?;
+        let accuracy = frame_accuracy(
+            reference_image.eyes(),
+            m.image.eyes(),
+            &pixels,
+            acuity,
+            &mut *flip,
+        )?;
         bar.inc(1);
         judged.push(Judged {
             measured: m,

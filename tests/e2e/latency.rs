@@ -4,8 +4,8 @@
 use foveate::foveation::{
     DelayedGaze, FoveationConfig, GazeLatency, GazeSample, GazeSpace, Prediction,
 };
-use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::perceptual_error;
+use foveate::metrics::Acuity;
 use foveate::metrics::EyePixels;
 use foveate::plan::{RenderConfig, Resolution, StereoMode};
 use foveate::render::StereoImage;
@@ -113,6 +113,7 @@ fn a_late_fovea_is_judged_at_the_true_gaze() {
     );
     let motion = [(scene.head, truth), (scene.head, late)];
     let frames = render_motion(&gpu, &scene, &plan, &motion, |_| true);
+    let flip = std::cell::RefCell::new(foveate::judge::GpuFlip::new(&gpu));
     let judge = |image: usize, fovea: Vec2| {
         let pixels = Eye::BOTH
             .map(|e| EyePixels::seen(&reference_plan, e, truth, fovea, plan.foveation.as_ref()));
@@ -121,6 +122,7 @@ fn a_late_fovea_is_judged_at_the_true_gaze() {
             frames[image].eyes(),
             &pixels,
             Acuity::default(),
+            &mut *flip.borrow_mut(),
         )
         .unwrap();
         e.eccentric.unwrap().mean

@@ -1,8 +1,19 @@
 use ash::vk;
 
-use super::{CommandPool, Fence, Gpu, GpuError, VkResultExt};
+use super::{CommandPool, Fence, Gpu, GpuError, ShaderModule, VkResultExt};
+use crate::shaders::ShaderBinary;
 
 impl Gpu {
+    /// A shader module of `shader`'s SPIR-V.
+    pub(crate) fn shader_module(&self, shader: &ShaderBinary) -> Result<ShaderModule, GpuError> {
+        let words = shader.words();
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        // SAFETY: valid SPIR-V (compiled and validated at build time); owned by the result.
+        let raw = unsafe { self.device().create_shader_module(&info, None) }
+            .vk("vkCreateShaderModule")?;
+        Ok(ShaderModule::from_raw(&self.dev, raw))
+    }
+
     /// Records commands with `record`, submits them and waits for completion. For set-up and
     /// readback, not for frames.
     pub fn one_shot(&self, record: impl FnOnce(vk::CommandBuffer)) -> Result<(), GpuError> {

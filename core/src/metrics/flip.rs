@@ -17,38 +17,8 @@
 
 use rayon::prelude::*;
 
-use super::{ImageError, RgbaImage};
-
-/// The eye's acuity falloff: its minimum angle of resolution `MAR(e) = mar0 + slope · e`
-/// (arcmin, eccentricity e in degrees).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Acuity {
-    /// The minimum angle of resolution at the gaze (arcmin).
-    pub mar0_arcmin: f64,
-    /// How fast it grows with eccentricity (arcmin per degree).
-    pub slope_arcmin_per_deg: f64,
-}
-
-impl Default for Acuity {
-    /// Guenter et al. 2012: ω₀ = 1.25′, and the more demanding end of their 1.32–1.65′ per
-    /// degree.
-    fn default() -> Self {
-        Acuity {
-            mar0_arcmin: 1.25,
-            slope_arcmin_per_deg: 1.32,
-        }
-    }
-}
-
-impl Acuity {
-    /// How much coarser than at the gaze the eye resolves at `eccentricity_deg`: `MAR(e) / ω₀`.
-    pub fn scale(&self, eccentricity_deg: f64) -> f64 {
-        1.0 + self.slope_arcmin_per_deg * eccentricity_deg.max(0.0) / self.mar0_arcmin
-    }
-}
-
-/// The ppd multipliers FLIP is evaluated at for the eccentricity-aware figure.
-const LEVELS: [f64; 7] = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0];
+use super::acuity::LEVELS;
+use super::{Acuity, FlipMapper, FlipMaps, ImageError, JudgeError, RgbaImage};
 
 /// FLIP's per-pixel error (0 = no visible difference … 1) between `reference` and `test` viewed
 /// at `ppd` pixels per degree; alpha is ignored.
@@ -63,16 +33,6 @@ pub fn flip_map(reference: &RgbaImage, test: &RgbaImage, ppd: f64) -> Result<Vec
         nv_flip::FlipImageRgb8::with_data(img.width, img.height, &data)
     };
     Ok(nv_flip::flip(rgb(reference), rgb(test), ppd as f32).to_vec())
-}
-
-/// FLIP at the display's ppd, and the eccentricity-aware FLIP map: each pixel's FLIP at the ppd
-/// the eye has there (see the module's model), for display `ppd` at the gaze.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FlipMaps {
-    /// Each pixel's FLIP at the display's ppd, row after row.
-    pub plain: Vec<f32>,
-    /// Each pixel's FLIP at the ppd the eye has there, row after row.
-    pub eccentric: Vec<f32>,
 }
 
 /// Both FLIP maps of `test` against `reference`, for an eye of `acuity`. `eccentricity(x, y)` is
@@ -96,8 +56,7 @@ pub fn eccentric_flip_map(
             let Some(e) = eccentricity(x, y) else {
                 continue;
             };
-            // Position among the levels in log2 ppd: LEVELS[i] = 2^i.
-            let t = acuity.scale(e).log2().clamp(0.0, (LEVELS.len() - 1) as f64);
+            let t = acuity.level_position(e);
             let i = (t.floor() as usize).min(LEVELS.len() - 2);
             let f = (t - i as f64) as f32;
             let k = (y * reference.width + x) as usize;
@@ -106,6 +65,30 @@ pub fn eccentric_flip_map(
         }
     }
     Ok(FlipMaps { plain, eccentric })
+}
+
+/// NVIDIA's reference FLIP on the CPU ([`eccentric_flip_map`]): the oracle the GPU judge is
+/// held to, and `--metric cpu` on the command line.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CpuFlip;
+
+impl FlipMapper for CpuFlip {
+    fn flip_maps(
+        &mut self,
+        reference: &RgbaImage,
+        test: &RgbaImage,
+        ppd: f64,
+        acuity: Acuity,
+        eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
+    ) -> Result<FlipMaps, JudgeError> {
+        Ok(eccentric_flip_map(
+            reference,
+            test,
+            ppd,
+            acuity,
+            eccentricity,
+        )?)
+    }
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 //! picture. Every command that reports an error reports these.
 
 use super::display::{EyePixels, Region};
-use super::flip::{eccentric_flip_map, Acuity};
+use super::{Acuity, FlipMapper, JudgeError};
 use super::{ErrorSummary, ImageError, RgbaImage};
 
 /// Every error figure of one frame against its reference, both eyes together.
@@ -24,13 +24,14 @@ pub struct FrameAccuracy {
 }
 
 /// Every error figure of `image` against `reference` (left eye, right eye), the
-/// eccentricity-aware one for an eye of `acuity`.
+/// eccentricity-aware one for an eye of `acuity`, its FLIP maps from `flip`.
 pub fn frame_accuracy(
     reference: [&RgbaImage; 2],
     image: [&RgbaImage; 2],
     pixels: &[EyePixels; 2],
     acuity: Acuity,
-) -> Result<FrameAccuracy, ImageError> {
+    flip: &mut dyn FlipMapper,
+) -> Result<FrameAccuracy, JudgeError> {
     let (a, b) = (
         RgbaImage::side_by_side(reference[0], reference[1]),
         RgbaImage::side_by_side(image[0], image[1]),
@@ -57,7 +58,7 @@ pub fn frame_accuracy(
         ssim: ssim(&|_| true)?,
         region_psnr: per_region(&psnr)?,
         region_ssim: per_region(&ssim)?,
-        perceptual: perceptual_error(reference, image, pixels, acuity)?,
+        perceptual: perceptual_error(reference, image, pixels, acuity, flip)?,
     })
 }
 
@@ -87,13 +88,15 @@ pub struct PerceptualError {
 }
 
 /// FLIP figures of `image` against `reference` (left eye, right eye), pixels as `pixels` maps
-/// them, the eccentricity-aware one for an eye of `acuity`.
+/// them, the eccentricity-aware one for an eye of `acuity`, the maps from `flip` (the GPU judge,
+/// or NVIDIA's reference on the CPU).
 pub fn perceptual_error(
     reference: [&RgbaImage; 2],
     image: [&RgbaImage; 2],
     pixels: &[EyePixels; 2],
     acuity: Acuity,
-) -> Result<PerceptualError, ImageError> {
+    flip: &mut dyn FlipMapper,
+) -> Result<PerceptualError, JudgeError> {
     let (mut plain, mut eccentric) = (Vec::new(), Vec::new());
     let mut regions: [Vec<f32>; 3] = Default::default();
     let mut maps: [Vec<f32>; 2] = Default::default();
@@ -101,7 +104,7 @@ pub fn perceptual_error(
         let p = &pixels[eye];
         let eccentricity = |x: u32, y: u32| p.at(x, y).map(|d| d.eccentricity_deg);
         let test = hidden_as_reference(reference[eye], image[eye], p)?;
-        let m = eccentric_flip_map(reference[eye], &test, p.ppd, acuity, &eccentricity)?;
+        let m = flip.flip_maps(reference[eye], &test, p.ppd, acuity, &eccentricity)?;
         plain.extend(p.select(&m.plain, |_| true));
         eccentric.extend(p.select(&m.eccentric, |_| true));
         for (values, region) in regions.iter_mut().zip(Region::ALL) {

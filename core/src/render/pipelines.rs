@@ -6,9 +6,7 @@ use ash::vk;
 use super::descriptors::{Binding, DescriptorSet, Resource};
 use super::materials::MaterialSet;
 use super::targets::CompiledPass;
-use crate::gpu::{
-    Buffer, Gpu, GpuError, Pipeline, PipelineKey, PipelineLayout, ShaderModule, VkResultExt,
-};
+use crate::gpu::{Buffer, Gpu, GpuError, Pipeline, PipelineKey, PipelineLayout, VkResultExt};
 use crate::plan::{CompareOp, PipelineDesc, StencilOp, StencilState, VertexInput};
 use crate::scene::Vertex;
 use crate::shaders::ShaderBinary;
@@ -78,14 +76,6 @@ fn vk_stencil(s: StencilState) -> vk::StencilOpState {
     }
 }
 
-fn shader_module(gpu: &Gpu, shader: &ShaderBinary) -> Result<ShaderModule, GpuError> {
-    let words = shader.words();
-    let info = vk::ShaderModuleCreateInfo::default().code(&words);
-    let raw =
-        unsafe { gpu.device().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
-    Ok(ShaderModule::from_raw(&gpu.dev, raw))
-}
-
 /// The specialisation info of one stage: the constants its shader declares, from `desc`.
 struct StageConstants {
     entries: Vec<vk::SpecializationMapEntry>,
@@ -148,8 +138,8 @@ pub(crate) fn compile_pipeline(
         layout: layout_description.to_vec(),
     };
     gpu.pipelines.get_or_create(key, || {
-        let vert = shader_module(gpu, desc.vertex)?;
-        let frag = shader_module(gpu, desc.fragment)?;
+        let vert = gpu.shader_module(desc.vertex)?;
+        let frag = gpu.shader_module(desc.fragment)?;
         let (vert_constants, frag_constants) = (
             StageConstants::new(desc, desc.vertex),
             StageConstants::new(desc, desc.fragment),

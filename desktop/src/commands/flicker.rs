@@ -10,9 +10,9 @@ use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{simulated_trace, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::perceptual_error;
 use foveate::metrics::temporal::{Flicker, FlickerSummary};
+use foveate::metrics::Acuity;
 use foveate::metrics::{ErrorSummary, EyePixels};
 use foveate::plan::RenderConfig;
 use foveate::render::Renderer;
@@ -245,6 +245,7 @@ impl MotionRun<'_> {
         }
         let mut meters: Vec<Flicker> = self.configs.iter().map(|_| Flicker::default()).collect();
         let mut judged: Vec<Vec<ErrorSummary>> = self.configs.iter().map(|_| Vec::new()).collect();
+        let mut flip = crate::metric::flip_mapper(self.gpu);
         // Each configuration's pixel map, made anew only when the gaze moves.
         let mut maps: Vec<Option<(Vec2, [EyePixels; 2])>> =
             self.configs.iter().map(|_| None).collect();
@@ -272,6 +273,7 @@ impl MotionRun<'_> {
                         images[i + 1].eyes(),
                         pixels,
                         Acuity::default(),
+                        &mut *flip,
                     )?;
                     judged[i].extend(error.eccentric);
                 }

@@ -15,8 +15,8 @@ use foveate::foveation::{
     GazeSample, GazeSpace, Prediction, SaccadeEvent,
 };
 use foveate::gpu::Gpu;
-use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::perceptual_error;
+use foveate::metrics::Acuity;
 use foveate::metrics::EyePixels;
 use foveate::plan::{FramePlan, RenderConfig};
 use foveate::render::{Renderer, StereoImage};
@@ -167,10 +167,17 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
         .map(|m| m.frame_ms / measured[0].frame_ms)
         .collect();
     let reference = measured[0].image.clone();
+    let flip = std::cell::RefCell::new(crate::metric::flip_mapper(gpu));
     let judge = |image: &StereoImage, plan: &FramePlan, truth: Vec2, fovea: Vec2| {
         let pixels =
             Eye::BOTH.map(|e| EyePixels::seen(&plans[0], e, truth, fovea, plan.foveation.as_ref()));
-        let error = perceptual_error(reference.eyes(), image.eyes(), &pixels, sweep.acuity)?;
+        let error = perceptual_error(
+            reference.eyes(),
+            image.eyes(),
+            &pixels,
+            sweep.acuity,
+            &mut **flip.borrow_mut(),
+        )?;
         let e = error.eccentric.context("no visible pixel to judge")?;
         Ok::<_, anyhow::Error>(FrameError {
             p99: e.p99,

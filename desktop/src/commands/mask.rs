@@ -3,7 +3,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::metrics::flip::Acuity;
+use foveate::metrics::Acuity;
 use foveate::plan::RenderConfig;
 use foveate::scene::named_scene;
 use foveate::view::HMD_PROFILES;

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod compare;
 pub mod cull;
 pub mod flicker;
+pub mod judge;
 pub mod latency;
 pub mod mask;
 pub mod mffr;

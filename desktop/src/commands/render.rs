@@ -4,8 +4,8 @@ use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{parse_gaze_csv, simulated_trace, GazeFilter, GazeSample};
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::metrics::flip::Acuity;
 use foveate::metrics::perceptual::{frame_accuracy, FrameAccuracy};
+use foveate::metrics::Acuity;
 use foveate::metrics::{ErrorSummary, EyePixels, Stats};
 use foveate::plan::StereoMode;
 use foveate::render::{counting_frame, FrameStats, Renderer};
@@ -159,7 +159,7 @@ pub fn render(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         print_result(results.last().expect("just pushed"), pixels);
     }
     if args.reference {
-        save_beside_reference(args, &images)?;
+        save_beside_reference(args, &images, &mut *crate::metric::flip_mapper(&gpu))?;
     }
     if results.len() > 1 {
         print_comparison(&results);
@@ -241,6 +241,7 @@ fn save_beside_reference(
         foveate::plan::FramePlan,
         glam::Vec2,
     )],
+    flip: &mut dyn foveate::metrics::FlipMapper,
 ) -> Result<()> {
     // The foveated frame above its stereo reference.
     let ((reference, reference_plan, _), (foveated, plan, gaze)) = (&images[0], &images[1]);
@@ -262,6 +263,7 @@ fn save_beside_reference(
             foveated.eyes(),
             &pixels,
             Acuity::default(),
+            flip,
         )?;
         print_accuracy(&a, *gaze);
     }

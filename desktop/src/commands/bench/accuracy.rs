@@ -10,7 +10,7 @@ use anyhow::Result;
 use foveate::cull::Strategy;
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::Gpu;
-use foveate::metrics::flip::Acuity;
+use foveate::metrics::Acuity;
 use foveate::mffr::MffrConfig;
 use foveate::plan::{CullConfig, RadialDensity, RenderConfig};
 use foveate::scene::Scene;

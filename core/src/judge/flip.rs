@@ -1,0 +1,469 @@
+//! FLIP and the eccentricity-aware FLIP as compute passes on the device: both images to YCxCz
+//! and a pyramid of them, then per ppd level the separable filters (along rows, along columns)
+//! and the level's error at every judged pixel, summed into the eccentricity-aware map with the
+//! weights `metrics::flip` interpolates its levels with. One submission per judgement.
+
+use ash::vk;
+use rayon::prelude::*;
+
+use super::filters::{
+    colour_taps, feature_taps, max_colour_difference, pyramid_blur, pyramid_level,
+};
+use super::geometry::{
+    add_to, level_region, merge, origin, pyramid_depth, pyramid_levels, LevelRegions, PyramidLevel,
+    Region,
+};
+use super::vulkan::{compute_pipeline, descriptor_pool, layouts};
+use crate::gpu::{
+    memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, MemoryLocation,
+    Pipeline, PipelineLayout, VkResultExt,
+};
+use crate::metrics::acuity::LEVELS;
+use crate::metrics::{Acuity, FlipMaps, RgbaImage};
+use crate::plan::ConfigError;
+use crate::shaders::{
+    FLIP_COMBINE_COMP, FLIP_HORIZONTAL_COMP, FLIP_PREPARE_COMP, FLIP_REDUCE_COMP,
+    FLIP_VERTICAL_COMP,
+};
+
+/// Pixels per workgroup side (`local_size_x`, `local_size_y`).
+const GROUP: u32 = 8;
+
+/// The passes' push constants (`Params` in `shaders/flip_common.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Default)]
+struct Params {
+    full: [i32; 2],
+    size: [i32; 2],
+    src: i32,
+    dst: i32,
+    spatial_radius: i32,
+    feature_radius: i32,
+    spatial_taps: i32,
+    feature_taps: i32,
+    level: i32,
+    scale: f32,
+    cmax: f32,
+    pad: i32,
+    origin: [i32; 2],
+}
+
+/// One ppd level to judge: its filters' taps in the taps buffer, at which pyramid level.
+struct LevelWork {
+    level: u32,
+    pyramid: usize,
+    colour: (i32, i32),
+    feature: (i32, i32),
+    /// The judged pixels that take a share of this level.
+    region: Region,
+}
+
+/// FLIP judged on the GPU for images of one size: the compute pipelines and the buffers, made
+/// once and reused by every judgement.
+pub struct FlipJudge {
+    gpu: Gpu,
+    width: u32,
+    height: u32,
+    /// How many pyramid levels the image allows (the judged resolution included).
+    depth: u32,
+    /// This judgement's pyramid.
+    pyramid: Vec<PyramidLevel>,
+    // Declared before the layouts and buffers they use, so they are dropped first.
+    pipelines: [Pipeline; 5],
+    layout: PipelineLayout,
+    _pool: DescriptorPool,
+    _set_layout: DescriptorSetLayout,
+    set: vk::DescriptorSet,
+    inputs: Buffer,
+    positions: Buffer,
+    maps: Buffer,
+    /// The pyramid, the row sums, the filtered fields and the taps, sized by each judgement.
+    work: [Option<Buffer>; 4],
+    cmax: f32,
+}
+
+impl FlipJudge {
+    /// A judge of `width` × `height` images on `gpu`.
+    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<Self, GpuError> {
+        if width == 0 || height == 0 || width > 16384 || height > 16384 {
+            let size = format!("{width}x{height}");
+            return Err(ConfigError::new("judged image", size, "1 to 16384 pixels a side").into());
+        }
+        let pixels = width as u64 * height as u64;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let buffer =
+            |name: &str, size: u64, location| Buffer::new(gpu, name, size, storage, location);
+        let inputs = buffer("flip inputs", 2 * 4 * pixels, MemoryLocation::CpuToGpu)?;
+        let positions = buffer("flip level positions", 4 * pixels, MemoryLocation::CpuToGpu)?;
+        let maps = buffer("flip maps", 8 * pixels, MemoryLocation::GpuToCpu)?;
+        let (set_layout, layout) = layouts(gpu, std::mem::size_of::<Params>() as u32)?;
+        let pool = descriptor_pool(gpu)?;
+        let layouts = [set_layout.raw];
+        let info = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(pool.raw)
+            .set_layouts(&layouts);
+        // SAFETY: the pool has room for this one set of this layout.
+        let set = unsafe { gpu.device().allocate_descriptor_sets(&info) }
+            .vk("vkAllocateDescriptorSets")?[0];
+        let shaders = [
+            FLIP_PREPARE_COMP,
+            FLIP_REDUCE_COMP,
+            FLIP_HORIZONTAL_COMP,
+            FLIP_VERTICAL_COMP,
+            FLIP_COMBINE_COMP,
+        ];
+        let mut pipelines = Vec::with_capacity(shaders.len());
+        for shader in &shaders {
+            pipelines.push(compute_pipeline(gpu, &layout, shader)?);
+        }
+        let judge = FlipJudge {
+            gpu: gpu.clone(),
+            width,
+            height,
+            depth: pyramid_depth(width, height),
+            pyramid: Vec::new(),
+            pipelines: pipelines.try_into().unwrap_or_else(|_| unreachable!()),
+            layout,
+            _pool: pool,
+            _set_layout: set_layout,
+            set,
+            inputs,
+            positions,
+            maps,
+            work: [None, None, None, None],
+            cmax: max_colour_difference(),
+        };
+        Ok(judge)
+    }
+
+    /// The judged images' size.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// Both FLIP maps of `test` against `reference`, as [`crate::metrics::flip`]'s
+    /// `eccentric_flip_map` defines them, computed on the GPU: the display's `ppd` at the gaze,
+    /// the eye's `acuity`, and each pixel's angle from the gaze (`None`: not judged, `NaN` in
+    /// both maps). The ppd levels whose filters are wide are filtered on a coarser pyramid
+    /// level and sampled back with Catmull-Rom (the approximation the judge's tests bound).
+    pub fn flip_maps(
+        &mut self,
+        reference: &RgbaImage,
+        test: &RgbaImage,
+        ppd: f64,
+        acuity: Acuity,
+        eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
+    ) -> Result<FlipMaps, GpuError> {
+        self.check_inputs(reference, test, ppd)?;
+        let used = self.upload(reference, test, acuity, eccentricity);
+        let work = self.filters(ppd as f32, &used)?;
+        let params = Params {
+            full: [self.width as i32, self.height as i32],
+            cmax: self.cmax,
+            ..Params::default()
+        };
+        self.gpu.one_shot(|cmd| self.record(cmd, params, &work))?;
+        Ok(self.read_maps())
+    }
+
+    fn check_inputs(
+        &self,
+        reference: &RgbaImage,
+        test: &RgbaImage,
+        ppd: f64,
+    ) -> Result<(), GpuError> {
+        for (name, image) in [("reference image", reference), ("test image", test)] {
+            if (image.width, image.height) != (self.width, self.height) {
+                let size = format!("{}x{}", image.width, image.height);
+                let limit = format!("the judge's size, {}x{}", self.width, self.height);
+                return Err(ConfigError::new(name, size, limit).into());
+            }
+        }
+        if !(ppd.is_finite() && ppd > 0.0 && ppd <= 1000.0) {
+            return Err(ConfigError::new("ppd", ppd, "0 < ppd ≤ 1000").into());
+        }
+        Ok(())
+    }
+
+    /// Writes both images and each pixel's level position; returns which ppd levels any pixel
+    /// takes a share of.
+    fn upload(
+        &mut self,
+        reference: &RgbaImage,
+        test: &RgbaImage,
+        acuity: Acuity,
+        eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
+    ) -> LevelRegions {
+        let bytes = reference.data.len();
+        let inputs = self.inputs.mapped();
+        inputs[..bytes].copy_from_slice(&reference.data);
+        inputs[bytes..2 * bytes].copy_from_slice(&test.data);
+        let width = self.width as usize;
+        let positions: Vec<f32> = (0..self.height)
+            .into_par_iter()
+            .flat_map_iter(|y| {
+                (0..width as u32).map(move |x| {
+                    eccentricity(x, y).map_or(-1.0, |e| acuity.level_position(e) as f32)
+                })
+            })
+            .collect();
+        let regions = positions
+            .par_chunks(width)
+            .enumerate()
+            .fold(LevelRegions::default, |mut regions, (y, row)| {
+                for (x, &t) in row.iter().enumerate().filter(|(_, t)| **t >= 0.0) {
+                    let (x, y) = (x as u32, y as u32);
+                    // Level 0 for the plain map; the two levels around t (one when t is a
+                    // level) for the eccentricity-aware one.
+                    add_to(&mut regions, 0, x, y);
+                    add_to(&mut regions, t.floor() as usize, x, y);
+                    add_to(
+                        &mut regions,
+                        (t.ceil() as usize).min(LEVELS.len() - 1),
+                        x,
+                        y,
+                    );
+                }
+                regions
+            })
+            .reduce(LevelRegions::default, merge);
+        self.positions.write(&positions);
+        regions
+    }
+
+    /// The taps of every level to judge, in one buffer; where each level filters; the pyramid
+    /// those levels need, each level extending past the image by its widest filter's reach.
+    fn filters(&mut self, ppd: f32, used: &LevelRegions) -> Result<Vec<LevelWork>, GpuError> {
+        let mut taps: Vec<[f32; 4]> = Vec::new();
+        let mut work = Vec::new();
+        let mut pads = vec![0u32; self.depth as usize];
+        for (level, k) in LEVELS.iter().enumerate() {
+            let Some(region) = used[level] else { continue };
+            let pyramid = pyramid_level(ppd * *k as f32, self.depth - 1) as usize;
+            let level_ppd = ppd * *k as f32 / 2f32.powi(pyramid as i32);
+            let mut add = |t: Vec<[f32; 4]>| {
+                let entry = (taps.len() as i32, (t.len() as i32 - 1) / 2);
+                taps.extend(t);
+                entry
+            };
+            let blur = pyramid_blur(2f32.powi(pyramid as i32));
+            let colour = add(colour_taps(level_ppd, blur));
+            let feature = add(feature_taps(level_ppd, blur));
+            if pyramid > 0 {
+                let reach = colour.1.max(feature.1) as u32 + 1;
+                pads[pyramid] = pads[pyramid].max(reach);
+            }
+            work.push(LevelWork {
+                level: level as u32,
+                pyramid,
+                colour,
+                feature,
+                region,
+            });
+        }
+        let deepest = work.iter().map(|w| w.pyramid).max().unwrap_or(0);
+        self.pyramid = pyramid_levels(self.width, self.height, &pads[..=deepest]);
+        let texels = |l: &PyramidLevel| l.width as u64 * l.height as u64;
+        let largest = work.iter().map(|w| texels(&self.pyramid[w.pyramid])).max();
+        let sizes = [
+            16 * 2 * self.pyramid.iter().map(texels).sum::<u64>(),
+            64 * largest.unwrap_or(0),
+            64 * largest.unwrap_or(0),
+            16 * taps.len() as u64,
+        ];
+        self.ensure_buffers(sizes)?;
+        if let Some(buffer) = &mut self.work[3] {
+            buffer.write(&taps);
+        }
+        self.bind_buffers();
+        Ok(work)
+    }
+
+    /// Makes each work buffer anew where this judgement needs it larger.
+    fn ensure_buffers(&mut self, sizes: [u64; 4]) -> Result<(), GpuError> {
+        const NAMES: [&str; 4] = ["flip pyramid", "flip row sums", "flip fields", "flip taps"];
+        for (i, size) in sizes.into_iter().enumerate() {
+            if self.work[i].as_ref().is_none_or(|b| b.size < size) {
+                let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+                let location = if i == 3 {
+                    MemoryLocation::CpuToGpu
+                } else {
+                    MemoryLocation::GpuOnly
+                };
+                self.work[i] = None;
+                self.work[i] = Some(Buffer::new(&self.gpu, NAMES[i], size, usage, location)?);
+            }
+        }
+        Ok(())
+    }
+
+    /// Points the descriptor set at the buffers (the work buffers may be new).
+    fn bind_buffers(&self) {
+        let [Some(pyramid), Some(sums), Some(fields), Some(taps)] = &self.work else {
+            return;
+        };
+        let buffers = [
+            &self.inputs,
+            pyramid,
+            sums,
+            fields,
+            taps,
+            &self.positions,
+            &self.maps,
+        ];
+        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+            .iter()
+            .map(|b| {
+                [vk::DescriptorBufferInfo::default()
+                    .buffer(b.raw)
+                    .range(vk::WHOLE_SIZE)]
+            })
+            .collect();
+        let writes: Vec<_> = infos
+            .iter()
+            .enumerate()
+            .map(|(binding, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(self.set)
+                    .dst_binding(binding as u32)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(info)
+            })
+            .collect();
+        // SAFETY: the set is not in use (every judgement waits for its submission).
+        unsafe { self.gpu.device().update_descriptor_sets(&writes, &[]) };
+    }
+
+    /// Records a judgement: YCxCz, the pyramid, then per ppd level the filters and the errors.
+    fn record(&self, cmd: vk::CommandBuffer, base: Params, work: &[LevelWork]) {
+        let full = (self.width, self.height);
+        self.dispatch(cmd, 0, base, full);
+        let mut coarse: Vec<usize> = work.iter().map(|w| w.pyramid).filter(|&p| p > 0).collect();
+        coarse.dedup();
+        for p in coarse {
+            let (from, to) = (self.pyramid[0], self.pyramid[p]);
+            let params = Params {
+                full: [from.width as i32, from.height as i32],
+                size: [to.width as i32, to.height as i32],
+                dst: to.offset as i32,
+                scale: 2f32.powi(p as i32),
+                pad: to.pad as i32,
+                ..base
+            };
+            self.dispatch(cmd, 1, params, (to.width, to.height));
+        }
+        for w in work {
+            let at = self.pyramid[w.pyramid];
+            let params = Params {
+                size: [at.width as i32, at.height as i32],
+                src: at.offset as i32,
+                spatial_taps: w.colour.0,
+                spatial_radius: w.colour.1,
+                feature_taps: w.feature.0,
+                feature_radius: w.feature.1,
+                level: w.level as i32,
+                scale: 2f32.powi(w.pyramid as i32),
+                pad: at.pad as i32,
+                ..base
+            };
+            // The fields the level's pixels sample (bilinearly), and the row sums those need.
+            let fields = level_region(w.region, &at, 2f32.powi(w.pyramid as i32));
+            let reach = w.colour.1.max(w.feature.1) as u32;
+            let sums = Region {
+                min: [fields.min[0], fields.min[1].saturating_sub(reach)],
+                max: [fields.max[0], (fields.max[1] + reach).min(at.height)],
+            };
+            self.dispatch(
+                cmd,
+                2,
+                Params {
+                    origin: origin(&sums),
+                    ..params
+                },
+                sums.extent(),
+            );
+            self.dispatch(
+                cmd,
+                3,
+                Params {
+                    origin: origin(&fields),
+                    ..params
+                },
+                fields.extent(),
+            );
+            // Level 0 covers every pixel: it writes the maps, NaN where nothing is judged.
+            let pixels = if w.level == 0 {
+                Region {
+                    min: [0, 0],
+                    max: [full.0, full.1],
+                }
+            } else {
+                w.region
+            };
+            self.dispatch(
+                cmd,
+                4,
+                Params {
+                    origin: origin(&pixels),
+                    ..params
+                },
+                pixels.extent(),
+            );
+        }
+        // SAFETY: `cmd` is recording; the host reads the maps after the fence.
+        unsafe {
+            memory_barrier(
+                self.gpu.device(),
+                cmd,
+                (
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::AccessFlags::SHADER_WRITE,
+                ),
+                (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+            );
+        }
+    }
+
+    /// One pass over `extent` pixels, after everything recorded before it.
+    fn dispatch(&self, cmd: vk::CommandBuffer, pass: usize, params: Params, extent: (u32, u32)) {
+        let device = self.gpu.device();
+        let shader_rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
+        let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
+        // SAFETY: `cmd` is recording; the pipeline, layout and set outlive the submission
+        // (`one_shot` waits for it); the push constants match the layout's range.
+        unsafe {
+            memory_barrier(device, cmd, (compute, shader_rw), (compute, shader_rw));
+            device.cmd_bind_pipeline(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.pipelines[pass].raw,
+            );
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout.raw,
+                0,
+                &[self.set],
+                &[],
+            );
+            device.cmd_push_constants(
+                cmd,
+                self.layout.raw,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                crate::gpu::pod_bytes(std::slice::from_ref(&params)),
+            );
+            device.cmd_dispatch(cmd, extent.0.div_ceil(GROUP), extent.1.div_ceil(GROUP), 1);
+        }
+    }
+
+    fn read_maps(&mut self) -> FlipMaps {
+        let bytes = self.maps.mapped_slice();
+        let pixels = (self.width * self.height) as usize;
+        let value = |i: usize| f32::from_le_bytes(bytes[4 * i..4 * i + 4].try_into().unwrap());
+        FlipMaps {
+            plain: (0..pixels).map(|i| value(2 * i)).collect(),
+            eccentric: (0..pixels).map(|i| value(2 * i + 1)).collect(),
+        }
+    }
+}

@@ -1,0 +1,13 @@
+//! Judging frames on the device that rendered them: FLIP (Andersson et al. 2020) and the
+//! eccentricity-aware FLIP of [`crate::metrics`] as compute passes, so that judging a frame
+//! costs about as much as rendering it. `metrics::flip` (NVIDIA's reference C++, feature
+//! `flip`) stays the oracle the tests hold this to.
+
+mod filters;
+mod flip;
+mod geometry;
+mod gpu_flip;
+mod vulkan;
+
+pub use flip::FlipJudge;
+pub use gpu_flip::GpuFlip;
