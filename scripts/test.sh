@@ -38,7 +38,7 @@ done
 echo "=== the examples"
 ran=() broke=()
 for example in headless own_images engine_loop judge; do
-    if cargo run -q -p foveate --example "$example" >"$log" 2>    if cargo run -q -p foveate --features flip --example "$example" >"$log" 2>&1; then1; then
+    if cargo run -q -p foveate --example "$example" >"$log" 2>&1; then
         ran+=("$example")
     else
         cat "$log"

@@ -118,7 +118,7 @@ pub const FLIP_COMBINE_COMP: ShaderBinary = spirv!("flip_combine.comp.spv");
 /// Vertices of one mask fan (128 triangles; see `shaders/mask.vert`).
 pub const MASK_VERTICES: u32 = 128 * 3;
 
-/// Every shader the renderer and the judge can use (the spirv-val test walks this list).
+/// Every shader the renderer can use (the spirv-val test walks this list).
 pub const ALL: &[ShaderBinary] = &[
     SCENE_VERT,
     SCENE_VERT_INDIRECT,
@@ -146,6 +146,10 @@ pub const ALL: &[ShaderBinary] = &[
     ACCUMULATE_FRAG_COUNTING,
     STORE_HISTORY_FRAG,
     STORE_HISTORY_FRAG_COUNTING,
+];
+
+/// The judge's compute shaders (the spirv-val test walks this list too).
+pub const COMPUTE: &[ShaderBinary] = &[
     FLIP_PREPARE_COMP,
     FLIP_REDUCE_COMP,
     FLIP_HORIZONTAL_COMP,

@@ -66,7 +66,10 @@ fn the_glsl_declares_each_constant_with_the_id_name_and_type_rust_declares() {
 fn every_compiled_shader_declares_only_known_constants() {
     let known: Vec<u32> = Constant::ALL.iter().map(|c| c.id()).collect();
     let mut any = false;
-    for shader in foveate::shaders::ALL {
+    for shader in foveate::shaders::ALL
+        .iter()
+        .chain(foveate::shaders::COMPUTE)
+    {
         for id in shader.spec_ids() {
             any = true;
             assert!(known.contains(&id), "{shader:?} declares constant_id {id}");

@@ -251,3 +251,22 @@ fn the_bounds_catch_a_slightly_wrong_judge() {
     }
     assert_validation_clean(&gpu_device);
 }
+
+/// A judgement of no pixel (the lens hides them all) is all `NaN`, not whatever the maps held:
+/// judged once with every pixel, then with none, on the same judge.
+#[test]
+fn nothing_judged_is_nan() {
+    let image = noise(64, 3);
+    let other = noise(64, 4);
+    let gpu = gpu();
+    let mut judge = FlipJudge::new(&gpu, 64, 64).unwrap();
+    let all = judge
+        .flip_maps(&image, &other, 20.0, Acuity::default(), &|_, _| Some(1.0))
+        .unwrap();
+    assert!(all.plain.iter().all(|v| v.is_finite()));
+    let none = judge
+        .flip_maps(&image, &other, 20.0, Acuity::default(), &|_, _| None)
+        .unwrap();
+    assert!(none.plain.iter().chain(&none.eccentric).all(|v| v.is_nan()));
+    assert_validation_clean(&gpu);
+}

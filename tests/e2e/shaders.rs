@@ -1,11 +1,14 @@
 use std::process::Command;
 
-/// Every shader the renderer can load passes `spirv-val` for Vulkan 1.1.
+/// Every shader the renderer and the judge can load passes `spirv-val` for Vulkan 1.1.
 #[test]
 fn every_shader_passes_spirv_val() {
     let dir = std::env::temp_dir().join(format!("foveate-spirv-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for shader in foveate::shaders::ALL {
+    for shader in foveate::shaders::ALL
+        .iter()
+        .chain(foveate::shaders::COMPUTE)
+    {
         let path = dir.join(shader.name);
         std::fs::write(&path, shader.spirv).unwrap();
         let out = Command::new("spirv-val")

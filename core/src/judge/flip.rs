@@ -228,6 +228,9 @@ impl FlipJudge {
             })
             .reduce(LevelRegions::default, merge);
         self.positions.write(&positions);
+        // Level 0 always runs: it writes both maps, NaN where nothing is judged.
+        let mut regions = regions;
+        regions[0].get_or_insert(Region::point(0, 0));
         regions
     }
 
