@@ -171,19 +171,14 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
     let judge = |image: &StereoImage, plan: &FramePlan, truth: Vec2, fovea: Vec2| {
         let pixels =
             Eye::BOTH.map(|e| EyePixels::seen(&plans[0], e, truth, fovea, plan.foveation.as_ref()));
-        let error = perceptual_error(
+        let mut flip = flip.borrow_mut();
+        frame_error(perceptual_error(
             reference.eyes(),
             image.eyes(),
             &pixels,
             sweep.acuity,
-            &mut **flip.borrow_mut(),
-        )?;
-        let e = error.eccentric.context("no visible pixel to judge")?;
-        Ok::<_, anyhow::Error>(FrameError {
-            p99: e.p99,
-            mean: e.mean,
-            regions: error.regions.map(|r| r.map(|r| r.p99)),
-        })
+            &mut **flip,
+        )?)
     };
     // Aliased stereo at every frame's true gaze: the row foveation is held to.
     let bar = crate::progress::bar("latency: FLIP", frames.len() as u64);
@@ -343,6 +338,17 @@ fn gaze_source(
             );
             (trace, tracker, source)
         }
+    })
+}
+
+/// The figures a latency row keeps of a judged frame: eFLIP's mean and p99, and its p99 per
+/// region.
+fn frame_error(error: foveate::metrics::perceptual::PerceptualError) -> Result<FrameError> {
+    let e = error.eccentric.context("no visible pixel to judge")?;
+    Ok(FrameError {
+        p99: e.p99,
+        mean: e.mean,
+        regions: error.regions.map(|r| r.map(|r| r.p99)),
     })
 }
 
