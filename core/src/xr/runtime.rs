@@ -36,6 +36,8 @@ pub struct RuntimeReport {
 /// and the activity (`XR_KHR_loader_init_android`, `XR_KHR_android_create_instance`).
 #[cfg(not(target_os = "android"))]
 pub type Platform = ();
+/// What the OpenXR loader needs of the platform: on Android the JavaVM and the activity
+/// (`XR_KHR_loader_init_android`, `XR_KHR_android_create_instance`).
 #[cfg(target_os = "android")]
 pub type Platform = xr::AndroidPlatformInfo;
 
