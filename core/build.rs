@@ -74,6 +74,7 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
     ("flip_reduce.comp", "flip_reduce.comp.spv", &[]),
     ("flip_horizontal.comp", "flip_horizontal.comp.spv", &[]),
     ("flip_vertical.comp", "flip_vertical.comp.spv", &[]),
+    ("flip_resample.comp", "flip_resample.comp.spv", &[]),
     ("flip_combine.comp", "flip_combine.comp.spv", &[]),
     ("far_composite.frag", "far_composite.frag.spv", &[]),
     (

@@ -1,40 +1,24 @@
 #version 450
-// One ppd level's FLIP at every judged pixel, from the level's fields sampled bilinearly at the
-// pixel's centre (exact where the level is the judged resolution): level 0 writes the plain FLIP
-// and starts the eccentricity-aware sum; every level adds its share, interpolated in log ppd
-// between the two levels around the pixel's own (a hat weight).
+// One ppd level's FLIP at every judged pixel, from the level's fields at the pixel's centre:
+// read directly where the level is the judged resolution, else resampled with Catmull-Rom (along
+// rows by `flip_resample.comp`, along columns here). Level 0 writes the plain FLIP and starts the
+// eccentricity-aware sum; every level adds its share, interpolated in log ppd between the two
+// levels around the pixel's own (a hat weight).
 #include "flip_common.glsl"
 
-vec4 field(ivec2 q, int k) {
-    q = clamp(q, ivec2(0), pc.size - 1);
-    return fields.v[4 * (q.y * pc.size.x + q.x) + k];
-}
-
-// Catmull-Rom weights of the four texels around a sample at fraction f past the second.
-vec4 catmullRom(float f) {
-    float f2 = f * f;
-    float f3 = f2 * f;
-    return vec4(-0.5 * f3 + f2 - 0.5 * f, 1.5 * f3 - 2.5 * f2 + 1.0,
-                -1.5 * f3 + 2.0 * f2 + 0.5 * f, 0.5 * f3 - 0.5 * f2);
-}
-
-// The fields at level coordinate `u`: exact on a texel (the judged resolution), else
-// Catmull-Rom over the 4×4 texels around it.
-vec4 sampled(vec2 u, int k) {
-    ivec2 q = ivec2(floor(u));
-    vec2 f = u - vec2(q);
-    if (f == vec2(0.0)) {
-        return field(q, k);
+// Field `k` at judged pixel `p`.
+vec4 sampled(ivec2 p, int k) {
+    if (pc.scale == 1.0) {
+        return fields.v[4 * (p.y * pc.size.x + p.x) + k];
     }
-    vec4 wx = catmullRom(f.x);
-    vec4 wy = catmullRom(f.y);
+    float v = levelCoordinate(vec2(p)).y;
+    int q = int(floor(v));
+    vec4 w = catmullRom(v - float(q));
+    int column = p.x - pc.rowsOrigin.x;
     vec4 sum = vec4(0.0);
     for (int j = 0; j < 4; j++) {
-        vec4 row = vec4(0.0);
-        for (int i = 0; i < 4; i++) {
-            row += wx[i] * field(q + ivec2(i - 1, j - 1), k);
-        }
-        sum += wy[j] * row;
+        int row = clamp(q + j - 1, 0, pc.size.y - 1) - pc.rowsOrigin.y;
+        sum += w[j] * mid.v[4 * (row * pc.rowsSize.x + column) + k];
     }
     return sum;
 }
@@ -56,8 +40,7 @@ void main() {
     if (pc.level != 0 && weight == 0.0) {
         return;
     }
-    vec2 u = (vec2(p) + 0.5) / pc.scale + float(pc.pad) - 0.5;
-    float e = flipError(sampled(u, 0).xyz, sampled(u, 1).xyz, sampled(u, 2), sampled(u, 3));
+    float e = flipError(sampled(p, 0).xyz, sampled(p, 1).xyz, sampled(p, 2), sampled(p, 3));
     if (pc.level == 0) {
         maps.v[i] = vec2(e, weight * e);
     } else {

@@ -21,6 +21,8 @@ layout(push_constant) uniform Params {
     float cmax;        // the largest colour difference (green against blue), to the power 0.7
     int pad;           // texels the level extends past the judged image on each side
     ivec2 origin;      // the first texel (or pixel) of the region this dispatch covers
+    ivec2 rowsOrigin;  // the resampled rows: the first judged pixel's column, the first texel row
+    ivec2 rowsSize;    // how many columns and texel rows they hold
 } pc;
 
 // Both images as 8-bit sRGB RGBA: the reference's pixels, then the test's.
@@ -28,7 +30,8 @@ layout(std430, set = 0, binding = 0) readonly buffer Inputs { uint rgba[]; } inp
 // Every pyramid level: its reference image, then its test image, row after row.
 layout(std430, set = 0, binding = 1) buffer Pyramid { vec4 texel[]; } pyramid;
 // The horizontal pass's sums, four per level pixel: colour (Y, Cx, Cz's two Gaussians) of the
-// reference and the test, then features (d/dx, d²/dx², Gaussian) of each.
+// reference and the test, then features (d/dx, d²/dx², Gaussian) of each. On a coarse level,
+// once the fields are filtered, the fields resampled along rows to the judged pixels' columns.
 layout(std430, set = 0, binding = 2) buffer Intermediate { vec4 v[]; } mid;
 // The filtered fields, four per level pixel: colour (Y, Cx, Cz) of the reference and the test,
 // then features (dx, dy, ddx, ddy) of each.
@@ -98,4 +101,17 @@ float flipError(vec3 colourRef, vec3 colourTest, vec4 featRef, vec4 featTest) {
         return exponent == 0.0 ? 1.0 : 0.0;
     }
     return pow(colour, exponent);
+}
+
+// Catmull-Rom weights of the four texels around a sample at fraction f past the second.
+vec4 catmullRom(float f) {
+    float f2 = f * f;
+    float f3 = f2 * f;
+    return vec4(-0.5 * f3 + f2 - 0.5 * f, 1.5 * f3 - 2.5 * f2 + 1.0,
+                -1.5 * f3 + 2.0 * f2 + 0.5 * f, 0.5 * f3 - 0.5 * f2);
+}
+
+// Where judged pixel `p` lies on the level's texel grid.
+vec2 levelCoordinate(vec2 p) {
+    return (p + 0.5) / pc.scale + float(pc.pad) - 0.5;
 }

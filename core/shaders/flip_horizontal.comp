@@ -1,6 +1,7 @@
 #version 450
 // The separable filters' first half, along rows at one pyramid level: the colour (CSF) filter
 // on Y, Cx and Cz (two Gaussians), and the edge and point filters on the normalised lightness.
+// One loop over the wider filter's reach reads each texel once for both.
 #include "flip_common.glsl"
 
 void main() {
@@ -12,23 +13,23 @@ void main() {
     int row = pc.src + p.y * pc.size.x;
     vec4 colourRef = vec4(0.0);
     vec4 colourTest = vec4(0.0);
-    for (int k = -pc.spatialRadius; k <= pc.spatialRadius; k++) {
-        int x = clamp(p.x + k, 0, pc.size.x - 1);
-        vec4 w = taps.t[pc.spatialTaps + k + pc.spatialRadius];
-        vec3 r = pyramid.texel[row + x].xyz;
-        vec3 t = pyramid.texel[row + n + x].xyz;
-        colourRef += w * r.xyzz;
-        colourTest += w * t.xyzz;
-    }
     vec3 featRef = vec3(0.0);
     vec3 featTest = vec3(0.0);
-    for (int k = -pc.featureRadius; k <= pc.featureRadius; k++) {
+    int reach = max(pc.spatialRadius, pc.featureRadius);
+    for (int k = -reach; k <= reach; k++) {
         int x = clamp(p.x + k, 0, pc.size.x - 1);
-        vec3 w = taps.t[pc.featureTaps + k + pc.featureRadius].xyz;
-        float r = (pyramid.texel[row + x].x + 16.0) / 116.0;
-        float t = (pyramid.texel[row + n + x].x + 16.0) / 116.0;
-        featRef += vec3(w.y, w.z, w.x) * r;
-        featTest += vec3(w.y, w.z, w.x) * t;
+        vec3 r = pyramid.texel[row + x].xyz;
+        vec3 t = pyramid.texel[row + n + x].xyz;
+        if (abs(k) <= pc.spatialRadius) {
+            vec4 w = taps.t[pc.spatialTaps + k + pc.spatialRadius];
+            colourRef += w * r.xyzz;
+            colourTest += w * t.xyzz;
+        }
+        if (abs(k) <= pc.featureRadius) {
+            vec3 w = taps.t[pc.featureTaps + k + pc.featureRadius].xyz;
+            featRef += vec3(w.y, w.z, w.x) * ((r.x + 16.0) / 116.0);
+            featTest += vec3(w.y, w.z, w.x) * ((t.x + 16.0) / 116.0);
+        }
     }
     int i = 4 * (p.y * pc.size.x + p.x);
     mid.v[i] = colourRef;

@@ -113,6 +113,7 @@ pub const FLIP_PREPARE_COMP: ShaderBinary = spirv!("flip_prepare.comp.spv");
 pub const FLIP_REDUCE_COMP: ShaderBinary = spirv!("flip_reduce.comp.spv");
 pub const FLIP_HORIZONTAL_COMP: ShaderBinary = spirv!("flip_horizontal.comp.spv");
 pub const FLIP_VERTICAL_COMP: ShaderBinary = spirv!("flip_vertical.comp.spv");
+pub const FLIP_RESAMPLE_COMP: ShaderBinary = spirv!("flip_resample.comp.spv");
 pub const FLIP_COMBINE_COMP: ShaderBinary = spirv!("flip_combine.comp.spv");
 
 /// Vertices of one mask fan (128 triangles; see `shaders/mask.vert`).
@@ -154,5 +155,6 @@ pub const COMPUTE: &[ShaderBinary] = &[
     FLIP_REDUCE_COMP,
     FLIP_HORIZONTAL_COMP,
     FLIP_VERTICAL_COMP,
+    FLIP_RESAMPLE_COMP,
     FLIP_COMBINE_COMP,
 ];

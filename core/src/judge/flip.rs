@@ -1,7 +1,8 @@
 //! FLIP and the eccentricity-aware FLIP as compute passes on the device: both images to YCxCz
-//! and a pyramid of them, then per ppd level the separable filters (along rows, along columns)
-//! and the level's error at every judged pixel, summed into the eccentricity-aware map with the
-//! weights `metrics::flip` interpolates its levels with. One submission per judgement.
+//! and a tent-filtered pyramid of them, then per ppd level the separable filters (along rows,
+//! along columns; on a coarse level, the fields resampled to the judged pixels' columns) and the
+//! level's error at every judged pixel, summed into the eccentricity-aware map with the weights
+//! `metrics::flip` interpolates its levels with. One submission per judgement.
 
 use ash::vk;
 use rayon::prelude::*;
@@ -23,7 +24,7 @@ use crate::metrics::{Acuity, FlipMaps, RgbaImage};
 use crate::plan::ConfigError;
 use crate::shaders::{
     FLIP_COMBINE_COMP, FLIP_HORIZONTAL_COMP, FLIP_PREPARE_COMP, FLIP_REDUCE_COMP,
-    FLIP_VERTICAL_COMP,
+    FLIP_RESAMPLE_COMP, FLIP_VERTICAL_COMP,
 };
 
 /// Pixels per workgroup side (`local_size_x`, `local_size_y`).
@@ -46,6 +47,8 @@ struct Params {
     cmax: f32,
     pad: i32,
     origin: [i32; 2],
+    rows_origin: [i32; 2],
+    rows_size: [i32; 2],
 }
 
 /// One ppd level to judge: its filters' taps in the taps buffer, at which pyramid level.
@@ -69,7 +72,7 @@ pub struct FlipJudge {
     /// This judgement's pyramid.
     pyramid: Vec<PyramidLevel>,
     // Declared before the layouts and buffers they use, so they are dropped first.
-    pipelines: [Pipeline; 5],
+    pipelines: [Pipeline; 6],
     layout: PipelineLayout,
     _pool: DescriptorPool,
     _set_layout: DescriptorSetLayout,
@@ -111,6 +114,7 @@ impl FlipJudge {
             FLIP_HORIZONTAL_COMP,
             FLIP_VERTICAL_COMP,
             FLIP_COMBINE_COMP,
+            FLIP_RESAMPLE_COMP,
         ];
         let mut pipelines = Vec::with_capacity(shaders.len());
         for shader in &shaders {
@@ -268,9 +272,13 @@ impl FlipJudge {
         self.pyramid = pyramid_levels(self.width, self.height, &pads[..=deepest]);
         let texels = |l: &PyramidLevel| l.width as u64 * l.height as u64;
         let largest = work.iter().map(|w| texels(&self.pyramid[w.pyramid])).max();
+        let rows = work.iter().map(|w| {
+            let (columns, rows) = self.resampled_rows(w).extent();
+            columns as u64 * rows as u64
+        });
         let sizes = [
             16 * 2 * self.pyramid.iter().map(texels).sum::<u64>(),
-            64 * largest.unwrap_or(0),
+            64 * largest.into_iter().chain(rows).max().unwrap_or(0),
             64 * largest.unwrap_or(0),
             16 * taps.len() as u64,
         ];
@@ -280,6 +288,29 @@ impl FlipJudge {
         }
         self.bind_buffers();
         Ok(work)
+    }
+
+    /// The fields' texels a level's judged pixels sample (Catmull-Rom: the 4×4 texels around
+    /// each; the judged resolution: the pixels themselves).
+    fn sampled_fields(&self, w: &LevelWork) -> Region {
+        level_region(
+            w.region,
+            &self.pyramid[w.pyramid],
+            2f32.powi(w.pyramid as i32),
+        )
+    }
+
+    /// A coarse level's fields resampled along rows: the judged pixels' columns, by the texel
+    /// rows they sample (empty at the judged resolution).
+    fn resampled_rows(&self, w: &LevelWork) -> Region {
+        if w.pyramid == 0 {
+            return Region::point(0, 0);
+        }
+        let fields = self.sampled_fields(w);
+        Region {
+            min: [w.region.min[0], fields.min[1]],
+            max: [w.region.max[0], fields.max[1]],
+        }
     }
 
     /// Makes each work buffer anew where this judgement needs it larger.
@@ -369,8 +400,8 @@ impl FlipJudge {
                 pad: at.pad as i32,
                 ..base
             };
-            // The fields the level's pixels sample (bilinearly), and the row sums those need.
-            let fields = level_region(w.region, &at, 2f32.powi(w.pyramid as i32));
+            // The fields the level's pixels sample, and the row sums those need.
+            let fields = self.sampled_fields(w);
             let reach = w.colour.1.max(w.feature.1) as u32;
             let sums = Region {
                 min: [fields.min[0], fields.min[1].saturating_sub(reach)],
@@ -394,6 +425,15 @@ impl FlipJudge {
                 },
                 fields.extent(),
             );
+            let rows = self.resampled_rows(w);
+            let params = Params {
+                rows_origin: origin(&rows),
+                rows_size: [rows.extent().0 as i32, rows.extent().1 as i32],
+                ..params
+            };
+            if w.pyramid > 0 {
+                self.dispatch(cmd, 5, params, rows.extent());
+            }
             // Level 0 covers every pixel: it writes the maps, NaN where nothing is judged.
             let pixels = if w.level == 0 {
                 Region {
