@@ -115,3 +115,31 @@ vec4 catmullRom(float f) {
 vec2 levelCoordinate(vec2 p) {
     return (p + 0.5) / pc.scale + float(pc.pad) - 0.5;
 }
+
+// Whether judged pixel `p` takes a share of ppd level `pc.level`, and its weight: a hat in log
+// ppd around the pixel's own level. Level 0 writes the plain FLIP for every judged pixel (and
+// NaN in both maps for a pixel the lens hides).
+bool takesShare(ivec2 p, out float weight) {
+    int i = p.y * pc.full.x + p.x;
+    float t = positions.t[i];
+    weight = 0.0;
+    if (t < 0.0) {
+        if (pc.level == 0) {
+            maps.v[i] = vec2(uintBitsToFloat(0x7fc00000u));
+        }
+        return false;
+    }
+    weight = max(0.0, 1.0 - abs(t - float(pc.level)));
+    return pc.level == 0 || weight > 0.0;
+}
+
+// Adds pixel `p`'s share of level `pc.level`'s error `e`: level 0 writes the plain FLIP and
+// starts the eccentricity-aware sum, every other level adds to it.
+void addError(ivec2 p, float weight, float e) {
+    int i = p.y * pc.full.x + p.x;
+    if (pc.level == 0) {
+        maps.v[i] = vec2(e, weight * e);
+    } else {
+        maps.v[i].y += weight * e;
+    }
+}

@@ -272,6 +272,9 @@ impl FlipJudge {
         self.pyramid = pyramid_levels(self.width, self.height, &pads[..=deepest]);
         let texels = |l: &PyramidLevel| l.width as u64 * l.height as u64;
         let largest = work.iter().map(|w| texels(&self.pyramid[w.pyramid])).max();
+        // Only the coarse levels write their fields (the judged resolution judges in place).
+        let coarse = work.iter().filter(|w| w.pyramid > 0);
+        let largest_coarse = coarse.map(|w| texels(&self.pyramid[w.pyramid])).max();
         let rows = work.iter().map(|w| {
             let (columns, rows) = self.resampled_rows(w).extent();
             columns as u64 * rows as u64
@@ -279,7 +282,7 @@ impl FlipJudge {
         let sizes = [
             16 * 2 * self.pyramid.iter().map(texels).sum::<u64>(),
             64 * largest.into_iter().chain(rows).max().unwrap_or(0),
-            64 * largest.unwrap_or(0),
+            64 * largest_coarse.unwrap_or(1),
             16 * taps.len() as u64,
         ];
         self.ensure_buffers(sizes)?;
@@ -400,58 +403,7 @@ impl FlipJudge {
                 pad: at.pad as i32,
                 ..base
             };
-            // The fields the level's pixels sample, and the row sums those need.
-            let fields = self.sampled_fields(w);
-            let reach = w.colour.1.max(w.feature.1) as u32;
-            let sums = Region {
-                min: [fields.min[0], fields.min[1].saturating_sub(reach)],
-                max: [fields.max[0], (fields.max[1] + reach).min(at.height)],
-            };
-            self.dispatch(
-                cmd,
-                2,
-                Params {
-                    origin: origin(&sums),
-                    ..params
-                },
-                sums.extent(),
-            );
-            self.dispatch(
-                cmd,
-                3,
-                Params {
-                    origin: origin(&fields),
-                    ..params
-                },
-                fields.extent(),
-            );
-            let rows = self.resampled_rows(w);
-            let params = Params {
-                rows_origin: origin(&rows),
-                rows_size: [rows.extent().0 as i32, rows.extent().1 as i32],
-                ..params
-            };
-            if w.pyramid > 0 {
-                self.dispatch(cmd, 5, params, rows.extent());
-            }
-            // Level 0 covers every pixel: it writes the maps, NaN where nothing is judged.
-            let pixels = if w.level == 0 {
-                Region {
-                    min: [0, 0],
-                    max: [full.0, full.1],
-                }
-            } else {
-                w.region
-            };
-            self.dispatch(
-                cmd,
-                4,
-                Params {
-                    origin: origin(&pixels),
-                    ..params
-                },
-                pixels.extent(),
-            );
+            self.record_level(cmd, params, w);
         }
         // SAFETY: `cmd` is recording; the host reads the maps after the fence.
         unsafe {
@@ -465,6 +417,51 @@ impl FlipJudge {
                 (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
             );
         }
+    }
+
+    /// One ppd level: the filters along rows and along columns, and each judged pixel's share
+    /// of the level's error. At the judged resolution the column pass judges the pixels itself;
+    /// on a coarse level it writes the fields, resampled along rows and then judged.
+    fn record_level(&self, cmd: vk::CommandBuffer, params: Params, w: &LevelWork) {
+        // Level 0 covers every pixel: it writes the maps, NaN where nothing is judged.
+        let pixels = if w.level == 0 {
+            Region {
+                min: [0, 0],
+                max: [self.width, self.height],
+            }
+        } else {
+            w.region
+        };
+        let columns = if w.pyramid == 0 {
+            pixels
+        } else {
+            self.sampled_fields(w)
+        };
+        // The row sums the column pass reads.
+        let reach = w.colour.1.max(w.feature.1) as u32;
+        let height = self.pyramid[w.pyramid].height;
+        let sums = Region {
+            min: [columns.min[0], columns.min[1].saturating_sub(reach)],
+            max: [columns.max[0], (columns.max[1] + reach).min(height)],
+        };
+        let over = |region: &Region| Params {
+            origin: origin(region),
+            ..params
+        };
+        self.dispatch(cmd, 2, over(&sums), sums.extent());
+        self.dispatch(cmd, 3, over(&columns), columns.extent());
+        if w.pyramid == 0 {
+            return;
+        }
+        let rows = self.resampled_rows(w);
+        let params = Params {
+            rows_origin: origin(&rows),
+            rows_size: [rows.extent().0 as i32, rows.extent().1 as i32],
+            ..params
+        };
+        self.dispatch(cmd, 5, params, rows.extent());
+        let origin = origin(&pixels);
+        self.dispatch(cmd, 4, Params { origin, ..params }, pixels.extent());
     }
 
     /// One pass over `extent` pixels, after everything recorded before it.
