@@ -183,3 +183,38 @@ fn the_window_shows_the_offscreen_frame_at_the_mouse_gaze() {
     );
     std::fs::remove_dir_all(Path::new(&dir)).unwrap();
 }
+
+/// `--judge N` judges the first presented frame and every Nth after it against the
+/// full-quality reference, validation clean, and says each judgement's figures and time (the
+/// judgement itself is held to its reference in the library's tests: here the cadence, the
+/// line, and that judging between frames breaks nothing).
+#[test]
+fn the_viewer_judges_every_nth_frame() {
+    let x = Xvfb::start();
+    let mut args = vec!["--validation", "view"];
+    args.extend(FRAME);
+    args.extend(["--window", "128x64", "--frames", "7", "--judge", "3"]);
+    let out = Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .args(&args)
+        .env("DISPLAY", &x.display)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let judged: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("judge: eFLIP p99 fovea "))
+        .collect();
+    // Frames 1, 4 and 7.
+    assert_eq!(judged.len(), 3, "{stdout}");
+    assert!(
+        judged
+            .iter()
+            .all(|l| l.contains("apart from the frame times")),
+        "{stdout}"
+    );
+}

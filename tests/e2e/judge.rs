@@ -3,13 +3,14 @@
 //! (`metrics::flip::eccentric_flip_map`), over rendered frames and synthetic images.
 
 use foveate::foveation::FoveationConfig;
-use foveate::judge::FlipJudge;
+use foveate::judge::{reference_config, FlipJudge, LiveJudge};
 use foveate::metrics::flip::eccentric_flip_map;
 use foveate::metrics::{Acuity, ErrorSummary, FlipMaps, RgbaImage};
-use foveate::plan::{RenderConfig, Resolution};
+use foveate::plan::{OutputStage, RenderConfig, Resolution};
+use foveate::render::{FrameInput, Renderer};
 use foveate::scene::default_scene;
 use foveate_tests::{assert_validation_clean, gpu, render_at};
-use glam::Vec2;
+use glam::{Mat4, Vec2, Vec3};
 
 /// How two maps of the same pixels agree: the fraction of pixels within 0.02, and how far
 /// their means and 99th percentiles lie apart.
@@ -268,5 +269,44 @@ fn nothing_judged_is_nan() {
         .flip_maps(&image, &other, 20.0, Acuity::default(), &|_, _| None)
         .unwrap();
     assert!(none.plain.iter().chain(&none.eccentric).all(|v| v.is_nan()));
+    assert_validation_clean(&gpu);
+}
+
+/// The live judge judges a renderer's last frame against the reference of its head pose and
+/// gaze: a frame of the reference's own configuration, from a head moved off the scene's,
+/// judges as no error at all (a reference rendered from the scene's head instead would not), a
+/// foveated one as some. It judges the first frame and then every Nth; an interval of 0 is
+/// refused by name.
+#[test]
+fn the_live_judge_judges_the_renderers_last_frame() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let foveated = RenderConfig {
+        resolution: Some(Resolution::square(128)),
+        foveation: Some(FoveationConfig::default()),
+        output: OutputStage::Lens,
+        msaa: 1,
+        ..RenderConfig::default()
+    };
+    let head = scene.head * Mat4::from_translation(Vec3::new(0.3, 0.0, -0.5));
+    let input = FrameInput::new(head).with_gaze([Vec2::new(0.3, -0.2); 2]);
+    let judged = |config: &RenderConfig| {
+        let plan = foveate::plan(&scene, config, gpu.caps()).unwrap();
+        let mut renderer = Renderer::new(&gpu, &plan, &scene).unwrap();
+        renderer.render(&input).unwrap();
+        let mut judge = LiveJudge::new(&gpu, &scene, config, 1).unwrap();
+        let judgement = judge.judge(&mut renderer, &input).unwrap();
+        assert!(judgement.reference_ms > 0.0 && judgement.judge_ms > 0.0);
+        judgement.error.eccentric.unwrap()
+    };
+    let same = judged(&reference_config(&foveated));
+    assert_eq!((same.mean, same.p99), (0.0, 0.0), "{same:?}");
+    let foveated_error = judged(&foveated);
+    assert!(foveated_error.mean > 0.0, "{foveated_error:?}");
+    let mut judge = LiveJudge::new(&gpu, &scene, &foveated, 3).unwrap();
+    let due: Vec<bool> = (0..7).map(|_| judge.due()).collect();
+    assert_eq!(due, [true, false, false, true, false, false, true]);
+    let refused = LiveJudge::new(&gpu, &scene, &foveated, 0).err().unwrap();
+    assert!(refused.to_string().contains("judge every"), "{refused}");
     assert_validation_clean(&gpu);
 }

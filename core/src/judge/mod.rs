@@ -7,7 +7,9 @@ mod filters;
 mod flip;
 mod geometry;
 mod gpu_flip;
+mod live;
 mod vulkan;
 
 pub use flip::FlipJudge;
 pub use gpu_flip::GpuFlip;
+pub use live::{reference_config, LiveJudge, LiveJudgement, MAX_JUDGE_INTERVAL};

@@ -10,7 +10,9 @@ use anyhow::{Context, Result};
 use clap::Args;
 use foveate::foveation::{DelayedGaze, GazeLatency, GazeSample, GazeSpace, Prediction};
 use foveate::gpu::{Acquired, Gpu, GpuOptions, Presented, Swapchain};
-use foveate::metrics::{PerSecond, RgbaImage};
+use foveate::judge::{LiveJudge, LiveJudgement};
+use foveate::metrics::perceptual::heat_map;
+use foveate::metrics::{ErrorSummary, PerSecond, Region, RgbaImage};
 use foveate::render::{FrameInput, FrameStats, FramesInFlight, Renderer};
 use foveate::scene::Scene;
 use glam::Vec2;
@@ -24,6 +26,9 @@ use winit::window::{Window, WindowId};
 
 use crate::frame_args::ConfigArgs;
 use crate::view_keys::{KeyAction, ViewSettings, KEYS};
+
+/// Where `j` writes the last judgement's heat map.
+const HEAT_MAP: &str = "view-heatmap.png";
 
 #[derive(Args)]
 pub struct ViewArgs {
@@ -54,6 +59,13 @@ pub struct ViewArgs {
     /// frame N+1 records while frame N runs on the GPU.
     #[arg(long, default_value_t = 2)]
     pub frames_in_flight: u32,
+    /// Judge every Nth presented frame (every 10th when N is left out) against its full-quality
+    /// reference (the same pose and gaze, drawn in full with 4× MSAA) on the GPU: the
+    /// eccentricity-aware FLIP's 99th percentile per region in the title bar and on stdout, and
+    /// `j` writes the last judgement's heat map. Judging runs between frames: its time is
+    /// reported apart and is in no frame's time.
+    #[arg(long, num_args = 0..=1, default_missing_value = "10", value_name = "N")]
+    pub judge: Option<u32>,
 }
 
 pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
@@ -102,6 +114,11 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
             .collect::<Vec<_>>()
             .join(", ")
     );
+    if let Some(every) = args.judge {
+        println!(
+            "judge: every {every} frames against the full-quality reference; j writes the last judgement's heat map ({HEAT_MAP})"
+        );
+    }
     if latency != GazeLatency::NONE {
         println!(
             "gaze: the mouse through {} ms of tracker latency, predicted {}",
@@ -115,6 +132,8 @@ pub fn view(options: &GpuOptions, args: &ViewArgs) -> Result<()> {
         settings,
         window_size,
         frames_wanted: args.frames,
+        judge_every: args.judge,
+        judged: None,
         save: args.save.clone(),
         swapchain: None,
         window: None,
@@ -170,6 +189,8 @@ struct Frame {
     counting: Renderer,
     pass_names: Vec<&'static str>,
     scene: Scene,
+    /// `--judge`: the timed renderer's frames against their reference.
+    judge: Option<LiveJudge>,
 }
 
 struct Viewer<'g> {
@@ -179,6 +200,10 @@ struct Viewer<'g> {
     settings: ViewSettings,
     window_size: Option<(u32, u32)>,
     frames_wanted: Option<u64>,
+    /// `--judge N`.
+    judge_every: Option<u32>,
+    /// The last judgement: its line for the title bar, its heat maps.
+    judged: Option<(String, LiveJudgement)>,
     save: Option<PathBuf>,
     // Dropped in this order: renderers, swapchain, then the window it presents to.
     frame: Option<Frame>,
@@ -213,18 +238,29 @@ impl<'g> Viewer<'g> {
             let counting_plan = foveate::plan(&scene, &config.counting(), self.gpu.caps())?;
             let pass_names = plan.passes.iter().map(|p| p.name).collect();
             let timed = Renderer::new(self.gpu, &plan, &scene)?;
+            let judge = self
+                .judge_every
+                .map(|every| LiveJudge::new(self.gpu, &scene, config, every))
+                .transpose()?;
             self.frame = Some(Frame {
                 frames: FramesInFlight::new(&timed)?,
                 timed,
                 counting: Renderer::new(self.gpu, &counting_plan, &scene)?,
                 pass_names,
                 scene,
+                judge,
             });
         }
         Ok(self.frame.as_mut().expect("made above"))
     }
 
     fn key(&mut self, key: char) {
+        if key == 'j' && self.judge_every.is_some() {
+            if let Err(e) = self.save_heat_map() {
+                println!("heat map: {e:#}");
+            }
+            return;
+        }
         let before = self.settings.clone();
         match self.settings.key(key) {
             KeyAction::Quit => self.finishing = true,
@@ -270,6 +306,7 @@ impl<'g> Viewer<'g> {
         // SAFETY: `begin` waited for the frame that acquired with this slot before.
         let acquired = unsafe { swapchain.acquire(gpu, begun.slot)? };
         let input = FrameInput::new(frame.scene.head).with_gaze(gaze);
+        let judge_input = input;
         // SAFETY: the slot's buffer, begun by `begin`, whose previous frame finished.
         let record = unsafe { frame.timed.record(begun.cmd, &input)? };
         let image = match acquired {
@@ -305,6 +342,7 @@ impl<'g> Viewer<'g> {
         if self.second.due() {
             self.report()?;
         }
+        self.judge_last(&judge_input)?;
         let done = self.frames_wanted.is_some_and(|n| self.presented >= n);
         if done || (self.finishing && (self.save.is_none() || self.capture.is_some())) {
             event_loop.exit();
@@ -331,9 +369,60 @@ impl<'g> Viewer<'g> {
             fragments as f64 / 1e6
         );
         println!("view: {line}");
+        let judged = self
+            .judged
+            .as_ref()
+            .map_or(String::new(), |(j, _)| format!(" | {j}"));
         if let Some(w) = &self.window {
-            w.set_title(&format!("foveate view — {line}"));
+            w.set_title(&format!("foveate view — {line}{judged}"));
         }
+        Ok(())
+    }
+
+    /// `--judge`: the last frame judged against its reference when one is due, between frames
+    /// (every frame in flight waited for first, so no frame's time holds the judge's).
+    fn judge_last(&mut self, input: &FrameInput) -> Result<()> {
+        let Some(frame) = self.frame.as_mut() else {
+            return Ok(());
+        };
+        let Some(judge) = frame.judge.as_mut() else {
+            return Ok(());
+        };
+        if !judge.due() {
+            return Ok(());
+        }
+        frame.frames.wait_all()?;
+        let judgement = judge.judge(&mut frame.timed, input)?;
+        let show = |s: Option<ErrorSummary>| s.map_or("-".into(), |s| format!("{:.3}", s.p99));
+        let regions = Region::ALL
+            .iter()
+            .zip(judgement.error.regions)
+            .map(|(r, s)| format!("{} {}", r.name(), show(s)))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let line = format!("eFLIP p99 {regions}");
+        println!(
+            "judge: {line} (all {}); reference {:.0} ms, judging {:.0} ms, apart from the frame times",
+            show(judgement.error.eccentric),
+            judgement.reference_ms,
+            judgement.judge_ms
+        );
+        self.judged = Some((line, judgement));
+        Ok(())
+    }
+
+    /// `j`: the last judgement's eccentricity-aware maps as a heat map, eyes side by side.
+    fn save_heat_map(&self) -> Result<()> {
+        let Some((_, judgement)) = &self.judged else {
+            println!("heat map: no frame judged yet");
+            return Ok(());
+        };
+        let [left, right] =
+            [0, 1].map(|eye| heat_map(&judgement.error.maps[eye], &judgement.pixels[eye]));
+        RgbaImage::side_by_side(&left, &right).save(HEAT_MAP.as_ref())?;
+        println!(
+            "wrote {HEAT_MAP} (the last judged frame's eccentricity-aware FLIP, left | right)"
+        );
         Ok(())
     }
 
