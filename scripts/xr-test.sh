@@ -37,7 +37,7 @@ run() {
     if xr_run "$root" FOVEATE_VALIDATION=1 RUST_LOG=foveate=info \
         /opt/foveate/foveate xr --check-pixels --save "/tmp/foveate/$name.png" "$@" >"$log" 2>&1; then
         # The application's own lines (Monado's client logs to the same streams).
-        grep -E '^(runtime|  |device|workload|eyes|HMD mask|pixel check|[0-9]+ frames)|foveate::xr::session\] [0-9.]+ ms/frame' "$log" |
+        grep -E '^(runtime|  |device|workload|eyes|HMD mask|pixel check|judge|[0-9]+ frames)|foveate::xr::session\] [0-9.]+ ms/frame' "$log" |
             grep -vP '^\t' | tail -n 14
         cp "$root/tmp/foveate/$name.png" "$(xr_dir)/$name.png"
     else
@@ -47,7 +47,7 @@ run() {
     fi
 }
 run stereo --frames 60
-run foveated-masked --frames "$frames" --foveate 0.5 --hmd-mask
+run foveated-masked --frames "$frames" --foveate 0.5 --hmd-mask --judge 30
 run mffr --frames 60 --mffr near-first
 
 # A runtime that fails mid-run: once the first frame is checked and written, the service is

@@ -3,12 +3,13 @@
 //! reference is rendered and the frame judged apart from the frames being timed: the caller
 //! calls [`LiveJudge::judge`] between frames, after the judged frame has finished.
 
+use std::fmt;
 use std::time::Instant;
 
 use super::GpuFlip;
 use crate::gpu::{Gpu, GpuError};
 use crate::metrics::perceptual::{perceptual_error, PerceptualError};
-use crate::metrics::{Acuity, EyePixels, JudgeError};
+use crate::metrics::{Acuity, ErrorSummary, EyePixels, JudgeError, Region};
 use crate::plan::{ConfigError, RenderConfig, StereoMode};
 use crate::render::{FrameInput, Renderer};
 use crate::scene::Scene;
@@ -51,6 +52,20 @@ pub struct LiveJudgement {
     pub reference_ms: f64,
     /// Wall time judging both eyes (ms).
     pub judge_ms: f64,
+}
+
+impl fmt::Display for LiveJudgement {
+    /// The eccentricity-aware FLIP's 99th percentile per region and over every pixel the lens
+    /// shows: `eFLIP p99 fovea 0.004, band 0.167, periphery 0.134 (all 0.134)`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let p99 = |s: Option<ErrorSummary>| s.map_or("-".into(), |s| format!("{:.3}", s.p99));
+        write!(f, "eFLIP p99")?;
+        for (i, (region, s)) in Region::ALL.iter().zip(self.error.regions).enumerate() {
+            let comma = if i == 0 { "" } else { "," };
+            write!(f, "{comma} {} {}", region.name(), p99(s))?;
+        }
+        write!(f, " (all {})", p99(self.error.eccentric))
+    }
 }
 
 /// Judges every `every`th frame of a renderer against its full-quality reference

@@ -3,6 +3,7 @@
 use openxr as xr;
 
 use crate::gpu::GpuError;
+use crate::metrics::JudgeError;
 use crate::plan::ConfigError;
 
 /// Everything that can stop `foveate xr`, each naming what is missing.
@@ -54,6 +55,9 @@ pub enum XrError {
     #[error("the runtime's visibility mask: {0}")]
     /// The runtime's visibility mask could not be used.
     Mask(String),
+    #[error("judging a frame: {0}")]
+    /// A frame could not be judged (`--judge`).
+    Judge(#[from] JudgeError),
 }
 
 pub(super) trait XrResultExt<T> {

@@ -14,8 +14,12 @@ mod runtime;
 #[cfg(feature = "xr")]
 mod session;
 #[cfg(feature = "xr")]
+mod summary;
+#[cfg(feature = "xr")]
 mod tracker;
 mod views;
+#[cfg(feature = "xr")]
+mod visibility;
 mod watchdog;
 
 #[cfg(feature = "xr")]
@@ -27,6 +31,10 @@ pub use pixels::PixelCheck;
 #[cfg(feature = "xr")]
 pub use runtime::{Platform, RuntimeReport, XrRuntime};
 #[cfg(feature = "xr")]
-pub use session::{GazeSource, MaskFractions, Pacing, XrSession, XrSettings, XrSummary};
+pub use session::{GazeSource, XrSession, XrSettings};
+#[cfg(feature = "xr")]
+pub use summary::{Pacing, XrSummary};
 pub use views::{fit_eyes, fov_tangents, FittedEyes, Pose};
+#[cfg(feature = "xr")]
+pub use visibility::MaskFractions;
 pub use watchdog::{Stall, Watchdog};

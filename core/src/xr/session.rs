@@ -11,12 +11,15 @@ use openxr as xr;
 use super::error::{XrError, XrResultExt};
 use super::gaze::eye_gazes;
 use super::lifecycle::{FrameOutcome, SessionBackend};
-use super::pixels::{check_pixels, PixelCheck};
+use super::pixels::check_pixels;
 use super::runtime::{XrRuntime, STEREO};
+use super::summary::XrSummary;
 use super::tracker::EyeTracker;
 use super::views::{fit_eyes, fov_tangents, FittedEyes, Pose};
+use super::visibility::{hidden_areas, MaskFractions};
 use crate::foveation::{GazeFilter, GazeSample};
 use crate::gpu::Gpu;
+use crate::judge::LiveJudge;
 use crate::metrics::PerSecond;
 use crate::plan::{FramePlan, OutputStage, RenderConfig, Resolution};
 use crate::render::{output_image_desc, FrameInput, FramesInFlight, Renderer};
@@ -29,22 +32,6 @@ const SWAPCHAIN_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 const SWAPCHAIN_USAGE: vk::ImageUsageFlags = vk::ImageUsageFlags::from_raw(
     vk::ImageUsageFlags::COLOR_ATTACHMENT.as_raw() | vk::ImageUsageFlags::TRANSFER_SRC.as_raw(),
 );
-
-/// Each eye's hidden-area mesh (`XR_KHR_visibility_mask`).
-fn hidden_areas(session: &xr::Session<xr::Vulkan>) -> Result<[HiddenArea; 2], XrError> {
-    let area = |view: u32| {
-        let mask = session
-            .get_visibility_mask_khr(
-                STEREO,
-                view,
-                xr::VisibilityMaskTypeKHR::HIDDEN_TRIANGLE_MESH,
-            )
-            .xr("xrGetVisibilityMaskKHR")?;
-        let vertices: Vec<Vec2> = mask.vertices.iter().map(|v| Vec2::new(v.x, v.y)).collect();
-        HiddenArea::from_indexed(&vertices, &mask.indices).map_err(XrError::Mask)
-    };
-    Ok([area(0)?, area(1)?])
-}
 
 /// Where each eye looks.
 pub enum GazeSource {
@@ -62,55 +49,10 @@ pub struct XrSettings {
     pub gaze: GazeSource,
     /// Check the first rendered frame's submitted image against a render of the same views.
     pub check_pixels: bool,
-}
-
-/// The per-second line's extra: the runtime's frame timing.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Pacing {
-    /// The runtime's predicted display period (ms), as last said.
-    pub display_period_ms: f64,
-    /// Frames whose display time came more than one period after the previous one's: the
-    /// runtime skipped a display slot because the app was late.
-    pub late: u64,
-}
-
-/// What a finished run measured.
-#[derive(Clone, Debug, Default)]
-pub struct XrSummary {
-    /// Frames rendered (not counting those submitted empty).
-    pub frames_rendered: u64,
-    /// Frames the session keeps in flight: each recorded and submitted without waiting for
-    /// the GPU, whose figures are read when its slot comes round again.
-    pub frames_in_flight: usize,
-    /// The runtime's frame timing.
-    pub pacing: Pacing,
-    /// Wall time of each rendered frame (the runtime's wait excluded: locate, record, submit;
-    /// with frames in flight, the wait for the frame that held the slot before), ms.
-    pub frame_ms: Vec<f64>,
-    /// How often the runtime's views changed enough to plan the frame again.
-    pub replans: u64,
-    /// The last rendered frame's draw calls and triangles recorded (the workload beside the
-    /// times).
-    pub draws: (u64, u64),
-    /// How far the runtime's eyes lay from foveate's eye model (largest over the run).
-    pub eye_fit_error: (f32, f32),
-    /// The first frame checked against a render of the same views, when asked for.
-    pub pixels: Option<PixelCheck>,
-    /// The HMD mask's hidden fractions, when it took the runtime's mesh.
-    pub mask_hidden: Option<MaskFractions>,
-}
-
-/// How much of each eye the HMD mask hides: the runtime's mesh against the profile's figures.
-#[derive(Clone, Copy, Debug)]
-pub struct MaskFractions {
-    /// Each eye's fraction under the runtime's mesh (its area, clipped to the view).
-    pub mesh: [f64; 2],
-    /// Each eye's fraction under the profile's fitted ellipse, at the runtime's field.
-    pub ellipse: [f64; 2],
-    /// The profile's published fraction, if it has one.
-    pub published: Option<f32>,
-    /// The profile the fractions are the figures of.
-    pub profile: &'static str,
+    /// Judge every Nth rendered frame's submitted image against its full-quality reference
+    /// (`judge::LiveJudge`), before the image goes back to the runtime; its time is taken out
+    /// of the frame's.
+    pub judge: Option<u32>,
 }
 
 /// A session with the runtime on `gpu`: the lifecycle's backend.
@@ -132,6 +74,8 @@ pub struct XrSession<'g> {
     frames: Option<FramesInFlight>,
     renderer: Option<Renderer>,
     swapchain: Option<xr::Swapchain<xr::Vulkan>>,
+    /// `judge`: the reference's renderer and the GPU judge, made with the renderer.
+    judge: Option<LiveJudge>,
     filter: GazeFilter,
     /// The runtime's eye tracker, when the system has one and it could be set up.
     tracker: Option<EyeTracker>,
@@ -194,6 +138,7 @@ impl<'g> XrSession<'g> {
             frames: None,
             renderer: None,
             swapchain: None,
+            judge: None,
             filter: GazeFilter::new(0.1),
             started: None,
             last_display_time: None,
@@ -385,6 +330,11 @@ impl<'g> XrSession<'g> {
                 profile: plan.hmd.name,
             });
         }
+        let config = self.config(&eyes);
+        let judge = self.settings.judge;
+        self.judge = judge
+            .map(|every| LiveJudge::new(self.gpu, self.scene, &config, every))
+            .transpose()?;
         let frames = FramesInFlight::new(&renderer)?;
         self.summary.frames_in_flight = frames.len();
         self.frames = Some(frames);
@@ -414,10 +364,10 @@ impl<'g> XrSession<'g> {
             .xr("xrWaitSwapchainImage")?;
         let renderer = self.renderer.as_mut().expect("made above");
         let frames = self.frames.as_mut().expect("made with the renderer");
-        let finished = renderer.select_output(index as usize).and_then(|()| {
-            let input = FrameInput::new(world_from_head).with_gaze(gaze);
-            frames.render(renderer, &input)
-        });
+        let input = FrameInput::new(world_from_head).with_gaze(gaze);
+        let finished = renderer
+            .select_output(index as usize)
+            .and_then(|()| frames.render(renderer, &input));
         let checked = match (&finished, check) {
             (Ok(_), Some(config)) => Some(frames.wait_last().and_then(|()| {
                 check_pixels(
@@ -431,6 +381,19 @@ impl<'g> XrSession<'g> {
             })),
             _ => None,
         };
+        // Judged while the image is still the app's: read back before it is released.
+        let judging = Instant::now();
+        let due = finished.is_ok() && self.judge.as_mut().is_some_and(|j| j.due());
+        let judged = match self.judge.as_mut() {
+            Some(judge) if due => Some(
+                frames
+                    .wait_last()
+                    .map_err(XrError::from)
+                    .and_then(|()| Ok(judge.judge(renderer, &input)?)),
+            ),
+            _ => None,
+        };
+        let judge_ms = judging.elapsed().as_secs_f64() * 1e3;
         // The image goes back to the runtime whatever happened to the frame: its commands
         // are submitted, and the runtime's use of the image follows them on the queue.
         swapchain.release_image().xr("xrReleaseSwapchainImage")?;
@@ -439,6 +402,11 @@ impl<'g> XrSession<'g> {
             let check = check?;
             log::info!("{check}");
             self.summary.pixels = Some(check);
+        }
+        if let Some(result) = judged {
+            let judgement = result?;
+            let judged = &mut self.summary.judged;
+            (judged.0, judged.1, judged.2) = (judged.0 + 1, Some(judgement), judged.2 + judge_ms);
         }
         // The figures of the frame that finished meanwhile (frames in flight earlier).
         Ok(finished.map_or(Vec::new(), |stats| {
@@ -532,7 +500,10 @@ impl SessionBackend for XrSession<'_> {
                 .xr("xrEndFrame")?;
             return Ok(FrameOutcome::Skipped);
         };
+        let judging_before = self.summary.judged.2;
         let gpu_pass_ms = self.render(&views, state.predicted_display_time)?;
+        // The judge's time is the judge's: not the frame's.
+        let judge_ms = self.summary.judged.2 - judging_before;
         let r = self.recommended;
         let rect = xr::Rect2Di {
             offset: xr::Offset2Di { x: 0, y: 0 },
@@ -569,14 +540,18 @@ impl SessionBackend for XrSession<'_> {
         // the frame's GPU work leaves frames in flight nothing to overlap).
         log::debug!("xrEndFrame {:.1} ms", ending.elapsed().as_secs_f64() * 1e3);
         self.summary.frames_rendered += 1;
-        let ms = start.elapsed().as_secs_f64() * 1e3;
+        let ms = start.elapsed().as_secs_f64() * 1e3 - judge_ms;
         self.summary.frame_ms.push(ms);
         self.second.push(ms, gpu_pass_ms);
         if self.second.due() {
             if let Some(second) = self.second.take() {
                 let pacing = self.summary.pacing;
+                let judged = match &self.summary.judged {
+                    (n, Some(last), ms) => format!("; {last} ({n} judged, {ms:.0} ms judging)"),
+                    _ => String::new(),
+                };
                 log::info!(
-                    "{}; display period {:.1} ms, {} late so far",
+                    "{}; display period {:.1} ms, {} late so far{judged}",
                     second.describe(&self.pass_names()),
                     pacing.display_period_ms,
                     pacing.late

@@ -12,7 +12,7 @@ use foveate::foveation::{DelayedGaze, GazeLatency, GazeSample, GazeSpace, Predic
 use foveate::gpu::{Acquired, Gpu, GpuOptions, Presented, Swapchain};
 use foveate::judge::{LiveJudge, LiveJudgement};
 use foveate::metrics::perceptual::heat_map;
-use foveate::metrics::{ErrorSummary, PerSecond, Region, RgbaImage};
+use foveate::metrics::{PerSecond, RgbaImage};
 use foveate::render::{FrameInput, FrameStats, FramesInFlight, Renderer};
 use foveate::scene::Scene;
 use glam::Vec2;
@@ -202,8 +202,8 @@ struct Viewer<'g> {
     frames_wanted: Option<u64>,
     /// `--judge N`.
     judge_every: Option<u32>,
-    /// The last judgement: its line for the title bar, its heat maps.
-    judged: Option<(String, LiveJudgement)>,
+    /// The last judgement: its figures for the title bar, its heat maps.
+    judged: Option<LiveJudgement>,
     save: Option<PathBuf>,
     // Dropped in this order: renderers, swapchain, then the window it presents to.
     frame: Option<Frame>,
@@ -372,7 +372,7 @@ impl<'g> Viewer<'g> {
         let judged = self
             .judged
             .as_ref()
-            .map_or(String::new(), |(j, _)| format!(" | {j}"));
+            .map_or(String::new(), |j| format!(" | {j}"));
         if let Some(w) = &self.window {
             w.set_title(&format!("foveate view — {line}{judged}"));
         }
@@ -393,27 +393,17 @@ impl<'g> Viewer<'g> {
         }
         frame.frames.wait_all()?;
         let judgement = judge.judge(&mut frame.timed, input)?;
-        let show = |s: Option<ErrorSummary>| s.map_or("-".into(), |s| format!("{:.3}", s.p99));
-        let regions = Region::ALL
-            .iter()
-            .zip(judgement.error.regions)
-            .map(|(r, s)| format!("{} {}", r.name(), show(s)))
-            .collect::<Vec<_>>()
-            .join(", ");
-        let line = format!("eFLIP p99 {regions}");
         println!(
-            "judge: {line} (all {}); reference {:.0} ms, judging {:.0} ms, apart from the frame times",
-            show(judgement.error.eccentric),
-            judgement.reference_ms,
-            judgement.judge_ms
+            "judge: {judgement}; reference {:.0} ms, judging {:.0} ms, apart from the frame times",
+            judgement.reference_ms, judgement.judge_ms
         );
-        self.judged = Some((line, judgement));
+        self.judged = Some(judgement);
         Ok(())
     }
 
     /// `j`: the last judgement's eccentricity-aware maps as a heat map, eyes side by side.
     fn save_heat_map(&self) -> Result<()> {
-        let Some((_, judgement)) = &self.judged else {
+        let Some(judgement) = &self.judged else {
             println!("heat map: no frame judged yet");
             return Ok(());
         };

@@ -51,6 +51,13 @@ pub struct XrArgs {
     /// frame N+1 records while frame N runs on the GPU, as runtimes expect to be fed.
     #[arg(long, default_value_t = 2)]
     pub frames_in_flight: u32,
+    /// Judge every Nth rendered frame (every 10th when N is left out) against its full-quality
+    /// reference (the same views and gaze drawn in full with 4× MSAA) on the GPU: the submitted
+    /// image, read back before it goes to the runtime. The eccentricity-aware FLIP's 99th
+    /// percentile per region is logged once a second and in the summary; judging's time is
+    /// taken out of the frame times (but the runtime sees the judged frames late).
+    #[arg(long, num_args = 0..=1, default_missing_value = "10", value_name = "N")]
+    pub judge: Option<u32>,
 }
 
 pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
@@ -85,6 +92,7 @@ pub fn xr(options: &GpuOptions, args: &XrArgs) -> Result<()> {
         config,
         gaze,
         check_pixels: args.check_pixels,
+        judge: args.judge,
     };
     let mut life = Lifecycle::new(XrSession::new(&runtime, &gpu, &scene, settings)?);
     let started = Instant::now();
@@ -305,6 +313,12 @@ fn summary(life: &Lifecycle<XrSession>, args: &XrArgs, wall: f64) -> String {
         ),
         None if args.config.hmd_mask => text += "\nHMD mask: the profile's ellipse (the runtime offers no visibility mask)",
         None => {}
+    }
+    if let (n, Some(last), ms) = &summary.judged {
+        text += &format!(
+            "\njudge: {n} frames judged against the full-quality reference ({:.0} ms each, not in the frame times); the last: {last}",
+            ms / *n as f64
+        );
     }
     text
 }
