@@ -1,16 +1,17 @@
 // FLIP (Andersson et al. 2020, "FLIP: A Difference Evaluator for Alternating Images", LDR) on the
-// GPU, and the eccentricity-aware FLIP built on it: the declarations and colour maths the five
+// GPU, and the eccentricity-aware FLIP built on it: the declarations and colour maths the
 // compute passes share (`judge/flip.rs` records them). Images are YCxCz (Y', Cx, Cz) in a
-// pyramid of 2×2 box reductions; each ppd level filters at the pyramid level the judge picked.
+// pyramid of tent-filtered halvings; each ppd level filters at the pyramid level the judge picked.
 // The coarser levels extend past the image by their filters' reach, filled with the image's
 // edge as the full-resolution filters see it (clamped), so the edge weighs the same there.
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(push_constant) uniform Params {
-    ivec2 full;        // the judged images' size (reduce: the source level's)
+    ivec2 full;        // the judged images' size (reduce: the source level's, padding included)
     ivec2 size;        // the size of the level this dispatch works at (reduce: the destination's)
     int src;           // the level's reference image in the pyramid (vec4s); the test follows it
+                       // (reduce: the source level's)
     int dst;           // reduce: where the level's reference image goes
     int spatialRadius; // the colour (CSF) filter's radius in level pixels
     int featureRadius; // the edge and point filters' radius in level pixels
@@ -23,6 +24,7 @@ layout(push_constant) uniform Params {
     ivec2 origin;      // the first texel (or pixel) of the region this dispatch covers
     ivec2 rowsOrigin;  // the resampled rows: the first judged pixel's column, the first texel row
     ivec2 rowsSize;    // how many columns and texel rows they hold
+    int srcPad;        // reduce: texels the source level extends past the image on each side
 } pc;
 
 // Both images as 8-bit sRGB RGBA: the reference's pixels, then the test's.

@@ -49,6 +49,7 @@ struct Params {
     origin: [i32; 2],
     rows_origin: [i32; 2],
     rows_size: [i32; 2],
+    src_pad: i32,
 }
 
 /// One ppd level to judge: its filters' taps in the taps buffer, at which pyramid level.
@@ -269,6 +270,11 @@ impl FlipJudge {
             });
         }
         let deepest = work.iter().map(|w| w.pyramid).max().unwrap_or(0);
+        // Each level is made from the one before it, whose padding must cover what its tents
+        // read: two source texels per padding texel, and one more either side.
+        for p in (2..=deepest).rev() {
+            pads[p - 1] = pads[p - 1].max(2 * pads[p] + 2);
+        }
         self.pyramid = pyramid_levels(self.width, self.height, &pads[..=deepest]);
         let texels = |l: &PyramidLevel| l.width as u64 * l.height as u64;
         let largest = work.iter().map(|w| texels(&self.pyramid[w.pyramid])).max();
@@ -375,15 +381,15 @@ impl FlipJudge {
     fn record(&self, cmd: vk::CommandBuffer, base: Params, work: &[LevelWork]) {
         let full = (self.width, self.height);
         self.dispatch(cmd, 0, base, full);
-        let mut coarse: Vec<usize> = work.iter().map(|w| w.pyramid).filter(|&p| p > 0).collect();
-        coarse.dedup();
-        for p in coarse {
-            let (from, to) = (self.pyramid[0], self.pyramid[p]);
+        // The pyramid, each level from the one before it.
+        for pair in self.pyramid.windows(2) {
+            let (from, to) = (pair[0], pair[1]);
             let params = Params {
                 full: [from.width as i32, from.height as i32],
+                src: from.offset as i32,
+                src_pad: from.pad as i32,
                 size: [to.width as i32, to.height as i32],
                 dst: to.offset as i32,
-                scale: 2f32.powi(p as i32),
                 pad: to.pad as i32,
                 ..base
             };

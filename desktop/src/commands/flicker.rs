@@ -4,7 +4,9 @@
 //! gaze straight ahead — and reports how much more its output changes between frames than the
 //! reference's does.
 
+use std::cell::Cell;
 use std::path::PathBuf;
+use std::time::Instant;
 
 use anyhow::Result;
 use clap::Args;
@@ -113,6 +115,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         foveate::scene::TURN_DEG_S
     );
     let bar = crate::progress::bar("flicker", (motions.len() as u32 * args.frames) as u64);
+    let spent = Spent::default();
     let mut results = Vec::new();
     // Ctrl-C or SIGTERM: the motions finished so far are printed and written.
     let mut interrupted = false;
@@ -124,6 +127,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
             configs: &configs,
             flip: args.flip,
             bar: &bar,
+            spent: &spent,
         }
         .measure(motion)?;
         match measured {
@@ -136,6 +140,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     }
     bar.finish_and_clear();
     print_table(&results);
+    println!("{}", spent.describe());
     gpu.check_validation()?;
     write_csv(&results, args.csv.as_deref())?;
     if interrupted {
@@ -227,6 +232,39 @@ struct MotionRun<'a> {
     /// Judge every Nth frame with eFLIP.
     flip: Option<u32>,
     bar: &'a indicatif::ProgressBar,
+    spent: &'a Spent,
+}
+
+/// Where a run's wall time went: rendering and reading back the frames, measuring flicker,
+/// judging with eFLIP (and how many judgements).
+#[derive(Default)]
+struct Spent {
+    rendering_s: Cell<f64>,
+    flicker_s: Cell<f64>,
+    judging_s: Cell<f64>,
+    judgements: Cell<u64>,
+}
+
+impl Spent {
+    fn add(cell: &Cell<f64>, since: Instant) {
+        cell.set(cell.get() + since.elapsed().as_secs_f64());
+    }
+
+    fn describe(&self) -> String {
+        let judged = match self.judgements.get() {
+            0 => String::new(),
+            n => format!(
+                ", judging {:.0} s ({n} judgements of both eyes, {:.2} s each)",
+                self.judging_s.get(),
+                self.judging_s.get() / n as f64
+            ),
+        };
+        format!(
+            "time: rendering and reading back {:.0} s, flicker {:.0} s{judged}",
+            self.rendering_s.get(),
+            self.flicker_s.get()
+        )
+    }
 }
 
 impl MotionRun<'_> {
@@ -234,7 +272,6 @@ impl MotionRun<'_> {
     /// each; `None` when interrupted.
     fn measure(&self, motion: &Motion) -> Result<Option<Vec<Row>>> {
         let mut rows = Vec::new();
-        self.bar.set_message(motion.name);
         let (first_pose, first_gaze) = motion.frames[0];
         let mut renderers = Vec::new();
         for plan in self.plans {
@@ -254,20 +291,27 @@ impl MotionRun<'_> {
                 return Ok(None);
             }
             // Frames of every configuration interleaved, the reference first.
+            self.bar.set_message(format!("{}: rendering", motion.name));
+            let rendering = Instant::now();
             let mut images = Vec::new();
             for renderer in &mut renderers {
                 renderer.set_gaze([gaze; 2])?;
                 renderer.render_frame(pose)?;
                 images.push(renderer.readback()?);
             }
+            Spent::add(&self.spent.rendering_s, rendering);
             for (i, (meter, map)) in meters.iter_mut().zip(&mut maps).enumerate() {
                 let plan = &self.plans[i + 1];
                 if map.as_ref().is_none_or(|(at, _)| *at != gaze) {
                     *map = Some((gaze, EyePixels::both(plan, gaze, plan.foveation.as_ref())));
                 }
                 let (_, pixels) = map.as_ref().expect("just made");
+                let measuring = Instant::now();
                 meter.push(images[0].eyes(), images[i + 1].eyes(), pixels)?;
+                Spent::add(&self.spent.flicker_s, measuring);
                 if self.flip.is_some_and(|every| frame % every as usize == 0) {
+                    self.bar.set_message(format!("{}: judging", motion.name));
+                    let judging = Instant::now();
                     let error = perceptual_error(
                         images[0].eyes(),
                         images[i + 1].eyes(),
@@ -275,6 +319,8 @@ impl MotionRun<'_> {
                         Acuity::default(),
                         &mut *flip,
                     )?;
+                    Spent::add(&self.spent.judging_s, judging);
+                    self.spent.judgements.set(self.spent.judgements.get() + 1);
                     judged[i].extend(error.eccentric);
                 }
             }
