@@ -427,10 +427,13 @@ fn compare_prints_time_and_error_per_region() {
         heatmaps.to_str().unwrap(),
         "--csv",
         csv.to_str().unwrap(),
+        // Without a path: the frontier printed, nothing plotted.
+        "--pareto",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
     for needle in [
+        "Pareto frontier (eFLIP p99 against frame time",
         "reference: stereo multiview, MSAA 4",
         "foveated 0.5, MSAA 4",
         "foveated 0.5, sharpen 1, MSAA 4",

@@ -97,8 +97,8 @@ pub struct CompareArgs {
     /// Print the Pareto frontier of error against time (stereo and foveated rows marked), and
     /// the cheapest foveated row as accurate as stereo without MSAA; with a path, also plot it
     /// as PATH.png and PATH.svg.
-    #[arg(long, num_args = 0..=1, default_missing_value = "")]
-    pareto: Option<PathBuf>,
+    #[arg(long, num_args = 0..=1, value_name = "PATH")]
+    pareto: Option<Option<PathBuf>>,
     /// The eccentricity-aware FLIP's acuity falloff: arcmin of minimum angle of resolution per
     /// degree of eccentricity (Guenter et al. 2012 measured 1.32–1.65).
     #[arg(long, default_value_t = Acuity::default().slope_arcmin_per_deg)]
@@ -232,7 +232,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
 fn checked_acuity(args: &CompareArgs) -> Result<Acuity> {
     anyhow::ensure!(args.frames >= 1, "invalid frames = 0: at least 1");
     crate::outputs::files(&[args.csv.as_deref(), args.latency.frames_csv.as_deref()])?;
-    if let Some(stem) = args.pareto.as_deref().filter(|p| !p.as_os_str().is_empty()) {
+    if let Some(Some(stem)) = &args.pareto {
         crate::outputs::plot(stem)?;
     }
     if let Some(dir) = &args.heatmaps {
@@ -412,7 +412,7 @@ fn report_picks(
             );
             say(&what, cheapest_within_error(&foveated, points[s].error));
         }
-        if !plot.as_os_str().is_empty() {
+        if let Some(plot) = plot {
             let family = |r: &Row| match r.run.plan.foveation {
                 Some(_) => "foveated",
                 None => "stereo",
