@@ -281,7 +281,7 @@ impl FlipJudge {
         // Only the coarse levels write their fields (the judged resolution judges in place).
         let coarse = work.iter().filter(|w| w.pyramid > 0);
         let largest_coarse = coarse.map(|w| texels(&self.pyramid[w.pyramid])).max();
-        let rows = work.iter().map(|w| {
+        let rows = work.iter().filter(|w| w.pyramid > 0).map(|w| {
             let (columns, rows) = self.resampled_rows(w).extent();
             columns as u64 * rows as u64
         });
@@ -299,8 +299,8 @@ impl FlipJudge {
         Ok(work)
     }
 
-    /// The fields' texels a level's judged pixels sample (Catmull-Rom: the 4×4 texels around
-    /// each; the judged resolution: the pixels themselves).
+    /// The fields' texels a coarse level's judged pixels sample (Catmull-Rom: the 4×4 texels
+    /// around each).
     fn sampled_fields(&self, w: &LevelWork) -> Region {
         level_region(
             w.region,
@@ -310,11 +310,8 @@ impl FlipJudge {
     }
 
     /// A coarse level's fields resampled along rows: the judged pixels' columns, by the texel
-    /// rows they sample (empty at the judged resolution).
+    /// rows they sample.
     fn resampled_rows(&self, w: &LevelWork) -> Region {
-        if w.pyramid == 0 {
-            return Region::point(0, 0);
-        }
         let fields = self.sampled_fields(w);
         Region {
             min: [w.region.min[0], fields.min[1]],

@@ -110,9 +110,9 @@ impl LiveJudge {
     }
 
     /// Judges `renderer`'s last frame, whose `input` is given again (its head pose; its gaze
-    /// and eyes, or the renderer's when `None`): renders the reference for the same pose, eyes
-    /// and gaze, and judges both eyes over the pixels the lens shows, regions as the judged
-    /// frame's foveation draws them. The frame must have finished (say,
+    /// and eyes are the ones the renderer kept from it): renders the reference for the same
+    /// pose, eyes and gaze, and judges both eyes over the pixels the lens shows, regions as the
+    /// judged frame's foveation draws them. The frame must have finished (say,
     /// `FramesInFlight::wait_last`).
     pub fn judge(
         &mut self,
@@ -121,15 +121,10 @@ impl LiveJudge {
     ) -> Result<LiveJudgement, JudgeError> {
         let started = Instant::now();
         let image = renderer.readback()?;
-        let gaze = input.gaze.unwrap_or_else(|| renderer.gaze());
-        let eyes = input.eyes.unwrap_or(renderer.plan().eyes);
-        self.reference.set_eyes(eyes).map_err(GpuError::from)?;
-        let reference_input = FrameInput {
-            eyes: None,
-            output: None,
-            gaze: Some(gaze),
-            ..*input
-        };
+        let gaze = renderer.gaze();
+        let reference_input = FrameInput::new(input.world_from_head)
+            .with_gaze(gaze)
+            .with_eyes(renderer.plan().eyes);
         self.reference.render(&reference_input)?;
         let want = self.reference.readback()?;
         let pixels = EyePixels::both(

@@ -33,7 +33,7 @@ pub use runtime::{Platform, RuntimeReport, XrRuntime};
 #[cfg(feature = "xr")]
 pub use session::{GazeSource, XrSession, XrSettings};
 #[cfg(feature = "xr")]
-pub use summary::{Pacing, XrSummary};
+pub use summary::{Judged, Pacing, XrSummary};
 pub use views::{fit_eyes, fov_tangents, FittedEyes, Pose};
 #[cfg(feature = "xr")]
 pub use visibility::MaskFractions;

@@ -13,7 +13,7 @@ use super::gaze::eye_gazes;
 use super::lifecycle::{FrameOutcome, SessionBackend};
 use super::pixels::check_pixels;
 use super::runtime::{XrRuntime, STEREO};
-use super::summary::XrSummary;
+use super::summary::{Judged, XrSummary};
 use super::tracker::EyeTracker;
 use super::views::{fit_eyes, fov_tangents, FittedEyes, Pose};
 use super::visibility::{hidden_areas, MaskFractions};
@@ -406,7 +406,9 @@ impl<'g> XrSession<'g> {
         if let Some(result) = judged {
             let judgement = result?;
             let judged = &mut self.summary.judged;
-            (judged.0, judged.1, judged.2) = (judged.0 + 1, Some(judgement), judged.2 + judge_ms);
+            judged.frames += 1;
+            judged.last = Some(judgement);
+            judged.ms += judge_ms;
         }
         // The figures of the frame that finished meanwhile (frames in flight earlier).
         Ok(finished.map_or(Vec::new(), |stats| {
@@ -500,10 +502,10 @@ impl SessionBackend for XrSession<'_> {
                 .xr("xrEndFrame")?;
             return Ok(FrameOutcome::Skipped);
         };
-        let judging_before = self.summary.judged.2;
+        let judging_before = self.summary.judged.ms;
         let gpu_pass_ms = self.render(&views, state.predicted_display_time)?;
         // The judge's time is the judge's: not the frame's.
-        let judge_ms = self.summary.judged.2 - judging_before;
+        let judge_ms = self.summary.judged.ms - judging_before;
         let r = self.recommended;
         let rect = xr::Rect2Di {
             offset: xr::Offset2Di { x: 0, y: 0 },
@@ -547,7 +549,11 @@ impl SessionBackend for XrSession<'_> {
             if let Some(second) = self.second.take() {
                 let pacing = self.summary.pacing;
                 let judged = match &self.summary.judged {
-                    (n, Some(last), ms) => format!("; {last} ({n} judged, {ms:.0} ms judging)"),
+                    Judged {
+                        frames,
+                        last: Some(last),
+                        ms,
+                    } => format!("; {last} ({frames} judged, {ms:.0} ms judging)"),
                     _ => String::new(),
                 };
                 log::info!(

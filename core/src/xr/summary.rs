@@ -39,6 +39,17 @@ pub struct XrSummary {
     pub pixels: Option<PixelCheck>,
     /// The HMD mask's hidden fractions, when it took the runtime's mesh.
     pub mask_hidden: Option<MaskFractions>,
-    /// Frames judged (`judge`), the last judgement, and the judging's wall time in all (ms).
-    pub judged: (u64, Option<LiveJudgement>, f64),
+    /// What `judge` measured.
+    pub judged: Judged,
+}
+
+/// The judged frames of a run (`XrSettings::judge`).
+#[derive(Clone, Debug, Default)]
+pub struct Judged {
+    /// Frames judged.
+    pub frames: u64,
+    /// The last judgement.
+    pub last: Option<LiveJudgement>,
+    /// Wall time judging, all frames together (ms): reading back, the reference, the judge.
+    pub ms: f64,
 }

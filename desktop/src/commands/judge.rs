@@ -10,7 +10,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::judge::GpuFlip;
+use foveate::judge::{reference_config, GpuFlip};
 use foveate::metrics::flip::CpuFlip;
 use foveate::metrics::perceptual::{perceptual_error, PerceptualError};
 use foveate::metrics::{Acuity, ErrorSummary, EyePixels, FlipMapper, Stats};
@@ -55,16 +55,13 @@ pub fn judge(options: &GpuOptions, args: &JudgeArgs) -> Result<()> {
     let gaze = crate::gaze_arg::gaze_from(&args.gaze)?;
     let scene = named_scene(&args.scene)?;
     let gpu = Gpu::new(options)?;
-    let reference = RenderConfig {
+    let foveated = RenderConfig {
         hmd: args.hmd.clone(),
         resolution: crate::frame_args::parse_res(&args.res)?,
-        msaa: 4,
+        foveation: Some(FoveationConfig::default()),
         ..RenderConfig::default()
     };
-    let foveated = RenderConfig {
-        foveation: Some(FoveationConfig::default()),
-        ..reference.clone()
-    };
+    let reference = reference_config(&foveated);
     let (_, want) = frame(&gpu, &scene, &reference, gaze)?;
     let (plan, got) = frame(&gpu, &scene, &foveated, gaze)?;
     let pixels = EyePixels::both(&plan, gaze, plan.foveation.as_ref());

@@ -267,6 +267,8 @@ impl<'g> Viewer<'g> {
             KeyAction::Ignored => {}
             KeyAction::Changed(what) => {
                 self.frame = None;
+                // The last judgement was of other settings.
+                self.judged = None;
                 // A combination the planner refuses is reported and undone.
                 if let Err(e) = self.frame() {
                     println!("{what}: refused ({e:#}); back to the previous settings");
@@ -306,7 +308,6 @@ impl<'g> Viewer<'g> {
         // SAFETY: `begin` waited for the frame that acquired with this slot before.
         let acquired = unsafe { swapchain.acquire(gpu, begun.slot)? };
         let input = FrameInput::new(frame.scene.head).with_gaze(gaze);
-        let judge_input = input;
         // SAFETY: the slot's buffer, begun by `begin`, whose previous frame finished.
         let record = unsafe { frame.timed.record(begun.cmd, &input)? };
         let image = match acquired {
@@ -342,7 +343,7 @@ impl<'g> Viewer<'g> {
         if self.second.due() {
             self.report()?;
         }
-        self.judge_last(&judge_input)?;
+        self.judge_last(&input)?;
         let done = self.frames_wanted.is_some_and(|n| self.presented >= n);
         if done || (self.finishing && (self.save.is_none() || self.capture.is_some())) {
             event_loop.exit();

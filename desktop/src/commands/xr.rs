@@ -314,10 +314,12 @@ fn summary(life: &Lifecycle<XrSession>, args: &XrArgs, wall: f64) -> String {
         None if args.config.hmd_mask => text += "\nHMD mask: the profile's ellipse (the runtime offers no visibility mask)",
         None => {}
     }
-    if let (n, Some(last), ms) = &summary.judged {
+    let judged = &summary.judged;
+    if let Some(last) = &judged.last {
         text += &format!(
-            "\njudge: {n} frames judged against the full-quality reference ({:.0} ms each, not in the frame times); the last: {last}",
-            ms / *n as f64
+            "\njudge: {} frames judged against the full-quality reference ({:.0} ms each, not in the frame times); the last: {last}",
+            judged.frames,
+            judged.ms / judged.frames as f64
         );
     }
     text
