@@ -76,6 +76,7 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
     ("flip_vertical.comp", "flip_vertical.comp.spv", &[]),
     ("flip_resample.comp", "flip_resample.comp.spv", &[]),
     ("flip_combine.comp", "flip_combine.comp.spv", &[]),
+    ("flip_histogram.comp", "flip_histogram.comp.spv", &[]),
     ("far_composite.frag", "far_composite.frag.spv", &[]),
     (
         "far_composite.frag",

@@ -25,6 +25,7 @@ layout(push_constant) uniform Params {
     ivec2 rowsOrigin;  // the resampled rows: the first judged pixel's column, the first texel row
     ivec2 rowsSize;    // how many columns and texel rows they hold
     int srcPad;        // reduce: texels the source level extends past the image on each side
+    int bins;          // histogram: bins over (0, 1], besides the one for exact zeros
 } pc;
 
 // Both images as 8-bit sRGB RGBA: the reference's pixels, then the test's.
@@ -44,6 +45,11 @@ layout(std430, set = 0, binding = 4) readonly buffer Taps { vec4 t[]; } taps;
 layout(std430, set = 0, binding = 5) readonly buffer Positions { float t[]; } positions;
 // Each judged pixel's FLIP at the display's ppd and its eccentricity-aware FLIP.
 layout(std430, set = 0, binding = 6) buffer Maps { vec2 v[]; } maps;
+// Each judged pixel's region (0 fovea, 1 band, 2 periphery, 3 hidden), a byte each.
+layout(std430, set = 0, binding = 7) readonly buffer Labels { uint l[]; } labels;
+// The histograms: the plain FLIP's, then the eccentricity-aware FLIP's per region, each
+// `bins` + 1 counts (exact zeros first).
+layout(std430, set = 0, binding = 8) buffer Counts { uint c[]; } counts;
 
 const vec3 ILLUMINANT = vec3(0.950428545, 1.0, 1.088900371);
 

@@ -108,13 +108,15 @@ pub const STORE_HISTORY_FRAG: ShaderBinary = spirv!("store_history.frag.spv");
 pub const STORE_HISTORY_FRAG_COUNTING: ShaderBinary = spirv!("store_history_counting.frag.spv");
 
 /// FLIP's compute passes on the GPU (`shaders/flip_common.glsl`): both images to YCxCz, a
-/// pyramid level, the separable filters' two halves, and one ppd level's error per pixel.
+/// pyramid level, the separable filters' two halves, one ppd level's error per pixel, and the
+/// maps' histograms.
 pub const FLIP_PREPARE_COMP: ShaderBinary = spirv!("flip_prepare.comp.spv");
 pub const FLIP_REDUCE_COMP: ShaderBinary = spirv!("flip_reduce.comp.spv");
 pub const FLIP_HORIZONTAL_COMP: ShaderBinary = spirv!("flip_horizontal.comp.spv");
 pub const FLIP_VERTICAL_COMP: ShaderBinary = spirv!("flip_vertical.comp.spv");
 pub const FLIP_RESAMPLE_COMP: ShaderBinary = spirv!("flip_resample.comp.spv");
 pub const FLIP_COMBINE_COMP: ShaderBinary = spirv!("flip_combine.comp.spv");
+pub const FLIP_HISTOGRAM_COMP: ShaderBinary = spirv!("flip_histogram.comp.spv");
 
 /// Vertices of one mask fan (128 triangles; see `shaders/mask.vert`).
 pub const MASK_VERTICES: u32 = 128 * 3;
@@ -157,4 +159,5 @@ pub const COMPUTE: &[ShaderBinary] = &[
     FLIP_VERTICAL_COMP,
     FLIP_RESAMPLE_COMP,
     FLIP_COMBINE_COMP,
+    FLIP_HISTOGRAM_COMP,
 ];

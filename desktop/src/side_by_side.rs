@@ -6,7 +6,7 @@
 
 use anyhow::Result;
 use foveate::gpu::Gpu;
-use foveate::metrics::perceptual::{frame_accuracy, FrameAccuracy};
+use foveate::metrics::perceptual::{frame_accuracy, FrameAccuracy, Maps};
 use foveate::metrics::Acuity;
 use foveate::metrics::{EyePixels, Stats};
 use foveate::plan::{FramePlan, RenderConfig};
@@ -139,11 +139,12 @@ pub struct Judged {
 
 /// The one accuracy sweep: `configs[0]` is the full-quality reference; every configuration (the
 /// reference too, which scores perfectly) is measured side by side through [`measure_group`]
-/// and its output image judged against the reference's with `acuity`. Every command that prices
+/// and its output image judged against the reference's with `acuity`, its eccentricity-aware
+/// maps kept as `maps` says. Every command that prices
 /// an approximation in time and error sweeps through here. After Ctrl-C or SIGTERM
 /// ([`crate::interrupt`]) it stops judging and returns the configurations judged so far, in
 /// order: fewer than the group's.
-pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity) -> Result<Vec<Judged>> {
+pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity, maps: Maps) -> Result<Vec<Judged>> {
     let measured = measure_group(gpu, group)?;
     let (gaze, label, total) = (group.gaze, group.label, measured.len());
     let reference_plan = measured[0].plan.clone();
@@ -162,6 +163,7 @@ pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity) -> Result<Vec<Judged>> {
             &pixels,
             acuity,
             &mut *flip,
+            maps,
         )?;
         bar.inc(1);
         judged.push(Judged {

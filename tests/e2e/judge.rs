@@ -5,10 +5,14 @@
 use foveate::foveation::FoveationConfig;
 use foveate::judge::{reference_config, FlipJudge, LiveJudge};
 use foveate::metrics::flip::eccentric_flip_map;
-use foveate::metrics::{Acuity, ErrorSummary, FlipMaps, RgbaImage};
+use foveate::metrics::perceptual::Maps;
+use foveate::metrics::{
+    Acuity, ErrorHistogram, ErrorSummary, EyePixels, FlipMaps, Region, RgbaImage,
+};
 use foveate::plan::{OutputStage, RenderConfig, Resolution};
 use foveate::render::{FrameInput, Renderer};
 use foveate::scene::default_scene;
+use foveate::view::Eye;
 use foveate_tests::{assert_validation_clean, gpu, render_at};
 use glam::{Mat4, Vec2, Vec3};
 
@@ -295,8 +299,12 @@ fn the_live_judge_judges_the_renderers_last_frame() {
         let mut renderer = Renderer::new(&gpu, &plan, &scene).unwrap();
         renderer.render(&input).unwrap();
         let mut judge = LiveJudge::new(&gpu, &scene, config, 1).unwrap();
-        let judgement = judge.judge(&mut renderer, &input).unwrap();
+        let judgement = judge.judge(&mut renderer, &input, Maps::Drop).unwrap();
         assert!(judgement.reference_ms > 0.0 && judgement.judge_ms > 0.0);
+        assert!(
+            judgement.error.maps.is_none(),
+            "maps come back only if asked"
+        );
         judgement.error.eccentric.unwrap()
     };
     let same = judged(&reference_config(&foveated));
@@ -308,5 +316,55 @@ fn the_live_judge_judges_the_renderers_last_frame() {
     assert_eq!(due, [true, false, false, true, false, false, true]);
     let refused = LiveJudge::new(&gpu, &scene, &foveated, 0).err().unwrap();
     assert!(refused.to_string().contains("judge every"), "{refused}");
+    assert_validation_clean(&gpu);
+}
+
+/// The histograms the GPU reduces its maps to are those maps counted on the host, bin for bin:
+/// the plain FLIP over every visible pixel, the eccentricity-aware FLIP per region (each
+/// region non-empty here); the map comes back only when asked for. Mutations: a region's label
+/// taken for another's, or the shader's bins shifted by one, each fail.
+#[test]
+fn the_gpus_histograms_count_the_maps_they_reduce() {
+    let gpu = gpu();
+    let gaze = Vec2::new(0.3, -0.2);
+    let (want, got) = frames(96, gaze);
+    let config = RenderConfig {
+        resolution: Some(Resolution::square(96)),
+        foveation: Some(FoveationConfig::default()),
+        ..RenderConfig::default()
+    };
+    let plan = foveate::plan(&default_scene(), &config, gpu.caps()).unwrap();
+    let pixels = EyePixels::new(&plan, Eye::Left, gaze, plan.foveation.as_ref());
+    let mut judge = FlipJudge::new(&gpu, 96, 96).unwrap();
+    let acuity = Acuity::default();
+    let kept = judge
+        .flip_errors(&want, &got, &pixels, acuity, true)
+        .unwrap();
+    let eccentric = kept.map.as_ref().expect("the map was asked for");
+    let eccentricity = |x: u32, y: u32| pixels.at(x, y).map(|d| d.eccentricity_deg);
+    let maps = judge
+        .flip_maps(&want, &got, pixels.ppd, acuity, &eccentricity)
+        .unwrap();
+    // Bit for bit (the hidden pixels' NaNs too): the same judgement twice.
+    let bits = |m: &[f32]| m.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    assert!(
+        bits(&maps.eccentric) == bits(eccentric),
+        "the same judgement twice"
+    );
+    let counted = ErrorHistogram::of(pixels.select(&maps.plain, |_| true));
+    assert_eq!(kept.plain, counted, "plain FLIP");
+    for (histogram, region) in kept.regions.iter().zip(Region::ALL) {
+        let counted = ErrorHistogram::of(pixels.select(eccentric, |d| d.region == region));
+        assert!(counted.pixels() > 0, "{}", region.name());
+        assert_eq!(*histogram, counted, "{}", region.name());
+    }
+    let dropped = judge
+        .flip_errors(&want, &got, &pixels, acuity, false)
+        .unwrap();
+    assert!(
+        dropped.map.is_none(),
+        "the map comes back only when asked for"
+    );
+    assert_eq!(dropped.regions, kept.regions);
     assert_validation_clean(&gpu);
 }

@@ -4,7 +4,7 @@
 use foveate::foveation::{
     DelayedGaze, FoveationConfig, GazeLatency, GazeSample, GazeSpace, Prediction,
 };
-use foveate::metrics::perceptual::perceptual_error;
+use foveate::metrics::perceptual::{perceptual_error, Maps};
 use foveate::metrics::Acuity;
 use foveate::metrics::EyePixels;
 use foveate::plan::{RenderConfig, Resolution, StereoMode};
@@ -123,6 +123,7 @@ fn a_late_fovea_is_judged_at_the_true_gaze() {
             &pixels,
             Acuity::default(),
             &mut *flip.borrow_mut(),
+            Maps::Drop,
         )
         .unwrap();
         e.eccentric.unwrap().mean

@@ -14,17 +14,18 @@ use super::geometry::{
     add_to, level_region, merge, origin, pyramid_depth, pyramid_levels, LevelRegions, PyramidLevel,
     Region,
 };
+use super::reduce::Reduction;
 use super::vulkan::{compute_pipeline, descriptor_pool, layouts};
 use crate::gpu::{
     memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, MemoryLocation,
     Pipeline, PipelineLayout, VkResultExt,
 };
 use crate::metrics::acuity::LEVELS;
-use crate::metrics::{Acuity, FlipMaps, RgbaImage};
+use crate::metrics::{Acuity, EyeFlipErrors, EyePixels, FlipMaps, RgbaImage, HISTOGRAM_BINS};
 use crate::plan::ConfigError;
 use crate::shaders::{
-    FLIP_COMBINE_COMP, FLIP_HORIZONTAL_COMP, FLIP_PREPARE_COMP, FLIP_REDUCE_COMP,
-    FLIP_RESAMPLE_COMP, FLIP_VERTICAL_COMP,
+    FLIP_COMBINE_COMP, FLIP_HISTOGRAM_COMP, FLIP_HORIZONTAL_COMP, FLIP_PREPARE_COMP,
+    FLIP_REDUCE_COMP, FLIP_RESAMPLE_COMP, FLIP_VERTICAL_COMP,
 };
 
 /// Pixels per workgroup side (`local_size_x`, `local_size_y`).
@@ -50,6 +51,7 @@ struct Params {
     rows_origin: [i32; 2],
     rows_size: [i32; 2],
     src_pad: i32,
+    bins: i32,
 }
 
 /// One ppd level to judge: its filters' taps in the taps buffer, at which pyramid level.
@@ -73,7 +75,7 @@ pub struct FlipJudge {
     /// This judgement's pyramid.
     pyramid: Vec<PyramidLevel>,
     // Declared before the layouts and buffers they use, so they are dropped first.
-    pipelines: [Pipeline; 6],
+    pipelines: [Pipeline; 7],
     layout: PipelineLayout,
     _pool: DescriptorPool,
     _set_layout: DescriptorSetLayout,
@@ -81,6 +83,8 @@ pub struct FlipJudge {
     inputs: Buffer,
     positions: Buffer,
     maps: Buffer,
+    /// The labels up, the histograms and the maps back.
+    reduction: Reduction,
     /// The pyramid, the row sums, the filtered fields and the taps, sized by each judgement.
     work: [Option<Buffer>; 4],
     cmax: f32,
@@ -99,7 +103,14 @@ impl FlipJudge {
             |name: &str, size: u64, location| Buffer::new(gpu, name, size, storage, location);
         let inputs = buffer("flip inputs", 2 * 4 * pixels, MemoryLocation::CpuToGpu)?;
         let positions = buffer("flip level positions", 4 * pixels, MemoryLocation::CpuToGpu)?;
-        let maps = buffer("flip maps", 8 * pixels, MemoryLocation::GpuToCpu)?;
+        let maps = Buffer::new(
+            gpu,
+            "flip maps",
+            8 * pixels,
+            storage | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
+        let reduction = Reduction::new(gpu, pixels)?;
         let (set_layout, layout) = layouts(gpu, std::mem::size_of::<Params>() as u32)?;
         let pool = descriptor_pool(gpu)?;
         let layouts = [set_layout.raw];
@@ -116,6 +127,7 @@ impl FlipJudge {
             FLIP_VERTICAL_COMP,
             FLIP_COMBINE_COMP,
             FLIP_RESAMPLE_COMP,
+            FLIP_HISTOGRAM_COMP,
         ];
         let mut pipelines = Vec::with_capacity(shaders.len());
         for shader in &shaders {
@@ -135,6 +147,7 @@ impl FlipJudge {
             inputs,
             positions,
             maps,
+            reduction,
             work: [None, None, None, None],
             cmax: max_colour_difference(),
         };
@@ -159,16 +172,71 @@ impl FlipJudge {
         acuity: Acuity,
         eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
     ) -> Result<FlipMaps, GpuError> {
+        self.reduction.want_maps(&self.gpu)?;
+        self.run(reference, test, ppd, acuity, eccentricity, Bring::Maps)?;
+        let (plain, eccentric) = self.reduction.maps().unwrap_or_default();
+        Ok(FlipMaps { plain, eccentric })
+    }
+
+    /// One eye's figures, as [`crate::metrics::FlipMapper::flip_errors`] defines them: the
+    /// maps as [`FlipJudge::flip_maps`] computes them for the pixels `pixels` shows, reduced
+    /// to histograms on the GPU; only those come back, and the eccentricity-aware map if
+    /// `keep_map`.
+    pub fn flip_errors(
+        &mut self,
+        reference: &RgbaImage,
+        test: &RgbaImage,
+        pixels: &EyePixels,
+        acuity: Acuity,
+        keep_map: bool,
+    ) -> Result<EyeFlipErrors, GpuError> {
+        if (pixels.width, pixels.height) != (self.width, self.height) {
+            let size = format!("{}x{}", pixels.width, pixels.height);
+            let limit = format!("the judge's size, {}x{}", self.width, self.height);
+            return Err(ConfigError::new("judged pixels", size, limit).into());
+        }
+        self.reduction.upload_labels(pixels);
+        let bring = if keep_map {
+            self.reduction.want_maps(&self.gpu)?;
+            Bring::HistogramsAndMaps
+        } else {
+            Bring::Histograms
+        };
+        let eccentricity = |x: u32, y: u32| pixels.at(x, y).map(|d| d.eccentricity_deg);
+        self.run(reference, test, pixels.ppd, acuity, &eccentricity, bring)?;
+        let (plain, regions) = self.reduction.histograms();
+        Ok(EyeFlipErrors {
+            plain,
+            regions,
+            map: if keep_map {
+                self.reduction.maps().map(|(_, eccentric)| eccentric)
+            } else {
+                None
+            },
+        })
+    }
+
+    /// One judgement on the GPU, bringing back what `bring` says.
+    fn run(
+        &mut self,
+        reference: &RgbaImage,
+        test: &RgbaImage,
+        ppd: f64,
+        acuity: Acuity,
+        eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
+        bring: Bring,
+    ) -> Result<(), GpuError> {
         self.check_inputs(reference, test, ppd)?;
         let used = self.upload(reference, test, acuity, eccentricity);
         let work = self.filters(ppd as f32, &used)?;
         let params = Params {
             full: [self.width as i32, self.height as i32],
             cmax: self.cmax,
+            bins: HISTOGRAM_BINS as i32,
             ..Params::default()
         };
-        self.gpu.one_shot(|cmd| self.record(cmd, params, &work))?;
-        Ok(self.read_maps())
+        self.gpu
+            .one_shot(|cmd| self.record(cmd, params, &work, bring))
     }
 
     fn check_inputs(
@@ -350,6 +418,8 @@ impl FlipJudge {
             taps,
             &self.positions,
             &self.maps,
+            &self.reduction.labels,
+            &self.reduction.counts,
         ];
         let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
             .iter()
@@ -374,9 +444,15 @@ impl FlipJudge {
         unsafe { self.gpu.device().update_descriptor_sets(&writes, &[]) };
     }
 
-    /// Records a judgement: YCxCz, the pyramid, then per ppd level the filters and the errors.
-    fn record(&self, cmd: vk::CommandBuffer, base: Params, work: &[LevelWork]) {
+    /// Records a judgement: YCxCz, the pyramid, then per ppd level the filters and the errors;
+    /// then what `bring` says comes back.
+    fn record(&self, cmd: vk::CommandBuffer, base: Params, work: &[LevelWork], bring: Bring) {
         let full = (self.width, self.height);
+        let device = self.gpu.device();
+        let histograms = bring != Bring::Maps;
+        if histograms {
+            self.reduction.record_clear(device, cmd);
+        }
         self.dispatch(cmd, 0, base, full);
         // The pyramid, each level from the one before it.
         for pair in self.pyramid.windows(2) {
@@ -408,18 +484,12 @@ impl FlipJudge {
             };
             self.record_level(cmd, params, w);
         }
-        // SAFETY: `cmd` is recording; the host reads the maps after the fence.
-        unsafe {
-            memory_barrier(
-                self.gpu.device(),
-                cmd,
-                (
-                    vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::AccessFlags::SHADER_WRITE,
-                ),
-                (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-            );
+        if histograms {
+            self.dispatch(cmd, 6, base, full);
         }
+        let maps = (bring != Bring::Histograms).then_some(&self.maps);
+        self.reduction
+            .record_read_back(device, cmd, histograms, maps);
     }
 
     /// One ppd level: the filters along rows and along columns, and each judged pixel's share
@@ -499,14 +569,15 @@ impl FlipJudge {
             device.cmd_dispatch(cmd, extent.0.div_ceil(GROUP), extent.1.div_ceil(GROUP), 1);
         }
     }
+}
 
-    fn read_maps(&mut self) -> FlipMaps {
-        let bytes = self.maps.mapped_slice();
-        let pixels = (self.width * self.height) as usize;
-        let value = |i: usize| f32::from_le_bytes(bytes[4 * i..4 * i + 4].try_into().unwrap());
-        FlipMaps {
-            plain: (0..pixels).map(|i| value(2 * i)).collect(),
-            eccentric: (0..pixels).map(|i| value(2 * i + 1)).collect(),
-        }
-    }
+/// What a judgement brings back to the host.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Bring {
+    /// Both maps (the oracle tests' comparison).
+    Maps,
+    /// The histograms only.
+    Histograms,
+    /// The histograms and the maps.
+    HistogramsAndMaps,
 }

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use super::GpuFlip;
 use crate::gpu::{Gpu, GpuError};
-use crate::metrics::perceptual::{perceptual_error, PerceptualError};
+use crate::metrics::perceptual::{perceptual_error, Maps, PerceptualError};
 use crate::metrics::{Acuity, ErrorSummary, EyePixels, JudgeError, Region};
 use crate::plan::{ConfigError, RenderConfig, StereoMode};
 use crate::render::{FrameInput, Renderer};
@@ -43,7 +43,7 @@ pub fn reference_config(config: &RenderConfig) -> RenderConfig {
 /// One judgement of a frame.
 #[derive(Clone, Debug)]
 pub struct LiveJudgement {
-    /// FLIP and the eccentricity-aware FLIP, whole and per region, and the maps.
+    /// FLIP and the eccentricity-aware FLIP, whole and per region, and the maps if asked for.
     pub error: PerceptualError,
     /// What each eye's pixels are: seen or hidden, their angle from the gaze, their region
     /// (for [`crate::metrics::perceptual::heat_map`]).
@@ -112,12 +112,14 @@ impl LiveJudge {
     /// Judges `renderer`'s last frame, whose `input` is given again (its head pose; its gaze
     /// and eyes are the ones the renderer kept from it): renders the reference for the same
     /// pose, eyes and gaze, and judges both eyes over the pixels the lens shows, regions as the
-    /// judged frame's foveation draws them. The frame must have finished (say,
-    /// `FramesInFlight::wait_last`).
+    /// judged frame's foveation draws them; the eccentricity-aware maps come back as `maps`
+    /// says (a heat map's worth of reading back, else a few histograms). The frame must have
+    /// finished (say, `FramesInFlight::wait_last`).
     pub fn judge(
         &mut self,
         renderer: &mut Renderer,
         input: &FrameInput,
+        maps: Maps,
     ) -> Result<LiveJudgement, JudgeError> {
         let started = Instant::now();
         let image = renderer.readback()?;
@@ -140,6 +142,7 @@ impl LiveJudge {
             &pixels,
             self.acuity,
             &mut self.flip,
+            maps,
         )?;
         Ok(LiveJudgement {
             error,

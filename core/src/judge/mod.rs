@@ -8,6 +8,7 @@ mod flip;
 mod geometry;
 mod gpu_flip;
 mod live;
+mod reduce;
 mod vulkan;
 
 pub use flip::FlipJudge;

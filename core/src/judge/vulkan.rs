@@ -9,7 +9,7 @@ use crate::gpu::{
 use crate::shaders::ShaderBinary;
 
 /// The storage buffers the passes share, by binding (see `shaders/flip_common.glsl`).
-pub(super) const BINDINGS: u32 = 7;
+pub(super) const BINDINGS: u32 = 9;
 
 /// The descriptor set layout (every binding a storage buffer) and the pipeline layout with
 /// `push_bytes` of push constants, which every pass shares.

@@ -2,7 +2,8 @@
 //! `metrics::flip`), the maps it produces, and what produces them: NVIDIA's reference FLIP on
 //! the CPU (`metrics::flip::CpuFlip`, feature `flip`) or the GPU judge (`judge::GpuFlip`).
 
-use super::ImageError;
+use super::display::{EyePixels, Region};
+use super::{ErrorHistogram, ImageError, RgbaImage};
 use crate::gpu::GpuError;
 
 /// The eye's acuity falloff: its minimum angle of resolution `MAR(e) = mar0 + slope · e`
@@ -65,16 +66,51 @@ pub enum JudgeError {
     Gpu(#[from] GpuError),
 }
 
+/// One eye's FLIP figures as a judge reduces them: histograms over the pixels the lens shows,
+/// and the eccentricity-aware map only when it was asked for.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EyeFlipErrors {
+    /// FLIP at the display's ppd.
+    pub plain: ErrorHistogram,
+    /// The eccentricity-aware FLIP per region, in `Region::ALL`'s order.
+    pub regions: [ErrorHistogram; 3],
+    /// The eccentricity-aware map (`NaN` where the lens hides the pixel), if asked for.
+    pub map: Option<Vec<f32>>,
+}
+
 /// What computes both FLIP maps of an image pair: the display's `ppd` at the gaze, the eye's
 /// `acuity`, and each pixel's angle from the gaze (`None`: not judged, `NaN` in both maps).
 pub trait FlipMapper {
     /// Both maps of `test` against `reference`.
     fn flip_maps(
         &mut self,
-        reference: &super::RgbaImage,
-        test: &super::RgbaImage,
+        reference: &RgbaImage,
+        test: &RgbaImage,
         ppd: f64,
         acuity: Acuity,
         eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
     ) -> Result<FlipMaps, JudgeError>;
+
+    /// One eye's figures of `test` against `reference`, over the pixels `pixels` shows (at its
+    /// ppd, eccentricities and regions), the map kept if `keep_map`. By default the maps are
+    /// computed and reduced on the host; the GPU judge reduces them where it computed them.
+    fn flip_errors(
+        &mut self,
+        reference: &RgbaImage,
+        test: &RgbaImage,
+        pixels: &EyePixels,
+        acuity: Acuity,
+        keep_map: bool,
+    ) -> Result<EyeFlipErrors, JudgeError> {
+        let eccentricity = |x: u32, y: u32| pixels.at(x, y).map(|d| d.eccentricity_deg);
+        let maps = self.flip_maps(reference, test, pixels.ppd, acuity, &eccentricity)?;
+        let histogram = |map: &[f32], region: Option<Region>| {
+            ErrorHistogram::of(pixels.select(map, |d| region.is_none_or(|r| d.region == r)))
+        };
+        Ok(EyeFlipErrors {
+            plain: histogram(&maps.plain, None),
+            regions: Region::ALL.map(|r| histogram(&maps.eccentric, Some(r))),
+            map: keep_map.then_some(maps.eccentric),
+        })
+    }
 }

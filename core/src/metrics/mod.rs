@@ -6,6 +6,7 @@ pub(crate) mod acuity;
 pub mod display;
 #[cfg(feature = "flip")]
 pub mod flip;
+mod histogram;
 mod image;
 mod per_second;
 pub mod perceptual;
@@ -13,8 +14,9 @@ mod summary;
 pub mod temporal;
 mod timing;
 
-pub use acuity::{Acuity, FlipMapper, FlipMaps, JudgeError};
+pub use acuity::{Acuity, EyeFlipErrors, FlipMapper, FlipMaps, JudgeError};
 pub use display::{EyePixels, Region};
+pub use histogram::{ErrorHistogram, HISTOGRAM_BINS};
 pub use image::{FileError, ImageError, RgbaImage};
 pub use per_second::{PerSecond, SecondSummary};
 pub use summary::ErrorSummary;

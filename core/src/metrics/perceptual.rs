@@ -5,7 +5,7 @@
 
 use super::display::{EyePixels, Region};
 use super::{Acuity, FlipMapper, JudgeError};
-use super::{ErrorSummary, ImageError, RgbaImage};
+use super::{ErrorHistogram, ErrorSummary, ImageError, RgbaImage};
 
 /// Every error figure of one frame against its reference, both eyes together.
 #[derive(Clone, Debug, PartialEq)]
@@ -31,6 +31,7 @@ pub fn frame_accuracy(
     pixels: &[EyePixels; 2],
     acuity: Acuity,
     flip: &mut dyn FlipMapper,
+    maps: Maps,
 ) -> Result<FrameAccuracy, JudgeError> {
     let (a, b) = (
         RgbaImage::side_by_side(reference[0], reference[1]),
@@ -58,7 +59,7 @@ pub fn frame_accuracy(
         ssim: ssim(&|_| true)?,
         region_psnr: per_region(&psnr)?,
         region_ssim: per_region(&ssim)?,
-        perceptual: perceptual_error(reference, image, pixels, acuity, flip)?,
+        perceptual: perceptual_error(reference, image, pixels, acuity, flip, maps)?,
     })
 }
 
@@ -74,7 +75,8 @@ fn per_region(measure: &RegionMeasure) -> Result<[Option<f64>; 3], ImageError> {
     Ok(out)
 }
 
-/// FLIP figures of one frame, both eyes together.
+/// FLIP figures of one frame, both eyes together. The summaries come from the judges'
+/// histograms ([`ErrorHistogram`]): within half a bin (1/32768) of the exact figures.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PerceptualError {
     /// FLIP at the display's ppd, every pixel judged as if the eye looked at it.
@@ -83,40 +85,50 @@ pub struct PerceptualError {
     pub eccentric: Option<ErrorSummary>,
     /// The eccentricity-aware FLIP per region, in `Region::ALL`'s order.
     pub regions: [Option<ErrorSummary>; 3],
-    /// Each eye's eccentricity-aware map (`NaN` where the lens hides the pixel).
-    pub maps: [Vec<f32>; 2],
+    /// Each eye's eccentricity-aware map (`NaN` where the lens hides the pixel), if asked for.
+    pub maps: Option<[Vec<f32>; 2]>,
+}
+
+/// Whether a judgement brings its per-pixel maps back (for heat maps) or only its figures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Maps {
+    /// The figures only: on the GPU, a few histograms come back instead of the maps.
+    Drop,
+    /// The figures and each eye's eccentricity-aware map.
+    Keep,
 }
 
 /// FLIP figures of `image` against `reference` (left eye, right eye), pixels as `pixels` maps
-/// them, the eccentricity-aware one for an eye of `acuity`, the maps from `flip` (the GPU judge,
-/// or NVIDIA's reference on the CPU).
+/// them, the eccentricity-aware one for an eye of `acuity`, judged by `flip` (the GPU judge,
+/// or NVIDIA's reference on the CPU); the maps kept as `maps` says.
 pub fn perceptual_error(
     reference: [&RgbaImage; 2],
     image: [&RgbaImage; 2],
     pixels: &[EyePixels; 2],
     acuity: Acuity,
     flip: &mut dyn FlipMapper,
+    maps: Maps,
 ) -> Result<PerceptualError, JudgeError> {
-    let (mut plain, mut eccentric) = (Vec::new(), Vec::new());
-    let mut regions: [Vec<f32>; 3] = Default::default();
-    let mut maps: [Vec<f32>; 2] = Default::default();
+    let mut plain = ErrorHistogram::default();
+    let mut regions: [ErrorHistogram; 3] = Default::default();
+    let mut kept: [Vec<f32>; 2] = Default::default();
     for eye in 0..2 {
         let p = &pixels[eye];
-        let eccentricity = |x: u32, y: u32| p.at(x, y).map(|d| d.eccentricity_deg);
         let test = hidden_as_reference(reference[eye], image[eye], p)?;
-        let m = flip.flip_maps(reference[eye], &test, p.ppd, acuity, &eccentricity)?;
-        plain.extend(p.select(&m.plain, |_| true));
-        eccentric.extend(p.select(&m.eccentric, |_| true));
-        for (values, region) in regions.iter_mut().zip(Region::ALL) {
-            values.extend(p.select(&m.eccentric, |d| d.region == region));
+        let e = flip.flip_errors(reference[eye], &test, p, acuity, maps == Maps::Keep)?;
+        plain.merge(&e.plain);
+        for (all, one) in regions.iter_mut().zip(&e.regions) {
+            all.merge(one);
         }
-        maps[eye] = m.eccentric;
+        kept[eye] = e.map.unwrap_or_default();
     }
+    let mut eccentric = ErrorHistogram::default();
+    regions.iter().for_each(|r| eccentric.merge(r));
     Ok(PerceptualError {
-        flip: ErrorSummary::of(&plain),
-        eccentric: ErrorSummary::of(&eccentric),
-        regions: regions.map(|v| ErrorSummary::of(&v)),
-        maps,
+        flip: plain.summary(),
+        eccentric: eccentric.summary(),
+        regions: regions.each_ref().map(|r| r.summary()),
+        maps: (maps == Maps::Keep).then_some(kept),
     })
 }
 

@@ -20,6 +20,7 @@ use super::visibility::{hidden_areas, MaskFractions};
 use crate::foveation::{GazeFilter, GazeSample};
 use crate::gpu::Gpu;
 use crate::judge::LiveJudge;
+use crate::metrics::perceptual::Maps;
 use crate::metrics::PerSecond;
 use crate::plan::{FramePlan, OutputStage, RenderConfig, Resolution};
 use crate::render::{output_image_desc, FrameInput, FramesInFlight, Renderer};
@@ -389,7 +390,7 @@ impl<'g> XrSession<'g> {
                 frames
                     .wait_last()
                     .map_err(XrError::from)
-                    .and_then(|()| Ok(judge.judge(renderer, &input)?)),
+                    .and_then(|()| Ok(judge.judge(renderer, &input, Maps::Drop)?)),
             ),
             _ => None,
         };

@@ -4,7 +4,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use foveate::foveation::{FoveationConfig, PeripheryFilter};
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::metrics::perceptual::{heat_map, FrameAccuracy};
+use foveate::metrics::perceptual::{heat_map, FrameAccuracy, Maps};
 use foveate::metrics::Acuity;
 use foveate::metrics::{ErrorSummary, RgbaImage};
 use foveate::plan::{RadialDensity, RenderConfig};
@@ -169,7 +169,12 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         rounds: args.frames,
         label: "compare",
     };
-    let mut judged = sweep(&gpu, &group, acuity)?;
+    let maps = if args.heatmaps.is_some() {
+        Maps::Keep
+    } else {
+        Maps::Drop
+    };
+    let mut judged = sweep(&gpu, &group, acuity, maps)?;
     let total = configs.len() - 1;
     if judged.is_empty() {
         return Err(crate::interrupt::stopped(
@@ -350,7 +355,9 @@ fn write_heat_maps(
     judged: &[crate::side_by_side::Judged],
 ) -> Result<()> {
     for ((name, ..), j) in named.iter().skip(1).zip(judged) {
-        let (maps, pixels) = (&j.accuracy.perceptual.maps, &j.pixels);
+        let (Some(maps), pixels) = (&j.accuracy.perceptual.maps, &j.pixels) else {
+            continue;
+        };
         let picture = RgbaImage::side_by_side(
             &heat_map(&maps[0], &pixels[0]),
             &heat_map(&maps[1], &pixels[1]),

@@ -12,7 +12,7 @@ use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{simulated_trace, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::metrics::perceptual::perceptual_error;
+use foveate::metrics::perceptual::{perceptual_error, Maps};
 use foveate::metrics::temporal::{Flicker, FlickerSummary};
 use foveate::metrics::Acuity;
 use foveate::metrics::{ErrorSummary, EyePixels};
@@ -318,6 +318,7 @@ impl MotionRun<'_> {
                         pixels,
                         Acuity::default(),
                         &mut *flip,
+                        Maps::Drop,
                     )?;
                     Spent::add(&self.spent.judging_s, judging);
                     self.spent.judgements.set(self.spent.judgements.get() + 1);

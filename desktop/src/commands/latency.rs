@@ -15,7 +15,7 @@ use foveate::foveation::{
     GazeSample, GazeSpace, Prediction, SaccadeEvent,
 };
 use foveate::gpu::Gpu;
-use foveate::metrics::perceptual::perceptual_error;
+use foveate::metrics::perceptual::{perceptual_error, Maps};
 use foveate::metrics::Acuity;
 use foveate::metrics::EyePixels;
 use foveate::plan::{FramePlan, RenderConfig};
@@ -178,6 +178,7 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
             &pixels,
             sweep.acuity,
             &mut **flip,
+            Maps::Drop,
         )?)
     };
     // Aliased stereo at every frame's true gaze: the row foveation is held to.

@@ -3,6 +3,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::perceptual::Maps;
 use foveate::metrics::Acuity;
 use foveate::plan::RenderConfig;
 use foveate::scene::named_scene;
@@ -93,7 +94,7 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
             rounds: args.frames,
             label: profile.name,
         };
-        let judged = sweep(&gpu, &group, Acuity::default())?;
+        let judged = sweep(&gpu, &group, Acuity::default(), Maps::Drop)?;
         let (m, accuracy) = (
             [&judged[0].measured, &judged[1].measured],
             &judged[1].accuracy,

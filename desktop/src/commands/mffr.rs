@@ -3,6 +3,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::metrics::perceptual::Maps;
 use foveate::metrics::Acuity;
 use foveate::metrics::RgbaImage;
 use foveate::mffr::{MffrConfig, MffrVariant, SplitDistance};
@@ -114,7 +115,7 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
             rounds: args.frames,
             label: &label,
         };
-        let judged = sweep(&gpu, &group, Acuity::default())?;
+        let judged = sweep(&gpu, &group, Acuity::default(), Maps::Drop)?;
         let reference = &judged[0].measured;
         let reference_both = reference.image.side_by_side();
         for (i, j) in judged.iter().enumerate() {

@@ -4,7 +4,7 @@ use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{parse_gaze_csv, simulated_trace, GazeFilter, GazeSample};
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::metrics::perceptual::{frame_accuracy, FrameAccuracy};
+use foveate::metrics::perceptual::{frame_accuracy, FrameAccuracy, Maps};
 use foveate::metrics::Acuity;
 use foveate::metrics::{ErrorSummary, EyePixels, Stats};
 use foveate::plan::StereoMode;
@@ -264,6 +264,7 @@ fn save_beside_reference(
             &pixels,
             Acuity::default(),
             flip,
+            Maps::Drop,
         )?;
         print_accuracy(&a, *gaze);
     }

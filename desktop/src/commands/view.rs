@@ -11,7 +11,7 @@ use clap::Args;
 use foveate::foveation::{DelayedGaze, GazeLatency, GazeSample, GazeSpace, Prediction};
 use foveate::gpu::{Acquired, Gpu, GpuOptions, Presented, Swapchain};
 use foveate::judge::{LiveJudge, LiveJudgement};
-use foveate::metrics::perceptual::heat_map;
+use foveate::metrics::perceptual::{heat_map, Maps};
 use foveate::metrics::{PerSecond, RgbaImage};
 use foveate::render::{FrameInput, FrameStats, FramesInFlight, Renderer};
 use foveate::scene::Scene;
@@ -393,7 +393,7 @@ impl<'g> Viewer<'g> {
             return Ok(());
         }
         frame.frames.wait_all()?;
-        let judgement = judge.judge(&mut frame.timed, input)?;
+        let judgement = judge.judge(&mut frame.timed, input, Maps::Keep)?;
         println!(
             "judge: {judgement}; reference {:.0} ms, judging {:.0} ms, apart from the frame times",
             judgement.reference_ms, judgement.judge_ms
@@ -408,8 +408,10 @@ impl<'g> Viewer<'g> {
             println!("heat map: no frame judged yet");
             return Ok(());
         };
-        let [left, right] =
-            [0, 1].map(|eye| heat_map(&judgement.error.maps[eye], &judgement.pixels[eye]));
+        let Some(maps) = &judgement.error.maps else {
+            return Ok(());
+        };
+        let [left, right] = [0, 1].map(|eye| heat_map(&maps[eye], &judgement.pixels[eye]));
         RgbaImage::side_by_side(&left, &right).save(HEAT_MAP.as_ref())?;
         println!(
             "wrote {HEAT_MAP} (the last judged frame's eccentricity-aware FLIP, left | right)"

@@ -10,6 +10,7 @@ use anyhow::Result;
 use foveate::cull::Strategy;
 use foveate::foveation::FoveationConfig;
 use foveate::gpu::Gpu;
+use foveate::metrics::perceptual::Maps;
 use foveate::metrics::Acuity;
 use foveate::mffr::MffrConfig;
 use foveate::plan::{CullConfig, RadialDensity, RenderConfig};
@@ -179,7 +180,7 @@ pub fn sweep(
         rounds: args.accuracy_rounds.max(2),
         label: "accuracy sweep",
     };
-    let judged = side_by_side::sweep(gpu, &group, Acuity::default())?;
+    let judged = side_by_side::sweep(gpu, &group, Acuity::default(), Maps::Drop)?;
     let base = &judged[0].measured;
     Ok(points
         .into_iter()

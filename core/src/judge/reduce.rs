@@ -1,0 +1,185 @@
+//! What a judgement brings back: each judged pixel's region goes up, the error maps are reduced
+//! to histograms on the device (`shaders/flip_histogram.comp`, the bins of
+//! [`ErrorHistogram`]), and only the histograms, and the maps when asked for, come back.
+
+use ash::vk;
+
+use crate::gpu::{memory_barrier, Buffer, Gpu, GpuError, MemoryLocation};
+use crate::metrics::{ErrorHistogram, EyePixels, Region, HISTOGRAM_BINS};
+
+/// Histograms per judgement: the plain FLIP, then the eccentricity-aware FLIP per region.
+const HISTOGRAMS: usize = 1 + Region::ALL.len();
+
+/// A pixel's label for a pixel the lens hides (the regions are 0, 1, 2 in `Region::ALL`'s
+/// order).
+const HIDDEN: u8 = 3;
+
+/// The buffers of the reduction: labels up, counts on the device and back, maps back.
+pub(super) struct Reduction {
+    /// Each pixel's region as a byte, four to a word.
+    pub(super) labels: Buffer,
+    /// The histograms' counts, filled by atomics.
+    pub(super) counts: Buffer,
+    counts_back: Buffer,
+    /// Both maps (FLIP, eccentricity-aware), interleaved, when asked for; made the first time.
+    maps_back: Option<Buffer>,
+    pixels: u64,
+}
+
+impl Reduction {
+    /// The buffers for images of `pixels` pixels.
+    pub(super) fn new(gpu: &Gpu, pixels: u64) -> Result<Self, GpuError> {
+        use vk::BufferUsageFlags as Usage;
+        let count_bytes = 4 * (HISTOGRAMS * (HISTOGRAM_BINS + 1)) as u64;
+        let storage = Usage::STORAGE_BUFFER;
+        Ok(Reduction {
+            labels: Buffer::new(
+                gpu,
+                "flip labels",
+                pixels.div_ceil(4) * 4,
+                storage,
+                MemoryLocation::CpuToGpu,
+            )?,
+            counts: Buffer::new(
+                gpu,
+                "flip histograms",
+                count_bytes,
+                storage | Usage::TRANSFER_SRC | Usage::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )?,
+            counts_back: Buffer::new(
+                gpu,
+                "flip histograms read back",
+                count_bytes,
+                Usage::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?,
+            maps_back: None,
+            pixels,
+        })
+    }
+
+    /// Writes each pixel's label: its region, or hidden.
+    pub(super) fn upload_labels(&mut self, pixels: &EyePixels) {
+        let labels: Vec<u8> = (pixels.pixels.iter())
+            .map(|p| p.map_or(HIDDEN, |d| region_index(d.region)))
+            .collect();
+        self.labels.write(&labels);
+    }
+
+    /// Makes the buffer the maps come back in, if it is not there yet.
+    pub(super) fn want_maps(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
+        if self.maps_back.is_none() {
+            let bytes = 8 * self.pixels;
+            let usage = vk::BufferUsageFlags::TRANSFER_DST;
+            let buffer = Buffer::new(
+                gpu,
+                "flip maps read back",
+                bytes,
+                usage,
+                MemoryLocation::GpuToCpu,
+            )?;
+            self.maps_back = Some(buffer);
+        }
+        Ok(())
+    }
+
+    /// Records clearing the counts, before the histogram pass adds to them.
+    pub(super) fn record_clear(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        // SAFETY: `cmd` is recording; the buffer outlives the submission.
+        unsafe {
+            device.cmd_fill_buffer(cmd, self.counts.raw, 0, vk::WHOLE_SIZE, 0);
+            memory_barrier(
+                device,
+                cmd,
+                (
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                ),
+                (
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                ),
+            );
+        }
+    }
+
+    /// Records copying back what the host reads: the counts if `counts`, and `maps` if given
+    /// (after [`Reduction::want_maps`]).
+    pub(super) fn record_read_back(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        counts: bool,
+        maps: Option<&Buffer>,
+    ) {
+        let copy = |from: &Buffer, to: &Buffer| {
+            let region = [vk::BufferCopy::default().size(to.size.min(from.size))];
+            // SAFETY: `cmd` is recording; both buffers outlive the submission.
+            unsafe { device.cmd_copy_buffer(cmd, from.raw, to.raw, &region) };
+        };
+        // SAFETY: `cmd` is recording.
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                (
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::AccessFlags::SHADER_WRITE,
+                ),
+                (
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_READ,
+                ),
+            );
+        }
+        if counts {
+            copy(&self.counts, &self.counts_back);
+        }
+        if let (Some(maps), Some(back)) = (maps, &self.maps_back) {
+            copy(maps, back);
+        }
+        // SAFETY: `cmd` is recording; the host reads after the fence.
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                (
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                ),
+                (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+            );
+        }
+    }
+
+    /// The histograms read back: the plain FLIP's, then each region's eccentricity-aware one.
+    pub(super) fn histograms(&mut self) -> (ErrorHistogram, [ErrorHistogram; 3]) {
+        let counts = self
+            .counts_back
+            .read_u32s(HISTOGRAMS * (HISTOGRAM_BINS + 1));
+        let mut each = counts
+            .chunks_exact(HISTOGRAM_BINS + 1)
+            .map(ErrorHistogram::from_counts);
+        let mut next = || each.next().unwrap_or_default();
+        let plain = next();
+        (plain, [next(), next(), next()])
+    }
+
+    /// The maps read back by the last judgement that wanted them (FLIP, then
+    /// eccentricity-aware).
+    pub(super) fn maps(&self) -> Option<(Vec<f32>, Vec<f32>)> {
+        let bytes = self.maps_back.as_ref()?.mapped_slice();
+        let value = |i: usize| f32::from_le_bytes(bytes[4 * i..4 * i + 4].try_into().unwrap());
+        let pixels = self.pixels as usize;
+        Some((
+            (0..pixels).map(|i| value(2 * i)).collect(),
+            (0..pixels).map(|i| value(2 * i + 1)).collect(),
+        ))
+    }
+}
+
+/// A region's label.
+fn region_index(region: Region) -> u8 {
+    Region::ALL.iter().position(|&r| r == region).unwrap_or(0) as u8
+}
