@@ -117,6 +117,8 @@ pub const FLIP_VERTICAL_COMP: ShaderBinary = spirv!("flip_vertical.comp.spv");
 pub const FLIP_RESAMPLE_COMP: ShaderBinary = spirv!("flip_resample.comp.spv");
 pub const FLIP_COMBINE_COMP: ShaderBinary = spirv!("flip_combine.comp.spv");
 pub const FLIP_HISTOGRAM_COMP: ShaderBinary = spirv!("flip_histogram.comp.spv");
+/// Flicker on the device (`judge::GpuFlicker`): the excess change in luma, counted per region.
+pub const FLICKER_COMP: ShaderBinary = spirv!("flicker.comp.spv");
 
 /// Vertices of one mask fan (128 triangles; see `shaders/mask.vert`).
 pub const MASK_VERTICES: u32 = 128 * 3;
@@ -160,4 +162,5 @@ pub const COMPUTE: &[ShaderBinary] = &[
     FLIP_RESAMPLE_COMP,
     FLIP_COMBINE_COMP,
     FLIP_HISTOGRAM_COMP,
+    FLICKER_COMP,
 ];

@@ -12,6 +12,7 @@ mod fragment_counter;
 mod frames_in_flight;
 mod gltf;
 mod golden;
+mod gpu_flicker;
 mod judge;
 mod latency;
 mod lod;

@@ -15,11 +15,8 @@ use super::geometry::{
     Region,
 };
 use super::reduce::Reduction;
-use super::vulkan::{compute_pipeline, descriptor_pool, layouts};
-use crate::gpu::{
-    memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, MemoryLocation,
-    Pipeline, PipelineLayout, VkResultExt,
-};
+use super::vulkan::{compute_pipeline, SharedSet};
+use crate::gpu::{Buffer, Gpu, GpuError, MemoryLocation, Pipeline};
 use crate::metrics::acuity::LEVELS;
 use crate::metrics::{Acuity, EyeFlipErrors, EyePixels, FlipMaps, RgbaImage, HISTOGRAM_BINS};
 use crate::plan::ConfigError;
@@ -27,6 +24,12 @@ use crate::shaders::{
     FLIP_COMBINE_COMP, FLIP_HISTOGRAM_COMP, FLIP_HORIZONTAL_COMP, FLIP_PREPARE_COMP,
     FLIP_REDUCE_COMP, FLIP_RESAMPLE_COMP, FLIP_VERTICAL_COMP,
 };
+
+/// The storage buffers the passes share, by binding (see `shaders/flip_common.glsl`).
+const BINDINGS: u32 = 9;
+
+/// Histograms per judgement: the plain FLIP, then the eccentricity-aware FLIP per region.
+const HISTOGRAMS: usize = 1 + crate::metrics::Region::ALL.len();
 
 /// Pixels per workgroup side (`local_size_x`, `local_size_y`).
 const GROUP: u32 = 8;
@@ -76,10 +79,7 @@ pub struct FlipJudge {
     pyramid: Vec<PyramidLevel>,
     // Declared before the layouts and buffers they use, so they are dropped first.
     pipelines: [Pipeline; 7],
-    layout: PipelineLayout,
-    _pool: DescriptorPool,
-    _set_layout: DescriptorSetLayout,
-    set: vk::DescriptorSet,
+    shared: SharedSet,
     inputs: Buffer,
     positions: Buffer,
     maps: Buffer,
@@ -110,16 +110,8 @@ impl FlipJudge {
             storage | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
         )?;
-        let reduction = Reduction::new(gpu, pixels)?;
-        let (set_layout, layout) = layouts(gpu, std::mem::size_of::<Params>() as u32)?;
-        let pool = descriptor_pool(gpu)?;
-        let layouts = [set_layout.raw];
-        let info = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(pool.raw)
-            .set_layouts(&layouts);
-        // SAFETY: the pool has room for this one set of this layout.
-        let set = unsafe { gpu.device().allocate_descriptor_sets(&info) }
-            .vk("vkAllocateDescriptorSets")?[0];
+        let reduction = Reduction::new(gpu, pixels, HISTOGRAMS)?;
+        let shared = SharedSet::new(gpu, BINDINGS, std::mem::size_of::<Params>() as u32)?;
         let shaders = [
             FLIP_PREPARE_COMP,
             FLIP_REDUCE_COMP,
@@ -131,7 +123,7 @@ impl FlipJudge {
         ];
         let mut pipelines = Vec::with_capacity(shaders.len());
         for shader in &shaders {
-            pipelines.push(compute_pipeline(gpu, &layout, shader)?);
+            pipelines.push(compute_pipeline(gpu, &shared.layout, shader)?);
         }
         let judge = FlipJudge {
             gpu: gpu.clone(),
@@ -140,10 +132,7 @@ impl FlipJudge {
             depth: pyramid_depth(width, height),
             pyramid: Vec::new(),
             pipelines: pipelines.try_into().unwrap_or_else(|_| unreachable!()),
-            layout,
-            _pool: pool,
-            _set_layout: set_layout,
-            set,
+            shared,
             inputs,
             positions,
             maps,
@@ -195,7 +184,7 @@ impl FlipJudge {
             let limit = format!("the judge's size, {}x{}", self.width, self.height);
             return Err(ConfigError::new("judged pixels", size, limit).into());
         }
-        self.reduction.upload_labels(pixels);
+        self.reduction.upload_labels(&[pixels]);
         let bring = if keep_map {
             self.reduction.want_maps(&self.gpu)?;
             Bring::HistogramsAndMaps
@@ -204,10 +193,12 @@ impl FlipJudge {
         };
         let eccentricity = |x: u32, y: u32| pixels.at(x, y).map(|d| d.eccentricity_deg);
         self.run(reference, test, pixels.ppd, acuity, &eccentricity, bring)?;
-        let (plain, regions) = self.reduction.histograms();
+        let mut histograms = self.reduction.histograms().into_iter();
+        let mut next = || histograms.next().unwrap_or_default();
+        let plain = next();
         Ok(EyeFlipErrors {
             plain,
-            regions,
+            regions: [next(), next(), next()],
             map: if keep_map {
                 self.reduction.maps().map(|(_, eccentric)| eccentric)
             } else {
@@ -421,27 +412,7 @@ impl FlipJudge {
             &self.reduction.labels,
             &self.reduction.counts,
         ];
-        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
-            .iter()
-            .map(|b| {
-                [vk::DescriptorBufferInfo::default()
-                    .buffer(b.raw)
-                    .range(vk::WHOLE_SIZE)]
-            })
-            .collect();
-        let writes: Vec<_> = infos
-            .iter()
-            .enumerate()
-            .map(|(binding, info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(self.set)
-                    .dst_binding(binding as u32)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(info)
-            })
-            .collect();
-        // SAFETY: the set is not in use (every judgement waits for its submission).
-        unsafe { self.gpu.device().update_descriptor_sets(&writes, &[]) };
+        self.shared.bind(&self.gpu, &buffers);
     }
 
     /// Records a judgement: YCxCz, the pyramid, then per ppd level the filters and the errors;
@@ -539,35 +510,9 @@ impl FlipJudge {
 
     /// One pass over `extent` pixels, after everything recorded before it.
     fn dispatch(&self, cmd: vk::CommandBuffer, pass: usize, params: Params, extent: (u32, u32)) {
-        let device = self.gpu.device();
-        let shader_rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
-        let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
-        // SAFETY: `cmd` is recording; the pipeline, layout and set outlive the submission
-        // (`one_shot` waits for it); the push constants match the layout's range.
-        unsafe {
-            memory_barrier(device, cmd, (compute, shader_rw), (compute, shader_rw));
-            device.cmd_bind_pipeline(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.pipelines[pass].raw,
-            );
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.layout.raw,
-                0,
-                &[self.set],
-                &[],
-            );
-            device.cmd_push_constants(
-                cmd,
-                self.layout.raw,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                crate::gpu::pod_bytes(std::slice::from_ref(&params)),
-            );
-            device.cmd_dispatch(cmd, extent.0.div_ceil(GROUP), extent.1.div_ceil(GROUP), 1);
-        }
+        let groups = [extent.0.div_ceil(GROUP), extent.1.div_ceil(GROUP), 1];
+        let push = crate::gpu::pod_bytes(std::slice::from_ref(&params));
+        (self.shared).dispatch(self.gpu.device(), cmd, &self.pipelines[pass], push, groups);
     }
 }
 

@@ -1,14 +1,12 @@
-//! What a judgement brings back: each judged pixel's region goes up, the error maps are reduced
-//! to histograms on the device (`shaders/flip_histogram.comp`, the bins of
-//! [`ErrorHistogram`]), and only the histograms, and the maps when asked for, come back.
+//! What a judgement brings back: each judged pixel's region goes up, the per-pixel figures are
+//! reduced to histograms on the device (`shaders/flip_histogram.comp`, `shaders/flicker.comp`,
+//! the bins of [`ErrorHistogram`]), and only the histograms, and FLIP's maps when asked for,
+//! come back.
 
 use ash::vk;
 
 use crate::gpu::{memory_barrier, Buffer, Gpu, GpuError, MemoryLocation};
 use crate::metrics::{ErrorHistogram, EyePixels, Region, HISTOGRAM_BINS};
-
-/// Histograms per judgement: the plain FLIP, then the eccentricity-aware FLIP per region.
-const HISTOGRAMS: usize = 1 + Region::ALL.len();
 
 /// A pixel's label for a pixel the lens hides (the regions are 0, 1, 2 in `Region::ALL`'s
 /// order).
@@ -23,20 +21,22 @@ pub(super) struct Reduction {
     counts_back: Buffer,
     /// Both maps (FLIP, eccentricity-aware), interleaved, when asked for; made the first time.
     maps_back: Option<Buffer>,
+    /// Pixels per map (one eye's).
     pixels: u64,
+    histograms: usize,
 }
 
 impl Reduction {
-    /// The buffers for images of `pixels` pixels.
-    pub(super) fn new(gpu: &Gpu, pixels: u64) -> Result<Self, GpuError> {
+    /// The buffers for `labelled` pixels' labels and `histograms` histograms.
+    pub(super) fn new(gpu: &Gpu, labelled: u64, histograms: usize) -> Result<Self, GpuError> {
         use vk::BufferUsageFlags as Usage;
-        let count_bytes = 4 * (HISTOGRAMS * (HISTOGRAM_BINS + 1)) as u64;
+        let count_bytes = 4 * (histograms * (HISTOGRAM_BINS + 1)) as u64;
         let storage = Usage::STORAGE_BUFFER;
         Ok(Reduction {
             labels: Buffer::new(
                 gpu,
                 "flip labels",
-                pixels.div_ceil(4) * 4,
+                labelled.div_ceil(4) * 4,
                 storage,
                 MemoryLocation::CpuToGpu,
             )?,
@@ -55,13 +55,14 @@ impl Reduction {
                 MemoryLocation::GpuToCpu,
             )?,
             maps_back: None,
-            pixels,
+            pixels: labelled,
+            histograms,
         })
     }
 
-    /// Writes each pixel's label: its region, or hidden.
-    pub(super) fn upload_labels(&mut self, pixels: &EyePixels) {
-        let labels: Vec<u8> = (pixels.pixels.iter())
+    /// Writes each pixel's label, eye after eye: its region, or hidden.
+    pub(super) fn upload_labels(&mut self, eyes: &[&EyePixels]) {
+        let labels: Vec<u8> = (eyes.iter().flat_map(|e| &e.pixels))
             .map(|p| p.map_or(HIDDEN, |d| region_index(d.region)))
             .collect();
         self.labels.write(&labels);
@@ -153,17 +154,13 @@ impl Reduction {
         }
     }
 
-    /// The histograms read back: the plain FLIP's, then each region's eccentricity-aware one.
-    pub(super) fn histograms(&mut self) -> (ErrorHistogram, [ErrorHistogram; 3]) {
-        let counts = self
-            .counts_back
-            .read_u32s(HISTOGRAMS * (HISTOGRAM_BINS + 1));
-        let mut each = counts
+    /// The histograms read back, in the order the shader counts them.
+    pub(super) fn histograms(&mut self) -> Vec<ErrorHistogram> {
+        let counts = (self.counts_back).read_u32s(self.histograms * (HISTOGRAM_BINS + 1));
+        counts
             .chunks_exact(HISTOGRAM_BINS + 1)
-            .map(ErrorHistogram::from_counts);
-        let mut next = || each.next().unwrap_or_default();
-        let plain = next();
-        (plain, [next(), next(), next()])
+            .map(ErrorHistogram::from_counts)
+            .collect()
     }
 
     /// The maps read back by the last judgement that wanted them (FLIP, then

@@ -4,21 +4,106 @@
 use ash::vk;
 
 use crate::gpu::{
-    DescriptorPool, DescriptorSetLayout, Gpu, GpuError, Pipeline, PipelineLayout, VkResultExt,
+    memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, Pipeline,
+    PipelineLayout, VkResultExt,
 };
 use crate::shaders::ShaderBinary;
 
-/// The storage buffers the passes share, by binding (see `shaders/flip_common.glsl`).
-pub(super) const BINDINGS: u32 = 9;
+/// One descriptor set of storage buffers and a pipeline layout with push constants, which every
+/// pass of a judge shares.
+pub(super) struct SharedSet {
+    pub(super) set: vk::DescriptorSet,
+    pub(super) layout: PipelineLayout,
+    _pool: DescriptorPool,
+    _set_layout: DescriptorSetLayout,
+}
+
+impl SharedSet {
+    /// A set of `bindings` storage buffers, passes with `push_bytes` of push constants.
+    pub(super) fn new(gpu: &Gpu, bindings: u32, push_bytes: u32) -> Result<Self, GpuError> {
+        let (set_layout, layout) = layouts(gpu, bindings, push_bytes)?;
+        let pool = descriptor_pool(gpu, bindings)?;
+        let layouts = [set_layout.raw];
+        let info = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(pool.raw)
+            .set_layouts(&layouts);
+        // SAFETY: the pool has room for this one set of this layout.
+        let set = unsafe { gpu.device().allocate_descriptor_sets(&info) }
+            .vk("vkAllocateDescriptorSets")?[0];
+        Ok(SharedSet {
+            set,
+            layout,
+            _pool: pool,
+            _set_layout: set_layout,
+        })
+    }
+
+    /// Points binding i at `buffers[i]`; the set must not be in use (every judgement waits
+    /// for its submission).
+    pub(super) fn bind(&self, gpu: &Gpu, buffers: &[&Buffer]) {
+        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+            .iter()
+            .map(|b| {
+                [vk::DescriptorBufferInfo::default()
+                    .buffer(b.raw)
+                    .range(vk::WHOLE_SIZE)]
+            })
+            .collect();
+        let writes: Vec<_> = infos
+            .iter()
+            .enumerate()
+            .map(|(binding, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(self.set)
+                    .dst_binding(binding as u32)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(info)
+            })
+            .collect();
+        // SAFETY: the set is not in use (see above); the buffers are live.
+        unsafe { gpu.device().update_descriptor_sets(&writes, &[]) };
+    }
+
+    /// Records `pipeline` over `groups` workgroups with `push` as its push constants, after
+    /// everything the compute passes recorded before it.
+    pub(super) fn dispatch(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        pipeline: &Pipeline,
+        push: &[u8],
+        groups: [u32; 3],
+    ) {
+        let shader_rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
+        let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
+        // SAFETY: `cmd` is recording; the pipeline, layout and set outlive the submission
+        // (`one_shot` waits for it); the push constants match the layout's range.
+        unsafe {
+            memory_barrier(device, cmd, (compute, shader_rw), (compute, shader_rw));
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout.raw,
+                0,
+                &[self.set],
+                &[],
+            );
+            device.cmd_push_constants(cmd, self.layout.raw, vk::ShaderStageFlags::COMPUTE, 0, push);
+            device.cmd_dispatch(cmd, groups[0], groups[1], groups[2]);
+        }
+    }
+}
 
 /// The descriptor set layout (every binding a storage buffer) and the pipeline layout with
-/// `push_bytes` of push constants, which every pass shares.
-pub(super) fn layouts(
+/// `push_bytes` of push constants.
+fn layouts(
     gpu: &Gpu,
+    bindings: u32,
     push_bytes: u32,
 ) -> Result<(DescriptorSetLayout, PipelineLayout), GpuError> {
     let device = gpu.device();
-    let bindings: Vec<_> = (0..BINDINGS)
+    let bindings: Vec<_> = (0..bindings)
         .map(|b| {
             vk::DescriptorSetLayoutBinding::default()
                 .binding(b)
@@ -44,10 +129,10 @@ pub(super) fn layouts(
 }
 
 /// A pool for the one descriptor set.
-pub(super) fn descriptor_pool(gpu: &Gpu) -> Result<DescriptorPool, GpuError> {
+fn descriptor_pool(gpu: &Gpu, bindings: u32) -> Result<DescriptorPool, GpuError> {
     let sizes = [vk::DescriptorPoolSize::default()
         .ty(vk::DescriptorType::STORAGE_BUFFER)
-        .descriptor_count(BINDINGS)];
+        .descriptor_count(bindings)];
     let info = vk::DescriptorPoolCreateInfo::default()
         .max_sets(1)
         .pool_sizes(&sizes);

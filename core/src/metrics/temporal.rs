@@ -8,7 +8,7 @@
 //! periphery is, if anything, more sensitive to flicker than the fovea.
 
 use super::display::{EyePixels, Region};
-use super::{ErrorSummary, ImageError, RgbaImage};
+use super::{ErrorHistogram, ErrorSummary, ImageError, RgbaImage};
 
 /// Frames of an approximation and its reference, in order, reduced to their excess change.
 #[derive(Default)]
@@ -29,6 +29,21 @@ pub struct FlickerSummary {
     pub regions: [Option<ErrorSummary>; 3],
     /// Frame-to-frame changes measured (frames pushed less one).
     pub changes: usize,
+}
+
+impl FlickerSummary {
+    /// The summary of excess changes counted per region (in `Region::ALL`'s order) over
+    /// `changes` frame-to-frame changes, as `judge::GpuFlicker` counts them: within half a bin
+    /// of the exact figures ([`ErrorHistogram`]).
+    pub fn of_histograms(regions: &[ErrorHistogram; 3], changes: usize) -> Self {
+        let mut all = ErrorHistogram::default();
+        regions.iter().for_each(|r| all.merge(r));
+        FlickerSummary {
+            all: all.summary(),
+            regions: regions.each_ref().map(|r| r.summary()),
+            changes,
+        }
+    }
 }
 
 impl Flicker {

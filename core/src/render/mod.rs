@@ -42,6 +42,7 @@ internal_use!(command_log::{Command, CommandLog});
 pub use frame_input::{FrameInput, FrameRecord};
 pub use frames_in_flight::{BegunFrame, FramesInFlight};
 pub use output_targets::MAX_OUTPUT_IMAGES;
+pub(crate) use readback::OutputTexels;
 pub use readback::StereoImage;
 internal_use!(record::record_frame);
 internal_use!(recorder::{FrameDraws, Recorder, Rect});

@@ -7,7 +7,7 @@ use crate::gpu::{
     memory_barrier, transition_image, BlitSource, Buffer, GpuError, ImageState, MemoryLocation,
 };
 use crate::metrics::RgbaImage;
-use crate::plan::{AttachmentId, TargetLayout};
+use crate::plan::{AttachmentId, Format, TargetLayout};
 use crate::view::Eye;
 
 /// The two eyes' images of the last frame.
@@ -39,6 +39,21 @@ impl StereoImage {
     }
 }
 
+/// Where a frame's two eyes lie in a buffer its outputs were copied into
+/// ([`Renderer::output_texels`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct OutputTexels {
+    /// The outputs' format.
+    pub format: Format,
+    /// One eye's size.
+    pub width: u32,
+    pub height: u32,
+    /// The bytes the copy fills.
+    pub bytes: u64,
+    /// Each eye's first texel (counted from the buffer's start) and its rows' pitch in texels.
+    pub eyes: [(u64, u32); 2],
+}
+
 impl Renderer {
     /// Copies the last frame's stereo image back to the CPU.
     pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
@@ -59,74 +74,22 @@ impl Renderer {
                 MemoryLocation::GpuToCpu,
             )?);
         }
-        // Every layer of every output, one after the other.
-        let mut copies = Vec::new();
-        let mut offset = 0;
-        for &id in &outputs {
-            let a = &self.plan.attachments[id];
-            let region = vk::BufferImageCopy::default()
-                .buffer_offset(offset)
-                .image_subresource(vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: a.layers,
-                })
-                .image_extent(vk::Extent3D {
-                    width: a.width,
-                    height: a.height,
-                    depth: 1,
-                });
-            copies.push((self.output_image(id), region));
-            offset += a.bytes();
-        }
-        let device = self.gpu.device();
         let buffer_raw = self.readback.as_ref().expect("created above").raw;
-        // The outputs' render passes left them in TRANSFER_SRC_OPTIMAL; an image handed in
-        // (a runtime's) in COLOR_ATTACHMENT_OPTIMAL, where it goes back after the copy.
-        let external = self.plan.external_output;
-        let range = vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            base_mip_level: 0,
-            level_count: 1,
-            base_array_layer: 0,
-            layer_count: self.plan.attachments[outputs[0]].layers,
-        };
-        let attachment: ImageState = (
-            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-        );
-        let copying: ImageState = (
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_READ,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-        );
-        self.gpu.one_shot(|cmd| unsafe {
-            for (image, region) in &copies {
-                if external {
-                    transition_image(device, cmd, *image, range, attachment, copying);
-                }
-                device.cmd_copy_image_to_buffer(
+        let device = self.gpu.device();
+        self.gpu.one_shot(|cmd| {
+            self.record_output_copy(cmd, buffer_raw, 0);
+            // SAFETY: `cmd` is recording; the host reads the buffer after the fence.
+            unsafe {
+                memory_barrier(
+                    device,
                     cmd,
-                    *image,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    buffer_raw,
-                    &[*region],
-                );
-                if external {
-                    transition_image(device, cmd, *image, range, copying, attachment);
-                }
-            }
-            memory_barrier(
-                device,
-                cmd,
-                (
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                ),
-                (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-            );
+                    (
+                        vk::PipelineStageFlags::TRANSFER,
+                        vk::AccessFlags::TRANSFER_WRITE,
+                    ),
+                    (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+                )
+            };
         })?;
         let buffer = self.readback.as_mut().expect("created above");
         let bytes = &buffer.mapped()[..size as usize];
@@ -154,6 +117,106 @@ impl Renderer {
                 }
             }
         })
+    }
+
+    /// Where the last frame's eyes lie once [`Renderer::record_output_copy`] has copied its
+    /// outputs into a buffer.
+    pub(crate) fn output_texels(&self) -> OutputTexels {
+        let outputs = self.plan.outputs();
+        let first = &self.plan.attachments[outputs[0]];
+        let (w, h) = (first.width, first.height);
+        let bytes = outputs
+            .iter()
+            .map(|&i| self.plan.attachments[i].bytes())
+            .sum();
+        let layer = u64::from(w) * u64::from(h);
+        let eyes = match self.plan.output_layout() {
+            TargetLayout::Layered | TargetLayout::PerEye => [(0, w), (layer, w)],
+            TargetLayout::SideBySide => [(0, w), (u64::from(w / 2), w)],
+        };
+        let width = match self.plan.output_layout() {
+            TargetLayout::SideBySide => w / 2,
+            _ => w,
+        };
+        OutputTexels {
+            format: first.format,
+            width,
+            height: h,
+            bytes,
+            eyes,
+        }
+    }
+
+    /// Records copying every layer of every output of the last frame, one after the other,
+    /// into `buffer` from byte `start` ([`OutputTexels::bytes`] of it; a transfer
+    /// destination); the frame must have finished. A barrier before reading the copy is the
+    /// caller's.
+    pub(crate) fn record_output_copy(
+        &self,
+        cmd: vk::CommandBuffer,
+        buffer: vk::Buffer,
+        start: u64,
+    ) {
+        let outputs = self.plan.outputs();
+        let mut copies = Vec::new();
+        let mut offset = start;
+        for &id in &outputs {
+            let a = &self.plan.attachments[id];
+            let region = vk::BufferImageCopy::default()
+                .buffer_offset(offset)
+                .image_subresource(vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: a.layers,
+                })
+                .image_extent(vk::Extent3D {
+                    width: a.width,
+                    height: a.height,
+                    depth: 1,
+                });
+            copies.push((self.output_image(id), region));
+            offset += a.bytes();
+        }
+        let device = self.gpu.device();
+        // The outputs' render passes left them in TRANSFER_SRC_OPTIMAL; an image handed in
+        // (a runtime's) in COLOR_ATTACHMENT_OPTIMAL, where it goes back after the copy.
+        let external = self.plan.external_output;
+        let range = vk::ImageSubresourceRange {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: self.plan.attachments[outputs[0]].layers,
+        };
+        let attachment: ImageState = (
+            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        );
+        let copying: ImageState = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_READ,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        );
+        // SAFETY: `cmd` is recording; the images and `buffer` outlive its submission.
+        unsafe {
+            for (image, region) in &copies {
+                if external {
+                    transition_image(device, cmd, *image, range, attachment, copying);
+                }
+                device.cmd_copy_image_to_buffer(
+                    cmd,
+                    *image,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    buffer,
+                    &[*region],
+                );
+                if external {
+                    transition_image(device, cmd, *image, range, copying, attachment);
+                }
+            }
+        }
     }
 
     /// The last frame's eye images where they lie (left, right) for a swapchain to show
