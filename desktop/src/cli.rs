@@ -20,8 +20,8 @@ pub struct Cli {
     /// Enable VK_LAYER_KHRONOS_validation and fail on any message (env FOVEATE_VALIDATION=1).
     #[arg(long, global = true)]
     validation: bool,
-    /// Where FLIP judges frames: gpu (compute passes on the rendering device) or cpu (NVIDIA's
-    /// reference, the oracle; slow).
+    /// Where frames are judged (FLIP, and flicker): gpu (compute passes on the rendering
+    /// device) or cpu (NVIDIA's reference FLIP and the CPU flicker measure, the oracles; slow).
     #[arg(long, global = true, value_enum, default_value_t)]
     metric: crate::metric::Metric,
 }

@@ -1,6 +1,7 @@
-//! Which FLIP judges the commands' frames (`--metric`): the GPU judge on the device that
-//! rendered them (the default), or NVIDIA's reference FLIP on the CPU, the oracle the GPU judge
-//! is tested against. Chosen once, for the whole run.
+//! Where the commands' frames are judged (`--metric`): on the device that rendered them (the
+//! GPU judge and `judge::GpuFlicker`, the default), or on the CPU (NVIDIA's reference FLIP and
+//! `metrics::temporal::Flicker`, the oracles the GPU is tested against). Chosen once, for the
+//! whole run.
 
 use std::sync::OnceLock;
 
@@ -9,7 +10,7 @@ use foveate::judge::GpuFlip;
 use foveate::metrics::flip::CpuFlip;
 use foveate::metrics::FlipMapper;
 
-/// Where FLIP is computed.
+/// Where frames are judged.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Metric {
     /// Compute passes on the Vulkan device that rendered the frames.
@@ -26,9 +27,14 @@ pub fn choose(metric: Metric) {
     let _ = CHOSEN.set(metric);
 }
 
+/// The run's metric.
+pub fn chosen() -> Metric {
+    CHOSEN.get().copied().unwrap_or_default()
+}
+
 /// A judge of the run's metric, on `gpu` when it is the GPU's.
 pub fn flip_mapper(gpu: &Gpu) -> Box<dyn FlipMapper> {
-    match CHOSEN.get().copied().unwrap_or_default() {
+    match chosen() {
         Metric::Gpu => Box::new(GpuFlip::new(gpu)),
         Metric::Cpu => Box::new(CpuFlip),
     }

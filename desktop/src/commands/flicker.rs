@@ -12,6 +12,7 @@ use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{simulated_trace, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
+use foveate::judge::GpuFlicker;
 use foveate::metrics::perceptual::{perceptual_error, Maps};
 use foveate::metrics::temporal::{Flicker, FlickerSummary};
 use foveate::metrics::Acuity;
@@ -222,6 +223,29 @@ fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene) -> [Motion; 2] {
     ]
 }
 
+/// One configuration's flicker along a motion: measured on the GPU where the frames lie (the
+/// default), or on frames read back, by the CPU measure (`--metric cpu`, its oracle).
+enum Meter {
+    Gpu(Box<GpuFlicker>),
+    Cpu(Flicker),
+}
+
+impl Meter {
+    fn new(gpu: &Gpu) -> Result<Self> {
+        Ok(match crate::metric::chosen() {
+            crate::metric::Metric::Gpu => Meter::Gpu(Box::new(GpuFlicker::new(gpu)?)),
+            crate::metric::Metric::Cpu => Meter::Cpu(Flicker::default()),
+        })
+    }
+
+    fn summary(&self) -> FlickerSummary {
+        match self {
+            Meter::Gpu(m) => m.summary(),
+            Meter::Cpu(m) => m.summary(),
+        }
+    }
+}
+
 /// What measuring one motion needs: every configuration's renderer is made from these.
 struct MotionRun<'a> {
     gpu: &'a Gpu,
@@ -235,8 +259,8 @@ struct MotionRun<'a> {
     spent: &'a Spent,
 }
 
-/// Where a run's wall time went: rendering and reading back the frames, measuring flicker,
-/// judging with eFLIP (and how many judgements).
+/// Where a run's wall time went: rendering the frames (and reading back those a judge on the
+/// host needs), measuring flicker, judging with eFLIP (and how many judgements).
 #[derive(Default)]
 struct Spent {
     rendering_s: Cell<f64>,
@@ -260,7 +284,7 @@ impl Spent {
             ),
         };
         format!(
-            "time: rendering and reading back {:.0} s, flicker {:.0} s{judged}",
+            "time: rendering {:.0} s, flicker {:.0} s{judged}",
             self.rendering_s.get(),
             self.flicker_s.get()
         )
@@ -280,7 +304,10 @@ impl MotionRun<'_> {
             settle(&mut renderer, first_pose)?;
             renderers.push(renderer);
         }
-        let mut meters: Vec<Flicker> = self.configs.iter().map(|_| Flicker::default()).collect();
+        let mut meters = (self.configs.iter())
+            .map(|_| Meter::new(self.gpu))
+            .collect::<Result<Vec<_>>>()?;
+        let on_cpu = meters.iter().any(|m| matches!(m, Meter::Cpu(_)));
         let mut judged: Vec<Vec<ErrorSummary>> = self.configs.iter().map(|_| Vec::new()).collect();
         let mut flip = crate::metric::flip_mapper(self.gpu);
         // Each configuration's pixel map, made anew only when the gaze moves.
@@ -290,14 +317,18 @@ impl MotionRun<'_> {
             if crate::interrupt::requested() {
                 return Ok(None);
             }
-            // Frames of every configuration interleaved, the reference first.
+            // Frames of every configuration interleaved, the reference first; read back only
+            // when a judge on the host needs them.
             self.bar.set_message(format!("{}: rendering", motion.name));
             let rendering = Instant::now();
+            let judge_now = self.flip.is_some_and(|every| frame % every as usize == 0);
             let mut images = Vec::new();
             for renderer in &mut renderers {
                 renderer.set_gaze([gaze; 2])?;
                 renderer.render_frame(pose)?;
-                images.push(renderer.readback()?);
+                if judge_now || on_cpu {
+                    images.push(renderer.readback()?);
+                }
             }
             Spent::add(&self.spent.rendering_s, rendering);
             for (i, (meter, map)) in meters.iter_mut().zip(&mut maps).enumerate() {
@@ -307,9 +338,12 @@ impl MotionRun<'_> {
                 }
                 let (_, pixels) = map.as_ref().expect("just made");
                 let measuring = Instant::now();
-                meter.push(images[0].eyes(), images[i + 1].eyes(), pixels)?;
+                match meter {
+                    Meter::Gpu(m) => m.push(&renderers[0], &renderers[i + 1], pixels)?,
+                    Meter::Cpu(m) => m.push(images[0].eyes(), images[i + 1].eyes(), pixels)?,
+                }
                 Spent::add(&self.spent.flicker_s, measuring);
-                if self.flip.is_some_and(|every| frame % every as usize == 0) {
+                if judge_now {
                     self.bar.set_message(format!("{}: judging", motion.name));
                     let judging = Instant::now();
                     let error = perceptual_error(
