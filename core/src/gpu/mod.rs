@@ -31,4 +31,4 @@ pub use swapchain::{Acquired, Presented, Swapchain, SwapchainImage};
 
 pub(crate) use cache::{Description, ObjectCache, PipelineKey};
 pub(crate) use context::DeviceOwner;
-pub(crate) use submit::{memory_barrier, transition_image, ImageState};
+pub(crate) use submit::{access, memory_barrier, transition_image, ImageState};

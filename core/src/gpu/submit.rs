@@ -160,6 +160,27 @@ pub(crate) unsafe fn transition_image(
     };
 }
 
+/// The (stage, access) pairs the judge's and the readback's barriers name.
+pub(crate) mod access {
+    use ash::vk::{AccessFlags as A, PipelineStageFlags as S};
+
+    /// A transfer's writes (copies, fills).
+    pub const TRANSFER_WRITE: (S, A) = (S::TRANSFER, A::TRANSFER_WRITE);
+    /// A transfer's reads (the source of a copy).
+    pub const TRANSFER_READ: (S, A) = (S::TRANSFER, A::TRANSFER_READ);
+    /// A compute shader's writes.
+    pub const COMPUTE_WRITE: (S, A) = (S::COMPUTE_SHADER, A::SHADER_WRITE);
+    /// A compute shader's reads.
+    pub const COMPUTE_READ: (S, A) = (S::COMPUTE_SHADER, A::SHADER_READ);
+    /// A compute shader's reads and writes.
+    pub const COMPUTE_READ_WRITE: (S, A) = (
+        S::COMPUTE_SHADER,
+        A::from_raw(A::SHADER_READ.as_raw() | A::SHADER_WRITE.as_raw()),
+    );
+    /// The host's reads of mapped memory, after a fence.
+    pub const HOST_READ: (S, A) = (S::HOST, A::HOST_READ);
+}
+
 /// A global memory barrier: what `src` did, available to and visible for `dst`.
 ///
 /// # Safety

@@ -6,7 +6,7 @@ use ash::vk;
 
 use super::reduce::Reduction;
 use super::vulkan::{compute_pipeline, SharedSet};
-use crate::gpu::{memory_barrier, Buffer, Gpu, GpuError, MemoryLocation, Pipeline};
+use crate::gpu::{access, memory_barrier, Buffer, Gpu, GpuError, MemoryLocation, Pipeline};
 use crate::metrics::temporal::FlickerSummary;
 use crate::metrics::{ErrorHistogram, EyePixels, JudgeError, Region, HISTOGRAM_BINS};
 use crate::plan::{ConfigError, Format};
@@ -195,17 +195,6 @@ fn image_params(texels: &OutputTexels, first_word: u64) -> [i32; 4] {
 fn copied(device: &ash::Device, cmd: vk::CommandBuffer) {
     // SAFETY: `cmd` is recording.
     unsafe {
-        memory_barrier(
-            device,
-            cmd,
-            (
-                vk::PipelineStageFlags::TRANSFER,
-                vk::AccessFlags::TRANSFER_WRITE,
-            ),
-            (
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_READ,
-            ),
-        );
+        memory_barrier(device, cmd, access::TRANSFER_WRITE, access::COMPUTE_READ);
     }
 }

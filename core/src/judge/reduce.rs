@@ -5,7 +5,7 @@
 
 use ash::vk;
 
-use crate::gpu::{memory_barrier, Buffer, Gpu, GpuError, MemoryLocation};
+use crate::gpu::{access, memory_barrier, Buffer, Gpu, GpuError, MemoryLocation};
 use crate::metrics::{ErrorHistogram, EyePixels, Region, HISTOGRAM_BINS};
 
 /// A pixel's label for a pixel the lens hides (the regions are 0, 1, 2 in `Region::ALL`'s
@@ -93,14 +93,8 @@ impl Reduction {
             memory_barrier(
                 device,
                 cmd,
-                (
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                ),
-                (
-                    vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-                ),
+                access::TRANSFER_WRITE,
+                access::COMPUTE_READ_WRITE,
             );
         }
     }
@@ -121,18 +115,7 @@ impl Reduction {
         };
         // SAFETY: `cmd` is recording.
         unsafe {
-            memory_barrier(
-                device,
-                cmd,
-                (
-                    vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::AccessFlags::SHADER_WRITE,
-                ),
-                (
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::AccessFlags::TRANSFER_READ,
-                ),
-            );
+            memory_barrier(device, cmd, access::COMPUTE_WRITE, access::TRANSFER_READ);
         }
         if counts {
             copy(&self.counts, &self.counts_back);
@@ -142,15 +125,7 @@ impl Reduction {
         }
         // SAFETY: `cmd` is recording; the host reads after the fence.
         unsafe {
-            memory_barrier(
-                device,
-                cmd,
-                (
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                ),
-                (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-            );
+            memory_barrier(device, cmd, access::TRANSFER_WRITE, access::HOST_READ);
         }
     }
 

@@ -4,7 +4,7 @@
 use ash::vk;
 
 use crate::gpu::{
-    memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, Pipeline,
+    access, memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, Pipeline,
     PipelineLayout, VkResultExt,
 };
 use crate::shaders::ShaderBinary;
@@ -74,12 +74,11 @@ impl SharedSet {
         push: &[u8],
         groups: [u32; 3],
     ) {
-        let shader_rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
-        let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
         // SAFETY: `cmd` is recording; the pipeline, layout and set outlive the submission
         // (`one_shot` waits for it); the push constants match the layout's range.
         unsafe {
-            memory_barrier(device, cmd, (compute, shader_rw), (compute, shader_rw));
+            let rw = access::COMPUTE_READ_WRITE;
+            memory_barrier(device, cmd, rw, rw);
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
             device.cmd_bind_descriptor_sets(
                 cmd,

@@ -4,7 +4,8 @@ use ash::vk;
 
 use super::renderer::Renderer;
 use crate::gpu::{
-    memory_barrier, transition_image, BlitSource, Buffer, GpuError, ImageState, MemoryLocation,
+    access, memory_barrier, transition_image, BlitSource, Buffer, GpuError, ImageState,
+    MemoryLocation,
 };
 use crate::metrics::RgbaImage;
 use crate::plan::{AttachmentId, Format, TargetLayout};
@@ -79,17 +80,7 @@ impl Renderer {
         self.gpu.one_shot(|cmd| {
             self.record_output_copy(cmd, buffer_raw, 0);
             // SAFETY: `cmd` is recording; the host reads the buffer after the fence.
-            unsafe {
-                memory_barrier(
-                    device,
-                    cmd,
-                    (
-                        vk::PipelineStageFlags::TRANSFER,
-                        vk::AccessFlags::TRANSFER_WRITE,
-                    ),
-                    (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-                )
-            };
+            unsafe { memory_barrier(device, cmd, access::TRANSFER_WRITE, access::HOST_READ) };
         })?;
         let buffer = self.readback.as_mut().expect("created above");
         let bytes = &buffer.mapped()[..size as usize];
