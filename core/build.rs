@@ -77,6 +77,7 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
     ("flip_resample.comp", "flip_resample.comp.spv", &[]),
     ("flip_combine.comp", "flip_combine.comp.spv", &[]),
     ("flip_histogram.comp", "flip_histogram.comp.spv", &[]),
+    ("flip_gather.comp", "flip_gather.comp.spv", &[]),
     ("flicker.comp", "flicker.comp.spv", &[]),
     ("far_composite.frag", "far_composite.frag.spv", &[]),
     (

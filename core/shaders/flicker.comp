@@ -25,33 +25,12 @@ layout(std430, set = 0, binding = 2) readonly buffer Labels { uint l[]; } labels
 // The histograms: one per region, `bins` + 1 counts each (exact zeros first).
 layout(std430, set = 0, binding = 3) buffer Counts { uint c[]; } counts;
 
-// A linear value as its 8-bit sRGB code (scene::textures::encode_srgb).
-uint srgb8(float linear) {
-    float l = clamp(linear, 0.0, 1.0);
-    float c = l <= 0.0031308 ? 12.92 * l : 1.055 * pow(l, 1.0 / 2.4) - 0.055;
-    return uint(round(clamp(c, 0.0, 1.0) * 255.0));
-}
-
-// The 8-bit sRGB colour of texel `t` of an image described by `image`.
-uvec3 colour(ivec4 image, uint t) {
-    uint base = uint(image.y);
-    if (image.x == 2) {
-        vec2 rg = unpackHalf2x16(frames.w[base + 2u * t]);
-        vec2 ba = unpackHalf2x16(frames.w[base + 2u * t + 1u]);
-        return uvec3(srgb8(rg.x), srgb8(rg.y), srgb8(ba.x));
-    }
-    uint w = frames.w[base + t];
-    uvec3 c = uvec3(w & 0xffu, (w >> 8) & 0xffu, (w >> 16) & 0xffu);
-    if (image.x == 1) {
-        c = uvec3(srgb8(c.r / 255.0), srgb8(c.g / 255.0), srgb8(c.b / 255.0));
-    }
-    return c;
-}
+#include "output_texels.glsl"
 
 // Luma × 10000 × 255 of pixel `p` of `eye`.
 uint luma_of(ivec4 image, ivec2 p, uint eye) {
     uint t = eye * uint(image.z) + uint(p.y) * uint(image.w) + uint(p.x);
-    uvec3 c = colour(image, t);
+    uvec3 c = outputColour(image, t);
     return 2126u * c.r + 7152u * c.g + 722u * c.b;
 }
 

@@ -26,10 +26,13 @@ layout(push_constant) uniform Params {
     ivec2 rowsSize;    // how many columns and texel rows they hold
     int srcPad;        // reduce: texels the source level extends past the image on each side
     int bins;          // histogram: bins over (0, 1], besides the one for exact zeros
+    ivec4 reference;   // gather: the reference's output, as `output_texels.glsl` describes it
+    ivec4 test;        // gather: the test's
 } pc;
 
-// Both images as 8-bit sRGB RGBA: the reference's pixels, then the test's.
-layout(std430, set = 0, binding = 0) readonly buffer Inputs { uint rgba[]; } inputs;
+// Both images as 8-bit sRGB RGBA: the reference's pixels, then the test's (uploaded, or
+// gathered from the renderers' outputs).
+layout(std430, set = 0, binding = 0) buffer Inputs { uint rgba[]; } inputs;
 // Every pyramid level: its reference image, then its test image, row after row.
 layout(std430, set = 0, binding = 1) buffer Pyramid { vec4 texel[]; } pyramid;
 // The horizontal pass's sums, four per level pixel: colour (Y, Cx, Cz's two Gaussians) of the
@@ -50,6 +53,8 @@ layout(std430, set = 0, binding = 7) readonly buffer Labels { uint l[]; } labels
 // The histograms: the plain FLIP's, then the eccentricity-aware FLIP's per region, each
 // `bins` + 1 counts (exact zeros first).
 layout(std430, set = 0, binding = 8) buffer Counts { uint c[]; } counts;
+// Both renderers' outputs as copied (the gather pass's input): the reference's, then the test's.
+layout(std430, set = 0, binding = 9) readonly buffer Frames { uint w[]; } frames;
 
 const vec3 ILLUMINANT = vec3(0.950428545, 1.0, 1.088900371);
 

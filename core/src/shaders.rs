@@ -117,6 +117,8 @@ pub const FLIP_VERTICAL_COMP: ShaderBinary = spirv!("flip_vertical.comp.spv");
 pub const FLIP_RESAMPLE_COMP: ShaderBinary = spirv!("flip_resample.comp.spv");
 pub const FLIP_COMBINE_COMP: ShaderBinary = spirv!("flip_combine.comp.spv");
 pub const FLIP_HISTOGRAM_COMP: ShaderBinary = spirv!("flip_histogram.comp.spv");
+/// One eye of two renderers' outputs, copied on the device, into the judge's inputs.
+pub const FLIP_GATHER_COMP: ShaderBinary = spirv!("flip_gather.comp.spv");
 /// Flicker on the device (`judge::GpuFlicker`): the excess change in luma, counted per region.
 pub const FLICKER_COMP: ShaderBinary = spirv!("flicker.comp.spv");
 
@@ -162,5 +164,6 @@ pub const COMPUTE: &[ShaderBinary] = &[
     FLIP_RESAMPLE_COMP,
     FLIP_COMBINE_COMP,
     FLIP_HISTOGRAM_COMP,
+    FLIP_GATHER_COMP,
     FLICKER_COMP,
 ];

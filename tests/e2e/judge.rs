@@ -3,9 +3,9 @@
 //! (`metrics::flip::eccentric_flip_map`), over rendered frames and synthetic images.
 
 use foveate::foveation::FoveationConfig;
-use foveate::judge::{reference_config, FlipJudge, LiveJudge};
+use foveate::judge::{reference_config, FlipJudge, GpuFlip, LiveJudge};
 use foveate::metrics::flip::eccentric_flip_map;
-use foveate::metrics::perceptual::Maps;
+use foveate::metrics::perceptual::{perceptual_error, Maps};
 use foveate::metrics::{
     Acuity, ErrorHistogram, ErrorSummary, EyePixels, FlipMaps, Region, RgbaImage,
 };
@@ -366,5 +366,80 @@ fn the_gpus_histograms_count_the_maps_they_reduce() {
         "the map comes back only when asked for"
     );
     assert_eq!(dropped.regions, kept.regions);
+    assert_validation_clean(&gpu);
+}
+
+/// Judging two renderers' last frames where they lie on the device (`GpuFlip::frame_errors`:
+/// copied and gathered there, never read back) gives the figures of judging their read-back
+/// eyes: bin for bin with an sRGB output, within a hair with a half-float one (its sRGB
+/// encoding done by the GPU instead of the host). The eyes swapped (each eye's pixels judged
+/// against the other's map) do not agree: the comparison can fail. Mutations: the gather not
+/// taking hidden pixels from the reference, or reading the left eye for both, each fail.
+#[test]
+fn judging_outputs_where_they_lie_equals_judging_read_back_frames() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let gaze = Vec2::new(0.3, -0.2);
+    let base = RenderConfig {
+        resolution: Some(Resolution::square(96)),
+        foveation: Some(FoveationConfig::default()),
+        ..RenderConfig::default()
+    };
+    let half_floats = RenderConfig {
+        output_format: foveate::plan::OutputFormat::Float16,
+        ..base.clone()
+    };
+    let acuity = Acuity::default();
+    for (name, config, exact) in [("sRGB", base, true), ("half floats", half_floats, false)] {
+        let render = |config: &RenderConfig| {
+            let plan = foveate::plan(&scene, config, gpu.caps()).unwrap();
+            let mut renderer = Renderer::new(&gpu, &plan, &scene).unwrap();
+            renderer.set_gaze([gaze; 2]).unwrap();
+            renderer.render_frame(scene.head).unwrap();
+            renderer
+        };
+        let (mut reference, mut test) = (render(&reference_config(&config)), render(&config));
+        let plan = test.plan().clone();
+        let pixels = EyePixels::both(&plan, gaze, plan.foveation.as_ref());
+        let mut flip = GpuFlip::new(&gpu);
+        let in_place = flip
+            .frame_errors(&reference, &test, &pixels, acuity, Maps::Drop)
+            .unwrap();
+        let swapped = [pixels[1].clone(), pixels[0].clone()];
+        let off = flip
+            .frame_errors(&reference, &test, &swapped, acuity, Maps::Drop)
+            .unwrap();
+        let (want, got) = (reference.readback().unwrap(), test.readback().unwrap());
+        let read_back = perceptual_error(
+            want.eyes(),
+            got.eyes(),
+            &pixels,
+            acuity,
+            &mut flip,
+            Maps::Drop,
+        )
+        .unwrap();
+        let close = |a: Option<ErrorSummary>, b: Option<ErrorSummary>, tolerance: f64| {
+            let (a, b) = (a.unwrap(), b.unwrap());
+            a.pixels == b.pixels
+                && (a.mean - b.mean).abs() <= tolerance
+                && (a.p99 - b.p99).abs() <= tolerance
+        };
+        let tolerance = if exact { 0.0 } else { 1e-3 };
+        assert!(
+            close(in_place.flip, read_back.flip, tolerance),
+            "{name}: {in_place:?}\n{read_back:?}"
+        );
+        for (a, b) in in_place.regions.iter().zip(&read_back.regions) {
+            assert!(
+                close(*a, *b, tolerance),
+                "{name}: {in_place:?}\n{read_back:?}"
+            );
+        }
+        assert!(
+            !close(off.eccentric, read_back.eccentric, 1e-3),
+            "{name}: the eyes swapped agree"
+        );
+    }
     assert_validation_clean(&gpu);
 }

@@ -4,12 +4,13 @@
 
 use ash::vk;
 
+use super::outputs::image_params;
 use super::reduce::Reduction;
 use super::vulkan::{compute_pipeline, SharedSet};
 use crate::gpu::{access, memory_barrier, Buffer, Gpu, GpuError, MemoryLocation, Pipeline};
 use crate::metrics::temporal::FlickerSummary;
 use crate::metrics::{ErrorHistogram, EyePixels, JudgeError, Region, HISTOGRAM_BINS};
-use crate::plan::{ConfigError, Format};
+use crate::plan::ConfigError;
 use crate::render::{OutputTexels, Renderer};
 use crate::shaders::FLICKER_COMP;
 
@@ -98,8 +99,9 @@ impl GpuFlicker {
             size: [texels[0].width as i32, texels[0].height as i32],
             bins: HISTOGRAM_BINS as i32,
             compare: i32::from(compare),
-            reference: image_params(&texels[0], 0),
-            test: image_params(&texels[1], texels[0].bytes / 4),
+            // The shader adds eye × the right eye's first texel: the right eye's parameters.
+            reference: image_params(&texels[0], 0, 1),
+            test: image_params(&texels[1], texels[0].bytes / 4, 1),
         };
         let device = self.gpu.device();
         let sized = self.sized.as_ref().expect("sized above");
@@ -173,22 +175,6 @@ impl GpuFlicker {
         });
         Ok(())
     }
-}
-
-/// An image's push constants: its format, its first word in the frames buffer, its right eye's
-/// first texel and its rows' pitch in texels.
-fn image_params(texels: &OutputTexels, first_word: u64) -> [i32; 4] {
-    let format = match texels.format {
-        Format::Rgba8Unorm => 1,
-        Format::Rgba16F => 2,
-        _ => 0,
-    };
-    [
-        format,
-        first_word as i32,
-        texels.eyes[1].0 as i32,
-        texels.eyes[0].1 as i32,
-    ]
 }
 
 /// Records the barrier between the outputs' copies and the pass that reads them.

@@ -20,13 +20,14 @@ use crate::gpu::{Buffer, Gpu, GpuError, MemoryLocation, Pipeline};
 use crate::metrics::acuity::LEVELS;
 use crate::metrics::{Acuity, EyeFlipErrors, EyePixels, FlipMaps, RgbaImage, HISTOGRAM_BINS};
 use crate::plan::ConfigError;
+use crate::render::Renderer;
 use crate::shaders::{
-    FLIP_COMBINE_COMP, FLIP_HISTOGRAM_COMP, FLIP_HORIZONTAL_COMP, FLIP_PREPARE_COMP,
-    FLIP_REDUCE_COMP, FLIP_RESAMPLE_COMP, FLIP_VERTICAL_COMP,
+    FLIP_COMBINE_COMP, FLIP_GATHER_COMP, FLIP_HISTOGRAM_COMP, FLIP_HORIZONTAL_COMP,
+    FLIP_PREPARE_COMP, FLIP_REDUCE_COMP, FLIP_RESAMPLE_COMP, FLIP_VERTICAL_COMP,
 };
 
 /// The storage buffers the passes share, by binding (see `shaders/flip_common.glsl`).
-const BINDINGS: u32 = 9;
+const BINDINGS: u32 = 10;
 
 /// Histograms per judgement: the plain FLIP, then the eccentricity-aware FLIP per region.
 const HISTOGRAMS: usize = 1 + crate::metrics::Region::ALL.len();
@@ -37,7 +38,7 @@ const GROUP: u32 = 8;
 /// The passes' push constants (`Params` in `shaders/flip_common.glsl`).
 #[repr(C)]
 #[derive(Clone, Copy, Default)]
-struct Params {
+pub(super) struct Params {
     full: [i32; 2],
     size: [i32; 2],
     src: i32,
@@ -55,6 +56,10 @@ struct Params {
     rows_size: [i32; 2],
     src_pad: i32,
     bins: i32,
+    /// std430 aligns the ivec4s that follow to 16 bytes.
+    _align: [i32; 2],
+    reference: [i32; 4],
+    test: [i32; 4],
 }
 
 /// One ppd level to judge: its filters' taps in the taps buffer, at which pyramid level.
@@ -70,17 +75,20 @@ struct LevelWork {
 /// FLIP judged on the GPU for images of one size: the compute pipelines and the buffers, made
 /// once and reused by every judgement.
 pub struct FlipJudge {
-    gpu: Gpu,
-    width: u32,
-    height: u32,
+    pub(super) gpu: Gpu,
+    pub(super) width: u32,
+    pub(super) height: u32,
     /// How many pyramid levels the image allows (the judged resolution included).
     depth: u32,
     /// This judgement's pyramid.
     pyramid: Vec<PyramidLevel>,
     // Declared before the layouts and buffers they use, so they are dropped first.
-    pipelines: [Pipeline; 7],
+    pipelines: [Pipeline; 8],
     shared: SharedSet,
     inputs: Buffer,
+    /// Two renderers' outputs as copied, when a judgement reads them in place (see
+    /// `judge::outputs`); a token buffer until then.
+    pub(super) frames: Buffer,
     positions: Buffer,
     maps: Buffer,
     /// The labels up, the histograms and the maps back.
@@ -111,6 +119,7 @@ impl FlipJudge {
             MemoryLocation::GpuOnly,
         )?;
         let reduction = Reduction::new(gpu, pixels, HISTOGRAMS)?;
+        let frames = super::outputs::frames_buffer(gpu, 16)?;
         let shared = SharedSet::new(gpu, BINDINGS, std::mem::size_of::<Params>() as u32)?;
         let shaders = [
             FLIP_PREPARE_COMP,
@@ -120,6 +129,7 @@ impl FlipJudge {
             FLIP_COMBINE_COMP,
             FLIP_RESAMPLE_COMP,
             FLIP_HISTOGRAM_COMP,
+            FLIP_GATHER_COMP,
         ];
         let mut pipelines = Vec::with_capacity(shaders.len());
         for shader in &shaders {
@@ -134,6 +144,7 @@ impl FlipJudge {
             pipelines: pipelines.try_into().unwrap_or_else(|_| unreachable!()),
             shared,
             inputs,
+            frames,
             positions,
             maps,
             reduction,
@@ -162,7 +173,8 @@ impl FlipJudge {
         eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
     ) -> Result<FlipMaps, GpuError> {
         self.reduction.want_maps(&self.gpu)?;
-        self.run(reference, test, ppd, acuity, eccentricity, Bring::Maps)?;
+        let source = Source::Images(reference, test);
+        self.run(source, ppd, acuity, eccentricity, Bring::Maps)?;
         let (plain, eccentric) = self.reduction.maps().unwrap_or_default();
         Ok(FlipMaps { plain, eccentric })
     }
@@ -175,6 +187,19 @@ impl FlipJudge {
         &mut self,
         reference: &RgbaImage,
         test: &RgbaImage,
+        pixels: &EyePixels,
+        acuity: Acuity,
+        keep_map: bool,
+    ) -> Result<EyeFlipErrors, GpuError> {
+        let source = Source::Images(reference, test);
+        self.eye_errors(source, pixels, acuity, keep_map)
+    }
+
+    /// One eye's figures of `source`'s images over the pixels `pixels` shows: histograms back,
+    /// and the eccentricity-aware map if `keep_map`.
+    pub(super) fn eye_errors(
+        &mut self,
+        source: Source,
         pixels: &EyePixels,
         acuity: Acuity,
         keep_map: bool,
@@ -192,7 +217,7 @@ impl FlipJudge {
             Bring::Histograms
         };
         let eccentricity = |x: u32, y: u32| pixels.at(x, y).map(|d| d.eccentricity_deg);
-        self.run(reference, test, pixels.ppd, acuity, &eccentricity, bring)?;
+        self.run(source, pixels.ppd, acuity, &eccentricity, bring)?;
         let mut histograms = self.reduction.histograms().into_iter();
         let mut next = || histograms.next().unwrap_or_default();
         let plain = next();
@@ -210,32 +235,48 @@ impl FlipJudge {
     /// One judgement on the GPU, bringing back what `bring` says.
     fn run(
         &mut self,
-        reference: &RgbaImage,
-        test: &RgbaImage,
+        source: Source,
         ppd: f64,
         acuity: Acuity,
         eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
         bring: Bring,
     ) -> Result<(), GpuError> {
-        self.check_inputs(reference, test, ppd)?;
-        let used = self.upload(reference, test, acuity, eccentricity);
-        let work = self.filters(ppd as f32, &used)?;
-        let params = Params {
+        if !(ppd.is_finite() && ppd > 0.0 && ppd <= 1000.0) {
+            return Err(ConfigError::new("ppd", ppd, "0 < ppd ≤ 1000").into());
+        }
+        let mut params = Params {
             full: [self.width as i32, self.height as i32],
             cmax: self.cmax,
             bins: HISTOGRAM_BINS as i32,
             ..Params::default()
         };
-        self.gpu
-            .one_shot(|cmd| self.record(cmd, params, &work, bring))
+        let gather = match source {
+            Source::Images(reference, test) => {
+                self.check_inputs(reference, test)?;
+                self.upload_images(reference, test);
+                None
+            }
+            Source::Outputs {
+                reference,
+                test,
+                eye,
+            } => {
+                let images = self.outputs_to_gather(reference, test, eye)?;
+                (params.reference, params.test) = (images[0], images[1]);
+                Some((reference, test))
+            }
+        };
+        let used = self.upload_positions(acuity, eccentricity);
+        let work = self.filters(ppd as f32, &used)?;
+        self.gpu.one_shot(|cmd| {
+            if let Some((reference, test)) = gather {
+                self.record_gather(cmd, params, reference, test);
+            }
+            self.record(cmd, params, &work, bring)
+        })
     }
 
-    fn check_inputs(
-        &self,
-        reference: &RgbaImage,
-        test: &RgbaImage,
-        ppd: f64,
-    ) -> Result<(), GpuError> {
+    fn check_inputs(&self, reference: &RgbaImage, test: &RgbaImage) -> Result<(), GpuError> {
         for (name, image) in [("reference image", reference), ("test image", test)] {
             if (image.width, image.height) != (self.width, self.height) {
                 let size = format!("{}x{}", image.width, image.height);
@@ -243,25 +284,24 @@ impl FlipJudge {
                 return Err(ConfigError::new(name, size, limit).into());
             }
         }
-        if !(ppd.is_finite() && ppd > 0.0 && ppd <= 1000.0) {
-            return Err(ConfigError::new("ppd", ppd, "0 < ppd ≤ 1000").into());
-        }
         Ok(())
     }
 
-    /// Writes both images and each pixel's level position; returns which ppd levels any pixel
-    /// takes a share of.
-    fn upload(
-        &mut self,
-        reference: &RgbaImage,
-        test: &RgbaImage,
-        acuity: Acuity,
-        eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
-    ) -> LevelRegions {
+    /// Writes both images.
+    fn upload_images(&mut self, reference: &RgbaImage, test: &RgbaImage) {
         let bytes = reference.data.len();
         let inputs = self.inputs.mapped();
         inputs[..bytes].copy_from_slice(&reference.data);
         inputs[bytes..2 * bytes].copy_from_slice(&test.data);
+    }
+
+    /// Writes each pixel's level position; returns which ppd levels any pixel takes a share
+    /// of.
+    fn upload_positions(
+        &mut self,
+        acuity: Acuity,
+        eccentricity: &(dyn Fn(u32, u32) -> Option<f64> + Sync),
+    ) -> LevelRegions {
         let width = self.width as usize;
         let positions: Vec<f32> = (0..self.height)
             .into_par_iter()
@@ -411,6 +451,7 @@ impl FlipJudge {
             &self.maps,
             &self.reduction.labels,
             &self.reduction.counts,
+            &self.frames,
         ];
         self.shared.bind(&self.gpu, &buffers);
     }
@@ -509,11 +550,30 @@ impl FlipJudge {
     }
 
     /// One pass over `extent` pixels, after everything recorded before it.
-    fn dispatch(&self, cmd: vk::CommandBuffer, pass: usize, params: Params, extent: (u32, u32)) {
+    pub(super) fn dispatch(
+        &self,
+        cmd: vk::CommandBuffer,
+        pass: usize,
+        params: Params,
+        extent: (u32, u32),
+    ) {
         let groups = [extent.0.div_ceil(GROUP), extent.1.div_ceil(GROUP), 1];
         let push = crate::gpu::pod_bytes(std::slice::from_ref(&params));
         (self.shared).dispatch(self.gpu.device(), cmd, &self.pipelines[pass], push, groups);
     }
+}
+
+/// Where a judgement's two images come from.
+pub(super) enum Source<'a> {
+    /// Images on the host, uploaded.
+    Images(&'a RgbaImage, &'a RgbaImage),
+    /// Eye `eye` of two renderers' last frames, copied and gathered on the device
+    /// (`judge::outputs`).
+    Outputs {
+        reference: &'a Renderer,
+        test: &'a Renderer,
+        eye: usize,
+    },
 }
 
 /// What a judgement brings back to the host.

@@ -26,7 +26,7 @@ impl GpuFlip {
 
 impl GpuFlip {
     /// The judge of `size` images, made the first time.
-    fn judge(&mut self, size: (u32, u32)) -> Result<&mut FlipJudge, GpuError> {
+    pub(super) fn judge(&mut self, size: (u32, u32)) -> Result<&mut FlipJudge, GpuError> {
         let index = match self.judges.iter().position(|j| j.size() == size) {
             Some(i) => i,
             None => {

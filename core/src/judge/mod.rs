@@ -10,6 +10,7 @@ mod flip;
 mod geometry;
 mod gpu_flip;
 mod live;
+mod outputs;
 mod reduce;
 mod vulkan;
 

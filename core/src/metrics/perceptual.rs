@@ -4,7 +4,7 @@
 //! picture. Every command that reports an error reports these.
 
 use super::display::{EyePixels, Region};
-use super::{Acuity, FlipMapper, JudgeError};
+use super::{Acuity, EyeFlipErrors, FlipMapper, JudgeError};
 use super::{ErrorHistogram, ErrorSummary, ImageError, RgbaImage};
 
 /// Every error figure of one frame against its reference, both eyes together.
@@ -109,13 +109,21 @@ pub fn perceptual_error(
     flip: &mut dyn FlipMapper,
     maps: Maps,
 ) -> Result<PerceptualError, JudgeError> {
-    let mut plain = ErrorHistogram::default();
-    let mut regions: [ErrorHistogram; 3] = Default::default();
-    let mut kept: [Vec<f32>; 2] = Default::default();
+    let mut eyes = Vec::with_capacity(2);
     for eye in 0..2 {
         let p = &pixels[eye];
         let test = hidden_as_reference(reference[eye], image[eye], p)?;
-        let e = flip.flip_errors(reference[eye], &test, p, acuity, maps == Maps::Keep)?;
+        eyes.push(flip.flip_errors(reference[eye], &test, p, acuity, maps == Maps::Keep)?);
+    }
+    Ok(combine_eyes(eyes, maps))
+}
+
+/// Both eyes' figures as one frame's: the histograms merged, the maps kept as `maps` says.
+pub(crate) fn combine_eyes(eyes: Vec<EyeFlipErrors>, maps: Maps) -> PerceptualError {
+    let mut plain = ErrorHistogram::default();
+    let mut regions: [ErrorHistogram; 3] = Default::default();
+    let mut kept: [Vec<f32>; 2] = Default::default();
+    for (eye, e) in eyes.into_iter().enumerate().take(2) {
         plain.merge(&e.plain);
         for (all, one) in regions.iter_mut().zip(&e.regions) {
             all.merge(one);
@@ -124,12 +132,12 @@ pub fn perceptual_error(
     }
     let mut eccentric = ErrorHistogram::default();
     regions.iter().for_each(|r| eccentric.merge(r));
-    Ok(PerceptualError {
+    PerceptualError {
         flip: plain.summary(),
         eccentric: eccentric.summary(),
         regions: regions.each_ref().map(|r| r.summary()),
         maps: (maps == Maps::Keep).then_some(kept),
-    })
+    }
 }
 
 /// `image` with the pixels the lens hides taken from `reference`: FLIP's filters (wider at the
