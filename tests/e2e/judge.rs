@@ -299,7 +299,7 @@ fn the_live_judge_judges_the_renderers_last_frame() {
         let mut renderer = Renderer::new(&gpu, &plan, &scene).unwrap();
         renderer.render(&input).unwrap();
         let mut judge = LiveJudge::new(&gpu, &scene, config, 1).unwrap();
-        let judgement = judge.judge(&mut renderer, &input, Maps::Drop).unwrap();
+        let judgement = judge.judge(&renderer, &input, Maps::Drop).unwrap();
         assert!(judgement.reference_ms > 0.0 && judgement.judge_ms > 0.0);
         assert!(
             judgement.error.maps.is_none(),

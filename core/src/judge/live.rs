@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use super::GpuFlip;
 use crate::gpu::{Gpu, GpuError};
-use crate::metrics::perceptual::{perceptual_error, Maps, PerceptualError};
+use crate::metrics::perceptual::{Maps, PerceptualError};
 use crate::metrics::{Acuity, ErrorSummary, EyePixels, JudgeError, Region};
 use crate::plan::{ConfigError, RenderConfig, StereoMode};
 use crate::render::{FrameInput, Renderer};
@@ -117,18 +117,16 @@ impl LiveJudge {
     /// finished (say, `FramesInFlight::wait_last`).
     pub fn judge(
         &mut self,
-        renderer: &mut Renderer,
+        renderer: &Renderer,
         input: &FrameInput,
         maps: Maps,
     ) -> Result<LiveJudgement, JudgeError> {
         let started = Instant::now();
-        let image = renderer.readback()?;
         let gaze = renderer.gaze();
         let reference_input = FrameInput::new(input.world_from_head)
             .with_gaze(gaze)
             .with_eyes(renderer.plan().eyes);
         self.reference.render(&reference_input)?;
-        let want = self.reference.readback()?;
         let pixels = EyePixels::both(
             self.reference.plan(),
             gaze[0],
@@ -136,14 +134,9 @@ impl LiveJudge {
         );
         let reference_ms = started.elapsed().as_secs_f64() * 1e3;
         let started = Instant::now();
-        let error = perceptual_error(
-            want.eyes(),
-            image.eyes(),
-            &pixels,
-            self.acuity,
-            &mut self.flip,
-            maps,
-        )?;
+        // Both frames judged where they lie: neither is read back.
+        let error =
+            (self.flip).frame_errors(&self.reference, renderer, &pixels, self.acuity, maps)?;
         Ok(LiveJudgement {
             error,
             pixels,

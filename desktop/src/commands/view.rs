@@ -393,7 +393,7 @@ impl<'g> Viewer<'g> {
             return Ok(());
         }
         frame.frames.wait_all()?;
-        let judgement = judge.judge(&mut frame.timed, input, Maps::Keep)?;
+        let judgement = judge.judge(&frame.timed, input, Maps::Keep)?;
         println!(
             "judge: {judgement}; reference {:.0} ms, judging {:.0} ms, apart from the frame times",
             judgement.reference_ms, judgement.judge_ms
