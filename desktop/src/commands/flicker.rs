@@ -12,7 +12,7 @@ use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{simulated_trace, FoveationConfig};
 use foveate::gpu::{Gpu, GpuOptions};
-use foveate::judge::GpuFlicker;
+use foveate::judge::{GpuFlicker, GpuFlip};
 use foveate::metrics::perceptual::{perceptual_error, Maps};
 use foveate::metrics::temporal::{Flicker, FlickerSummary};
 use foveate::metrics::Acuity;
@@ -259,8 +259,8 @@ struct MotionRun<'a> {
     spent: &'a Spent,
 }
 
-/// Where a run's wall time went: rendering the frames (and reading back those a judge on the
-/// host needs), measuring flicker, judging with eFLIP (and how many judgements).
+/// Where a run's wall time went: rendering the frames (and, with `--metric cpu`, reading them
+/// back), measuring flicker, judging with eFLIP (and how many judgements).
 #[derive(Default)]
 struct Spent {
     rendering_s: Cell<f64>,
@@ -309,7 +309,10 @@ impl MotionRun<'_> {
             .collect::<Result<Vec<_>>>()?;
         let on_cpu = meters.iter().any(|m| matches!(m, Meter::Cpu(_)));
         let mut judged: Vec<Vec<ErrorSummary>> = self.configs.iter().map(|_| Vec::new()).collect();
-        let mut flip = crate::metric::flip_mapper(self.gpu);
+        // On the GPU both measures read the frames where they lie; on the CPU (`--metric cpu`)
+        // every frame is read back.
+        let mut in_place = GpuFlip::new(self.gpu);
+        let mut on_host = crate::metric::flip_mapper(self.gpu);
         // Each configuration's pixel map, made anew only when the gaze moves.
         let mut maps: Vec<Option<(Vec2, [EyePixels; 2])>> =
             self.configs.iter().map(|_| None).collect();
@@ -318,7 +321,7 @@ impl MotionRun<'_> {
                 return Ok(None);
             }
             // Frames of every configuration interleaved, the reference first; read back only
-            // when a judge on the host needs them.
+            // for the measures on the host.
             self.bar.set_message(format!("{}: rendering", motion.name));
             let rendering = Instant::now();
             let judge_now = self.flip.is_some_and(|every| frame % every as usize == 0);
@@ -326,7 +329,7 @@ impl MotionRun<'_> {
             for renderer in &mut renderers {
                 renderer.set_gaze([gaze; 2])?;
                 renderer.render_frame(pose)?;
-                if judge_now || on_cpu {
+                if on_cpu {
                     images.push(renderer.readback()?);
                 }
             }
@@ -346,14 +349,25 @@ impl MotionRun<'_> {
                 if judge_now {
                     self.bar.set_message(format!("{}: judging", motion.name));
                     let judging = Instant::now();
-                    let error = perceptual_error(
-                        images[0].eyes(),
-                        images[i + 1].eyes(),
-                        pixels,
-                        Acuity::default(),
-                        &mut *flip,
-                        Maps::Drop,
-                    )?;
+                    let (reference, approximation) = (&renderers[0], &renderers[i + 1]);
+                    let acuity = Acuity::default();
+                    let error = match on_cpu {
+                        false => in_place.frame_errors(
+                            reference,
+                            approximation,
+                            pixels,
+                            acuity,
+                            Maps::Drop,
+                        )?,
+                        true => perceptual_error(
+                            images[0].eyes(),
+                            images[i + 1].eyes(),
+                            pixels,
+                            acuity,
+                            &mut *on_host,
+                            Maps::Drop,
+                        )?,
+                    };
                     Spent::add(&self.spent.judging_s, judging);
                     self.spent.judgements.set(self.spent.judgements.get() + 1);
                     judged[i].extend(error.eccentric);
