@@ -4,10 +4,10 @@
 
 use ash::vk;
 
-use super::outputs::image_params;
+use super::outputs::{copied, frames_buffer, image_params};
 use super::reduce::Reduction;
 use super::vulkan::{compute_pipeline, SharedSet};
-use crate::gpu::{access, memory_barrier, Buffer, Gpu, GpuError, MemoryLocation, Pipeline};
+use crate::gpu::{Buffer, Gpu, GpuError, MemoryLocation, Pipeline};
 use crate::metrics::temporal::FlickerSummary;
 use crate::metrics::{ErrorHistogram, EyePixels, JudgeError, Region, HISTOGRAM_BINS};
 use crate::plan::ConfigError;
@@ -148,13 +148,7 @@ impl GpuFlicker {
         }
         use vk::BufferUsageFlags as Usage;
         let pixels = u64::from(texels[0].width) * u64::from(texels[0].height);
-        let frames = Buffer::new(
-            &self.gpu,
-            "flicker frames",
-            texels[0].bytes + texels[1].bytes,
-            Usage::STORAGE_BUFFER | Usage::TRANSFER_DST,
-            MemoryLocation::GpuOnly,
-        )?;
+        let frames = frames_buffer(&self.gpu, texels[0].bytes + texels[1].bytes)?;
         let luma = Buffer::new(
             &self.gpu,
             "flicker luma",
@@ -174,13 +168,5 @@ impl GpuFlicker {
             reduction,
         });
         Ok(())
-    }
-}
-
-/// Records the barrier between the outputs' copies and the pass that reads them.
-fn copied(device: &ash::Device, cmd: vk::CommandBuffer) {
-    // SAFETY: `cmd` is recording.
-    unsafe {
-        memory_barrier(device, cmd, access::TRANSFER_WRITE, access::COMPUTE_READ);
     }
 }

@@ -22,6 +22,12 @@ pub(super) fn frames_buffer(gpu: &Gpu, bytes: u64) -> Result<Buffer, GpuError> {
     Buffer::new(gpu, "judged frames", bytes, usage, MemoryLocation::GpuOnly)
 }
 
+/// Records the barrier between the outputs' copies and the pass that reads them.
+pub(super) fn copied(device: &ash::Device, cmd: vk::CommandBuffer) {
+    // SAFETY: `cmd` is recording.
+    unsafe { memory_barrier(device, cmd, access::TRANSFER_WRITE, access::COMPUTE_READ) };
+}
+
 /// An output's push constants for `eye`: its format, its first word in the frames buffer, the
 /// eye's first texel, its rows' pitch (`shaders/output_texels.glsl`).
 pub(super) fn image_params(texels: &OutputTexels, first_word: u64, eye: usize) -> [i32; 4] {
@@ -75,15 +81,7 @@ impl FlipJudge {
         let reference_bytes = reference.output_texels().bytes;
         reference.record_output_copy(cmd, self.frames.raw, 0);
         test.record_output_copy(cmd, self.frames.raw, reference_bytes);
-        // SAFETY: `cmd` is recording.
-        unsafe {
-            memory_barrier(
-                self.gpu.device(),
-                cmd,
-                access::TRANSFER_WRITE,
-                access::COMPUTE_READ,
-            )
-        };
+        copied(self.gpu.device(), cmd);
         self.dispatch(cmd, GATHER, params, (self.width, self.height));
     }
 
