@@ -41,6 +41,12 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
     ("coverage.frag", "coverage.frag.spv", &[]),
     ("composite.vert", "composite.vert.spv", &[]),
     ("output.frag", "output.frag.spv", &[]),
+    ("output.frag", "output_temporal.frag.spv", &["TEMPORAL"]),
+    (
+        "output.frag",
+        "output_temporal_counting.frag.spv",
+        &["TEMPORAL", "COUNT_FRAGMENTS"],
+    ),
     (
         "output.frag",
         "output_counting.frag.spv",
@@ -56,18 +62,6 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
     (
         "reconstruct.frag",
         "reconstruct_counting.frag.spv",
-        &["COUNT_FRAGMENTS"],
-    ),
-    ("accumulate.frag", "accumulate.frag.spv", &[]),
-    (
-        "accumulate.frag",
-        "accumulate_counting.frag.spv",
-        &["COUNT_FRAGMENTS"],
-    ),
-    ("store_history.frag", "store_history.frag.spv", &[]),
-    (
-        "store_history.frag",
-        "store_history_counting.frag.spv",
         &["COUNT_FRAGMENTS"],
     ),
     ("flip_prepare.comp", "flip_prepare.comp.spv", &[]),

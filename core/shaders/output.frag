@@ -6,7 +6,8 @@
 // polynomial in tangent units — then fetched from what the frame rendered. A foveated frame's
 // composition happens here too: the periphery view upscaled bilinearly and the fovea view
 // over it inside the fovea circle, blended with smoothstep across the band at the circle's
-// edge (Di Donato 2017 §3.3, §3.6.1).
+// edge (Di Donato 2017 §3.3, §3.6.1). Built with TEMPORAL, the periphery is accumulated over
+// frames here too (`accumulate.glsl`), and the next history written as a second attachment.
 
 // Where each eye's image is (plan::OutputSource): 0 layer `eye` of `images`; 1 both eyes side
 // by side in `images`; 2 `images` for the left eye, `second` for the right; 3 foveated: the
@@ -33,10 +34,23 @@ layout(std140, set = 0, binding = 1) uniform Output {
     vec4 display[2];   // the display's field as the lens model places it (LENS)
     vec4 params;       // fovea diameter (screen px), band (px), debug tint (0/1), sharpening
     vec4 screen;       // width, height (px); lens k1, k2
+    // Temporal accumulation (TEMPORAL only):
+    mat4 previous_from_view[2]; // the previous frame's clip space from this frame's eye space
+    vec4 jitter;                // xy: this frame's offset (periphery px, x right, y down);
+                                // z: a new sample's weight; w: 1 drops the whole history
+    vec4 depth;                 // x, y: reverse-Z depth = y / distance − x; z: hole radius (px);
+                                // w: 1 / frames since the history was dropped (a young history
+                                // takes new samples at their mean's weight)
+    vec4 clip;                  // x: the history's box around the neighbourhood's mean, in
+                                // standard deviations (huge: its range alone; < 0: no clip)
 } c;
 
 layout(location = 0) in vec2 in_uv;
 layout(location = 0) out vec4 out_color;
+
+#ifdef TEMPORAL
+#include "accumulate.glsl"
+#endif
 
 vec3 eye_image(uint eye, vec2 uv) {
     if (SOURCE == 1u) {
@@ -116,6 +130,9 @@ void main() {
     }
 
     vec3 color = vec3(0.0);
+#ifdef TEMPORAL
+    out_history = NOTHING;
+#endif
     if (LENS && (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))))) {
         // Seen through the lens beyond what was rendered: black, as on a headset.
     } else if (SOURCE != 3u) {
@@ -130,10 +147,16 @@ void main() {
         float band = c.params.y;
         // 1 in the fovea, 0 in the periphery, smooth across the band.
         float w = band > 0.0 ? 1.0 - smoothstep(radius - band, radius, dist) : float(dist < radius);
+#ifdef TEMPORAL
+        // Accumulated wherever the periphery was rendered, shown or not (under the fovea's
+        // edge it is ready when the gaze moves).
+        color += (1.0 - w) * accumulate(eye, uv, t, out_history);
+#else
         // Fetch only what contributes: most pixels are periphery only, a few fovea only.
         if (w < 1.0) {
             color += (1.0 - w) * periphery(eye, uv);
         }
+#endif
         if (w > 0.0) {
             color += w * texture(second, vec3(fovea_uv, float(FOVEA_LAYER + eye))).rgb;
         }

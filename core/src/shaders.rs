@@ -92,6 +92,11 @@ pub const COMPOSITE_VERT: ShaderBinary = spirv!("composite.vert.spv");
 /// The output stage: lens distortion and a foveated frame's composition.
 pub const OUTPUT_FRAG: ShaderBinary = spirv!("output.frag.spv");
 pub const OUTPUT_FRAG_COUNTING: ShaderBinary = spirv!("output_counting.frag.spv");
+/// The output stage accumulating the periphery over frames (`accumulate.glsl`), writing the
+/// next history beside the output.
+pub const OUTPUT_TEMPORAL_FRAG: ShaderBinary = spirv!("output_temporal.frag.spv");
+pub const OUTPUT_TEMPORAL_FRAG_COUNTING: ShaderBinary =
+    spirv!("output_temporal_counting.frag.spv");
 /// MFFR: the far image reprojected into each view (vertex shader: [`COMPOSITE_VERT`]).
 pub const FAR_COMPOSITE_FRAG: ShaderBinary = spirv!("far_composite.frag.spv");
 pub const FAR_COMPOSITE_FRAG_COUNTING: ShaderBinary = spirv!("far_composite_counting.frag.spv");
@@ -101,11 +106,6 @@ pub const RADIAL_MASK_FRAG: ShaderBinary = spirv!("radial_mask.frag.spv");
 pub const RADIAL_MASK_FRAG_COUNTING: ShaderBinary = spirv!("radial_mask_counting.frag.spv");
 pub const RECONSTRUCT_FRAG: ShaderBinary = spirv!("reconstruct.frag.spv");
 pub const RECONSTRUCT_FRAG_COUNTING: ShaderBinary = spirv!("reconstruct_counting.frag.spv");
-/// Temporal accumulation of the periphery and the copy keeping its history, plain and counting.
-pub const ACCUMULATE_FRAG: ShaderBinary = spirv!("accumulate.frag.spv");
-pub const ACCUMULATE_FRAG_COUNTING: ShaderBinary = spirv!("accumulate_counting.frag.spv");
-pub const STORE_HISTORY_FRAG: ShaderBinary = spirv!("store_history.frag.spv");
-pub const STORE_HISTORY_FRAG_COUNTING: ShaderBinary = spirv!("store_history_counting.frag.spv");
 
 /// FLIP's compute passes on the GPU (`shaders/flip_common.glsl`): both images to YCxCz, a
 /// pyramid level, the separable filters' two halves, one ppd level's error per pixel, and the
@@ -149,10 +149,8 @@ pub const ALL: &[ShaderBinary] = &[
     RADIAL_MASK_FRAG_COUNTING,
     RECONSTRUCT_FRAG,
     RECONSTRUCT_FRAG_COUNTING,
-    ACCUMULATE_FRAG,
-    ACCUMULATE_FRAG_COUNTING,
-    STORE_HISTORY_FRAG,
-    STORE_HISTORY_FRAG_COUNTING,
+    OUTPUT_TEMPORAL_FRAG,
+    OUTPUT_TEMPORAL_FRAG_COUNTING,
 ];
 
 /// The judge's compute shaders (the spirv-val test walks this list too).

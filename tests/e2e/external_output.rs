@@ -3,7 +3,7 @@
 //! runtime's hidden-area mesh — on lavapipe, no runtime needed: the images are made here as
 //! a runtime would make them (`output_image_desc`).
 
-use foveate::foveation::FoveationConfig;
+use foveate::foveation::{FoveationConfig, TemporalConfig};
 use foveate::gpu::{Gpu, Image};
 use foveate::mffr::MffrConfig;
 use foveate::plan::{RenderConfig, Resolution};
@@ -81,6 +81,52 @@ fn each_frame_lands_in_the_image_selected_for_it() {
         drop(renderer);
         assert_validation_clean(&gpu);
     }
+}
+
+/// Frames accumulating the periphery, each into the next of three handed-in images (so an
+/// image's frames alternate between the history pair's roles): each frame is pixel for pixel
+/// the frame a renderer with its own image makes, the history carried across images.
+/// Mutation: odd frames recording the even frames' output pass (the history pair unswapped)
+/// fails it.
+#[test]
+fn accumulation_carries_its_history_across_handed_in_images() {
+    let gpu = gpu();
+    let scene = default_scene();
+    let config = small(RenderConfig {
+        msaa: 1,
+        foveation: Some(FoveationConfig {
+            periphery_density: Some(0.5),
+            periphery_temporal: Some(TemporalConfig::default()),
+            ..FoveationConfig::default()
+        }),
+        ..RenderConfig::default()
+    });
+    let heads: Vec<Mat4> = (0..6)
+        .map(|i| scene.head * Mat4::from_rotation_y(0.01 * i as f32))
+        .collect();
+    let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
+    let mut own = Renderer::new(&gpu, &plan, &scene).unwrap();
+    let external = RenderConfig {
+        external_output: true,
+        ..config.clone()
+    };
+    let plan = foveate::plan(&scene, &external, gpu.caps()).unwrap();
+    let desc = output_image_desc(&plan);
+    let images: Vec<Image> = (0..3).map(|_| Image::new(&gpu, &desc).unwrap()).collect();
+    let raw: Vec<_> = images.iter().map(|i| i.raw()).collect();
+    let mut handed = Renderer::with_output_images(&gpu, &plan, &scene, &raw).unwrap();
+    for (frame, head) in heads.iter().enumerate() {
+        own.render_frame(*head).unwrap();
+        handed.select_output(frame % 3).unwrap();
+        handed.render_frame(*head).unwrap();
+        assert!(
+            own.readback().unwrap() == handed.readback().unwrap(),
+            "frame {frame} differs in handed-in image {}",
+            frame % 3
+        );
+    }
+    drop((own, handed));
+    assert_validation_clean(&gpu);
 }
 
 /// Eyes narrower than the plan's render without a new plan (and change the image); a wider

@@ -26,4 +26,5 @@ mod robustness;
 mod shaders;
 mod stereo;
 mod temporal;
+mod temporal_motion;
 mod zero_cost;

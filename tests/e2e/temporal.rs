@@ -184,7 +184,7 @@ fn differing(a: &StereoImage, b: &StereoImage, region: &[Vec<bool>; 2]) -> (usiz
 /// After a gaze jump, where the fovea was the periphery has no history (nothing was rendered
 /// there): it shows exactly what a fresh renderer shows, not the hole's sky clamped into the
 /// scene. No jitter, so a fresh frame and a dropped history agree pixel for pixel. Mutation:
-/// the accumulate pass no longer marking the hole unusable (alpha 0) fails it.
+/// the output pass no longer marking the hole's history empty (alpha 0) fails it.
 #[test]
 fn a_gaze_jump_leaves_no_ghost_of_the_fovea() {
     let gpu = gpu();

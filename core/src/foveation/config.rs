@@ -55,8 +55,9 @@ pub struct FoveationConfig {
     /// The periphery views' MSAA sample count; default: the frame's (the fovea views always
     /// use the frame's).
     pub periphery_msaa: Option<u32>,
-    /// Temporal accumulation of the periphery (jittered views, a history at the screen's
-    /// density); `None`: each frame's periphery alone, upscaled by `periphery_filter`.
+    /// Temporal accumulation of the periphery in the output pass (jittered views, a history at
+    /// the output's pixels); `None`: each frame's periphery alone, upscaled by
+    /// `periphery_filter`.
     pub periphery_temporal: Option<TemporalConfig>,
 }
 

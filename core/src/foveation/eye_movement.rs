@@ -135,6 +135,52 @@ impl SeededRng {
     }
 }
 
+/// Large saccades only, `seconds` at `rate` Hz in `space`, reproducible from `seed`: from the
+/// centre, after a fixation of 0.2–0.4 s each, a saccade of an amplitude drawn uniformly from
+/// `amplitudes_deg` (e.g. 15–30°, the rarer large ones of natural viewing: Bahill, Adler &
+/// Stark 1975) in a random direction that keeps the gaze inside ±0.8 × ±0.6 of the field,
+/// with the main sequence's duration and a minimum-jerk profile. The gaze per frame.
+pub fn large_saccade_trace(
+    space: GazeSpace,
+    seconds: f64,
+    rate: f64,
+    amplitudes_deg: (f64, f64),
+    seed: u32,
+) -> Vec<Vec2> {
+    let mut rng = SeededRng::new(seed);
+    let inside = |g: Vec2| g.x.abs() <= 0.8 && g.y.abs() <= 0.6;
+    let (mut from, mut to) = (Vec2::ZERO, Vec2::ZERO);
+    let (mut onset, mut duration) = (0.0, 0.0);
+    let mut next_onset = rng.between(0.2, 0.4);
+    (0..(seconds * rate).round() as usize)
+        .map(|i| {
+            let t = i as f64 / rate;
+            if t >= next_onset {
+                from = to;
+                let amplitude = rng.between(amplitudes_deg.0, amplitudes_deg.1);
+                // The first of 16 directions round from a random one that lands inside.
+                let first = rng.between(0.0, std::f64::consts::TAU);
+                to = (0..16)
+                    .map(|k| first + k as f64 * std::f64::consts::TAU / 16.0)
+                    .map(|a| from + Vec2::new(a.cos() as f32, a.sin() as f32) * 0.05)
+                    .map(|towards| space.rotate_towards(from, towards, amplitude))
+                    .find(|&g| inside(g))
+                    .unwrap_or(Vec2::ZERO);
+                onset = next_onset;
+                duration = saccade_duration_s(space.angle_deg(from, to));
+                next_onset = onset + duration + rng.between(0.2, 0.4);
+            }
+            let s = if duration > 0.0 {
+                (t - onset) / duration
+            } else {
+                1.0
+            };
+            let amplitude = space.angle_deg(from, to);
+            space.rotate_towards(from, to, amplitude * min_jerk(s))
+        })
+        .collect()
+}
+
 /// One saccade the model made: when it started and landed, and how far it went.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SaccadeEvent {
@@ -378,6 +424,33 @@ impl EyeTrace {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every gaze shift of the large-saccade trace is one saccade of 15–30°, landing inside
+    /// the field; between them the gaze holds. Mutation: the amplitude drawn but not used (a
+    /// fixed step), or the profile never reaching 1, fails it.
+    #[test]
+    fn large_saccades_jump_15_to_30_degrees_and_hold_between() {
+        let space = space();
+        let trace = large_saccade_trace(space, 3.0, 90.0, (15.0, 30.0), 5);
+        assert_eq!(trace.len(), 270);
+        // Fixations: runs of equal gaze (two frames or more).
+        let mut fixations = vec![trace[0]];
+        for w in trace.windows(3) {
+            if w[1] == w[2] && w[1] != *fixations.last().unwrap() {
+                fixations.push(w[1]);
+            }
+        }
+        assert!(fixations.len() >= 6, "{} fixations in 3 s", fixations.len());
+        for pair in fixations.windows(2) {
+            let jump = space.angle_deg(pair[0], pair[1]);
+            assert!((14.9..=30.1).contains(&jump), "a saccade of {jump}°");
+            assert!(
+                pair[1].x.abs() <= 0.8 && pair[1].y.abs() <= 0.6,
+                "{:?}",
+                pair[1]
+            );
+        }
+    }
 
     fn space() -> GazeSpace {
         GazeSpace {

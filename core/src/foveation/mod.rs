@@ -18,13 +18,13 @@ pub use config::{
     PERIPHERY_REACH_TEXELS,
 };
 pub use eye_movement::{
-    amplitude_for_peak_velocity, saccade_duration_s, saccade_peak_velocity, EyeMovementModel,
-    EyeTrace, GazeSpace, SaccadeEvent, SeededRng, TRUTH_HZ,
+    amplitude_for_peak_velocity, large_saccade_trace, saccade_duration_s, saccade_peak_velocity,
+    EyeMovementModel, EyeTrace, GazeSpace, SaccadeEvent, SeededRng, TRUTH_HZ,
 };
 pub use gaze::{check_gaze, parse_gaze_csv, simulated_trace, GazeError, GazeFilter, GazeSample};
 pub use inset::{fovea_tangents, inset_fov_deg};
 pub use latency::{
     detect_saccades, DelayedGaze, GazeLatency, Prediction, MAX_LATENCY_MS, SACCADE_THRESHOLD_DEG_S,
 };
-pub use temporal::{halton, TemporalConfig};
+pub use temporal::{halton, HistoryClip, TemporalConfig};
 pub use views::{fovea_centre_px, fovea_views, gaze_tangent, mask_shapes};

@@ -22,6 +22,74 @@ pub struct TemporalConfig {
     pub cut_distance_m: f32,
     /// Likewise for a head that turns more than this between frames (degrees).
     pub cut_angle_deg: f32,
+    /// How the reprojected history is kept from straying from what the periphery shows now.
+    pub clip: HistoryClip,
+}
+
+/// How the reprojected history is held to the periphery's 3×3 neighbourhood around the pixel
+/// (in YCoCg) before the new sample is blended in: what stops a surface that moved, changed or
+/// was uncovered from leaving a trail.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HistoryClip {
+    /// Variance clipping (Salvi 2016, "An excursion in temporal supersampling"): moved along
+    /// the line to the neighbourhood's mean into the box of ± `sigmas` standard deviations
+    /// around it, within the neighbourhood's range.
+    Variance {
+        /** The box's half-size, in standard deviations (Salvi: 1). */
+        sigmas: f32,
+    },
+    /// Moved into the neighbourhood's range (its min/max box) along the line to its centre.
+    Range,
+    /// Not held at all: a moving surface leaves a trail. To show what clipping prevents.
+    Off,
+}
+
+impl std::fmt::Display for HistoryClip {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            HistoryClip::Variance { sigmas } => write!(f, "variance:{sigmas}"),
+            HistoryClip::Range => f.write_str("range"),
+            HistoryClip::Off => f.write_str("off"),
+        }
+    }
+}
+
+impl std::str::FromStr for HistoryClip {
+    type Err = ConfigError;
+
+    /// `variance` (1 standard deviation), `variance:SIGMAS`, `range` or `off`.
+    fn from_str(s: &str) -> Result<Self, ConfigError> {
+        let clip = match s.split_once(':') {
+            None if s == "variance" => HistoryClip::Variance { sigmas: 1.0 },
+            None if s == "range" => HistoryClip::Range,
+            None if s == "off" => HistoryClip::Off,
+            Some(("variance", sigmas)) => HistoryClip::Variance {
+                sigmas: sigmas.parse().map_err(|_| {
+                    ConfigError::new("clip", s, "variance:SIGMAS with SIGMAS a number")
+                })?,
+            },
+            _ => {
+                return Err(ConfigError::new(
+                    "clip",
+                    s,
+                    "variance, variance:SIGMAS, range or off",
+                ))
+            }
+        };
+        Ok(clip)
+    }
+}
+
+impl HistoryClip {
+    /// The shader's encoding (`accumulate.glsl`'s `SPREAD`): the box's half-size in standard
+    /// deviations; a huge one for the range alone; negative for none.
+    pub(crate) fn spread(self) -> f32 {
+        match self {
+            HistoryClip::Variance { sigmas } => sigmas,
+            HistoryClip::Range => 1e30,
+            HistoryClip::Off => -1.0,
+        }
+    }
 }
 
 impl Default for TemporalConfig {
@@ -32,6 +100,7 @@ impl Default for TemporalConfig {
             // A head moves ≈ 2 m/s and turns ≈ 300°/s at most: 90 Hz frames stay well inside.
             cut_distance_m: 0.5,
             cut_angle_deg: 30.0,
+            clip: HistoryClip::Range,
         }
     }
 }
@@ -52,6 +121,15 @@ impl TemporalConfig {
                 self.jitter_cycle,
                 "1..=256 frames",
             ));
+        }
+        if let HistoryClip::Variance { sigmas } = self.clip {
+            if !(sigmas > 0.0 && sigmas.is_finite()) {
+                return Err(ConfigError::new(
+                    "clip sigmas",
+                    sigmas,
+                    "> 0 and finite (HistoryClip::Range for the range alone)",
+                ));
+            }
         }
         // Infinity is allowed: it turns cut detection off.
         for (field, value) in [

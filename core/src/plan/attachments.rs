@@ -10,9 +10,14 @@ pub enum Format {
     Rgba8Srgb,
     /// Colour: 8-bit linear values (an output an engine or runtime takes as linear).
     Rgba8Unorm,
-    /// Colour in linear half floats: a temporal history, whose small steps 8 bits would lose
-    /// (and whose alpha holds each pixel's depth).
+    /// Colour in linear half floats: an output an engine composes in linear light.
     Rgba16F,
+    /// Colour in 10 bits a channel and 2 of alpha (`A2B10G10R10_UNORM_PACK32`, 32 bits a
+    /// pixel): the periphery's temporal history, holding the square root of linear light so
+    /// its steps stay finer than the display's down to the darks (small blends of new samples
+    /// must not round away: the 6-bit mantissas of `B10G11R11_UFLOAT` lose them), at half the
+    /// bytes of half floats; alpha 0 marks a pixel with no history.
+    Rgb10A2,
     /// Reverse-Z depth without stencil.
     D32,
     /// Reverse-Z depth with stencil, only when an effect writes stencil masks.
@@ -23,7 +28,7 @@ impl Format {
     /// Bytes one pixel of one sample takes in memory.
     pub fn bytes_per_pixel(self) -> u64 {
         match self {
-            Format::Rgba8Srgb | Format::Rgba8Unorm | Format::D32 => 4,
+            Format::Rgba8Srgb | Format::Rgba8Unorm | Format::Rgb10A2 | Format::D32 => 4,
             Format::Rgba16F => 8,
             // D32_SFLOAT_S8_UINT is commonly stored as 4 + 1 bytes (plus padding).
             Format::D32S8 => 5,

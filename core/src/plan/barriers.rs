@@ -23,17 +23,24 @@ impl Touched {
 }
 
 /// Every touch of `attachment` in frame order: each pass's attachment uses and samples, then
-/// the frame's reader.
+/// the frame's reader. The two images of a history pair are touched as one: they swap roles
+/// every frame, so what one is sampled after is the other's write in the frame before.
 fn touches(plan: &FramePlan, attachment: AttachmentId) -> Vec<Touched> {
     let all_layers = (0, plan.attachments[attachment].layers);
+    let same = |id: AttachmentId| match plan.history {
+        Some(h) if h.contains(attachment) => vec![h.read, h.written],
+        _ => vec![id],
+    };
     let mut touched = Vec::new();
     for (index, pass) in plan.passes.iter().enumerate() {
-        let pass_touches = pass_touches(pass, attachment, all_layers);
-        touched.extend(pass_touches.map(|(touch, layers)| Touched {
-            pass: Some(index),
-            touch,
-            layers,
-        }));
+        for id in same(attachment) {
+            let pass_touches = pass_touches(pass, id, all_layers);
+            touched.extend(pass_touches.map(|(touch, layers)| Touched {
+                pass: Some(index),
+                touch,
+                layers,
+            }));
+        }
     }
     if plan.attachments[attachment].read_after_frame {
         touched.push(Touched {
@@ -55,10 +62,14 @@ fn pass_touches(
         .contains(&attachment)
         .then_some((Touch::Sampled, all_layers));
     let depth = pass.depth.iter().map(|u| (Touch::DepthAttachment, u));
-    let colour = [Some(&pass.color), pass.resolve.as_ref()]
-        .into_iter()
-        .flatten()
-        .map(|u| (Touch::ColourAttachment, u));
+    let colour = [
+        Some(&pass.color),
+        pass.resolve.as_ref(),
+        pass.history.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
+    .map(|u| (Touch::ColourAttachment, u));
     sampled.into_iter().chain(
         colour
             .chain(depth)

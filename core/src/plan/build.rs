@@ -17,7 +17,7 @@ use super::radial_density::{add_radial_density, radial_mask_pipeline, reconstruc
 use super::scene_sizes::{lod_plan, plan_instance_buffers, spare_total};
 use super::steps::{DrawSet, OutputSource, Step};
 use super::stereo_scene::{scene_passes, scene_pipeline, FoveaPasses, ViewSet};
-use super::temporal::{accumulate_pipeline, add_accumulation, store_history_pipeline};
+use super::temporal::add_accumulation;
 use super::validate::*;
 use super::{
     ConfigError, DeviceCaps, FoveaLayout, OutputStage, RenderConfig, Resolution, StereoMode,
@@ -82,7 +82,7 @@ pub fn plan(
         mffr: e.mffr.as_ref(),
         radial_density: e.radial_density.is_some(),
     };
-    add_technique_steps(&techniques, &mut passes, &mut attachments);
+    let history = add_technique_steps(&techniques, &mut passes, &mut attachments);
     if caps.quirks.multiview_clipping_drops_views {
         work_around_multiview_clipping(&mut passes, &attachments, caps);
     }
@@ -123,6 +123,7 @@ pub fn plan(
         external_output: config.external_output,
         hidden_area_mesh: config.hidden_area_mesh,
         frame_slots: config.frames_in_flight,
+        history,
     };
     check_external_output(&plan)?;
     assign_cull_slots(&mut plan);
@@ -184,8 +185,6 @@ fn step_pipelines(plan: &FramePlan, pass_index: usize) -> Vec<PipelineDesc> {
                 Step::Output(output) => output_pipeline(&ctx, output, plan.foveation.as_ref()),
                 Step::RadialMask { .. } => radial_mask_pipeline(&ctx, radial()),
                 Step::Reconstruct => reconstruct_pipeline(&ctx, radial()),
-                Step::Accumulate => accumulate_pipeline(&ctx),
-                Step::StoreHistory => store_history_pipeline(&ctx),
             }
         })
         .collect()
@@ -282,12 +281,13 @@ struct Techniques<'a> {
 }
 
 /// Each technique's steps around the scene step of every eye pass, then its passes: radial
-/// density's reconstruction, the output stage.
+/// density's reconstruction, the output stage (with temporal accumulation folded in: its
+/// history pair is returned).
 fn add_technique_steps(
     t: &Techniques,
     passes: &mut Vec<PassPlan>,
     attachments: &mut Vec<AttachmentPlan>,
-) {
+) -> Option<HistoryPair> {
     let (config, eye_resolution, layout) = (t.config, t.eye_resolution, t.layout);
     let (foveation, fovea_layout, mffr) = (t.foveation, t.fovea_layout, t.mffr);
     let lens = config.output == OutputStage::Lens;
@@ -322,31 +322,29 @@ fn add_technique_steps(
         (None, TargetLayout::PerEye) => Some(OutputSource::PerEye),
         (None, TargetLayout::SideBySide) => Some(OutputSource::SideBySide),
     };
-    if let Some(source) = source {
-        let mut images: Vec<AttachmentId> = (0..attachments.len())
-            .filter(|&i| attachments[i].read_after_frame)
-            .collect();
-        // The output stage's periphery is the accumulated one; in the one-pass layout the
-        // fovea stays in layers 2 and 3 of the views' image.
-        let accumulation = foveation
-            .and_then(|f| f.temporal)
-            .and_then(|_| add_accumulation(passes, attachments, eye_resolution));
-        if let Some(a) = &accumulation {
-            if images.len() == 1 {
-                images.insert(0, a.accumulated);
-            } else {
-                images[0] = a.accumulated;
-            }
-        }
-        passes.push(output_pass(
-            images,
-            source,
-            lens,
-            eye_resolution,
-            attachments,
-        ));
-        passes.extend(accumulation.map(|a| a.store));
+    let source = source?;
+    let mut images: Vec<AttachmentId> = (0..attachments.len())
+        .filter(|&i| attachments[i].read_after_frame)
+        .collect();
+    // The output stage accumulates the periphery: it samples the history and the periphery's
+    // depth after its sources, and writes the next history beside the output.
+    let accumulation = foveation
+        .and_then(|f| f.temporal)
+        .and_then(|_| add_accumulation(passes, attachments, eye_resolution));
+    if let Some(a) = &accumulation {
+        images.extend(a.samples());
     }
+    let mut output = output_pass(
+        images,
+        source,
+        lens,
+        accumulation.is_some(),
+        eye_resolution,
+        attachments,
+    );
+    output.history = accumulation.as_ref().map(|a| a.written());
+    passes.push(output);
+    accumulation.map(|a| a.pair)
 }
 
 /// A driver that clips multiview primitives into view 0 gets a guard band on every multiview

@@ -82,7 +82,9 @@ pub(super) fn derive_ops(plan: &mut FramePlan) {
             .collect();
         let loads: Vec<LoadOp> = uses.iter().map(|u| u.load).collect();
         let stores: Vec<StoreOp> = uses.iter().map(|u| u.store).collect();
-        a.sampled = plan.passes.iter().any(|p| p.samples.contains(&id));
+        // Both images of a history pair are sampled: each on every other frame.
+        a.sampled = plan.passes.iter().any(|p| p.samples.contains(&id))
+            || plan.history.is_some_and(|h| h.contains(id));
         a.transient = !a.read_after_frame && !a.sampled && is_transient(&loads, &stores);
     }
 }

@@ -421,14 +421,15 @@ fn periphery_density_and_samples_give_each_view_pair_its_images() {
     assert_eq!(coupled(Some(0.5)), coupled(None));
 }
 
-/// Temporal accumulation adds its two passes and two history-sized images only when asked:
-/// accumulate before the output stage (reading the periphery's colour, the history and the
-/// periphery's depth), store history after it; the history is stored for the next frame and
-/// ends ready to be sampled, and the output stage samples the accumulated periphery. Without it
-/// the plan is the same as it always was. Mutations: planning the passes unconditionally, or
-/// leaving the history's store op to the in-frame rule (DONT_CARE), fail it.
+/// Temporal accumulation adds no pass: it folds into the output stage, which samples the
+/// history and the periphery's depth after its sources and writes the next history as a second
+/// attachment; the two history images (32 bits a pixel, the output's size) swap roles
+/// every frame, both stored and left ready to be sampled, and barriers treat them as one image.
+/// Without it the plan is the same as it always was. Mutations: planning the history
+/// unconditionally, leaving the written history's store op to the in-frame rule (DONT_CARE),
+/// or deriving barriers per image (the sampled one then waits on nothing), fail it.
 #[test]
-fn temporal_accumulation_plans_its_passes_only_when_asked() {
+fn temporal_accumulation_folds_into_the_output_stage_only_when_asked() {
     let with = |temporal: Option<crate::foveation::TemporalConfig>, msaa| RenderConfig {
         foveation: foveated(true)
             .foveation
@@ -442,62 +443,82 @@ fn temporal_accumulation_plans_its_passes_only_when_asked() {
         ..foveated(true)
     };
     let off = planned(&with(None, 1));
-    let temporal_kinds = [PassKind::Accumulate, PassKind::StoreHistory];
-    assert!(off.passes.iter().all(|p| !temporal_kinds.contains(&p.kind)));
-    assert!(off.attachments.iter().all(|a| a.format != Format::Rgba16F));
+    assert!(off.history.is_none());
+    assert!(off.passes.iter().all(|p| p.history.is_none()));
+    assert!(off.attachments.iter().all(|a| a.format != Format::Rgb10A2));
     assert!(off.sampled_before_written().is_empty());
 
     let on = planned(&with(Some(Default::default()), 1));
     let kinds: Vec<PassKind> = on.passes.iter().map(|p| p.kind).collect();
+    assert_eq!(kinds, [PassKind::Scene, PassKind::Scene, PassKind::Output]);
+    let (periphery, fovea, output) = (&on.passes[0], &on.passes[1], &on.passes[2]);
+    let pair = on.history.expect("a history pair");
+    let depth = periphery.depth.unwrap();
+    let colour = |p: &PassPlan| p.resolve.unwrap_or(p.color).attachment;
     assert_eq!(
-        kinds,
+        output.samples,
         [
-            PassKind::Scene,
-            PassKind::Scene,
-            PassKind::Accumulate,
-            PassKind::Output,
-            PassKind::StoreHistory
+            colour(periphery),
+            colour(fovea),
+            pair.read,
+            depth.attachment
         ]
     );
-    let (periphery, accumulate, output, store) =
-        (&on.passes[0], &on.passes[2], &on.passes[3], &on.passes[4]);
-    let history = store.color.attachment;
-    let depth = periphery.depth.unwrap();
+    let written = output
+        .history
+        .expect("the next history written by the output pass");
+    assert_eq!(written.attachment, pair.written);
+    assert_eq!(on.sampled_before_written(), [pair.read, pair.written]);
     assert_eq!(
-        accumulate.samples,
-        [periphery.color.attachment, history, depth.attachment]
-    );
-    assert_eq!(output.samples[0], accumulate.color.attachment);
-    assert_eq!(store.samples, [accumulate.color.attachment]);
-    assert_eq!(on.sampled_before_written(), [history]);
-    assert_eq!(
-        (store.color.store, store.color.final_layout),
+        (written.store, written.final_layout),
         (StoreOp::Store, Layout::ShaderReadOnly),
-        "kept for the next frame's accumulate pass"
+        "kept for the next frame, which samples it"
     );
     assert_eq!(
         (depth.store, depth.final_layout),
         (StoreOp::Store, Layout::ShaderReadOnly)
     );
-    for id in [history, accumulate.color.attachment] {
+    for id in [pair.read, pair.written] {
         let a = &on.attachments[id];
         assert_eq!(
-            (a.format, a.width, a.layers, a.transient),
-            (Format::Rgba16F, 512, 2, false),
-            "{}: the screen's density",
+            (a.format, a.width, a.layers, a.transient, a.sampled),
+            (Format::Rgb10A2, 512, 2, false, true),
+            "{}: the output's pixels",
             a.name
         );
     }
-    // The history is touched by the store pass last and the accumulate pass first: each waits
-    // on the other across the frame boundary.
-    assert!(accumulate
-        .barriers
-        .wait
-        .iter()
-        .any(|b| b.attachment == history && b.from == Touch::ColourAttachment));
+    // The sampled history was written by the frame before, the written one sampled by it.
+    let waits = |id, from| {
+        output
+            .barriers
+            .wait
+            .iter()
+            .any(|b| b.attachment == id && b.from == from)
+    };
+    assert!(waits(pair.read, Touch::ColourAttachment));
+    assert!(waits(pair.written, Touch::Sampled));
+    assert_eq!(pair.of_frame(1).read, pair.written);
 
     let e = plan_err(&with(Some(Default::default()), 4));
     assert_eq!(e.field, "periphery_msaa");
+    // Accumulated pixel by pixel, the periphery has no neighbourhood to sharpen or upscale.
+    let on = with(Some(Default::default()), 1);
+    let sharpened = RenderConfig {
+        foveation: on.foveation.map(|f| crate::foveation::FoveationConfig {
+            periphery_sharpen: 0.5,
+            ..f
+        }),
+        ..on.clone()
+    };
+    assert_eq!(plan_err(&sharpened).field, "periphery_sharpen");
+    let cubic = RenderConfig {
+        foveation: on.foveation.map(|f| crate::foveation::FoveationConfig {
+            periphery_filter: crate::foveation::PeripheryFilter::CatmullRom,
+            ..f
+        }),
+        ..on
+    };
+    assert_eq!(plan_err(&cubic).field, "periphery_filter");
 }
 
 /// A device without D32_SFLOAT_S8_UINT depth-stencil attachments (a tile GPU offering

@@ -34,8 +34,8 @@ pub use config::{
     RenderConfig, StereoMode, MAX_FRAMES_IN_FLIGHT, MAX_SPARE_INSTANCES, MAX_VIEWS,
 };
 pub use model::{
-    BufferPlan, ClusterPlan, CountedSlot, FoveaLayoutChoice, FramePlan, LensOutput, LodPlan,
-    PassKind, PassPlan, Submission, TargetLayout, COUNTER_SLOTS_PER_STEP, SKY,
+    BufferPlan, ClusterPlan, CountedSlot, FoveaLayoutChoice, FramePlan, HistoryPair, LensOutput,
+    LodPlan, PassKind, PassPlan, Submission, TargetLayout, COUNTER_SLOTS_PER_STEP, SKY,
 };
 pub use ops::{
     Access, AttachmentId, Barrier, ClearValue, Layout, LoadOp, PassBarriers, StoreOp, Touch,

@@ -38,22 +38,12 @@ pub enum PassKind {
     FarField,
     /// Radial density masking: the skipped quads filled from their neighbours.
     Reconstruct,
-    /// Temporal accumulation: this frame's jittered periphery gathered into the history.
-    Accumulate,
-    /// Temporal accumulation: the accumulated periphery kept as the next frame's history.
-    StoreHistory,
 }
 
 impl PassKind {
     /// A pass of one full-view draw per eye sampling earlier images (not the scene).
     pub fn is_full_view(self) -> bool {
-        matches!(
-            self,
-            PassKind::Output
-                | PassKind::Reconstruct
-                | PassKind::Accumulate
-                | PassKind::StoreHistory
-        )
+        matches!(self, PassKind::Output | PassKind::Reconstruct)
     }
 }
 
@@ -72,6 +62,10 @@ pub struct PassPlan {
     pub depth: Option<Use>,
     /// In-pass MSAA resolve target (`pResolveAttachments`).
     pub resolve: Option<Use>,
+    /// The next frame's history, written as a second colour attachment (location 1) beside
+    /// `color` (temporal accumulation folded into the output stage). Its image swaps roles
+    /// with the history the pass samples every frame ([`FramePlan::history`]).
+    pub history: Option<Use>,
     /// Attachments of earlier passes this pass samples.
     pub samples: Vec<AttachmentId>,
     /// How its views are submitted (multiview, pass per eye, instanced …).
@@ -113,6 +107,7 @@ impl PassPlan {
             color,
             depth: None,
             resolve: None,
+            history: None,
             samples: Vec::new(),
             submission,
             steps: Vec::new(),
@@ -124,12 +119,14 @@ impl PassPlan {
         }
     }
 
-    /// Every attachment use of the pass: colour, depth, resolve.
+    /// Every attachment use of the pass: colour, depth, resolve, history (the render pass's
+    /// attachment order).
     pub fn uses(&self) -> impl Iterator<Item = &Use> {
         [
             Some(&self.color),
             self.depth.as_ref(),
             self.resolve.as_ref(),
+            self.history.as_ref(),
         ]
         .into_iter()
         .flatten()
@@ -173,6 +170,7 @@ impl PassPlan {
             Some(&mut self.color),
             self.depth.as_mut(),
             self.resolve.as_mut(),
+            self.history.as_mut(),
         ]
         .into_iter()
         .flatten()
@@ -303,6 +301,39 @@ pub struct FramePlan {
     /// Frame slots the renderer keeps: frames that may be in flight at once
     /// ([`RenderConfig::frames_in_flight`](crate::plan::RenderConfig::frames_in_flight)).
     pub frame_slots: u32,
+    /// The temporal history's two images, when the periphery is accumulated: they swap roles
+    /// every frame, so no pass copies the history.
+    pub history: Option<HistoryPair>,
+}
+
+/// A history kept across frames in two images that swap roles every frame: even frames
+/// sample `read` and write `written`, odd frames the reverse. The plan's passes name the even
+/// frames' roles; barriers treat the two as one image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HistoryPair {
+    /// The image even frames sample (the history the frame before left).
+    pub read: AttachmentId,
+    /// The image even frames write (the history the next frame samples).
+    pub written: AttachmentId,
+}
+
+impl HistoryPair {
+    /// The roles in frame `frame` (counted from the renderer's first).
+    pub fn of_frame(self, frame: u64) -> HistoryPair {
+        if frame.is_multiple_of(2) {
+            self
+        } else {
+            HistoryPair {
+                read: self.written,
+                written: self.read,
+            }
+        }
+    }
+
+    /// Whether `id` is one of the two.
+    pub fn contains(self, id: AttachmentId) -> bool {
+        id == self.read || id == self.written
+    }
 }
 
 /// Clusters in the plan: what the culled draw sets test per cluster, and what the id buffer
@@ -471,12 +502,15 @@ impl FramePlan {
         }
     }
 
-    /// Attachments a pass samples before any pass of the frame writes them: what the previous
-    /// frame left (a temporal history). The renderer makes them sampleable before the first
-    /// frame.
+    /// Attachments a pass samples before any pass of the frame writes them, and both images of
+    /// the history pair: what the previous frame left. The renderer makes them sampleable
+    /// before the first frame.
     pub fn sampled_before_written(&self) -> Vec<AttachmentId> {
         (0..self.attachments.len())
             .filter(|&id| {
+                if self.history.is_some_and(|h| h.contains(id)) {
+                    return true;
+                }
                 let first_sampled = self.passes.iter().position(|p| p.samples.contains(&id));
                 let first_written = self
                     .passes

@@ -9,7 +9,10 @@ use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{OutputSource, OutputStep, Step};
 use super::{ConfigError, OutputFormat, Resolution};
 use crate::foveation::{FoveationGeometry, PeripheryFilter};
-use crate::shaders::{COMPOSITE_VERT, OUTPUT_FRAG, OUTPUT_FRAG_COUNTING};
+use crate::shaders::{
+    COMPOSITE_VERT, OUTPUT_FRAG, OUTPUT_FRAG_COUNTING, OUTPUT_TEMPORAL_FRAG,
+    OUTPUT_TEMPORAL_FRAG_COUNTING,
+};
 
 /// The output pass: each eye at `eye` size, from `sources` (in eye order; the periphery, then
 /// the fovea views of a two-pass foveated frame) as `source` says.
@@ -17,14 +20,23 @@ pub(super) fn output_pass(
     sources: Vec<AttachmentId>,
     source: OutputSource,
     lens: bool,
+    temporal: bool,
     eye: Resolution,
     attachments: &mut Vec<AttachmentPlan>,
 ) -> PassPlan {
-    let name = match (source, lens) {
-        (OutputSource::Foveated { .. }, true) => "output (fovea over periphery, lens-distorted)",
-        (OutputSource::Foveated { .. }, false) => "output (fovea over periphery)",
-        (_, true) => "output (lens-distorted)",
-        (_, false) => "output",
+    let name = match (source, lens, temporal) {
+        (OutputSource::Foveated { .. }, true, true) => {
+            "output (periphery accumulated, fovea over it, lens-distorted)"
+        }
+        (OutputSource::Foveated { .. }, false, true) => {
+            "output (periphery accumulated, fovea over it)"
+        }
+        (OutputSource::Foveated { .. }, true, false) => {
+            "output (fovea over periphery, lens-distorted)"
+        }
+        (OutputSource::Foveated { .. }, false, false) => "output (fovea over periphery)",
+        (_, true, _) => "output (lens-distorted)",
+        (_, false, _) => "output",
     };
     sampling_pass(
         sources,
@@ -32,7 +44,11 @@ pub(super) fn output_pass(
         attachments,
         name,
         PassKind::Output,
-        Step::Output(OutputStep { lens, source }),
+        Step::Output(OutputStep {
+            lens,
+            source,
+            temporal,
+        }),
     )
 }
 
@@ -151,7 +167,13 @@ pub(super) fn output_pipeline(
         } => (fovea_layer, sharpen),
         _ => (0, false),
     };
-    ctx.pipeline(&COMPOSITE_VERT, &OUTPUT_FRAG, &OUTPUT_FRAG_COUNTING)
+    // Accumulation is its own shader: it declares the history's attachment and images.
+    let (plain, counting) = if step.temporal {
+        (&OUTPUT_TEMPORAL_FRAG, &OUTPUT_TEMPORAL_FRAG_COUNTING)
+    } else {
+        (&OUTPUT_FRAG, &OUTPUT_FRAG_COUNTING)
+    };
+    ctx.pipeline(&COMPOSITE_VERT, plain, counting)
         .flag(Constant::Lens, step.lens)
         .constant(Constant::Source, step.source.code())
         .constant(Constant::FoveaLayer, fovea_layer)

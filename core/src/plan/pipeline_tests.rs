@@ -77,6 +77,7 @@ fn configurations() -> Vec<(Scene, RenderConfig)> {
                 .foveation
                 .map(|f| FoveationConfig {
                     periphery_temporal: Some(Default::default()),
+                    periphery_sharpen: 0.0,
                     ..f
                 }),
             ..foveated(FoveaLayout::OnePass, false)
@@ -87,6 +88,8 @@ fn configurations() -> Vec<(Scene, RenderConfig)> {
                 .foveation
                 .map(|f| FoveationConfig {
                     periphery_temporal: Some(Default::default()),
+                    // Nothing to sharpen: the accumulated periphery is at the output's pixels.
+                    periphery_sharpen: 0.0,
                     ..f
                 }),
             ..foveated(FoveaLayout::TwoPass, true)

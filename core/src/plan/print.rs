@@ -341,16 +341,23 @@ impl FramePlan {
                         )?;
                     }
                 }
-                Step::Accumulate => {
+                Step::Output(o) if o.temporal => {
                     if let Some(t) = self.foveation.and_then(|f| f.temporal) {
                         writeln!(
                             f,
-                            "    periphery jittered over a {}-frame Halton cycle, blended into the history reprojected by depth (new sample weight {}), clamped to its neighbourhood; reset on disocclusion, where the fovea covered it, and at cuts (> {} m, > {}°)",
+                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth, clipped to the periphery's neighbourhood (its mean and spread in YCoCg), the new sample blended in (weight {}); none where the fovea covered it, reset at cuts (> {} m, > {}°)",
                             t.jitter_cycle, t.blend, t.cut_distance_m, t.cut_angle_deg
                         )?;
                     }
+                    if let Some(h) = self.history {
+                        writeln!(
+                            f,
+                            "    history: #{} and #{} swap roles every frame (no copy)",
+                            h.read, h.written
+                        )?;
+                    }
                 }
-                Step::Output(_) | Step::Reconstruct | Step::StoreHistory => {}
+                Step::Output(_) | Step::Reconstruct => {}
             }
         }
         Ok(())
@@ -444,6 +451,7 @@ fn write_pass_targets(f: &mut fmt::Formatter<'_>, p: &PassPlan) -> fmt::Result {
         ("colour", Some(&p.color)),
         ("depth", p.depth.as_ref()),
         ("resolve", p.resolve.as_ref()),
+        ("history", p.history.as_ref()),
     ] {
         let Some(u) = u else { continue };
         writeln!(

@@ -147,6 +147,7 @@ prop_compose! {
                 jitter_cycle,
                 cut_distance_m,
                 cut_angle_deg: cut_distance_m * 10.0,
+                ..TemporalConfig::default()
             }),
             ..Default::default()
         }

@@ -251,7 +251,8 @@ fn the_fovea_layouts_plan_their_passes_and_draw_sets() {
             source: OutputSource::Foveated {
                 fovea_layer: 0,
                 sharpen: false
-            }
+            },
+            temporal: false,
         })
     );
     let one = planned(&foveated(true));

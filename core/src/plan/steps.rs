@@ -44,10 +44,6 @@ pub enum CountedStep {
     RadialMask,
     /// Radial density reconstruction (a full-view draw per eye).
     Reconstruct,
-    /// Temporal accumulation of the periphery, and the copy that keeps its history.
-    Accumulate,
-    /// The copy that keeps the accumulated periphery's history.
-    StoreHistory,
 }
 
 impl CountedStep {
@@ -61,8 +57,6 @@ impl CountedStep {
             CountedStep::Output => "output",
             CountedStep::RadialMask => "radial mask",
             CountedStep::Reconstruct => "reconstruct",
-            CountedStep::Accumulate => "accumulate",
-            CountedStep::StoreHistory => "store history",
         }
     }
 }
@@ -152,11 +146,6 @@ pub enum Step {
     /// The output stage: a full-view draw per eye sampling what the frame rendered, composing a
     /// foveated frame's views and, for the lens, pre-distorting.
     Output(OutputStep),
-    /// Temporal accumulation: a full-view draw per eye gathering the jittered periphery into
-    /// the reprojected history, at the screen's density.
-    Accumulate,
-    /// A full-view draw per eye copying the accumulated periphery into the next frame's history.
-    StoreHistory,
 }
 
 /// What the output stage does.
@@ -166,6 +155,10 @@ pub struct OutputStep {
     pub lens: bool,
     /// Where each eye's rendered image lies in the pass's sampled attachments.
     pub source: OutputSource,
+    /// The periphery accumulated over frames in this pass: the history reprojected by depth,
+    /// read from the pass's last two sampled images (the history, the periphery's depth), the
+    /// next history written beside the output (the pass's `history`).
+    pub temporal: bool,
 }
 
 /// Where the output stage finds each eye's rendered image.
@@ -220,8 +213,6 @@ impl Step {
             Step::Output(_) => CountedStep::Output,
             Step::RadialMask { .. } => CountedStep::RadialMask,
             Step::Reconstruct => CountedStep::Reconstruct,
-            Step::Accumulate => CountedStep::Accumulate,
-            Step::StoreHistory => CountedStep::StoreHistory,
         }
     }
 
@@ -232,7 +223,7 @@ impl Step {
             Step::FarComposite { stencil }
             | Step::Scene { stencil, .. }
             | Step::Probe { stencil } => stencil,
-            Step::Output(_) | Step::Reconstruct | Step::Accumulate | Step::StoreHistory => None,
+            Step::Output(_) | Step::Reconstruct => None,
         }
     }
 }
@@ -316,7 +307,7 @@ pub(crate) fn assign_stencil_states(steps: &mut [Step]) {
                     )
                 })
             }
-            Step::Output(_) | Step::Reconstruct | Step::Accumulate | Step::StoreHistory => {}
+            Step::Output(_) | Step::Reconstruct => {}
         }
     }
 }
@@ -350,24 +341,28 @@ impl fmt::Display for Step {
             } => format!("scene (cull slot {slot})"),
             Step::Scene { .. } => "scene".to_string(),
             Step::Probe { .. } => "probe".to_string(),
-            Step::Output(o) => format!(
-                "output ({}{})",
-                match o.source {
-                    OutputSource::Foveated { sharpen: false, .. } => "fovea over periphery",
-                    OutputSource::Foveated { sharpen: true, .. } =>
-                        "fovea over sharpened periphery",
-                    _ => "eye images",
-                },
-                if o.lens {
-                    ", lens-distorted"
+            Step::Output(o) => {
+                format!(
+                    "output ({}{})",
+                    match o.source {
+                        OutputSource::Foveated { sharpen: false, .. } => "fovea over periphery",
+                        OutputSource::Foveated { sharpen: true, .. } =>
+                            "fovea over sharpened periphery",
+                        _ => "eye images",
+                    },
+                    if o.lens {
+                        ", lens-distorted"
+                    } else {
+                        ", undistorted"
+                    }
+                ) + if o.temporal {
+                    ", periphery accumulated"
                 } else {
-                    ", undistorted"
+                    ""
                 }
-            ),
+            }
             Step::RadialMask { .. } => "radial mask".to_string(),
             Step::Reconstruct => "reconstruct".to_string(),
-            Step::Accumulate => "accumulate".to_string(),
-            Step::StoreHistory => "store history".to_string(),
         };
         match self.stencil() {
             Some(s) => write!(f, "{name} [{s}]"),

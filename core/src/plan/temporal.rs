@@ -1,46 +1,51 @@
-//! Temporal accumulation of the periphery (maths: `foveation/temporal.rs`; executor:
-//! `render/temporal.rs`; shaders: `accumulate.frag`, `store_history.frag`). Two full-view
-//! passes at the screen's density join a foveated frame: before the output stage, `accumulate`
-//! gathers the jittered periphery into the history reprojected by depth; after it,
-//! `store history` keeps the result for the next frame (a pass cannot sample the image it
-//! writes). The output stage samples the accumulated periphery in place of the periphery view.
+//! Temporal accumulation of the periphery (maths: `foveation/temporal.rs`; executor: the
+//! output stage's, `render/output.rs` with `render/temporal.rs`; shader: `output.frag`'s
+//! `accumulate`). It is folded into the output stage, the one full-view pass a frame has
+//! anyway: that pass reads the jittered periphery, its depth and the history, and writes the
+//! next history as a second attachment beside what the display shows. The history is a pair of
+//! images that swap roles every frame (a pass cannot sample the image it writes), so nothing
+//! copies it; at the output's pixels, in 32 bits a pixel (10-bit square roots of linear light).
 
-use super::model::{AttachmentPlan, AttachmentRole, Format, PassKind, PassPlan};
-use super::ops::AttachmentId;
-use super::output::full_view_pass;
-use super::pipeline::{PipelineDesc, StepContext};
-use super::steps::Step;
+use super::model::{AttachmentPlan, AttachmentRole, Format, HistoryPair, PassKind, PassPlan};
+use super::ops::{Access, AttachmentId};
 use super::Resolution;
-use crate::shaders::{
-    ACCUMULATE_FRAG, ACCUMULATE_FRAG_COUNTING, COMPOSITE_VERT, STORE_HISTORY_FRAG,
-    STORE_HISTORY_FRAG_COUNTING,
-};
 
-/// The accumulation added to a frame whose scene passes are planned.
+/// What temporal accumulation adds to a frame whose scene passes are planned.
 pub(super) struct Accumulation {
-    /// The accumulated periphery, which the output stage samples.
-    pub accumulated: AttachmentId,
-    /// The pass that keeps it for the next frame, to follow the output stage.
-    pub store: PassPlan,
+    /// The history pair; the output pass samples `read` and writes `written` (even frames).
+    pub pair: HistoryPair,
+    /// The periphery pass's depth, which the output pass samples to reproject.
+    pub depth: AttachmentId,
 }
 
-/// Adds the accumulate pass, reading the periphery pass's colour and depth (views 0 and 1) and
-/// the history; returns the accumulated image and the pass that stores it. `None` without a
-/// periphery pass.
+impl Accumulation {
+    /// The images the output pass samples for it, after its own sources (the executor's
+    /// binding order: history, then depth).
+    pub fn samples(&self) -> [AttachmentId; 2] {
+        [self.pair.read, self.depth]
+    }
+
+    /// The output pass's second colour attachment: the next history, overwritten whole.
+    pub fn written(&self) -> super::Use {
+        super::Use::new(self.pair.written, 0, 2, Access::Overwrite)
+    }
+}
+
+/// Adds the history pair at the output's size (`eye`); `None` without a periphery pass with
+/// depth.
 pub(super) fn add_accumulation(
-    passes: &mut Vec<PassPlan>,
+    passes: &[PassPlan],
     attachments: &mut Vec<AttachmentPlan>,
     eye: Resolution,
 ) -> Option<Accumulation> {
     let periphery = passes
         .iter()
         .find(|p| p.kind == PassKind::Scene && p.first_view == 0)?;
-    let colour = periphery.resolve.unwrap_or(periphery.color).attachment;
     let depth = periphery.depth?.attachment;
     let image = |name| AttachmentPlan {
         name,
         role: AttachmentRole::Color,
-        format: Format::Rgba16F,
+        format: Format::Rgb10A2,
         samples: 1,
         width: eye.width,
         height: eye.height,
@@ -49,38 +54,14 @@ pub(super) fn add_accumulation(
         sampled: false,
         transient: false,
     };
-    attachments.push(image("periphery history"));
-    let history = attachments.len() - 1;
-    attachments.push(image("accumulated periphery"));
-    let accumulated = attachments.len() - 1;
-    // The order of `samples` is the executor's binding order.
-    passes.push(full_view_pass(
-        vec![colour, history, depth],
-        accumulated,
-        attachments,
-        "accumulate (periphery over its history)",
-        PassKind::Accumulate,
-        Step::Accumulate,
-    ));
-    let store = full_view_pass(
-        vec![accumulated],
-        history,
-        attachments,
-        "store history",
-        PassKind::StoreHistory,
-        Step::StoreHistory,
-    );
-    Some(Accumulation { accumulated, store })
-}
-
-pub(super) fn accumulate_pipeline(ctx: &StepContext) -> PipelineDesc {
-    ctx.pipeline(&COMPOSITE_VERT, &ACCUMULATE_FRAG, &ACCUMULATE_FRAG_COUNTING)
-}
-
-pub(super) fn store_history_pipeline(ctx: &StepContext) -> PipelineDesc {
-    ctx.pipeline(
-        &COMPOSITE_VERT,
-        &STORE_HISTORY_FRAG,
-        &STORE_HISTORY_FRAG_COUNTING,
-    )
+    attachments.push(image("periphery history (even frames read)"));
+    attachments.push(image("periphery history (even frames write)"));
+    let n = attachments.len();
+    Some(Accumulation {
+        pair: HistoryPair {
+            read: n - 2,
+            written: n - 1,
+        },
+        depth,
+    })
 }

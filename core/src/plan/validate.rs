@@ -184,6 +184,24 @@ pub(super) fn validate_view_sets(
                  reprojection reads single-sample depth)",
             ));
         }
+        // The output stage accumulates pixel by pixel: it has no accumulated neighbourhood to
+        // sharpen or to upscale.
+        if foveation.periphery_sharpen > 0.0 {
+            return Err(ConfigError::new(
+                "periphery_sharpen",
+                foveation.periphery_sharpen,
+                "0 with temporal accumulation (the accumulated periphery is at the output's \
+                 pixels already: nothing to sharpen as it is upscaled)",
+            ));
+        }
+        if foveation.periphery_filter != crate::foveation::PeripheryFilter::Bilinear {
+            return Err(ConfigError::new(
+                "periphery_filter",
+                format!("{:?}", foveation.periphery_filter),
+                "bilinear with temporal accumulation (the accumulated periphery is at the \
+                 output's pixels already: nothing to upscale)",
+            ));
+        }
         if config.mffr.is_some() {
             return Err(ConfigError::new(
                 "mffr",

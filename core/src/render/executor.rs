@@ -20,6 +20,9 @@ pub(super) struct FrameContext<'a> {
     pub jitter: Option<glam::Vec2>,
     /// Each eye's hidden-area mesh, when the plan's HMD mask takes one and one was handed in.
     pub hidden_area: Option<&'a [HiddenArea; 2]>,
+    /// The frame's number from the renderer's first (its parity says which image of a history
+    /// pair it samples).
+    pub frame: u64,
 }
 
 /// One technique's per-frame work. One that keeps state across frames (the periphery's
@@ -31,7 +34,8 @@ pub(super) struct FrameContext<'a> {
 pub(super) trait Executor: Send {
     /// Writes this frame's uniforms, those of frame slot `slot`.
     fn update(&mut self, slot: usize, frame: &FrameContext);
-    /// The descriptor set `step` binds in frame slot `slot`, when it is one of this executor's
-    /// steps that reads the executor's own resources (others bind the scene's).
-    fn descriptors(&self, step: &Step, slot: usize) -> Option<&DescriptorSet>;
+    /// The descriptor set `step` binds in frame slot `slot` on frames of `parity` (0 even, 1
+    /// odd: a history pair's images swap roles), when it is one of this executor's steps that
+    /// reads the executor's own resources (others bind the scene's).
+    fn descriptors(&self, step: &Step, slot: usize, parity: usize) -> Option<&DescriptorSet>;
 }

@@ -50,7 +50,7 @@ impl Executor for MaskShapes {
         self.buffers[slot].write(&[block]);
     }
 
-    fn descriptors(&self, _step: &Step, _slot: usize) -> Option<&DescriptorSet> {
+    fn descriptors(&self, _step: &Step, _slot: usize, _parity: usize) -> Option<&DescriptorSet> {
         None
     }
 }

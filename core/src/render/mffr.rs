@@ -60,7 +60,7 @@ impl Executor for FarComposite {
         self.sets[slot].uniforms.write(&[block]);
     }
 
-    fn descriptors(&self, step: &Step, slot: usize) -> Option<&DescriptorSet> {
+    fn descriptors(&self, step: &Step, slot: usize, _parity: usize) -> Option<&DescriptorSet> {
         matches!(step, Step::FarComposite { .. }).then_some(&self.sets[slot].descriptors)
     }
 }

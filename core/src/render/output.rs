@@ -1,7 +1,8 @@
 //! The output stage (Di Donato 2017 §3.3–3.4, §3.6.1): what the display shows, per eye — for the
 //! lens, each pixel undistorted then fetched; for a foveated frame, the periphery upscaled
-//! bilinearly and the fovea blended over it with smoothstep across the band: its descriptor set,
-//! sampler and uniforms (its pipeline is its step's, like every other).
+//! bilinearly (or accumulated over frames: `temporal.rs`) and the fovea blended over it with
+//! smoothstep across the band: its descriptor sets, sampler and uniforms (its pipeline is its
+//! step's, like every other).
 
 use glam::Vec4;
 
@@ -9,9 +10,11 @@ use super::descriptors::DescriptorSet;
 use super::executor::{Executor, FrameContext};
 use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
+use super::temporal::{tangents, AccumulateBlock, TemporalAccumulation};
+use crate::foveation::TemporalConfig;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
-use crate::plan::{PassPlan, Step};
-use crate::view::{Eye, FovTangents};
+use crate::plan::{FramePlan, PassPlan, Step};
+use crate::view::Eye;
 
 /// The output stage's uniform block (`Output` in `shaders/output.frag`, std140).
 #[repr(C)]
@@ -22,34 +25,70 @@ struct OutputBlock {
     display: [Vec4; 2],
     params: Vec4,
     screen: Vec4,
+    accumulate: AccumulateBlock,
+}
+
+/// The images the accumulating output stage reads besides its sources.
+pub(crate) struct HistoryImages<'a> {
+    /// The history pair: the image even frames sample, and the one they write.
+    pub pair: [&'a Image; 2],
+    /// The periphery's depth.
+    pub depth: &'a Image,
+    pub config: TemporalConfig,
 }
 
 pub(crate) struct OutputStage {
-    /// One per frame slot.
-    sets: Vec<SampledSet>,
+    /// One per frame parity (which image of the history pair is sampled), one per frame slot.
+    sets: [Vec<SampledSet>; 2],
+    temporal: Option<TemporalAccumulation>,
 }
 
 impl OutputStage {
-    /// Sets up sampling of the images the output pass reads (its `samples`, in order),
-    /// counting into each frame slot's counter (`counters`) in counting frames.
+    /// Sets up sampling of the images the output pass reads (`sources`: its own, in order;
+    /// with accumulation the history and the periphery's depth besides), counting into each
+    /// frame slot's counter (`counters`) in counting frames.
     pub fn new(
         gpu: &Gpu,
-        images: &[&Image],
+        plan: &FramePlan,
+        sources: &[&Image],
+        history: Option<HistoryImages>,
         counters: &[Option<&Buffer>],
     ) -> Result<Self, GpuError> {
         let bytes = std::mem::size_of::<OutputBlock>() as u64;
+        let set = |sampled: usize| {
+            let mut images = sources.to_vec();
+            if let Some(h) = &history {
+                images.extend([h.pair[sampled], h.depth]);
+            }
+            SampledSet::per_slot(gpu, &images, true, bytes, 0, counters)
+        };
+        // Without a history both parities bind the same: one set each slot serves both.
+        let odd = if history.is_some() {
+            set(1)?
+        } else {
+            Vec::new()
+        };
         Ok(OutputStage {
-            sets: SampledSet::per_slot(gpu, images, true, bytes, 0, counters)?,
+            sets: [set(0)?, odd],
+            temporal: history.map(|h| TemporalAccumulation::new(plan, h.config)),
         })
+    }
+
+    /// Which parity's sets frames of `parity` use.
+    fn of(&self, parity: usize) -> usize {
+        if self.sets[1].is_empty() {
+            0
+        } else {
+            parity
+        }
     }
 }
 
 impl Executor for OutputStage {
-    /// Writes this frame's fields: each eye's rendered and display tangents, and with
-    /// foveation its (gaze-dependent) fovea tangents.
+    /// Writes this frame's fields: each eye's rendered and display tangents, with foveation
+    /// its (gaze-dependent) fovea tangents, and with accumulation the reprojection.
     fn update(&mut self, slot: usize, frame: &FrameContext) {
         let (plan, fovea) = (frame.plan, frame.fovea);
-        let tangents = |f: FovTangents| Vec4::from_array(f.as_array());
         let periphery = Eye::BOTH.map(|e| tangents(plan.eyes.fov(e)));
         let (k1, k2) = plan
             .lens
@@ -72,12 +111,17 @@ impl Executor for OutputStage {
                 k1,
                 k2,
             ),
+            accumulate: self
+                .temporal
+                .as_mut()
+                .map_or_else(AccumulateBlock::default, |t| t.next_block(frame)),
         };
-        self.sets[slot].uniforms.write(&[block]);
+        let parity = self.of((frame.frame % 2) as usize);
+        self.sets[parity][slot].uniforms.write(&[block]);
     }
 
-    fn descriptors(&self, step: &Step, slot: usize) -> Option<&DescriptorSet> {
-        matches!(step, Step::Output(_)).then_some(&self.sets[slot].descriptors)
+    fn descriptors(&self, step: &Step, slot: usize, parity: usize) -> Option<&DescriptorSet> {
+        matches!(step, Step::Output(_)).then_some(&self.sets[self.of(parity)][slot].descriptors)
     }
 }
 

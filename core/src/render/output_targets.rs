@@ -6,6 +6,7 @@
 
 use ash::vk;
 
+use super::setup::odd_frame_passes;
 use super::targets::{compile_pass, image_desc, CompiledPass};
 use crate::gpu::{Gpu, GpuError, Image};
 use crate::plan::{AttachmentId, FramePlan};
@@ -15,9 +16,10 @@ use crate::plan::{AttachmentId, FramePlan};
 pub const MAX_OUTPUT_IMAGES: usize = 16;
 
 pub(super) struct OutputTargets {
-    /// Per image, the passes writing the output compiled for it (`(pass index, pass)`);
-    /// before `images`, whose views they hold.
-    passes: Vec<Vec<(usize, CompiledPass)>>,
+    /// Per image, the passes writing the output compiled for it (`(pass index, pass)`), for
+    /// even frames and odd ones (the history pair's roles swapped, when there is one; the
+    /// output pass writes the next history); before `images`, whose views they hold.
+    passes: Vec<[Vec<(usize, CompiledPass)>; 2]>,
     images: Vec<Image>,
     /// The passes that write the output.
     writers: Vec<usize>,
@@ -69,12 +71,19 @@ impl OutputTargets {
         // device, and keeps it alive while the renderer may render into it.
         let target = unsafe { Image::borrowed(gpu, raw, &image_desc(plan, output)) };
         let image = |id: AttachmentId| if id == output { &target } else { &images[id] };
-        let passes = self
+        let even = self
             .writers
             .iter()
             .map(|&i| Ok((i, compile_pass(gpu, plan, i, &image)?)))
             .collect::<Result<Vec<_>, GpuError>>()?;
-        self.passes.push(passes);
+        let mut odd = odd_frame_passes(gpu, plan, self.writers.iter().copied(), &image)?;
+        // A writer that does not touch the history records the same on odd frames.
+        for (i, _) in &even {
+            if !odd.iter().any(|(j, _)| j == i) {
+                odd.push((*i, compile_pass(gpu, plan, *i, &image)?));
+            }
+        }
+        self.passes.push([even, odd]);
         self.images.push(target);
         Ok(self.images.len() - 1)
     }
@@ -106,10 +115,10 @@ impl OutputTargets {
         Ok(())
     }
 
-    /// The passes this frame records into the selected image instead of the plan's (none when
-    /// the frame renders into the renderer's own image).
-    pub fn passes(&self) -> &[(usize, CompiledPass)] {
-        self.current.map_or(&[], |c| &self.passes[c])
+    /// The passes a frame of `parity` (0 even, 1 odd) records into the selected image instead
+    /// of the plan's (none when the frame renders into the renderer's own image).
+    pub fn passes(&self, parity: usize) -> &[(usize, CompiledPass)] {
+        self.current.map_or(&[], |c| &self.passes[c][parity])
     }
 
     /// The selected image, if one is.

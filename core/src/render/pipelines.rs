@@ -202,8 +202,12 @@ pub(crate) fn compile_pipeline(
         } else {
             vk::ColorComponentFlags::empty()
         };
-        let blend_attachments =
-            [vk::PipelineColorBlendAttachmentState::default().color_write_mask(write)];
+        // One state per colour attachment of the subpass (a second: the next history).
+        let blend_attachments = vec![
+            vk::PipelineColorBlendAttachmentState::default()
+                .color_write_mask(write);
+            compiled.colour_attachments as usize
+        ];
         let blend =
             vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
         let mut dynamic_states = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];

@@ -30,7 +30,7 @@ impl Reconstruction {
 impl Executor for Reconstruction {
     fn update(&mut self, _slot: usize, _frame: &FrameContext) {}
 
-    fn descriptors(&self, step: &Step, slot: usize) -> Option<&DescriptorSet> {
+    fn descriptors(&self, step: &Step, slot: usize, _parity: usize) -> Option<&DescriptorSet> {
         (*step == Step::Reconstruct).then_some(&self.sets[slot].descriptors)
     }
 }

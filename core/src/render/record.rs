@@ -56,9 +56,6 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
                     super::radial_density::record_radial_mask(pass, area, rec)
                 }
                 Step::Reconstruct => super::radial_density::record_reconstruction(pass, area, rec),
-                Step::Accumulate | Step::StoreHistory => {
-                    super::temporal::record_temporal(pass, area, rec)
-                }
             }
         }
         rec.end_pass(index, &pass.barriers.signal);

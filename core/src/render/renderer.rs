@@ -39,6 +39,8 @@ pub struct Renderer {
     // Passes (framebuffers, views) go before the images they view.
     /// Each pass compiled.
     passes: Vec<CompiledPass>,
+    /// The passes touching the history pair compiled with its roles swapped, for odd frames.
+    odd_frame_passes: Vec<(usize, CompiledPass)>,
     /// Output images handed in (an OpenXR swapchain's), with their passes.
     output_targets: Option<OutputTargets>,
     /// Each pass's steps as recorded: pipeline, layout and each slot's descriptor set (the sets
@@ -140,9 +142,13 @@ impl Renderer {
         let counters: Vec<_> = slots.iter().map(|s| s.counter.as_ref()).collect();
         let mut executors = sampling_executors(gpu, plan, &images, &counters)?;
         executors.extend(masks.map(|m| Box::new(m) as Box<dyn Executor>));
-        let sets = |step: &Step, slot| executors.iter().find_map(|e| e.descriptors(step, slot));
+        let sets = |step: &Step, slot, parity| {
+            executors
+                .iter()
+                .find_map(|e| e.descriptors(step, slot, parity))
+        };
         let bindings: Vec<_> = slots.iter().map(|s| &s.bindings).collect();
-        let (passes, steps) = compile_passes(gpu, plan, &images, &bindings, sets)?;
+        let compiled = compile_passes(gpu, plan, &images, &bindings, sets)?;
         log::debug!(
             "renderer: {} passes, {} attachments, {} instances in {} draws, {} shading, {} frame slots",
             plan.passes.len(),
@@ -155,9 +161,10 @@ impl Renderer {
         Ok(Renderer {
             gpu: gpu.clone(),
             plan: plan.clone(),
-            passes,
+            passes: compiled.passes,
+            odd_frame_passes: compiled.odd_frames,
             output_targets,
-            steps,
+            steps: compiled.steps,
             executors,
             culling: plan
                 .instance_ids()
@@ -373,6 +380,7 @@ impl Renderer {
             targets.select_image(&self.gpu, &self.plan, raw, &self.images)?;
         }
         let slot = self.next_slot;
+        let parity = (self.frames_rendered % 2) as usize;
         let world_from_head = input.world_from_head;
         let cpu_cull_ms = self.prepare(slot, world_from_head);
         let start = Instant::now();
@@ -385,9 +393,14 @@ impl Renderer {
             let objects = FrameObjects {
                 device: self.gpu.device(),
                 passes: &self.passes,
-                retargeted: self.output_targets.as_ref().map_or(&[], |t| t.passes()),
+                retargeted: match &self.output_targets {
+                    Some(t) if t.image().is_some() => t.passes(parity),
+                    _ if parity == 1 => &self.odd_frame_passes,
+                    _ => &[],
+                },
                 steps: &self.steps,
                 slot,
+                parity,
                 timestamps: frame.queries.as_ref().map(|q| q.raw),
                 statistics: frame.statistics.as_ref().map(|q| q.raw),
                 counter: frame.counter.as_ref().map(|c| c.raw),
@@ -491,6 +504,7 @@ impl Renderer {
             views: &views,
             jitter,
             hidden_area: self.hidden_area.as_ref(),
+            frame: self.frames_rendered,
         };
         for executor in &mut self.executors {
             executor.update(slot, &context);

@@ -34,7 +34,8 @@ impl SampledSet {
 
     /// Binding 0: `images[0]` (every layer: an array view when it has more than one, or when
     /// `arrays` asks for one; a depth image's depth), binding 3: `images[1]` when there is a
-    /// second, binding 4: `images[2]` when there is a third; binding 1: a
+    /// second, binding 4: `images[2]` when there is a third, binding 5: `images[3]` when
+    /// there is a fourth; binding 1: a
     /// uniform block of `uniform_bytes`; binding 2, in counting frames only, the fragment
     /// counter; `push_bytes` of fragment push constants (0 for none).
     pub fn new(
@@ -93,7 +94,10 @@ impl SampledSet {
             binding(1, Resource::Uniform(&uniforms)),
         ];
         bindings.extend(counter.map(|c| binding(2, Resource::Storage(c))));
-        for (b, (view, sampler)) in [3, 4].into_iter().zip(views.iter().zip(&samplers).skip(1)) {
+        for (b, (view, sampler)) in [3, 4, 5]
+            .into_iter()
+            .zip(views.iter().zip(&samplers).skip(1))
+        {
             bindings.push(binding(b, Resource::Sampled(view, sampler.raw)));
         }
         let push = (push_bytes > 0).then_some(vk::PushConstantRange {

@@ -8,15 +8,14 @@ use ash::vk;
 use super::descriptors::DescriptorSet;
 use super::executor::Executor;
 use super::mffr::FarComposite;
-use super::output::OutputStage;
+use super::output::{HistoryImages, OutputStage};
 use super::pipelines::compile_pipeline;
 use super::radial_density::Reconstruction;
 use super::stats::PASS_STATISTICS;
 use super::targets::{compile_pass, CompiledPass};
-use super::temporal::{TemporalAccumulation, TemporalImages};
 use super::vulkan_recorder::BoundStep;
 use crate::gpu::{Buffer, Gpu, GpuError, Image, MemoryLocation, QueryPool, VkResultExt};
-use crate::plan::{BufferPlan, FramePlan, PassKind, Step};
+use crate::plan::{AttachmentId, BufferPlan, FramePlan, PassKind, Step};
 use crate::scene::{Scene, Shading};
 
 /// The executors of the steps that sample earlier passes' images, each when planned: the output
@@ -32,27 +31,23 @@ pub(super) fn sampling_executors(
 ) -> Result<Vec<Box<dyn Executor>>, GpuError> {
     let mut executors: Vec<Box<dyn Executor>> = Vec::new();
     if let Some(p) = plan.passes.iter().find(|p| p.kind == PassKind::Output) {
+        // With accumulation the history and the periphery's depth follow the pass's sources.
+        let history = plan.history.zip(plan.foveation.and_then(|f| f.temporal));
+        let sources = &p.samples[..p.samples.len() - 2 * history.is_some() as usize];
         // Two images always: the shader declares both (a one-image source twice).
-        let first = &images[p.samples[0]];
-        let second = &images[p.samples[p.samples.len() - 1]];
-        executors.push(Box::new(OutputStage::new(gpu, &[first, second], counters)?));
-    }
-    let accumulate = plan.passes.iter().find(|p| p.kind == PassKind::Accumulate);
-    let store = plan
-        .passes
-        .iter()
-        .find(|p| p.kind == PassKind::StoreHistory);
-    if let (Some(a), Some(s), Some(t)) =
-        (accumulate, store, plan.foveation.and_then(|f| f.temporal))
-    {
-        let images = TemporalImages {
-            periphery: &images[a.samples[0]],
-            history: &images[a.samples[1]],
-            periphery_depth: &images[a.samples[2]],
-            accumulated: &images[s.samples[0]],
-        };
-        executors.push(Box::new(TemporalAccumulation::new(
-            gpu, plan, t, images, counters,
+        let first = &images[sources[0]];
+        let second = &images[sources[sources.len() - 1]];
+        let history = history.map(|(h, config)| HistoryImages {
+            pair: [&images[h.read], &images[h.written]],
+            depth: &images[p.samples[p.samples.len() - 1]],
+            config,
+        });
+        executors.push(Box::new(OutputStage::new(
+            gpu,
+            plan,
+            &[first, second],
+            history,
+            counters,
         )?));
     }
     if let Some(p) = plan.far_pass() {
@@ -223,16 +218,16 @@ pub(super) fn query_pool(
 }
 
 /// Each pass compiled, and each of its steps bound: its pipeline, with the resources it reads
-/// in each frame slot — its technique's sampled set (`sets`), or the slot's scene bindings
-/// (`bindings`, one a slot). A slot's sets are laid out as the first slot's, whose layout the
-/// pipelines are made with.
+/// in each frame slot and on frames of each parity — its technique's sampled set (`sets`), or
+/// the slot's scene bindings (`bindings`, one a slot). A slot's sets are laid out as the first
+/// slot's, whose layout the pipelines are made with.
 pub(super) fn compile_passes<'s>(
     gpu: &Gpu,
     plan: &FramePlan,
     images: &[Image],
     bindings: &'s [&'s DescriptorSet],
-    sets: impl Fn(&Step, usize) -> Option<&'s DescriptorSet>,
-) -> Result<(Vec<CompiledPass>, Vec<Vec<BoundStep>>), GpuError> {
+    sets: impl Fn(&Step, usize, usize) -> Option<&'s DescriptorSet>,
+) -> Result<CompiledFrame, GpuError> {
     let mut passes = Vec::with_capacity(plan.passes.len());
     let mut steps = Vec::with_capacity(plan.passes.len());
     for (i, p) in plan.passes.iter().enumerate() {
@@ -243,18 +238,56 @@ pub(super) fn compile_passes<'s>(
             .iter()
             .zip(&p.pipelines)
             .map(|(step, desc)| {
-                let of_slot = |slot: usize| sets(step, slot).unwrap_or(bindings[slot]);
-                let d = of_slot(0);
+                let of = |slot: usize, parity| sets(step, slot, parity).unwrap_or(bindings[slot]);
+                let d = of(0, 0);
                 let (layout, description) = (&d.layout, &d.layout_description);
                 Ok(BoundStep {
                     pipeline: compile_pipeline(gpu, desc, samples, &compiled, layout, description)?,
                     layout: layout.raw,
-                    sets: (0..bindings.len()).map(|s| of_slot(s).set).collect(),
+                    sets: (0..bindings.len())
+                        .map(|s| [of(s, 0).set, of(s, 1).set])
+                        .collect(),
                 })
             })
             .collect::<Result<Vec<_>, GpuError>>()?;
         passes.push(compiled);
         steps.push(bound);
     }
-    Ok((passes, steps))
+    Ok(CompiledFrame {
+        passes,
+        odd_frames: odd_frame_passes(gpu, plan, 0..plan.passes.len(), &|id| &images[id])?,
+        steps,
+    })
+}
+
+/// A frame's passes compiled, and their steps bound.
+pub(super) struct CompiledFrame {
+    pub passes: Vec<CompiledPass>,
+    /// The passes that touch the history pair, compiled with its images' roles swapped:
+    /// odd frames record these in place of the plan's (`(pass index, pass)`).
+    pub odd_frames: Vec<(usize, CompiledPass)>,
+    pub steps: Vec<Vec<BoundStep>>,
+}
+
+/// The passes touching the history pair compiled for odd frames, the pair swapped in the
+/// images `image` gives; none without a pair.
+pub(super) fn odd_frame_passes<'i>(
+    gpu: &Gpu,
+    plan: &FramePlan,
+    indices: impl IntoIterator<Item = usize>,
+    image: &dyn Fn(AttachmentId) -> &'i Image,
+) -> Result<Vec<(usize, CompiledPass)>, GpuError> {
+    let Some(h) = plan.history else {
+        return Ok(Vec::new());
+    };
+    let swapped = |id: AttachmentId| match id {
+        id if id == h.read => image(h.written),
+        id if id == h.written => image(h.read),
+        id => image(id),
+    };
+    indices
+        .into_iter()
+        .filter(|&i| plan.passes[i].uses().any(|u| h.contains(u.attachment)))
+        .map(|i| Ok((i, compile_pass(gpu, plan, i, &swapped)?)))
+        .collect()
 }

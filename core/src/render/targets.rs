@@ -17,6 +17,7 @@ pub(crate) fn vk_format(format: Format) -> vk::Format {
         Format::Rgba8Srgb => vk::Format::R8G8B8A8_SRGB,
         Format::Rgba8Unorm => vk::Format::R8G8B8A8_UNORM,
         Format::Rgba16F => vk::Format::R16G16B16A16_SFLOAT,
+        Format::Rgb10A2 => vk::Format::A2B10G10R10_UNORM_PACK32,
         Format::D32 => vk::Format::D32_SFLOAT,
         Format::D32S8 => vk::Format::D32_SFLOAT_S8_UINT,
     }
@@ -98,6 +99,8 @@ pub(crate) struct CompiledPass {
     pub framebuffer: Framebuffer,
     _views: Vec<ImageView>,
     pub extent: vk::Extent2D,
+    /// Colour attachments of its subpass: 1, or 2 with the next history.
+    pub colour_attachments: u32,
 }
 
 pub(crate) fn vk_layout(layout: Layout) -> vk::ImageLayout {
@@ -204,28 +207,30 @@ pub(crate) fn compile_pass<'i>(
     let uses: Vec<&Use> = pass.uses().collect();
     let descriptions: Vec<vk::AttachmentDescription> =
         uses.iter().map(|u| description(plan, u)).collect();
-    // References follow `uses()`: colour, then depth if any, then resolve if any.
-    let color_ref = [vk::AttachmentReference {
-        attachment: 0,
+    // References follow `uses()`: colour, then depth, resolve and history if any; the
+    // history is colour attachment 1 (the shader's location 1).
+    let colour = |attachment| vk::AttachmentReference {
+        attachment,
         layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-    }];
+    };
+    let history_index = 1 + pass.depth.is_some() as u32 + pass.resolve.is_some() as u32;
+    let color_ref = [colour(0), colour(history_index)];
+    let colour_attachments = 1 + pass.history.is_some() as usize;
     let depth_ref = vk::AttachmentReference {
         attachment: 1,
         layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
     };
     let resolve_index = 1 + pass.depth.is_some() as u32;
-    let resolve_ref = [vk::AttachmentReference {
-        attachment: resolve_index,
-        layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-    }];
+    // The history is not resolved.
+    let resolve_ref = [colour(resolve_index), colour(vk::ATTACHMENT_UNUSED)];
     let mut subpass = vk::SubpassDescription::default()
         .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
-        .color_attachments(&color_ref);
+        .color_attachments(&color_ref[..colour_attachments]);
     if pass.depth.is_some() {
         subpass = subpass.depth_stencil_attachment(&depth_ref);
     }
     if pass.resolve.is_some() {
-        subpass = subpass.resolve_attachments(&resolve_ref);
+        subpass = subpass.resolve_attachments(&resolve_ref[..colour_attachments]);
     }
     // The plan's barriers, as the render pass's external dependencies: what the pass waits
     // on before its first subpass, and what later work waits on after it.
@@ -241,6 +246,7 @@ pub(crate) fn compile_pass<'i>(
         pass.view_mask as u64,
         pass.depth.is_some() as u64,
         pass.resolve.is_some() as u64,
+        pass.history.is_some() as u64,
     ];
     for d in &dependencies {
         description.extend([
@@ -308,5 +314,6 @@ pub(crate) fn compile_pass<'i>(
         description,
         _views: views,
         extent,
+        colour_attachments: colour_attachments as u32,
     })
 }

@@ -17,7 +17,8 @@ use crate::plan::{Barrier, ClearValue};
 pub(super) struct BoundStep {
     pub pipeline: Arc<Pipeline>,
     pub layout: vk::PipelineLayout,
-    pub sets: Vec<vk::DescriptorSet>,
+    /// Per frame slot, the set even and odd frames bind.
+    pub sets: Vec<[vk::DescriptorSet; 2]>,
 }
 
 /// Everything a frame's commands use, borrowed from the renderer that owns it.
@@ -31,6 +32,8 @@ pub(super) struct FrameObjects<'r> {
     pub steps: &'r [Vec<BoundStep>],
     /// The frame slot recorded: whose descriptor sets the steps bind.
     pub slot: usize,
+    /// The frame's parity (0 even, 1 odd): which of a step's sets for its slot it binds.
+    pub parity: usize,
     pub timestamps: Option<vk::QueryPool>,
     pub statistics: Option<vk::QueryPool>,
     pub counter: Option<vk::Buffer>,
@@ -214,7 +217,7 @@ impl Recorder for VulkanRecorder<'_> {
                 vk::PipelineBindPoint::GRAPHICS,
                 bound.layout,
                 0,
-                &[bound.sets[self.objects.slot]],
+                &[bound.sets[self.objects.slot][self.objects.parity]],
                 &[],
             );
         }

@@ -29,7 +29,7 @@ pub use lod::{
     MAX_LOD_LEVELS,
 };
 pub use materials::{Material, Pattern, PointLight, Shading, Surface, MAX_POINT_LIGHTS};
-pub use motion::{walking_pose, TURN_DEG_S, WALK_SPEED_M_S};
+pub use motion::{walking_pose, Walker, TURN_DEG_S, WALK_SPEED_M_S};
 pub use textures::{MaterialTextures, Texture, TEXTURE_SIZE};
 
 /// The scenes the command line offers, by name.

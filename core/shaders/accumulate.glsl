@@ -1,0 +1,164 @@
+// Temporal accumulation of the periphery, folded into the output stage (Di Donato 2017 §3.6;
+// Yang, Nehab & Sander 2009 "Amortized supersampling"; Karis 2014 "High quality temporal
+// supersampling"; Salvi 2016 "An excursion in temporal supersampling"). The periphery views were
+// rendered shifted by a sub-pixel jitter (Halton 2, 3), so over frames their samples land all
+// over each output pixel: the history, kept at the output's pixels, gathers them, and so holds
+// detail one low-resolution frame cannot.
+//
+// For this pixel: its direction, the nearest periphery sample and where it was taken, and that
+// sample's depth; the point it sees, projected into the previous frame's eye (and, for the lens,
+// distorted as that frame's output pixels were), finds its place in the history. History taps
+// that hold nothing (the fovea covered them, the lens hid them, never rendered) are dropped;
+// what remains is clipped towards the periphery's 3x3 neighbourhood in YCoCg — its mean, within
+// its spread (Salvi's variance clipping): a surface that moved or changed cannot leave a trail,
+// and unlike a min/max clamp the box does not widen with every outlier — and the new sample is
+// blended in with a weight that falls with its distance from the pixel's centre. With no usable
+// history, the pixel starts from the bilinear periphery.
+
+layout(set = 0, binding = 4) uniform sampler2DArray history;
+layout(set = 0, binding = 5) uniform sampler2DArray periphery_depth;
+layout(location = 1) out vec4 out_history;
+
+// The history holds the square root of linear light in 10 bits (its steps finer than an 8-bit
+// display's down to the darks, so a small blend of a new sample is not rounded away); alpha 0
+// marks a pixel that holds nothing.
+const vec4 NOTHING = vec4(0.0);
+
+vec4 to_history(vec3 linear) {
+    return vec4(round(sqrt(clamp(linear, 0.0, 1.0)) * 1023.0) / 1023.0, 1.0);
+}
+
+vec3 to_ycocg(vec3 c) {
+    return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * (c.r - c.b), 0.5 * c.g - 0.25 * (c.r + c.b));
+}
+
+vec3 from_ycocg(vec3 c) {
+    float t = c.x - c.z;
+    return vec3(t + c.y, c.x + c.z, t - c.y);
+}
+
+// `h` moved towards the box's centre along the line between them until it lies in the box
+// [lo, hi] (a clip, not a per-channel clamp: the colour keeps its hue).
+vec3 clip_to_box(vec3 h, vec3 lo, vec3 hi) {
+    vec3 centre = 0.5 * (lo + hi);
+    vec3 d = h - centre;
+    vec3 r = abs(d) / max(0.5 * (hi - lo), vec3(1e-6));
+    float k = max(r.x, max(r.y, r.z));
+    return k > 1.0 ? centre + d / k : h;
+}
+
+// The display tangent a lens-distorted output shows direction `t` at: the radial polynomial
+// r(1 + k1 r² + k2 r⁴) inverted by Newton's method (monotone over a lens's field).
+vec2 distorted(vec2 t) {
+    float target = length(t);
+    if (target < 1e-6) {
+        return t;
+    }
+    float r = target;
+    for (int i = 0; i < 4; i++) {
+        float r2 = r * r;
+        float f = r * (1.0 + r2 * (c.screen.z + c.screen.w * r2)) - target;
+        float slope = 1.0 + r2 * (3.0 * c.screen.z + 5.0 * c.screen.w * r2);
+        r -= f / slope;
+    }
+    return t * (r / target);
+}
+
+// Where, in the previous frame's output pixels (continuous, centres at .5), direction `t`
+// seen at `distance` (the sky: infinitely far) lay; w < 0 when behind that frame's eye.
+vec3 previous_pixel(uint eye, vec2 t, float distance, bool sky) {
+    vec4 seen = sky ? vec4(t, -1.0, 0.0) : vec4(t * distance, -distance, 1.0);
+    vec4 clip = c.previous_from_view[eye] * seen;
+    vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
+    if (LENS) {
+        vec4 p = c.periphery[eye];
+        vec4 d = c.display[eye];
+        vec2 tp = vec2(-p.x + uv.x * (p.x + p.y), p.z - uv.y * (p.z + p.w));
+        vec2 td = distorted(tp);
+        uv = vec2((td.x + d.x) / (d.x + d.y), (d.z - td.y) / (d.z + d.w));
+    }
+    return vec3(uv * c.screen.xy, clip.w);
+}
+
+// The history at `at` (previous output pixels), bilinear over the taps that hold something;
+// w: the weight found (0: nothing usable).
+vec4 history_at(uint eye, vec2 at) {
+    vec2 pos = at - 0.5;
+    ivec2 base = ivec2(floor(pos));
+    vec2 frac = pos - floor(pos);
+    vec3 sum = vec3(0.0);
+    float weight = 0.0;
+    for (int k = 0; k < 4; k++) {
+        ivec2 o = ivec2(k & 1, k >> 1);
+        ivec2 tap = base + o;
+        if (any(lessThan(tap, ivec2(0))) || any(greaterThanEqual(tap, ivec2(c.screen.xy)))) {
+            continue;
+        }
+        vec4 h = texelFetch(history, ivec3(tap, eye), 0);
+        if (h.a < 0.5) {
+            continue;
+        }
+        vec2 w2 = mix(1.0 - frac, frac, vec2(o));
+        sum += w2.x * w2.y * h.rgb * h.rgb;
+        weight += w2.x * w2.y;
+    }
+    return vec4(weight > 0.0 ? sum / weight : vec3(0.0), weight);
+}
+
+// The accumulated periphery of eye `eye` at `uv` (the rendered field's) in direction `t`;
+// `next` is what the history keeps of this pixel.
+vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
+    vec4 p = c.periphery[eye];
+    vec4 f = c.fovea[eye];
+    vec2 fovea_centre = vec2((f.y - f.x) * 0.5, (f.z - f.w) * 0.5);
+    vec2 px_per_tangent = c.screen.xy / vec2(p.x + p.y, p.z + p.w);
+    ivec2 size = textureSize(images, 0).xy;
+    vec2 q = uv * vec2(size);
+    vec2 j = c.jitter.xy;
+    // The bilinear periphery at this pixel's centre (the jitter undone).
+    vec3 bilinear = texture(images, vec3((q + j) / vec2(size), float(eye))).rgb;
+    // Inside the periphery's hole nothing was rendered: nothing to keep.
+    if (length((t - fovea_centre) * px_per_tangent) < c.depth.z) {
+        next = NOTHING;
+        return bilinear;
+    }
+    ivec2 texel = clamp(ivec2(floor(q + j)), ivec2(0), size - 1);
+    vec3 nearest = texelFetch(images, ivec3(texel, eye), 0).rgb;
+    vec3 sum = vec3(0.0);
+    vec3 squares = vec3(0.0);
+    vec3 lo = vec3(1e30);
+    vec3 hi = vec3(-1e30);
+    for (int dy = -1; dy <= 1; dy++) {
+        for (int dx = -1; dx <= 1; dx++) {
+            ivec2 n = clamp(texel + ivec2(dx, dy), ivec2(0), size - 1);
+            vec3 s = to_ycocg(texelFetch(images, ivec3(n, eye), 0).rgb);
+            sum += s;
+            squares += s * s;
+            lo = min(lo, s);
+            hi = max(hi, s);
+        }
+    }
+    vec3 mean = sum / 9.0;
+    vec3 spread = c.clip.x * sqrt(max(squares / 9.0 - mean * mean, vec3(0.0)));
+    // The variance box, within the neighbourhood's range.
+    lo = max(lo, mean - spread);
+    hi = min(hi, mean + spread);
+
+    vec3 result = bilinear;
+    float d = texelFetch(periphery_depth, ivec3(texel, eye), 0).r;
+    bool sky = d <= 0.0;
+    float distance = sky ? 0.0 : c.depth.y / (d + c.depth.x);
+    vec3 at = previous_pixel(eye, t, distance, sky);
+    if (c.jitter.w < 0.5 && at.z > 0.0) {
+        vec4 h = history_at(eye, at.xy);
+        if (h.w > 0.01) {
+            vec3 kept = c.clip.x < 0.0 ? h.rgb : from_ycocg(clip_to_box(to_ycocg(h.rgb), lo, hi));
+            // How far the new sample lies from this pixel's centre, in screen pixels.
+            vec2 off = (vec2(texel) + 0.5 - j - q) * c.screen.xy / vec2(size);
+            float trust = max(c.jitter.z, c.depth.w) * exp(-2.0 * dot(off, off));
+            result = mix(max(kept, vec3(0.0)), nearest, trust);
+        }
+    }
+    next = to_history(result);
+    return result;
+}
