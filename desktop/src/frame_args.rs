@@ -3,7 +3,7 @@
 
 use anyhow::Result;
 use clap::Args;
-use foveate::foveation::{FoveationConfig, PeripheryFilter, TemporalConfig};
+use foveate::foveation::{FoveationConfig, HistoryClip, PeripheryFilter, TemporalConfig};
 use foveate::mffr::MffrConfig;
 use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
 use foveate::scene::{named_scene, ClusterSettings, LodSettings, Scene, Shading};
@@ -64,8 +64,9 @@ pub struct ConfigArgs {
     /// MSAA samples of the periphery views (default: --msaa), e.g. 1 with a 4x fovea.
     #[arg(long)]
     pub periphery_msaa: Option<u32>,
-    /// Accumulate the periphery over frames: its views jittered (Halton), a history at the
-    /// screen's density reprojected by depth. Needs a 1x periphery (--periphery-msaa 1).
+    /// Accumulate the periphery over frames in the output pass: its views jittered (Halton), a
+    /// history at the output's pixels (32 bits each, two images swapping roles) reprojected by
+    /// depth. Needs a 1x periphery (--periphery-msaa 1).
     #[arg(long)]
     pub temporal: bool,
     /// With --temporal: a new sample's weight against the history (0 < w ≤ 1; default 0.125).
@@ -74,6 +75,12 @@ pub struct ConfigArgs {
     /// With --temporal: frames in the jitter cycle (1: no jitter; default 8).
     #[arg(long)]
     pub jitter_cycle: Option<u32>,
+    /// With --temporal: how the reprojected history is held to the periphery's neighbourhood:
+    /// `variance[:SIGMAS]` (Salvi's variance clipping, 1 standard deviation by default),
+    /// `range` (its min/max box) or `off` (a moving surface leaves a trail). Default: the
+    /// library's.
+    #[arg(long)]
+    pub temporal_clip: Option<HistoryClip>,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -377,6 +384,7 @@ impl ConfigArgs {
                 TemporalConfig {
                     blend: self.temporal_blend.unwrap_or(default.blend),
                     jitter_cycle: self.jitter_cycle.unwrap_or(default.jitter_cycle),
+                    clip: self.temporal_clip.unwrap_or(default.clip),
                     ..default
                 }
             }),
@@ -457,6 +465,7 @@ impl ConfigArgs {
                 vec![
                     given("--temporal-blend", &self.temporal_blend),
                     given("--jitter-cycle", &self.jitter_cycle),
+                    given("--temporal-clip", &self.temporal_clip),
                 ],
             ),
             (

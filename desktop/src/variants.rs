@@ -1,7 +1,7 @@
 //! The foveated variants a sweep measures beyond its plain rows (`compare`, `flicker`): the
 //! periphery at its own density and sample count, and accumulated over frames.
 
-use foveate::foveation::{FoveationConfig, PeripheryFilter, TemporalConfig};
+use foveate::foveation::{FoveationConfig, HistoryClip, PeripheryFilter, TemporalConfig};
 
 /// Each foveated variant as it is, then with the periphery at each of `densities` and at each
 /// of `periphery_msaa`'s sample counts (every combination), named after what changed.
@@ -40,22 +40,36 @@ pub fn with_view_sets(
 
 /// The variants, and after them each plain one (no band, sharpening or other filter; its
 /// periphery at the row's samples) with its periphery accumulated over frames at 1x.
-pub fn with_temporal(variants: Vec<(String, FoveationConfig)>) -> Vec<(String, FoveationConfig)> {
+pub fn with_temporal(
+    variants: Vec<(String, FoveationConfig)>,
+    clips: &[HistoryClip],
+) -> Vec<(String, FoveationConfig)> {
     let plain = |f: &FoveationConfig| {
         f.periphery_msaa.is_none()
             && f.periphery_sharpen == 0.0
             && f.periphery_filter == PeripheryFilter::Bilinear
     };
+    let default = TemporalConfig::default();
+    let clips = match clips {
+        [] => &[default.clip][..],
+        given => given,
+    };
     let temporal: Vec<(String, FoveationConfig)> = variants
         .iter()
         .filter(|(name, f)| plain(f) && !name.contains(", band "))
-        .map(|(name, f)| {
-            let config = FoveationConfig {
-                periphery_msaa: Some(1),
-                periphery_temporal: Some(TemporalConfig::default()),
-                ..*f
-            };
-            (format!("{name}, temporal"), config)
+        .flat_map(|(name, f)| {
+            clips.iter().map(move |&clip| {
+                let config = FoveationConfig {
+                    periphery_msaa: Some(1),
+                    periphery_temporal: Some(TemporalConfig { clip, ..default }),
+                    ..*f
+                };
+                let name = match clip == default.clip {
+                    true => format!("{name}, temporal"),
+                    false => format!("{name}, temporal (clip {clip})"),
+                };
+                (name, config)
+            })
         })
         .collect();
     variants.into_iter().chain(temporal).collect()

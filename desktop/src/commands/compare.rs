@@ -2,7 +2,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use foveate::foveation::{FoveationConfig, PeripheryFilter};
+use foveate::foveation::{FoveationConfig, HistoryClip, PeripheryFilter};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::perceptual::{heat_map, FrameAccuracy, Maps};
 use foveate::metrics::Acuity;
@@ -86,6 +86,10 @@ pub struct CompareArgs {
     /// its history has settled on the still frame (two jitter cycles, untimed).
     #[arg(long)]
     temporal: bool,
+    /// With --temporal: one accumulated row per way of holding the history to the periphery
+    /// (`variance[:SIGMAS]`, `range`, `off`; default: the library's).
+    #[arg(long, value_delimiter = ',')]
+    clips: Vec<HistoryClip>,
     /// Iso-error: name the cheapest configuration measured whose eccentricity-aware FLIP (99th
     /// percentile) stays within this budget (`--recommend` is the same).
     #[arg(long, alias = "iso-error")]
@@ -303,7 +307,7 @@ fn foveated_variants(
     }
     variants = with_view_sets(variants, &args.densities, &args.periphery_msaa);
     if args.temporal {
-        variants = with_temporal(variants);
+        variants = with_temporal(variants, &args.clips);
     }
     for (_, f) in &variants {
         f.geometry(screen)?;

@@ -10,7 +10,9 @@ use std::time::Instant;
 
 use anyhow::Result;
 use clap::Args;
-use foveate::foveation::{simulated_trace, FoveationConfig};
+use foveate::foveation::{
+    large_saccade_trace, simulated_trace, FoveationConfig, GazeSpace, HistoryClip,
+};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::judge::{GpuFlicker, GpuFlip};
 use foveate::metrics::perceptual::{perceptual_error, Maps};
@@ -19,7 +21,7 @@ use foveate::metrics::Acuity;
 use foveate::metrics::{ErrorSummary, EyePixels};
 use foveate::plan::RenderConfig;
 use foveate::render::Renderer;
-use foveate::scene::walking_pose;
+use foveate::scene::{walking_pose, Walker};
 use glam::{Mat4, Vec2};
 
 use crate::csv_out::{opt, CsvTable};
@@ -52,6 +54,10 @@ pub struct FlickerArgs {
     /// (two jitter cycles, not measured).
     #[arg(long)]
     temporal: bool,
+    /// With --temporal: one accumulated row per way of holding the history to the periphery
+    /// (`variance[:SIGMAS]`, `range`, `off`; default: the library's).
+    #[arg(long, value_delimiter = ',')]
+    clips: Vec<HistoryClip>,
     /// Also judge frames against the reference's frame in eccentricity-aware FLIP at that
     /// frame's gaze: every frame, or with a number N every Nth (FLIP is slow at a headset's
     /// native resolution). Per motion: the mean over the judged frames of the mean and of the
@@ -61,9 +67,22 @@ pub struct FlickerArgs {
     /// Frames of each motion, at 90 Hz.
     #[arg(long, default_value_t = 45)]
     frames: u32,
-    /// Seed of the simulated saccade trace.
+    /// Seed of the simulated saccade traces.
     #[arg(long, default_value_t = 3)]
     seed: u32,
+    /// The motions, in order: `still` (head and gaze still: the jitter's shimmer alone),
+    /// `saccades` (a simulated trace, head still), `large-saccades` (15–30° each, head still),
+    /// `walking` (gaze ahead).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "still,saccades,large-saccades,walking"
+    )]
+    motions: Vec<MotionKind>,
+    /// A walker crosses the view in every motion (a person-sized box 4 m ahead, 1.4 m/s), so
+    /// accumulation meets a surface moving on its own: ghosting and what it uncovers.
+    #[arg(long)]
+    walker: bool,
     /// Also write the table as CSV to this file.
     #[arg(long)]
     csv: Option<PathBuf>,
@@ -78,6 +97,15 @@ struct Motion {
     frames: Vec<(Mat4, Vec2)>,
 }
 
+/// The motions `foveate flicker` measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum MotionKind {
+    Still,
+    Saccades,
+    LargeSaccades,
+    Walking,
+}
+
 pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     crate::interrupt::install();
     crate::outputs::files(&[args.csv.as_deref()])?;
@@ -90,30 +118,45 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         args.flip != Some(0),
         "invalid flip = 0: judge every Nth frame, N ≥ 1 (leave it out for none)"
     );
-    let scene = args.frame.scene(&args.scene)?;
+    let mut scene = args.frame.scene(&args.scene)?;
+    let walker = args.walker.then(|| Walker::add(&mut scene, 4.0));
     let screen = args.frame.screen(&args.res)?;
     let base = args.frame.base(&args.res)?;
+    let base = RenderConfig {
+        moving_instances: args.walker,
+        ..base
+    };
     let configs = flicker_configs(args, &base, screen)?;
     let reference = RenderConfig {
         msaa: 4,
         ..base.clone()
     };
-    let motions = motions(args, &scene);
     let gpu = Gpu::new(options)?;
     let plans = std::iter::once(&reference)
         .chain(configs.iter().map(|(_, c)| c))
         .map(|c| foveate::plan(&scene, c, gpu.caps()))
         .collect::<Result<Vec<_>, _>>()?;
+    let space = GazeSpace {
+        fov: plans[0].eyes.fov(foveate::view::Eye::Left),
+    };
+    let motions = motions(args, &scene, space);
     println!(
-        "device: {}; scene {}, {}, output {}; {} frames at {RATE_HZ} Hz per motion: saccades (seed {}, head still), walking ({} m/s, turning {}°/s, gaze ahead)",
+        "device: {}; scene {}{}, {}, output {}; {} frames at {RATE_HZ} Hz per motion: {}",
         gpu.info().name,
         args.scene,
+        if args.walker {
+            " with a walker crossing 4 m ahead"
+        } else {
+            ""
+        },
         crate::frame_args::headset_line(&plans[0]),
         base.output,
         args.frames,
-        args.seed,
-        foveate::scene::WALK_SPEED_M_S,
-        foveate::scene::TURN_DEG_S
+        motions
+            .iter()
+            .map(|m| m.describe(args))
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     let bar = crate::progress::bar("flicker", (motions.len() as u32 * args.frames) as u64);
     let spent = Spent::default();
@@ -126,6 +169,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
             scene: &scene,
             plans: &plans,
             configs: &configs,
+            walker,
             flip: args.flip,
             bar: &bar,
             spent: &spent,
@@ -178,7 +222,7 @@ fn flicker_configs(
     }
     variants = with_view_sets(variants, &args.densities, &[]);
     if args.temporal {
-        variants = with_temporal(variants);
+        variants = with_temporal(variants, &args.clips);
     }
     let mut configs = vec![(
         "stereo, MSAA 1".to_string(),
@@ -199,28 +243,64 @@ fn flicker_configs(
     Ok(configs)
 }
 
-/// The two motions: saccades with the head still (a simulated trace), and a walk with the
-/// gaze ahead.
-fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene) -> [Motion; 2] {
+/// The motions asked for: head and gaze still; saccades with the head still (a simulated
+/// trace); large saccades (15–30°) with the head still; a walk with the gaze ahead.
+fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene, space: GazeSpace) -> Vec<Motion> {
     let seconds = args.frames as f64 / RATE_HZ;
-    let trace = simulated_trace(seconds, RATE_HZ, args.seed);
-    [
-        Motion {
-            name: "saccades",
-            frames: trace.iter().map(|s| (scene.head, s.left)).collect(),
-        },
-        Motion {
-            name: "walking",
-            frames: (0..args.frames)
-                .map(|i| {
-                    (
-                        walking_pose(scene.head, i as f32 / RATE_HZ as f32),
-                        Vec2::ZERO,
-                    )
-                })
-                .collect(),
-        },
-    ]
+    let head = |gazes: Vec<Vec2>| gazes.into_iter().map(|g| (scene.head, g)).collect();
+    args.motions
+        .iter()
+        .map(|kind| match kind {
+            MotionKind::Still => Motion {
+                name: "still",
+                frames: vec![(scene.head, Vec2::ZERO); args.frames as usize],
+            },
+            MotionKind::Saccades => Motion {
+                name: "saccades",
+                frames: head(
+                    simulated_trace(seconds, RATE_HZ, args.seed)
+                        .iter()
+                        .map(|s| s.left)
+                        .collect(),
+                ),
+            },
+            MotionKind::LargeSaccades => Motion {
+                name: "large saccades",
+                frames: head(large_saccade_trace(
+                    space,
+                    seconds,
+                    RATE_HZ,
+                    (15.0, 30.0),
+                    args.seed,
+                )),
+            },
+            MotionKind::Walking => Motion {
+                name: "walking",
+                frames: (0..args.frames)
+                    .map(|i| {
+                        let t = i as f32 / RATE_HZ as f32;
+                        (walking_pose(scene.head, t), Vec2::ZERO)
+                    })
+                    .collect(),
+            },
+        })
+        .collect()
+}
+
+impl Motion {
+    /// How the header line names it.
+    fn describe(&self, args: &FlickerArgs) -> String {
+        match self.name {
+            "saccades" => format!("saccades (seed {}, head still)", args.seed),
+            "large saccades" => format!("large saccades (15–30°, seed {}, head still)", args.seed),
+            "walking" => format!(
+                "walking ({} m/s, turning {}°/s, gaze ahead)",
+                foveate::scene::WALK_SPEED_M_S,
+                foveate::scene::TURN_DEG_S
+            ),
+            _ => "still (head and gaze)".to_string(),
+        }
+    }
 }
 
 /// One configuration's flicker along a motion: measured on the GPU where the frames lie (the
@@ -253,6 +333,8 @@ struct MotionRun<'a> {
     /// The reference's plan, then each configuration's.
     plans: &'a [foveate::plan::FramePlan],
     configs: &'a [(String, RenderConfig)],
+    /// The walker crossing the view, when there is one: every renderer moves it each frame.
+    walker: Option<Walker>,
     /// Judge every Nth frame with eFLIP.
     flip: Option<u32>,
     bar: &'a indicatif::ProgressBar,
@@ -301,6 +383,9 @@ impl MotionRun<'_> {
         for plan in self.plans {
             let mut renderer = Renderer::new(self.gpu, plan, self.scene)?;
             renderer.set_gaze([first_gaze; 2])?;
+            if let Some(w) = self.walker {
+                renderer.move_instance(w.instance, w.model(0.0))?;
+            }
             settle(&mut renderer, first_pose)?;
             renderers.push(renderer);
         }
@@ -328,6 +413,9 @@ impl MotionRun<'_> {
             let mut images = Vec::new();
             for renderer in &mut renderers {
                 renderer.set_gaze([gaze; 2])?;
+                if let Some(w) = self.walker {
+                    renderer.move_instance(w.instance, w.model(frame as f32 / RATE_HZ as f32))?;
+                }
                 renderer.render_frame(pose)?;
                 if on_cpu {
                     images.push(renderer.readback()?);
