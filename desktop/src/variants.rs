@@ -38,19 +38,42 @@ pub fn with_view_sets(
     out
 }
 
-/// The variants, and after them each plain one (no band, sharpening or other filter; its
-/// periphery at the row's samples) with its periphery accumulated over frames at 1x.
+/// How the accumulated rows of `compare --temporal` and `flicker --temporal` accumulate.
+#[derive(clap::Args)]
+pub struct Accumulation {
+    /// With --temporal: one accumulated row per way of holding the history to the periphery:
+    /// `variance[:SIGMAS]` (Salvi's variance clipping), `range` (the min/max box), `off`
+    /// (default: the library's).
+    #[arg(long, value_delimiter = ',')]
+    pub clips: Vec<HistoryClip>,
+    /// With --temporal: a settled pixel's weight for a new sample (0 < w ≤ 1; default: the
+    /// library's).
+    #[arg(long)]
+    pub temporal_blend: Option<f32>,
+    /// With --temporal: frames in the jitter cycle (1: no jitter; default: the library's).
+    #[arg(long)]
+    pub jitter_cycle: Option<u32>,
+}
+
+/// `variants` and, after them, each plain one (single-sample periphery, not sharpened,
+/// bilinear, no band sweep) accumulated over frames as `accumulation` says: one row per clip.
 pub fn with_temporal(
     variants: Vec<(String, FoveationConfig)>,
-    clips: &[HistoryClip],
-) -> Vec<(String, FoveationConfig)> {
+    accumulation: &Accumulation,
+) -> anyhow::Result<Vec<(String, FoveationConfig)>> {
     let plain = |f: &FoveationConfig| {
         f.periphery_msaa.is_none()
             && f.periphery_sharpen == 0.0
             && f.periphery_filter == PeripheryFilter::Bilinear
     };
-    let default = TemporalConfig::default();
-    let clips = match clips {
+    let library = TemporalConfig::default();
+    let default = TemporalConfig {
+        blend: accumulation.temporal_blend.unwrap_or(library.blend),
+        jitter_cycle: accumulation.jitter_cycle.unwrap_or(library.jitter_cycle),
+        ..library
+    };
+    default.validate()?;
+    let clips = match &accumulation.clips[..] {
         [] => &[default.clip][..],
         given => given,
     };
@@ -72,5 +95,5 @@ pub fn with_temporal(
             })
         })
         .collect();
-    variants.into_iter().chain(temporal).collect()
+    Ok(variants.into_iter().chain(temporal).collect())
 }

@@ -825,7 +825,7 @@ fn bench_rejects_a_bad_scale_naming_the_field() {
 }
 
 #[test]
-fn flicker_measures_each_approximation_along_both_motions() {
+fn flicker_measures_each_approximation_along_every_motion() {
     let csv = std::env::temp_dir().join(format!("foveate-flicker-{}.csv", std::process::id()));
     let o = foveate(&[
         "flicker",
@@ -844,8 +844,14 @@ fn flicker_measures_each_approximation_along_both_motions() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let rows = read_csv(&csv, 11);
-    // Two motions × (stereo MSAA 1, foveated 0.5, and accumulated), three changes each.
-    assert_eq!(rows.len(), 6, "{rows:?}");
+    // Four motions × (stereo MSAA 1, foveated 0.5, and accumulated), three changes each.
+    assert_eq!(rows.len(), 12, "{rows:?}");
+    let motions: Vec<&str> = rows
+        .iter()
+        .step_by(3)
+        .map(|r| r["motion"].as_str())
+        .collect();
+    assert_eq!(motions, ["still", "saccades", "large saccades", "walking"]);
     for r in &rows {
         assert_numeric(r, &["motion", "config"]);
         assert_eq!(r["changes"], "3");
@@ -857,8 +863,11 @@ fn flicker_measures_each_approximation_along_both_motions() {
             .unwrap_or_else(|| panic!("no row {motion}, {config}: {rows:?}"));
         r[column].parse().unwrap()
     };
-    // The stereo frame does not depend on the gaze: with the head still it cannot flicker.
+    // The stereo frame does not depend on the gaze: with the head still it cannot flicker;
+    // with nothing moving, neither can a single-frame periphery (the accumulated one may:
+    // its jitter).
     assert_eq!(at("saccades", "stereo, MSAA 1", "flicker_mean"), 0.0);
+    assert_eq!(at("still", "foveated 0.5, MSAA 4", "flicker_mean"), 0.0);
     assert!(at("saccades", "foveated 0.5, MSAA 4", "flicker_mean") > 0.0);
     // Every row is judged frame by frame; none equals the reference.
     for r in &rows {
@@ -872,6 +881,30 @@ fn flicker_measures_each_approximation_along_both_motions() {
     assert!(rows
         .iter()
         .any(|r| r["config"] == "foveated 0.5, temporal, MSAA 4"));
+    // A walker crossing the view, moved in every renderer each frame.
+    let o = foveate(&[
+        "flicker",
+        "--scene",
+        "atrium",
+        "--res",
+        "48",
+        "--frames",
+        "4",
+        "--ratios",
+        "0.5",
+        "--motions",
+        "still",
+        "--walker",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("with a walker crossing"),
+        "{}",
+        stdout(&o)
+    );
+    assert_eq!(read_csv(&csv, 11).len(), 2);
     let _ = std::fs::remove_file(&csv);
     let o = foveate(&["flicker", "--frames", "1"]);
     assert!(

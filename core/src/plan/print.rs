@@ -345,8 +345,8 @@ impl FramePlan {
                     if let Some(t) = self.foveation.and_then(|f| f.temporal) {
                         writeln!(
                             f,
-                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth, clipped to the periphery's neighbourhood (its mean and spread in YCoCg), the new sample blended in (weight {}); none where the fovea covered it, reset at cuts (> {} m, > {}°)",
-                            t.jitter_cycle, t.blend, t.cut_distance_m, t.cut_angle_deg
+                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth, clipped to the periphery's 3x3 neighbourhood in YCoCg ({}), the new sample blended in (weight {}); none where the fovea covered it, reset at cuts (> {} m, > {}°)",
+                            t.jitter_cycle, clip_words(t.clip), t.blend, t.cut_distance_m, t.cut_angle_deg
                         )?;
                     }
                     if let Some(h) = self.history {
@@ -480,4 +480,15 @@ fn write_pass_targets(f: &mut fmt::Formatter<'_>, p: &PassPlan) -> fmt::Result {
         writeln!(f, "    {what}: {}", list.join("; "))?;
     }
     Ok(())
+}
+
+/// How the plan's printout names a history clip.
+fn clip_words(clip: crate::foveation::HistoryClip) -> String {
+    match clip {
+        crate::foveation::HistoryClip::Variance { sigmas } => {
+            format!("variance clipping, ±{sigmas} standard deviations")
+        }
+        crate::foveation::HistoryClip::Range => "its min/max box".to_string(),
+        crate::foveation::HistoryClip::Off => "not clipped: trails".to_string(),
+    }
 }

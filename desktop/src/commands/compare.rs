@@ -2,7 +2,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use foveate::foveation::{FoveationConfig, HistoryClip, PeripheryFilter};
+use foveate::foveation::{FoveationConfig, PeripheryFilter};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::metrics::perceptual::{heat_map, FrameAccuracy, Maps};
 use foveate::metrics::Acuity;
@@ -19,7 +19,7 @@ use crate::fovea_table::{self, TableSettings};
 use crate::frame_args::ComparedFrame;
 use crate::frontier::{cheapest_within_error, most_accurate_within_time, pareto_frontier, Point};
 use crate::side_by_side::{sweep, Group, Measured};
-use crate::variants::{with_temporal, with_view_sets};
+use crate::variants::{with_temporal, with_view_sets, Accumulation};
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -86,10 +86,8 @@ pub struct CompareArgs {
     /// its history has settled on the still frame (two jitter cycles, untimed).
     #[arg(long)]
     temporal: bool,
-    /// With --temporal: one accumulated row per way of holding the history to the periphery
-    /// (`variance[:SIGMAS]`, `range`, `off`; default: the library's).
-    #[arg(long, value_delimiter = ',')]
-    clips: Vec<HistoryClip>,
+    #[command(flatten)]
+    accumulation: Accumulation,
     /// Iso-error: name the cheapest configuration measured whose eccentricity-aware FLIP (99th
     /// percentile) stays within this budget (`--recommend` is the same).
     #[arg(long, alias = "iso-error")]
@@ -307,7 +305,7 @@ fn foveated_variants(
     }
     variants = with_view_sets(variants, &args.densities, &args.periphery_msaa);
     if args.temporal {
-        variants = with_temporal(variants, &args.clips);
+        variants = with_temporal(variants, &args.accumulation)?;
     }
     for (_, f) in &variants {
         f.geometry(screen)?;

@@ -10,9 +10,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 use clap::Args;
-use foveate::foveation::{
-    large_saccade_trace, simulated_trace, FoveationConfig, GazeSpace, HistoryClip,
-};
+use foveate::foveation::{large_saccade_trace, simulated_trace, FoveationConfig, GazeSpace};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::judge::{GpuFlicker, GpuFlip};
 use foveate::metrics::perceptual::{perceptual_error, Maps};
@@ -27,7 +25,7 @@ use glam::{Mat4, Vec2};
 use crate::csv_out::{opt, CsvTable};
 use crate::frame_args::ComparedFrame;
 use crate::side_by_side::settle;
-use crate::variants::{with_temporal, with_view_sets};
+use crate::variants::{with_temporal, with_view_sets, Accumulation};
 
 #[derive(Args)]
 pub struct FlickerArgs {
@@ -54,10 +52,8 @@ pub struct FlickerArgs {
     /// (two jitter cycles, not measured).
     #[arg(long)]
     temporal: bool,
-    /// With --temporal: one accumulated row per way of holding the history to the periphery
-    /// (`variance[:SIGMAS]`, `range`, `off`; default: the library's).
-    #[arg(long, value_delimiter = ',')]
-    clips: Vec<HistoryClip>,
+    #[command(flatten)]
+    accumulation: Accumulation,
     /// Also judge frames against the reference's frame in eccentricity-aware FLIP at that
     /// frame's gaze: every frame, or with a number N every Nth (FLIP is slow at a headset's
     /// native resolution). Per motion: the mean over the judged frames of the mean and of the
@@ -222,7 +218,7 @@ fn flicker_configs(
     }
     variants = with_view_sets(variants, &args.densities, &[]);
     if args.temporal {
-        variants = with_temporal(variants, &args.clips);
+        variants = with_temporal(variants, &args.accumulation)?;
     }
     let mut configs = vec![(
         "stereo, MSAA 1".to_string(),
