@@ -7,7 +7,8 @@
 //
 // For this pixel: its direction, the nearest periphery sample and where it was taken, and that
 // sample's depth; the point it sees, projected into the previous frame's eye (and, for the lens,
-// distorted as that frame's output pixels were), finds its place in the history. History taps
+// distorted as that frame's output pixels were), finds its place in the history — if the frame
+// before's periphery saw the same surface there (its depth within 10 %). History taps
 // that hold nothing (the fovea covered them, the lens hid them, never rendered) are dropped;
 // what remains is clipped towards the periphery's 3x3 neighbourhood in YCoCg — its mean, within
 // its spread (Salvi's variance clipping): a surface that moved or changed cannot leave a trail,
@@ -17,6 +18,7 @@
 
 layout(set = 0, binding = 4) uniform sampler2DArray history;
 layout(set = 0, binding = 5) uniform sampler2DArray periphery_depth;
+layout(set = 0, binding = 6) uniform sampler2DArray previous_depth;
 layout(location = 1) out vec4 out_history;
 
 // The history holds the square root of linear light in 10 bits (its steps finer than an 8-bit
@@ -64,12 +66,45 @@ vec2 distorted(vec2 t) {
     return t * (r / target);
 }
 
+// Whether the frame before's periphery saw, where direction `t` seen at `distance` (the sky:
+// infinitely far) lay in it (`uv`, its rendered field's; `w`, its distance there), the same
+// surface: a depth within 10 % (the disocclusion test; the history keeps no depth of its own,
+// so the frame before's periphery depth is kept instead).
+bool seen_before(uint eye, vec2 uv, float w, bool sky) {
+    if (c.clip.x < 0.0) {
+        return true; // HistoryClip::Off: the history is not held to anything
+    }
+    // Any of the 2×2 texels around the point will do: one texel of the periphery spans two
+    // of the output's, across an edge or a slanted surface its depths differ.
+    ivec2 size = textureSize(previous_depth, 0).xy;
+    ivec2 base = ivec2(floor(uv * vec2(size) + c.clip.zw - 0.5));
+    for (int k = 0; k < 4; k++) {
+        ivec2 texel = clamp(base + ivec2(k & 1, k >> 1), ivec2(0), size - 1);
+        float d = texelFetch(previous_depth, ivec3(texel, eye), 0).r;
+        if (sky || d <= 0.0) {
+            if (sky && d <= 0.0) {
+                return true;
+            }
+            continue;
+        }
+        float before = c.depth.y / (d + c.depth.x);
+        if (abs(before - w) <= 0.1 * w) {
+            return true;
+        }
+    }
+    return false;
+}
+
 // Where, in the previous frame's output pixels (continuous, centres at .5), direction `t`
-// seen at `distance` (the sky: infinitely far) lay; w < 0 when behind that frame's eye.
+// seen at `distance` (the sky: infinitely far) lay; z < 0 when behind that frame's eye or
+// when that frame saw another surface there.
 vec3 previous_pixel(uint eye, vec2 t, float distance, bool sky) {
     vec4 seen = sky ? vec4(t, -1.0, 0.0) : vec4(t * distance, -distance, 1.0);
     vec4 clip = c.previous_from_view[eye] * seen;
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
+    if (clip.w <= 0.0 || !seen_before(eye, uv, clip.w, sky)) {
+        return vec3(0.0, 0.0, -1.0);
+    }
     if (LENS) {
         vec4 p = c.periphery[eye];
         vec4 d = c.display[eye];

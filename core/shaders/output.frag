@@ -42,7 +42,8 @@ layout(std140, set = 0, binding = 1) uniform Output {
                                 // w: 1 / frames since the history was dropped (a young history
                                 // takes new samples at their mean's weight)
     vec4 clip;                  // x: the history's box around the neighbourhood's mean, in
-                                // standard deviations (huge: its range alone; < 0: no clip)
+                                // standard deviations (huge: its range alone; < 0: no clip);
+                                // zw: the frame before's jitter
 } c;
 
 layout(location = 0) in vec2 in_uv;

@@ -136,7 +136,8 @@ impl SeededRng {
 }
 
 /// Large saccades only, `seconds` at `rate` Hz in `space`, reproducible from `seed`: from the
-/// centre, after a fixation of 0.2–0.4 s each, a saccade of an amplitude drawn uniformly from
+/// centre, the first after 0.05–0.15 s and each later one after a fixation of 0.2–0.4 s, a
+/// saccade of an amplitude drawn uniformly from
 /// `amplitudes_deg` (e.g. 15–30°, the rarer large ones of natural viewing: Bahill, Adler &
 /// Stark 1975) in a random direction that keeps the gaze inside ±0.8 × ±0.6 of the field,
 /// with the main sequence's duration and a minimum-jerk profile. The gaze per frame.
@@ -151,7 +152,8 @@ pub fn large_saccade_trace(
     let inside = |g: Vec2| g.x.abs() <= 0.8 && g.y.abs() <= 0.6;
     let (mut from, mut to) = (Vec2::ZERO, Vec2::ZERO);
     let (mut onset, mut duration) = (0.0, 0.0);
-    let mut next_onset = rng.between(0.2, 0.4);
+    // The first soon (0.05–0.15 s), so that even a short run sees a saccade land.
+    let mut next_onset = rng.between(0.05, 0.15);
     (0..(seconds * rate).round() as usize)
         .map(|i| {
             let t = i as f64 / rate;

@@ -40,7 +40,8 @@ pub enum HistoryClip {
     },
     /// Moved into the neighbourhood's range (its min/max box) along the line to its centre.
     Range,
-    /// Not held at all: a moving surface leaves a trail. To show what clipping prevents.
+    /// Not held at all — neither clipped nor tested against the frame before's depth: a
+    /// moving surface leaves a trail. To show what the two prevent.
     Off,
 }
 

@@ -27,9 +27,9 @@ impl Touched {
 /// every frame, so what one is sampled after is the other's write in the frame before.
 fn touches(plan: &FramePlan, attachment: AttachmentId) -> Vec<Touched> {
     let all_layers = (0, plan.attachments[attachment].layers);
-    let same = |id: AttachmentId| match plan.history {
-        Some(h) if h.contains(attachment) => vec![h.read, h.written],
-        _ => vec![id],
+    let same = |id: AttachmentId| match plan.history_pairs().find(|h| h.contains(id)) {
+        Some(h) => vec![h.read, h.written],
+        None => vec![id],
     };
     let mut touched = Vec::new();
     for (index, pass) in plan.passes.iter().enumerate() {

@@ -82,7 +82,8 @@ pub fn plan(
         mffr: e.mffr.as_ref(),
         radial_density: e.radial_density.is_some(),
     };
-    let history = add_technique_steps(&techniques, &mut passes, &mut attachments);
+    let (history, depth_history) =
+        add_technique_steps(&techniques, &mut passes, &mut attachments).unzip();
     if caps.quirks.multiview_clipping_drops_views {
         work_around_multiview_clipping(&mut passes, &attachments, caps);
     }
@@ -124,6 +125,7 @@ pub fn plan(
         hidden_area_mesh: config.hidden_area_mesh,
         frame_slots: config.frames_in_flight,
         history,
+        depth_history,
     };
     check_external_output(&plan)?;
     assign_cull_slots(&mut plan);
@@ -132,6 +134,10 @@ pub fn plan(
     plan_instance_buffers(&mut plan, scene, caps, config);
     apply_output_format(&mut plan, config.output_format);
     assign_stencil(&mut plan);
+    // The frame before's periphery depth is an image like this frame's.
+    if let Some(h) = plan.depth_history {
+        plan.attachments[h.read].format = plan.attachments[h.written].format;
+    }
     check_depth_stencil(&plan, config, caps)?;
     derive_ops(&mut plan);
     for (pass, barriers) in derive_barriers(&plan).into_iter().enumerate() {
@@ -287,7 +293,7 @@ fn add_technique_steps(
     t: &Techniques,
     passes: &mut Vec<PassPlan>,
     attachments: &mut Vec<AttachmentPlan>,
-) -> Option<HistoryPair> {
+) -> Option<(HistoryPair, HistoryPair)> {
     let (config, eye_resolution, layout) = (t.config, t.eye_resolution, t.layout);
     let (foveation, fovea_layout, mffr) = (t.foveation, t.fovea_layout, t.mffr);
     let lens = config.output == OutputStage::Lens;
@@ -344,7 +350,7 @@ fn add_technique_steps(
     );
     output.history = accumulation.as_ref().map(|a| a.written());
     passes.push(output);
-    accumulation.map(|a| a.pair)
+    accumulation.map(|a| (a.pair, a.depth))
 }
 
 /// A driver that clips multiview primitives into view 0 gets a guard band on every multiview

@@ -73,6 +73,7 @@ pub(super) fn derive_ops(plan: &mut FramePlan) {
             });
         }
     }
+    let pairs: Vec<_> = plan.history_pairs().collect();
     for (id, a) in plan.attachments.iter_mut().enumerate() {
         let uses: Vec<&Use> = plan
             .passes
@@ -84,7 +85,7 @@ pub(super) fn derive_ops(plan: &mut FramePlan) {
         let stores: Vec<StoreOp> = uses.iter().map(|u| u.store).collect();
         // Both images of a history pair are sampled: each on every other frame.
         a.sampled = plan.passes.iter().any(|p| p.samples.contains(&id))
-            || plan.history.is_some_and(|h| h.contains(id));
+            || pairs.iter().any(|h| h.contains(id));
         a.transient = !a.read_after_frame && !a.sampled && is_transient(&loads, &stores);
     }
 }

@@ -453,7 +453,9 @@ fn temporal_accumulation_folds_into_the_output_stage_only_when_asked() {
     assert_eq!(kinds, [PassKind::Scene, PassKind::Scene, PassKind::Output]);
     let (periphery, fovea, output) = (&on.passes[0], &on.passes[1], &on.passes[2]);
     let pair = on.history.expect("a history pair");
+    let depths = on.depth_history.expect("the periphery's depth as a pair");
     let depth = periphery.depth.unwrap();
+    assert_eq!(depths.written, depth.attachment);
     let colour = |p: &PassPlan| p.resolve.unwrap_or(p.color).attachment;
     assert_eq!(
         output.samples,
@@ -461,14 +463,21 @@ fn temporal_accumulation_folds_into_the_output_stage_only_when_asked() {
             colour(periphery),
             colour(fovea),
             pair.read,
-            depth.attachment
+            depth.attachment,
+            depths.read
         ]
     );
     let written = output
         .history
         .expect("the next history written by the output pass");
     assert_eq!(written.attachment, pair.written);
-    assert_eq!(on.sampled_before_written(), [pair.read, pair.written]);
+    let mut kept = vec![pair.read, pair.written, depths.read, depths.written];
+    kept.sort();
+    assert_eq!(on.sampled_before_written(), kept);
+    assert_eq!(
+        on.attachments[depths.read].format,
+        on.attachments[depth.attachment].format
+    );
     assert_eq!(
         (written.store, written.final_layout),
         (StoreOp::Store, Layout::ShaderReadOnly),
@@ -497,6 +506,14 @@ fn temporal_accumulation_folds_into_the_output_stage_only_when_asked() {
     };
     assert!(waits(pair.read, Touch::ColourAttachment));
     assert!(waits(pair.written, Touch::Sampled));
+    // The frame before's depth was written by its periphery pass; this frame's periphery pass
+    // waits on the output pass that sampled its image two frames ago.
+    assert!(waits(depths.read, Touch::DepthAttachment));
+    assert!(periphery
+        .barriers
+        .wait
+        .iter()
+        .any(|b| b.attachment == depth.attachment && b.from == Touch::Sampled));
     assert_eq!(pair.of_frame(1).read, pair.written);
 
     let e = plan_err(&with(Some(Default::default()), 4));

@@ -304,6 +304,10 @@ pub struct FramePlan {
     /// The temporal history's two images, when the periphery is accumulated: they swap roles
     /// every frame, so no pass copies the history.
     pub history: Option<HistoryPair>,
+    /// With the history, the periphery's depth as a pair too: the periphery pass writes one
+    /// (`written` on even frames) while the output pass samples it and the other, the frame
+    /// before's, to tell whether the history saw the same surface.
+    pub depth_history: Option<HistoryPair>,
 }
 
 /// A history kept across frames in two images that swap roles every frame: even frames
@@ -508,7 +512,7 @@ impl FramePlan {
     pub fn sampled_before_written(&self) -> Vec<AttachmentId> {
         (0..self.attachments.len())
             .filter(|&id| {
-                if self.history.is_some_and(|h| h.contains(id)) {
+                if self.history_pairs().any(|h| h.contains(id)) {
                     return true;
                 }
                 let first_sampled = self.passes.iter().position(|p| p.samples.contains(&id));
@@ -519,6 +523,25 @@ impl FramePlan {
                 matches!((first_sampled, first_written), (Some(s), w) if w.is_none_or(|w| s < w))
             })
             .collect()
+    }
+
+    /// The image pairs that swap roles every frame: the history, the periphery's depth.
+    pub fn history_pairs(&self) -> impl Iterator<Item = HistoryPair> + '_ {
+        self.history.into_iter().chain(self.depth_history)
+    }
+
+    /// The image attachment `id` names in frame `frame`: on odd frames each pair's two swap.
+    pub fn in_frame(&self, id: AttachmentId, frame: u64) -> AttachmentId {
+        self.history_pairs()
+            .find(|h| h.contains(id))
+            .map_or(id, |h| {
+                let (even, now) = (h, h.of_frame(frame));
+                if id == even.read {
+                    now.read
+                } else {
+                    now.written
+                }
+            })
     }
 
     /// The attachments read after the frame, in eye order: the stereo image.

@@ -345,15 +345,15 @@ impl FramePlan {
                     if let Some(t) = self.foveation.and_then(|f| f.temporal) {
                         writeln!(
                             f,
-                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth, clipped to the periphery's 3x3 neighbourhood in YCoCg ({}), the new sample blended in (weight {}); none where the fovea covered it, reset at cuts (> {} m, > {}°)",
+                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth (dropped where the frame before's periphery depth differs by over 10 %), clipped to the periphery's 3x3 neighbourhood in YCoCg ({}), the new sample blended in (weight {}); none where the fovea covered it, reset at cuts (> {} m, > {}°)",
                             t.jitter_cycle, clip_words(t.clip), t.blend, t.cut_distance_m, t.cut_angle_deg
                         )?;
                     }
-                    if let Some(h) = self.history {
+                    if let (Some(h), Some(d)) = (self.history, self.depth_history) {
                         writeln!(
                             f,
-                            "    history: #{} and #{} swap roles every frame (no copy)",
-                            h.read, h.written
+                            "    history: #{} and #{} swap roles every frame (no copy), and so do the periphery's depths #{} and #{}",
+                            h.read, h.written, d.written, d.read
                         )?;
                     }
                 }

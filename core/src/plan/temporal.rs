@@ -14,15 +14,17 @@ use super::Resolution;
 pub(super) struct Accumulation {
     /// The history pair; the output pass samples `read` and writes `written` (even frames).
     pub pair: HistoryPair,
-    /// The periphery pass's depth, which the output pass samples to reproject.
-    pub depth: AttachmentId,
+    /// The periphery pass's depth as a pair: the pass writes `written` (even frames), the
+    /// output pass samples it to reproject and `read`, the frame before's, to test the
+    /// history's surface.
+    pub depth: HistoryPair,
 }
 
 impl Accumulation {
     /// The images the output pass samples for it, after its own sources (the executor's
-    /// binding order: history, then depth).
-    pub fn samples(&self) -> [AttachmentId; 2] {
-        [self.pair.read, self.depth]
+    /// binding order: history, this frame's depth, the frame before's).
+    pub fn samples(&self) -> [AttachmentId; 3] {
+        [self.pair.read, self.depth.written, self.depth.read]
     }
 
     /// The output pass's second colour attachment: the next history, overwritten whole.
@@ -42,6 +44,12 @@ pub(super) fn add_accumulation(
         .iter()
         .find(|p| p.kind == PassKind::Scene && p.first_view == 0)?;
     let depth = periphery.depth?.attachment;
+    let previous_depth = AttachmentPlan {
+        name: "periphery depth (even frames read)",
+        ..attachments[depth].clone()
+    };
+    attachments.push(previous_depth);
+    let previous_depth = attachments.len() - 1;
     let image = |name| AttachmentPlan {
         name,
         role: AttachmentRole::Color,
@@ -62,6 +70,9 @@ pub(super) fn add_accumulation(
             read: n - 2,
             written: n - 1,
         },
-        depth,
+        depth: HistoryPair {
+            read: previous_depth,
+            written: depth,
+        },
     })
 }

@@ -28,49 +28,36 @@ struct OutputBlock {
     accumulate: AccumulateBlock,
 }
 
-/// The images the accumulating output stage reads besides its sources.
-pub(crate) struct HistoryImages<'a> {
-    /// The history pair: the image even frames sample, and the one they write.
-    pub pair: [&'a Image; 2],
-    /// The periphery's depth.
-    pub depth: &'a Image,
-    pub config: TemporalConfig,
-}
-
 pub(crate) struct OutputStage {
-    /// One per frame parity (which image of the history pair is sampled), one per frame slot.
+    /// One per frame parity (the images of a history pair swap roles), one per frame slot.
     sets: [Vec<SampledSet>; 2],
     temporal: Option<TemporalAccumulation>,
 }
 
 impl OutputStage {
-    /// Sets up sampling of the images the output pass reads (`sources`: its own, in order;
-    /// with accumulation the history and the periphery's depth besides), counting into each
-    /// frame slot's counter (`counters`) in counting frames.
+    /// Sets up sampling of the images the output pass reads, as even and odd frames find them
+    /// (`images`: its two sources, then with accumulation the history and the periphery's
+    /// depths, this frame's and the frame before's), counting into each frame slot's counter
+    /// (`counters`) in counting frames.
     pub fn new(
         gpu: &Gpu,
         plan: &FramePlan,
-        sources: &[&Image],
-        history: Option<HistoryImages>,
+        images: [Vec<&Image>; 2],
+        temporal: Option<TemporalConfig>,
         counters: &[Option<&Buffer>],
     ) -> Result<Self, GpuError> {
         let bytes = std::mem::size_of::<OutputBlock>() as u64;
-        let set = |sampled: usize| {
-            let mut images = sources.to_vec();
-            if let Some(h) = &history {
-                images.extend([h.pair[sampled], h.depth]);
-            }
-            SampledSet::per_slot(gpu, &images, true, bytes, 0, counters)
-        };
+        let set =
+            |parity: usize| SampledSet::per_slot(gpu, &images[parity], true, bytes, 0, counters);
         // Without a history both parities bind the same: one set each slot serves both.
-        let odd = if history.is_some() {
+        let odd = if temporal.is_some() {
             set(1)?
         } else {
             Vec::new()
         };
         Ok(OutputStage {
             sets: [set(0)?, odd],
-            temporal: history.map(|h| TemporalAccumulation::new(plan, h.config)),
+            temporal: temporal.map(|t| TemporalAccumulation::new(plan, t)),
         })
     }
 

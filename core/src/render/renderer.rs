@@ -393,11 +393,17 @@ impl Renderer {
             let objects = FrameObjects {
                 device: self.gpu.device(),
                 passes: &self.passes,
-                retargeted: match &self.output_targets {
-                    Some(t) if t.image().is_some() => t.passes(parity),
-                    _ if parity == 1 => &self.odd_frame_passes,
-                    _ => &[],
-                },
+                // The output image's passes first, then odd frames' swapped pairs.
+                retargeted: [
+                    self.output_targets
+                        .as_ref()
+                        .map_or(&[], |t| t.passes(parity)),
+                    if parity == 1 {
+                        &self.odd_frame_passes
+                    } else {
+                        &[]
+                    },
+                ],
                 steps: &self.steps,
                 slot,
                 parity,

@@ -35,7 +35,7 @@ impl SampledSet {
     /// Binding 0: `images[0]` (every layer: an array view when it has more than one, or when
     /// `arrays` asks for one; a depth image's depth), binding 3: `images[1]` when there is a
     /// second, binding 4: `images[2]` when there is a third, binding 5: `images[3]` when
-    /// there is a fourth; binding 1: a
+    /// there is a fourth, binding 6: `images[4]` when there is a fifth; binding 1: a
     /// uniform block of `uniform_bytes`; binding 2, in counting frames only, the fragment
     /// counter; `push_bytes` of fragment push constants (0 for none).
     pub fn new(
@@ -94,7 +94,7 @@ impl SampledSet {
             binding(1, Resource::Uniform(&uniforms)),
         ];
         bindings.extend(counter.map(|c| binding(2, Resource::Storage(c))));
-        for (b, (view, sampler)) in [3, 4, 5]
+        for (b, (view, sampler)) in [3, 4, 5, 6]
             .into_iter()
             .zip(views.iter().zip(&samplers).skip(1))
         {

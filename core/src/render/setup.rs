@@ -8,7 +8,7 @@ use ash::vk;
 use super::descriptors::DescriptorSet;
 use super::executor::Executor;
 use super::mffr::FarComposite;
-use super::output::{HistoryImages, OutputStage};
+use super::output::OutputStage;
 use super::pipelines::compile_pipeline;
 use super::radial_density::Reconstruction;
 use super::stats::PASS_STATISTICS;
@@ -31,22 +31,23 @@ pub(super) fn sampling_executors(
 ) -> Result<Vec<Box<dyn Executor>>, GpuError> {
     let mut executors: Vec<Box<dyn Executor>> = Vec::new();
     if let Some(p) = plan.passes.iter().find(|p| p.kind == PassKind::Output) {
-        // With accumulation the history and the periphery's depth follow the pass's sources.
-        let history = plan.history.zip(plan.foveation.and_then(|f| f.temporal));
-        let sources = &p.samples[..p.samples.len() - 2 * history.is_some() as usize];
-        // Two images always: the shader declares both (a one-image source twice).
-        let first = &images[sources[0]];
-        let second = &images[sources[sources.len() - 1]];
-        let history = history.map(|(h, config)| HistoryImages {
-            pair: [&images[h.read], &images[h.written]],
-            depth: &images[p.samples[p.samples.len() - 1]],
-            config,
-        });
+        // With accumulation the history and the periphery's depths (this frame's, the frame
+        // before's) follow the pass's sources.
+        let temporal = plan.foveation.and_then(|f| f.temporal);
+        let sources = p.samples.len() - 3 * temporal.is_some() as usize;
+        // Two images always: the shader declares both (a one-image source twice); then the
+        // accumulation's, as frames of each parity find them.
+        let of_frame = |frame| {
+            let id = |i: usize| plan.in_frame(p.samples[i], frame);
+            let mut ids = vec![id(0), id(sources - 1)];
+            ids.extend((sources..p.samples.len()).map(id));
+            ids.into_iter().map(|i| &images[i]).collect::<Vec<_>>()
+        };
         executors.push(Box::new(OutputStage::new(
             gpu,
             plan,
-            &[first, second],
-            history,
+            [of_frame(0), of_frame(1)],
+            temporal,
             counters,
         )?));
     }
@@ -119,13 +120,16 @@ pub(super) fn make_sampleable(
             );
             for &id in &ids {
                 let image = &images[id];
-                device.cmd_clear_color_image(
-                    cmd,
-                    image.raw,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &vk::ClearColorValue::default(),
-                    &[image.range(0, image.layers)],
-                );
+                let range = [image.range(0, image.layers)];
+                let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+                if image.aspect.contains(vk::ImageAspectFlags::DEPTH) {
+                    // Reverse-Z's far plane: a depth with nothing in front.
+                    let clear = vk::ClearDepthStencilValue::default();
+                    device.cmd_clear_depth_stencil_image(cmd, image.raw, dst, &clear, &range);
+                } else {
+                    let clear = vk::ClearColorValue::default();
+                    device.cmd_clear_color_image(cmd, image.raw, dst, &clear, &range);
+                }
             }
             device.cmd_pipeline_barrier(
                 cmd,
@@ -269,7 +273,7 @@ pub(super) struct CompiledFrame {
     pub steps: Vec<Vec<BoundStep>>,
 }
 
-/// The passes touching the history pair compiled for odd frames, the pair swapped in the
+/// The passes touching a history pair compiled for odd frames, each pair swapped in the
 /// images `image` gives; none without a pair.
 pub(super) fn odd_frame_passes<'i>(
     gpu: &Gpu,
@@ -277,17 +281,11 @@ pub(super) fn odd_frame_passes<'i>(
     indices: impl IntoIterator<Item = usize>,
     image: &dyn Fn(AttachmentId) -> &'i Image,
 ) -> Result<Vec<(usize, CompiledPass)>, GpuError> {
-    let Some(h) = plan.history else {
-        return Ok(Vec::new());
-    };
-    let swapped = |id: AttachmentId| match id {
-        id if id == h.read => image(h.written),
-        id if id == h.written => image(h.read),
-        id => image(id),
-    };
+    let swapped = |id: AttachmentId| image(plan.in_frame(id, 1));
+    let paired = |id| plan.history_pairs().any(|h| h.contains(id));
     indices
         .into_iter()
-        .filter(|&i| plan.passes[i].uses().any(|u| h.contains(u.attachment)))
+        .filter(|&i| plan.passes[i].uses().any(|u| paired(u.attachment)))
         .map(|i| Ok((i, compile_pass(gpu, plan, i, &swapped)?)))
         .collect()
 }

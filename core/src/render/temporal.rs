@@ -31,6 +31,8 @@ pub(super) struct TemporalAccumulation {
     previous: Option<([Mat4; 2], Mat4)>,
     /// Frames rendered since the history was last dropped whole.
     frames_accumulated: u64,
+    /// The frame before's jitter: where its periphery's depth was sampled.
+    previous_jitter: Vec2,
 }
 
 impl TemporalAccumulation {
@@ -41,6 +43,7 @@ impl TemporalAccumulation {
                 .map(|e| reverse_z_projection(plan.eyes.fov(e), plan.near, plan.far)),
             previous: None,
             frames_accumulated: 0,
+            previous_jitter: Vec2::ZERO,
         }
     }
 
@@ -67,8 +70,14 @@ impl TemporalAccumulation {
                 .map(|e| previous_clip[e.index()] * world_from_eye[e.index()]),
             jitter: Vec4::new(jitter.x, jitter.y, self.config.blend, reset as u32 as f32),
             depth: Vec4::new(a, b, hole_px * 0.5, 1.0 / self.frames_accumulated as f32),
-            clip: Vec4::new(self.config.clip.spread(), 0.0, 0.0, 0.0),
+            clip: Vec4::new(
+                self.config.clip.spread(),
+                0.0,
+                self.previous_jitter.x,
+                self.previous_jitter.y,
+            ),
         };
+        self.previous_jitter = jitter;
         self.previous = Some((
             Eye::BOTH.map(|e| self.projection[e.index()] * world_from_eye[e.index()].inverse()),
             world_from_eye[0],

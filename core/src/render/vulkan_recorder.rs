@@ -25,9 +25,10 @@ pub(super) struct BoundStep {
 pub(super) struct FrameObjects<'r> {
     pub device: &'r ash::Device,
     pub passes: &'r [CompiledPass],
-    /// Passes compiled for this frame's output image, replacing the plan's (an OpenXR
-    /// swapchain's image: see `OutputTargets`).
-    pub retargeted: &'r [(usize, CompiledPass)],
+    /// Passes replacing the plan's: those compiled for this frame's output image (an OpenXR
+    /// swapchain's image: see `OutputTargets`), then on odd frames those with the history
+    /// pairs swapped; searched in order, the first that has a pass decides.
+    pub retargeted: [&'r [(usize, CompiledPass)]; 2],
     /// Each pass's steps, in plan order.
     pub steps: &'r [Vec<BoundStep>],
     /// The frame slot recorded: whose descriptor sets the steps bind.
@@ -170,6 +171,7 @@ impl Recorder for VulkanRecorder<'_> {
         let compiled = objects
             .retargeted
             .iter()
+            .flat_map(|list| list.iter())
             .find(|(i, _)| *i == pass)
             .map_or(&objects.passes[pass], |(_, c)| c);
         let clears: Vec<vk::ClearValue> = clears
