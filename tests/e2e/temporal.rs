@@ -13,7 +13,7 @@ use glam::{Mat4, Vec2, Vec3};
 
 const SCREEN: u32 = 128;
 
-fn config(screen: u32, temporal: Option<TemporalConfig>) -> RenderConfig {
+pub(crate) fn config(screen: u32, temporal: Option<TemporalConfig>) -> RenderConfig {
     RenderConfig {
         stereo: StereoMode::Multiview,
         msaa: 1,

@@ -1,8 +1,8 @@
 //! Temporal accumulation meeting a surface that moves on its own: a walker crossing the
 //! periphery leaves no trail behind it.
 
-use foveate::foveation::{FoveationConfig, HistoryClip, TemporalConfig};
-use foveate::plan::{FoveaLayout, OutputStage, RenderConfig, Resolution, StereoMode};
+use foveate::foveation::{HistoryClip, TemporalConfig};
+use foveate::plan::RenderConfig;
 use foveate::render::{Renderer, StereoImage};
 use foveate::scene::{atrium_scene, Scene, Walker};
 use foveate::view::Eye;
@@ -17,19 +17,8 @@ const RATE_HZ: f32 = 90.0;
 
 fn config(temporal: Option<TemporalConfig>) -> RenderConfig {
     RenderConfig {
-        stereo: StereoMode::Multiview,
-        msaa: 1,
-        resolution: Some(Resolution::square(SCREEN)),
-        output: OutputStage::Undistorted,
-        fovea_layout: FoveaLayout::Auto,
         moving_instances: true,
-        foveation: Some(FoveationConfig {
-            ratio: 0.35,
-            periphery_density: Some(0.5),
-            periphery_temporal: temporal,
-            ..Default::default()
-        }),
-        ..RenderConfig::default()
+        ..super::temporal::config(SCREEN, temporal)
     }
 }
 
