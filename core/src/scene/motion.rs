@@ -24,7 +24,7 @@ pub fn walking_pose(start: Mat4, seconds: f32) -> Mat4 {
 /// moves on its own (a trail behind it, what it uncovers) and not only the head's motion.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Walker {
-    /// Its instance, numbered as [`Renderer::move_instance`](crate::render::Renderer::move_instance) takes it: the scene's last.
+    /// Its instance, numbered as `Renderer::move_instance` takes it: the scene's last.
     pub instance: usize,
     /// Where it starts (its centre) and the way it walks (unit, horizontal).
     start: Vec3,
