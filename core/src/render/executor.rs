@@ -20,9 +20,9 @@ pub(super) struct FrameContext<'a> {
     pub jitter: Option<glam::Vec2>,
     /// Each eye's hidden-area mesh, when the plan's HMD mask takes one and one was handed in.
     pub hidden_area: Option<&'a [HiddenArea; 2]>,
-    /// The frame's number from the renderer's first (its parity says which image of a history
-    /// pair it samples).
-    pub frame: u64,
+    /// 0 on even frames (counted from the renderer's first), 1 on odd: which image of each
+    /// history pair the frame reads and which it writes, and which descriptor sets it binds.
+    pub parity: usize,
 }
 
 /// One technique's per-frame work. One that keeps state across frames (the periphery's

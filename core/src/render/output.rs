@@ -103,7 +103,7 @@ impl Executor for OutputStage {
                 .as_mut()
                 .map_or_else(AccumulateBlock::default, |t| t.next_block(frame)),
         };
-        let parity = self.of((frame.frame % 2) as usize);
+        let parity = self.of(frame.parity);
         self.sets[parity][slot].uniforms.write(&[block]);
     }
 

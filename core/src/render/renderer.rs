@@ -380,30 +380,25 @@ impl Renderer {
             targets.select_image(&self.gpu, &self.plan, raw, &self.images)?;
         }
         let slot = self.next_slot;
+        // Decided here alone: the executors' uniforms, passes and sets follow it.
         let parity = (self.frames_rendered % 2) as usize;
         let world_from_head = input.world_from_head;
-        let cpu_cull_ms = self.prepare(slot, world_from_head);
+        let cpu_cull_ms = self.prepare(slot, world_from_head, parity);
         let start = Instant::now();
         let (tally, pass_ends) = {
             let draws = FrameDraws {
                 all: self.present_draws.as_ref().unwrap_or(&self.scene.draws),
                 culled: self.culling.as_ref().map_or(&[][..], |c| &c.sets),
             };
+            let output_passes = self.output_targets.as_ref().map(|t| t.passes(parity));
+            let output_passes = output_passes.unwrap_or([&[], &[]]);
+            let swapped = [&[][..], &self.odd_frame_passes][parity];
             let frame = &self.slots[slot];
             let objects = FrameObjects {
                 device: self.gpu.device(),
                 passes: &self.passes,
                 // The output image's passes first, then odd frames' swapped pairs.
-                retargeted: [
-                    self.output_targets
-                        .as_ref()
-                        .map_or(&[], |t| t.passes(parity)),
-                    if parity == 1 {
-                        &self.odd_frame_passes
-                    } else {
-                        &[]
-                    },
-                ],
+                retargeted: [output_passes[0], output_passes[1], swapped],
                 steps: &self.steps,
                 slot,
                 parity,
@@ -479,10 +474,10 @@ impl Renderer {
         Ok(())
     }
 
-    /// Works out the frame's views, writes slot `slot`'s uniforms and every executor's (and
-    /// the instances, when they move), and culls into the slot's id buffer; returns the
-    /// culling's CPU time in ms (placing moved instances again included).
-    fn prepare(&mut self, slot: usize, world_from_head: Mat4) -> f64 {
+    /// Works out the frame's views, writes slot `slot`'s uniforms and every executor's for a
+    /// frame of `parity` (and the instances, when they move), and culls into the slot's id
+    /// buffer; returns the culling's CPU time in ms (placing moved instances again included).
+    fn prepare(&mut self, slot: usize, world_from_head: Mat4, parity: usize) -> f64 {
         let placing_ms = self.follow_instances(slot);
         let plan = &self.plan;
         let fovea = plan.foveation.map(|g| {
@@ -510,7 +505,7 @@ impl Renderer {
             views: &views,
             jitter,
             hidden_area: self.hidden_area.as_ref(),
-            frame: self.frames_rendered,
+            parity,
         };
         for executor in &mut self.executors {
             executor.update(slot, &context);
