@@ -16,9 +16,10 @@ use crate::plan::{AttachmentId, FramePlan};
 pub const MAX_OUTPUT_IMAGES: usize = 16;
 
 pub(super) struct OutputTargets {
-    /// Per image, the passes writing the output compiled for it (`(pass index, pass)`), for
-    /// even frames and odd ones (the history pair's roles swapped, when there is one; the
-    /// output pass writes the next history); before `images`, whose views they hold.
+    /// Per image, the passes writing the output compiled for it (`(pass index, pass)`): every
+    /// writer for even frames, and for odd ones those that touch a history pair, with the
+    /// pair's roles swapped (the output pass writes the next history); before `images`, whose
+    /// views they hold.
     passes: Vec<[Vec<(usize, CompiledPass)>; 2]>,
     images: Vec<Image>,
     /// The passes that write the output.
@@ -76,13 +77,8 @@ impl OutputTargets {
             .iter()
             .map(|&i| Ok((i, compile_pass(gpu, plan, i, &image)?)))
             .collect::<Result<Vec<_>, GpuError>>()?;
-        let mut odd = odd_frame_passes(gpu, plan, self.writers.iter().copied(), &image)?;
-        // A writer that does not touch the history records the same on odd frames.
-        for (i, _) in &even {
-            if !odd.iter().any(|(j, _)| j == i) {
-                odd.push((*i, compile_pass(gpu, plan, *i, &image)?));
-            }
-        }
+        // Only the writers that touch a history pair differ on odd frames.
+        let odd = odd_frame_passes(gpu, plan, self.writers.iter().copied(), &image)?;
         self.passes.push([even, odd]);
         self.images.push(target);
         Ok(self.images.len() - 1)
@@ -116,9 +112,18 @@ impl OutputTargets {
     }
 
     /// The passes a frame of `parity` (0 even, 1 odd) records into the selected image instead
-    /// of the plan's (none when the frame renders into the renderer's own image).
-    pub fn passes(&self, parity: usize) -> &[(usize, CompiledPass)] {
-        self.current.map_or(&[], |c| &self.passes[c][parity])
+    /// of the plan's (none when the frame renders into the renderer's own image), in two
+    /// lists searched in order: on odd frames the swapped writers come first.
+    pub fn passes(&self, parity: usize) -> [&[(usize, CompiledPass)]; 2] {
+        let Some(c) = self.current else {
+            return [&[], &[]];
+        };
+        let [even, odd] = &self.passes[c];
+        if parity == 1 {
+            [odd, even]
+        } else {
+            [even, &[]]
+        }
     }
 
     /// The selected image, if one is.

@@ -28,7 +28,7 @@ pub(super) struct FrameObjects<'r> {
     /// Passes replacing the plan's: those compiled for this frame's output image (an OpenXR
     /// swapchain's image: see `OutputTargets`), then on odd frames those with the history
     /// pairs swapped; searched in order, the first that has a pass decides.
-    pub retargeted: [&'r [(usize, CompiledPass)]; 2],
+    pub retargeted: [&'r [(usize, CompiledPass)]; 3],
     /// Each pass's steps, in plan order.
     pub steps: &'r [Vec<BoundStep>],
     /// The frame slot recorded: whose descriptor sets the steps bind.
