@@ -43,7 +43,7 @@ layout(std140, set = 0, binding = 1) uniform Output {
                                 // takes new samples at their mean's weight)
     vec4 clip;                  // x: the history's box around the neighbourhood's mean, in
                                 // standard deviations (huge: its range alone; < 0: no clip);
-                                // zw: the frame before's jitter
+                                // y: unused; zw: the frame before's jitter
 } c;
 
 layout(location = 0) in vec2 in_uv;
