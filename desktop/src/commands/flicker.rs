@@ -89,7 +89,7 @@ const RATE_HZ: f64 = 90.0;
 
 /// One motion: per frame, the head pose and the gaze.
 struct Motion {
-    name: &'static str,
+    kind: MotionKind,
     frames: Vec<(Mat4, Vec2)>,
 }
 
@@ -248,11 +248,11 @@ fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene, space: GazeSpace) 
         .iter()
         .map(|kind| match kind {
             MotionKind::Still => Motion {
-                name: "still",
+                kind: *kind,
                 frames: vec![(scene.head, Vec2::ZERO); args.frames as usize],
             },
             MotionKind::Saccades => Motion {
-                name: "saccades",
+                kind: *kind,
                 frames: head(
                     simulated_trace(seconds, RATE_HZ, args.seed)
                         .iter()
@@ -261,7 +261,7 @@ fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene, space: GazeSpace) 
                 ),
             },
             MotionKind::LargeSaccades => Motion {
-                name: "large saccades",
+                kind: *kind,
                 frames: head(large_saccade_trace(
                     space,
                     seconds,
@@ -271,7 +271,7 @@ fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene, space: GazeSpace) 
                 )),
             },
             MotionKind::Walking => Motion {
-                name: "walking",
+                kind: *kind,
                 frames: (0..args.frames)
                     .map(|i| {
                         let t = i as f32 / RATE_HZ as f32;
@@ -284,17 +284,29 @@ fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene, space: GazeSpace) 
 }
 
 impl Motion {
+    /// How the table's rows name it.
+    fn name(&self) -> &'static str {
+        match self.kind {
+            MotionKind::Still => "still",
+            MotionKind::Saccades => "saccades",
+            MotionKind::LargeSaccades => "large saccades",
+            MotionKind::Walking => "walking",
+        }
+    }
+
     /// How the header line names it.
     fn describe(&self, args: &FlickerArgs) -> String {
-        match self.name {
-            "saccades" => format!("saccades (seed {}, head still)", args.seed),
-            "large saccades" => format!("large saccades (15–30°, seed {}, head still)", args.seed),
-            "walking" => format!(
+        match self.kind {
+            MotionKind::Still => "still (head and gaze)".to_string(),
+            MotionKind::Saccades => format!("saccades (seed {}, head still)", args.seed),
+            MotionKind::LargeSaccades => {
+                format!("large saccades (15–30°, seed {}, head still)", args.seed)
+            }
+            MotionKind::Walking => format!(
                 "walking ({} m/s, turning {}°/s, gaze ahead)",
                 foveate::scene::WALK_SPEED_M_S,
                 foveate::scene::TURN_DEG_S
             ),
-            _ => "still (head and gaze)".to_string(),
         }
     }
 }
@@ -403,7 +415,8 @@ impl MotionRun<'_> {
             }
             // Frames of every configuration interleaved, the reference first; read back only
             // for the measures on the host.
-            self.bar.set_message(format!("{}: rendering", motion.name));
+            self.bar
+                .set_message(format!("{}: rendering", motion.name()));
             let rendering = Instant::now();
             let judge_now = self.flip.is_some_and(|every| frame % every as usize == 0);
             let mut images = Vec::new();
@@ -431,7 +444,7 @@ impl MotionRun<'_> {
                 }
                 Spent::add(&self.spent.flicker_s, measuring);
                 if judge_now {
-                    self.bar.set_message(format!("{}: judging", motion.name));
+                    self.bar.set_message(format!("{}: judging", motion.name()));
                     let judging = Instant::now();
                     let (reference, approximation) = (&renderers[0], &renderers[i + 1]);
                     let acuity = Acuity::default();
@@ -461,7 +474,7 @@ impl MotionRun<'_> {
         }
         for (((name, _), meter), frames) in self.configs.iter().zip(&meters).zip(&judged) {
             rows.push(Row {
-                motion: motion.name,
+                motion: motion.name(),
                 name: name.clone(),
                 flicker: meter.summary(),
                 accuracy: AlongMotion::of(frames),
