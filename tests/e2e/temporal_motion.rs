@@ -85,8 +85,9 @@ fn ghost(image: &StereoImage, fresh: &StereoImage, region: &[Vec<bool>; 2]) -> (
 /// no longer stands, the accumulated frame is redder than a frame without accumulation in
 /// less than a quarter of the pixels it is without clipping. Negative control in the test:
 /// with the history not clipped to the periphery's neighbourhood (`HistoryClip::Off`) the
-/// trail covers over a tenth of the region and the test sees it. Mutation: the clip's box
-/// built from the history instead of the neighbourhood fails it.
+/// trail covers over a tenth of the region and the test sees it. Mutation run: the shader's
+/// clip removed while its disocclusion test stays (the kept history unclipped) fails it, 248
+/// of 2,280 pixels trailing against 357 unclipped: the depth test alone does not stop it.
 #[test]
 fn a_walker_leaves_no_trail() {
     let gpu = gpu();
