@@ -8,7 +8,8 @@
 // For this pixel: its direction, the nearest periphery sample and where it was taken, and that
 // sample's depth; the point it sees, projected into the previous frame's eye (and, for the lens,
 // distorted as that frame's output pixels were), finds its place in the history — if the frame
-// before's periphery saw the same surface there (its depth within 10 %). History taps
+// before's periphery saw the same surface there (its depth within 10 %: in the texel the point
+// lay in when it moved, in any of the 2×2 around it when it did not). History taps
 // that hold nothing (the fovea covered them, the lens hid them, never rendered) are dropped;
 // what remains is clipped towards the periphery's 3x3 neighbourhood in YCoCg — its mean, within
 // its spread (Salvi's variance clipping): a surface that moved or changed cannot leave a trail,
@@ -69,16 +70,20 @@ vec2 distorted(vec2 t) {
 // Whether the frame before's periphery saw, where direction `t` seen at `distance` (the sky:
 // infinitely far) lay in it (`uv`, its rendered field's; `w`, its distance there), the same
 // surface: a depth within 10 % (the disocclusion test; the history keeps no depth of its own,
-// so the frame before's periphery depth is kept instead).
-bool seen_before(uint eye, vec2 uv, float w, bool sky) {
+// so the frame before's periphery depth is kept instead). `moved`: the point moved since the
+// frame before (by a tenth of a periphery texel or more: motion, not rounding).
+bool seen_before(uint eye, vec2 uv, float w, bool sky, bool moved) {
     if (c.clip.x < 0.0) {
         return true; // HistoryClip::Off: the history is not held to anything
     }
-    // Any of the 2×2 texels around the point will do: one texel of the periphery spans two
-    // of the output's, across an edge or a slanted surface its depths differ.
+    // Where the point has not moved, any of the 2×2 texels around it will do: the jitter
+    // moved the samples by less than a texel, and across an edge or a slanted surface their
+    // depths differ, so one texel would drop good history at every edge. Where it moved, an
+    // edge may have uncovered it: only the texel it lay in counts.
     ivec2 size = textureSize(previous_depth, 0).xy;
-    ivec2 base = ivec2(floor(uv * vec2(size) + c.clip.zw - 0.5));
-    for (int k = 0; k < 4; k++) {
+    vec2 at = uv * vec2(size) + c.clip.zw;
+    ivec2 base = moved ? ivec2(floor(at)) : ivec2(floor(at - 0.5));
+    for (int k = 0; k < (moved ? 1 : 4); k++) {
         ivec2 texel = clamp(base + ivec2(k & 1, k >> 1), ivec2(0), size - 1);
         float d = texelFetch(previous_depth, ivec3(texel, eye), 0).r;
         if (sky || d <= 0.0) {
@@ -96,13 +101,15 @@ bool seen_before(uint eye, vec2 uv, float w, bool sky) {
 }
 
 // Where, in the previous frame's output pixels (continuous, centres at .5), direction `t`
-// seen at `distance` (the sky: infinitely far) lay; z < 0 when behind that frame's eye or
-// when that frame saw another surface there.
-vec3 previous_pixel(uint eye, vec2 t, float distance, bool sky) {
+// (at `here` in this frame's rendered field) seen at `distance` (the sky: infinitely far)
+// lay; z < 0 when behind that frame's eye or when that frame saw another surface there.
+vec3 previous_pixel(uint eye, vec2 here, vec2 t, float distance, bool sky) {
     vec4 seen = sky ? vec4(t, -1.0, 0.0) : vec4(t * distance, -distance, 1.0);
     vec4 clip = c.previous_from_view[eye] * seen;
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-    if (clip.w <= 0.0 || !seen_before(eye, uv, clip.w, sky)) {
+    vec2 motion = (uv - here) * vec2(textureSize(previous_depth, 0).xy); // periphery texels
+    bool moved = dot(motion, motion) >= 0.01;
+    if (clip.w <= 0.0 || !seen_before(eye, uv, clip.w, sky, moved)) {
         return vec3(0.0, 0.0, -1.0);
     }
     if (LENS) {
@@ -183,7 +190,7 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
     float d = texelFetch(periphery_depth, ivec3(texel, eye), 0).r;
     bool sky = d <= 0.0;
     float distance = sky ? 0.0 : c.depth.y / (d + c.depth.x);
-    vec3 at = previous_pixel(eye, t, distance, sky);
+    vec3 at = previous_pixel(eye, uv, t, distance, sky);
     if (c.jitter.w < 0.5 && at.z > 0.0) {
         vec4 h = history_at(eye, at.xy);
         if (h.w > 0.01) {
