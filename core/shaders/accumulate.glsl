@@ -9,8 +9,9 @@
 // sample's depth; the point it sees, projected into the previous frame's eye (and, for the lens,
 // distorted as that frame's output pixels were), finds its place in the history — if the frame
 // before's periphery saw the same surface there (its depth within 10 %: in the texel the point
-// lay in when it moved, in any of the 2×2 around it when it did not). History taps
-// that hold nothing (the fovea covered them, the lens hid them, never rendered) are dropped;
+// lay in when it moved, in any of the 2×2 around it when it did not; where the fovea covered
+// the periphery's hole the history holds what the fovea showed, and no depth lies beside it).
+// History taps that hold nothing (the lens hid them, never rendered) are dropped;
 // what remains is clipped towards the periphery's 3x3 neighbourhood in YCoCg — its mean, within
 // its spread (Salvi's variance clipping): a surface that moved or changed cannot leave a trail,
 // and unlike a min/max clamp the box does not widen with every outlier — and the new sample is
@@ -24,11 +25,13 @@ layout(location = 1) out vec4 out_history;
 
 // The history holds the square root of linear light in 10 bits (its steps finer than an 8-bit
 // display's down to the darks, so a small blend of a new sample is not rounded away); alpha 0
-// marks a pixel that holds nothing.
+// marks a pixel that holds nothing, 2/3 one that holds what the fovea showed over the
+// periphery's hole (no periphery depth lies beside it), 1 the accumulated periphery.
 const vec4 NOTHING = vec4(0.0);
+const float FROM_FOVEA = 2.0 / 3.0;
 
-vec4 to_history(vec3 linear) {
-    return vec4(round(sqrt(clamp(linear, 0.0, 1.0)) * 1023.0) / 1023.0, 1.0);
+vec4 to_history(vec3 linear, float kind) {
+    return vec4(round(sqrt(clamp(linear, 0.0, 1.0)) * 1023.0) / 1023.0, kind);
 }
 
 vec3 to_ycocg(vec3 c) {
@@ -72,7 +75,9 @@ vec2 distorted(vec2 t) {
 // surface: a depth within 10 % (the disocclusion test; the history keeps no depth of its own,
 // so the frame before's periphery depth is kept instead). `moved`: the point moved since the
 // frame before (by a tenth of a periphery texel or more: motion, not rounding).
-bool seen_before(uint eye, vec2 uv, float w, bool sky, bool moved) {
+// `under_fovea`: the history there holds what the fovea showed, so where the frame before's
+// periphery has no depth (its hole) there is nothing to test.
+bool seen_before(uint eye, vec2 uv, float w, bool sky, bool moved, bool under_fovea) {
     if (c.clip.x < 0.0) {
         return true; // HistoryClip::Off: the history is not held to anything
     }
@@ -86,10 +91,10 @@ bool seen_before(uint eye, vec2 uv, float w, bool sky, bool moved) {
     for (int k = 0; k < (moved ? 1 : 4); k++) {
         ivec2 texel = clamp(base + ivec2(k & 1, k >> 1), ivec2(0), size - 1);
         float d = texelFetch(previous_depth, ivec3(texel, eye), 0).r;
+        if (d <= 0.0 && (sky || under_fovea)) {
+            return true;
+        }
         if (sky || d <= 0.0) {
-            if (sky && d <= 0.0) {
-                return true;
-            }
             continue;
         }
         float before = c.depth.y / (d + c.depth.x);
@@ -107,19 +112,27 @@ vec3 previous_pixel(uint eye, vec2 here, vec2 t, float distance, bool sky) {
     vec4 seen = sky ? vec4(t, -1.0, 0.0) : vec4(t * distance, -distance, 1.0);
     vec4 clip = c.previous_from_view[eye] * seen;
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-    vec2 motion = (uv - here) * vec2(textureSize(previous_depth, 0).xy); // periphery texels
-    bool moved = dot(motion, motion) >= 0.01;
-    if (clip.w <= 0.0 || !seen_before(eye, uv, clip.w, sky, moved)) {
+    if (clip.w <= 0.0) {
         return vec3(0.0, 0.0, -1.0);
     }
+    vec2 at = uv;
     if (LENS) {
         vec4 p = c.periphery[eye];
         vec4 d = c.display[eye];
         vec2 tp = vec2(-p.x + uv.x * (p.x + p.y), p.z - uv.y * (p.z + p.w));
         vec2 td = distorted(tp);
-        uv = vec2((td.x + d.x) / (d.x + d.y), (d.z - td.y) / (d.z + d.w));
+        at = vec2((td.x + d.x) / (d.x + d.y), (d.z - td.y) / (d.z + d.w));
     }
-    return vec3(uv * c.screen.xy, clip.w);
+    at *= c.screen.xy;
+    ivec2 nearest = clamp(ivec2(floor(at)), ivec2(0), ivec2(c.screen.xy) - 1);
+    float kind = texelFetch(history, ivec3(nearest, eye), 0).a;
+    bool under_fovea = abs(kind - FROM_FOVEA) < 0.1;
+    vec2 motion = (uv - here) * vec2(textureSize(previous_depth, 0).xy); // periphery texels
+    bool moved = dot(motion, motion) >= 0.01;
+    if (!seen_before(eye, uv, clip.w, sky, moved, under_fovea)) {
+        return vec3(0.0, 0.0, -1.0);
+    }
+    return vec3(at, clip.w);
 }
 
 // The history at `at` (previous output pixels), bilinear over the taps that hold something;
@@ -159,7 +172,7 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
     vec2 j = c.jitter.xy;
     // The bilinear periphery at this pixel's centre (the jitter undone).
     vec3 bilinear = texture(images, vec3((q + j) / vec2(size), float(eye))).rgb;
-    // Inside the periphery's hole nothing was rendered: nothing to keep.
+    // Inside the periphery's hole nothing was rendered: the output keeps what the fovea shows.
     if (length((t - fovea_centre) * px_per_tangent) < c.depth.z) {
         next = NOTHING;
         return bilinear;
@@ -201,6 +214,6 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
             result = mix(max(kept, vec3(0.0)), nearest, trust);
         }
     }
-    next = to_history(result);
+    next = to_history(result, 1.0);
     return result;
 }

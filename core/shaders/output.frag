@@ -161,6 +161,13 @@ void main() {
         if (w > 0.0) {
             color += w * texture(second, vec3(fovea_uv, float(FOVEA_LAYER + eye))).rgb;
         }
+#ifdef TEMPORAL
+        // Over the periphery's hole the history keeps what the fovea shows: when the gaze moves
+        // on, those pixels start from it rather than from the bilinear periphery.
+        if (w >= 1.0 && out_history.a < 0.5) {
+            out_history = to_history(color, FROM_FOVEA);
+        }
+#endif
         if (c.params.z > 0.5) {
             vec3 tint = w >= 1.0 ? vec3(0.2, 1.0, 0.2) : (w > 0.0 ? vec3(1.0, 0.9, 0.1) : vec3(0.2, 0.4, 1.0));
             color = mix(color, tint, 0.35);

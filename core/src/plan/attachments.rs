@@ -16,7 +16,8 @@ pub enum Format {
     /// pixel): the periphery's temporal history, holding the square root of linear light so
     /// its steps stay finer than the display's down to the darks (small blends of new samples
     /// must not round away: the 6-bit mantissas of `B10G11R11_UFLOAT` lose them), at half the
-    /// bytes of half floats; alpha 0 marks a pixel with no history.
+    /// bytes of half floats; alpha 0 marks a pixel with no history, 2/3 one that holds what
+    /// the fovea showed over the periphery's hole.
     Rgb10A2,
     /// Reverse-Z depth without stencil.
     D32,
