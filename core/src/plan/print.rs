@@ -345,7 +345,7 @@ impl FramePlan {
                     if let Some(t) = self.foveation.and_then(|f| f.temporal) {
                         writeln!(
                             f,
-                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth (dropped where the frame before's periphery depth differs by over 10 %: in the texel it lay in where it moved, in any of the 2x2 around it where it did not), clipped to the periphery's 3x3 neighbourhood in YCoCg ({}), the new sample blended in (weight {}); none where the fovea covered it, reset at cuts (> {} m, > {}°)",
+                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth (dropped where the frame before's periphery depth differs by over 10 %: in the texel it lay in where it moved, in any of the 2x2 around it where it did not), clipped to the periphery's 3x3 neighbourhood in YCoCg ({}), the new sample blended in (weight {}); over the periphery's hole what the fovea showed, reset at cuts (> {} m, > {}°)",
                             t.jitter_cycle, clip_words(t.clip), t.blend, t.cut_distance_m, t.cut_angle_deg
                         )?;
                     }
