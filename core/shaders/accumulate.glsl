@@ -30,6 +30,15 @@ layout(location = 1) out vec4 out_history;
 const vec4 NOTHING = vec4(0.0);
 const float FROM_FOVEA = 2.0 / 3.0;
 
+// What became of this pixel's history (counting frames only: `history_outcomes.glsl` counts
+// it per region; timed frames compile none of it).
+#ifdef COUNT_FRAGMENTS
+#include "history_outcomes.glsl"
+#define NOTE_OUTCOME(o) history_outcome = (o)
+#else
+#define NOTE_OUTCOME(o)
+#endif
+
 vec4 to_history(vec3 linear, float kind) {
     return vec4(round(sqrt(clamp(linear, 0.0, 1.0)) * 1023.0) / 1023.0, kind);
 }
@@ -113,6 +122,7 @@ vec3 previous_pixel(uint eye, vec2 here, vec2 t, float distance, bool sky) {
     vec4 clip = c.previous_from_view[eye] * seen;
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
     if (clip.w <= 0.0) {
+        NOTE_OUTCOME(OUTCOME_OFF_SCREEN);
         return vec3(0.0, 0.0, -1.0);
     }
     vec2 at = uv;
@@ -129,9 +139,12 @@ vec3 previous_pixel(uint eye, vec2 here, vec2 t, float distance, bool sky) {
     bool under_fovea = abs(kind - FROM_FOVEA) < 0.1;
     vec2 motion = (uv - here) * vec2(textureSize(previous_depth, 0).xy); // periphery texels
     bool moved = dot(motion, motion) >= 0.01;
+    bool in_view = all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)));
     if (!seen_before(eye, uv, clip.w, sky, moved, under_fovea)) {
+        NOTE_OUTCOME(in_view ? OUTCOME_DISOCCLUDED : OUTCOME_OFF_SCREEN);
         return vec3(0.0, 0.0, -1.0);
     }
+    NOTE_OUTCOME(!in_view ? OUTCOME_OFF_SCREEN : (under_fovea ? OUTCOME_FROM_FOVEA : OUTCOME_KEPT));
     return vec3(at, clip.w);
 }
 
@@ -174,6 +187,7 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
     vec3 bilinear = texture(images, vec3((q + j) / vec2(size), float(eye))).rgb;
     // Inside the periphery's hole nothing was rendered: the output keeps what the fovea shows.
     if (length((t - fovea_centre) * px_per_tangent) < c.depth.z) {
+        NOTE_OUTCOME(OUTCOME_HOLE);
         next = NOTHING;
         return bilinear;
     }
@@ -204,8 +218,22 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
     bool sky = d <= 0.0;
     float distance = sky ? 0.0 : c.depth.y / (d + c.depth.x);
     vec3 at = previous_pixel(eye, uv, t, distance, sky);
-    if (c.jitter.w < 0.5 && at.z > 0.0) {
+    if (c.jitter.w >= 0.5) {
+        NOTE_OUTCOME(OUTCOME_RESET);
+    } else if (at.z > 0.0) {
         vec4 h = history_at(eye, at.xy);
+#ifdef COUNT_FRAGMENTS
+        if (h.w <= 0.01) {
+            NOTE_OUTCOME(history_outcome == OUTCOME_OFF_SCREEN ? OUTCOME_OFF_SCREEN : OUTCOME_EMPTY);
+        } else {
+            // Taps past the edge of the frame before's view can still hold something: used.
+            NOTE_OUTCOME(history_outcome == OUTCOME_OFF_SCREEN ? OUTCOME_KEPT : history_outcome);
+            vec3 y = to_ycocg(h.rgb);
+            if (history_outcome == OUTCOME_KEPT && c.clip.x >= 0.0 && clip_to_box(y, lo, hi) != y) {
+                NOTE_OUTCOME(OUTCOME_CLIPPED);
+            }
+        }
+#endif
         if (h.w > 0.01) {
             vec3 kept = c.clip.x < 0.0 ? h.rgb : from_ycocg(clip_to_box(to_ycocg(h.rgb), lo, hi));
             // How far the new sample lies from this pixel's centre, in screen pixels.

@@ -152,6 +152,9 @@ void main() {
         // Accumulated wherever the periphery was rendered, shown or not (under the fovea's
         // edge it is ready when the gaze moves).
         color += (1.0 - w) * accumulate(eye, uv, t, out_history);
+#ifdef COUNT_FRAGMENTS
+        count_history_outcome(w);
+#endif
 #else
         // Fetch only what contributes: most pixels are periphery only, a few fovea only.
         if (w < 1.0) {

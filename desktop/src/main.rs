@@ -10,6 +10,7 @@ mod fovea_table;
 mod frame_args;
 mod frontier;
 mod gaze_arg;
+mod history_table;
 mod interrupt;
 mod metric;
 mod outputs;

@@ -13,6 +13,7 @@ mod frames_in_flight;
 mod gltf;
 mod golden;
 mod gpu_flicker;
+mod history_outcomes;
 mod judge;
 mod latency;
 mod lod;

@@ -188,7 +188,7 @@ fn step_pipelines(plan: &FramePlan, pass_index: usize) -> Vec<PipelineDesc> {
                     ..
                 } => scene_pipeline(&ctx, plan, pass, *draw_set, cull_slot.is_some()),
                 Step::Probe { .. } => probe_pipeline(&ctx),
-                Step::Output(output) => output_pipeline(&ctx, output, plan.foveation.as_ref()),
+                Step::Output(output) => output_pipeline(&ctx, output, plan),
                 Step::RadialMask { .. } => radial_mask_pipeline(&ctx, radial()),
                 Step::Reconstruct => reconstruct_pipeline(&ctx, radial()),
             }

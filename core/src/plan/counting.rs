@@ -19,11 +19,17 @@ fn counted_steps(passes: &[PassPlan]) -> Vec<CountedSlot> {
         .collect()
 }
 
-/// A counting frame: every step counted, and the buffer holding its counters.
+/// A counting frame: every step counted, and the buffer holding its counters (and, where the
+/// output accumulates, what became of each pixel's history).
 pub(super) fn plan_counting(plan: &mut FramePlan) {
     plan.counted = counted_steps(&plan.passes);
+    let steps = COUNTER_SLOTS_PER_STEP * plan.counted.len() as u32;
     plan.buffers.push(BufferPlan {
         name: FRAGMENT_COUNTER,
-        bytes: 4 * (COUNTER_SLOTS_PER_STEP * plan.counted.len() as u32) as u64,
+        bytes: 4 * steps as u64,
     });
+    if plan.history_outcome_base().is_some() {
+        let counter = plan.buffers.last_mut().expect("just pushed");
+        counter.bytes += 4 * HISTORY_OUTCOME_SLOTS as u64;
+    }
 }

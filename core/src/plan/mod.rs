@@ -35,7 +35,8 @@ pub use config::{
 };
 pub use model::{
     BufferPlan, ClusterPlan, CountedSlot, FoveaLayoutChoice, FramePlan, HistoryPair, LensOutput,
-    LodPlan, PassKind, PassPlan, Submission, TargetLayout, COUNTER_SLOTS_PER_STEP, SKY,
+    LodPlan, PassKind, PassPlan, Submission, TargetLayout, COUNTER_SLOTS_PER_STEP,
+    HISTORY_OUTCOME_SLOTS, SKY,
 };
 pub use ops::{
     Access, AttachmentId, Barrier, ClearValue, Layout, LoadOp, PassBarriers, StoreOp, Touch,

@@ -203,6 +203,10 @@ pub struct CountedSlot {
 /// Counter slots per counted step: four views and the MFFR far view.
 pub const COUNTER_SLOTS_PER_STEP: u32 = MAX_VIEWS + 1;
 
+/// Counter slots of an accumulating counting frame's history outcomes: eight outcomes
+/// (`render::HistoryOutcome`) by three regions (fovea, band, periphery).
+pub const HISTORY_OUTCOME_SLOTS: u32 = 8 * 3;
+
 /// A buffer that exists only because an effect asked for it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BufferPlan {
@@ -477,6 +481,19 @@ impl FramePlan {
             _ => 0,
         };
         Some(slot as u32 * COUNTER_SLOTS_PER_STEP + eye_offset)
+    }
+
+    /// Where a counting frame's history-outcome slots start in the fragment counter (after
+    /// every counted step's): [`HISTORY_OUTCOME_SLOTS`] of them, outcome by outcome, each
+    /// region by region. `None` unless the frame counts and its output accumulates.
+    pub fn history_outcome_base(&self) -> Option<u32> {
+        let accumulates = self
+            .passes
+            .iter()
+            .flat_map(|p| &p.steps)
+            .any(|s| matches!(s, super::steps::Step::Output(o) if o.temporal));
+        (self.count_fragments() && accumulates)
+            .then(|| COUNTER_SLOTS_PER_STEP * self.counted.len() as u32)
     }
 
     /// The per-frame list of culled instance ids, when some pass draws a culled set.

@@ -8,7 +8,7 @@ use super::ops::{Access, AttachmentId};
 use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{OutputSource, OutputStep, Step};
 use super::{ConfigError, OutputFormat, Resolution};
-use crate::foveation::{FoveationGeometry, PeripheryFilter};
+use crate::foveation::PeripheryFilter;
 use crate::shaders::{
     COMPOSITE_VERT, OUTPUT_FRAG, OUTPUT_FRAG_COUNTING, OUTPUT_TEMPORAL_FRAG,
     OUTPUT_TEMPORAL_FRAG_COUNTING,
@@ -157,8 +157,9 @@ pub(super) fn full_view_pass(
 pub(super) fn output_pipeline(
     ctx: &StepContext,
     step: &OutputStep,
-    foveation: Option<&FoveationGeometry>,
+    plan: &FramePlan,
 ) -> PipelineDesc {
+    let foveation = plan.foveation.as_ref();
     let catmull_rom = foveation.is_some_and(|f| f.periphery_filter == PeripheryFilter::CatmullRom);
     let (fovea_layer, sharpen) = match step.source {
         OutputSource::Foveated {
@@ -179,4 +180,8 @@ pub(super) fn output_pipeline(
         .constant(Constant::FoveaLayer, fovea_layer)
         .flag(Constant::Sharpen, sharpen)
         .flag(Constant::CatmullRom, catmull_rom)
+        .constant(
+            Constant::HistoryOutcomeBase,
+            plan.history_outcome_base().unwrap_or(0),
+        )
 }

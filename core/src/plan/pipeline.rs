@@ -60,6 +60,9 @@ pub enum Constant {
     Sharpen,
     /// The output stage: upscale the periphery with Catmull-Rom rather than bilinearly.
     CatmullRom,
+    /// The accumulating output stage of a counting frame: the first of its history-outcome
+    /// counter slots ([`FramePlan::history_outcome_base`](super::FramePlan::history_outcome_base)).
+    HistoryOutcomeBase,
 }
 
 /// How a constant's 32 bits read.
@@ -75,7 +78,7 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 24] = {
+    pub const ALL: [Constant; 25] = {
         use Constant::*;
         [
             ViewSource,
@@ -102,6 +105,7 @@ impl Constant {
             FoveaLayer,
             Sharpen,
             CatmullRom,
+            HistoryOutcomeBase,
         ]
     };
 
@@ -134,6 +138,7 @@ impl Constant {
             FoveaLayer => (32, "FOVEA_LAYER", Uint),
             Sharpen => (33, "SHARPEN", Bool),
             CatmullRom => (34, "CATMULL_ROM", Bool),
+            HistoryOutcomeBase => (35, "HISTORY_OUTCOME_BASE", Uint),
         }
     }
 

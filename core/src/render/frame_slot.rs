@@ -150,9 +150,9 @@ impl FrameSlot {
         let Some(pass_statistics) = self.read_pass_statistics(gpu, plan, flags)? else {
             return Ok(None);
         };
-        let steps = match self.counter.as_mut() {
+        let (steps, history) = match self.counter.as_mut() {
             Some(counter) => super::counting::read_counts(plan, counter),
-            None => Vec::new(),
+            None => (Vec::new(), None),
         };
         let frame = self.recorded.clone().unwrap_or_default();
         let mut stats = FrameStats {
@@ -165,6 +165,7 @@ impl FrameSlot {
             fragments: Vec::new(),
             far_fragments: None,
             steps,
+            history,
             cpu_cull_ms: frame.cpu_cull_ms,
             instances_drawn: frame.instances_drawn,
             draw_calls: frame.draw_calls,

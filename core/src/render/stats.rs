@@ -3,6 +3,7 @@
 
 use ash::vk;
 
+use super::history_outcomes::HistoryOutcomes;
 use crate::mffr::FAR_VIEW_INDEX;
 use crate::plan::{CountedStep, COUNTER_SLOTS_PER_STEP};
 
@@ -30,6 +31,9 @@ pub struct FrameStats {
     pub far_fragments: Option<u64>,
     /// Every counted step's fragments, per view, in recording order (counting frames only).
     pub steps: Vec<StepFragments>,
+    /// What became of each accumulated pixel's history (counting frames whose output
+    /// accumulates the periphery; `None` otherwise).
+    pub history: Option<HistoryOutcomes>,
     /// CPU time splitting the instances into the MFFR near and far sets (0 without MFFR).
     pub cpu_cull_ms: f64,
     /// Instances drawn by each scene pass, in plan order (every instance without culling).

@@ -18,12 +18,13 @@ use foveate::metrics::temporal::{Flicker, FlickerSummary};
 use foveate::metrics::Acuity;
 use foveate::metrics::{ErrorSummary, EyePixels};
 use foveate::plan::RenderConfig;
-use foveate::render::Renderer;
+use foveate::render::{HistoryOutcomes, Renderer};
 use foveate::scene::{walking_pose, Walker};
 use glam::{Mat4, Vec2};
 
 use crate::csv_out::{opt, CsvTable};
 use crate::frame_args::ComparedFrame;
+use crate::history_table::OutcomesAlong;
 use crate::side_by_side::settle;
 use crate::variants::{with_temporal, with_view_sets, Accumulation};
 
@@ -79,6 +80,12 @@ pub struct FlickerArgs {
     /// accumulation meets a surface moving on its own: ghosting and what it uncovers.
     #[arg(long)]
     walker: bool,
+    /// Also count, every frame, what became of each accumulated pixel's history (kept,
+    /// clipped, taken from the fovea, or dropped: reset, off-screen, disoccluded, empty), per
+    /// region: the accumulated rows run as counting frames. With a file, every frame's counts
+    /// are written to it as CSV.
+    #[arg(long, num_args = 0..=1, value_name = "CSV")]
+    history_outcomes: Option<Option<PathBuf>>,
     /// Also write the table as CSV to this file.
     #[arg(long)]
     csv: Option<PathBuf>,
@@ -104,7 +111,8 @@ enum MotionKind {
 
 pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     crate::interrupt::install();
-    crate::outputs::files(&[args.csv.as_deref()])?;
+    let history_csv = args.history_outcomes.clone().flatten();
+    crate::outputs::files(&[args.csv.as_deref(), history_csv.as_deref()])?;
     anyhow::ensure!(
         args.frames >= 2,
         "invalid frames = {}: at least 2 (flicker is a change between frames)",
@@ -128,9 +136,17 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         ..base.clone()
     };
     let gpu = Gpu::new(options)?;
+    // With --history-outcomes the accumulated rows count (their frames show the same image).
+    let accumulates =
+        |c: &RenderConfig| (c.foveation.as_ref()).is_some_and(|f| f.periphery_temporal.is_some());
     let plans = std::iter::once(&reference)
         .chain(configs.iter().map(|(_, c)| c))
-        .map(|c| foveate::plan(&scene, c, gpu.caps()))
+        .map(
+            |c| match args.history_outcomes.is_some() && accumulates(c) {
+                true => foveate::plan(&scene, &c.counting(), gpu.caps()),
+                false => foveate::plan(&scene, c, gpu.caps()),
+            },
+        )
         .collect::<Result<Vec<_>, _>>()?;
     let space = GazeSpace {
         fov: plans[0].eyes.fov(foveate::view::Eye::Left),
@@ -181,9 +197,17 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     }
     bar.finish_and_clear();
     print_table(&results);
+    let outcomes: Vec<_> = results
+        .iter_mut()
+        .filter_map(|r| r.history.take())
+        .collect();
+    crate::history_table::print(&outcomes);
     println!("{}", spent.describe());
     gpu.check_validation()?;
     write_csv(&results, args.csv.as_deref())?;
+    if let Some(path) = &history_csv {
+        crate::history_table::write_csv(&outcomes, path)?;
+    }
     if interrupted {
         return Err(crate::interrupt::stopped(&format!(
             "flicker stopped during a motion; the {} motions finished before it are in the table above{}",
@@ -402,6 +426,8 @@ impl MotionRun<'_> {
             .collect::<Result<Vec<_>>>()?;
         let on_cpu = meters.iter().any(|m| matches!(m, Meter::Cpu(_)));
         let mut judged: Vec<Vec<ErrorSummary>> = self.configs.iter().map(|_| Vec::new()).collect();
+        let mut history: Vec<Vec<HistoryOutcomes>> =
+            self.configs.iter().map(|_| Vec::new()).collect();
         // On the GPU both measures read the frames where they lie; on the CPU (`--metric cpu`)
         // every frame is read back.
         let mut in_place = GpuFlip::new(self.gpu);
@@ -420,12 +446,15 @@ impl MotionRun<'_> {
             let rendering = Instant::now();
             let judge_now = self.flip.is_some_and(|every| frame % every as usize == 0);
             let mut images = Vec::new();
-            for renderer in &mut renderers {
+            for (r, renderer) in renderers.iter_mut().enumerate() {
                 renderer.set_gaze([gaze; 2])?;
                 if let Some(w) = self.walker {
                     renderer.move_instance(w.instance, w.model(frame as f32 / RATE_HZ as f32))?;
                 }
-                renderer.render_frame(pose)?;
+                let stats = renderer.render_frame(pose)?;
+                if let (Some(outcomes), Some(r)) = (stats.history, r.checked_sub(1)) {
+                    history[r].push(outcomes);
+                }
                 if on_cpu {
                     images.push(renderer.readback()?);
                 }
@@ -472,12 +501,18 @@ impl MotionRun<'_> {
             }
             self.bar.inc(1);
         }
-        for (((name, _), meter), frames) in self.configs.iter().zip(&meters).zip(&judged) {
+        let along = self.configs.iter().zip(&meters).zip(&judged).zip(history);
+        for ((((name, _), meter), frames), history) in along {
             rows.push(Row {
                 motion: motion.name(),
                 name: name.clone(),
                 flicker: meter.summary(),
                 accuracy: AlongMotion::of(frames),
+                history: (!history.is_empty()).then(|| OutcomesAlong {
+                    motion: motion.name(),
+                    config: name.clone(),
+                    frames: history,
+                }),
             });
         }
         Ok(Some(rows))
@@ -525,6 +560,8 @@ struct Row {
     name: String,
     flicker: FlickerSummary,
     accuracy: Option<AlongMotion>,
+    /// What became of the history, frame by frame (`--history-outcomes`, accumulated rows).
+    history: Option<OutcomesAlong>,
 }
 
 /// The eccentricity-aware FLIP of a configuration's frames along a motion: the means over the
