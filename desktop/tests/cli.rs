@@ -914,6 +914,75 @@ fn flicker_measures_each_approximation_along_every_motion() {
     );
 }
 
+/// `flicker --history-outcomes` counts every frame's history outcomes for the accumulated rows
+/// (a CSV row per motion, configuration, frame and outcome) and `--pareto` plots each motion's
+/// frontier (the counting row untimed, and said so); `--pareto` without `--flip` is an error
+/// naming both.
+#[test]
+fn flicker_counts_history_outcomes_and_plots_frontiers_in_motion() {
+    let dir = std::env::temp_dir().join(format!("foveate-history-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (history, stem) = (dir.join("history.csv"), dir.join("frontier"));
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "flicker",
+            "--scene",
+            "default",
+            "--res",
+            "48",
+            "--frames",
+            "4",
+            "--ratios",
+            "0.5",
+            "--temporal",
+            "--motions",
+            "still,walking",
+        ];
+        args.extend(extra);
+        foveate(&args)
+    };
+    let o = run(&[
+        "--flip",
+        "--history-outcomes",
+        history.to_str().unwrap(),
+        "--pareto",
+        stem.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(
+        out.contains("history (accumulated rows, counting frames)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("not timed, counting frames: foveated 0.5, temporal, MSAA 4"),
+        "{out}"
+    );
+    // Two motions × one accumulated row × four frames × eight outcomes.
+    let rows = read_csv(&history, 7);
+    assert_eq!(rows.len(), 64, "{rows:?}");
+    for r in &rows {
+        assert_numeric(r, &["motion", "config", "outcome"]);
+    }
+    for motion in ["still", "walking"] {
+        for extension in ["png", "svg"] {
+            let plot = dir.join(format!("frontier-{motion}.{extension}"));
+            assert!(plot.exists(), "no {}", plot.display());
+        }
+    }
+    // Untimed rows only without the outcomes: every row is on the plot then.
+    let o = run(&["--flip", "--pareto", stem.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stdout(&o).contains("not timed"), "{}", stdout(&o));
+    let o = run(&["--pareto", stem.to_str().unwrap()]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("pareto without flip"),
+        "{}",
+        stderr(&o)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The latency sweep: every latency without prediction, the others with each prediction, one
 /// row per configuration, judged frames after a saccade; a bad latency is an error naming it.
 #[test]

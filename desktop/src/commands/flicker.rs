@@ -16,12 +16,13 @@ use foveate::judge::{GpuFlicker, GpuFlip};
 use foveate::metrics::perceptual::{perceptual_error, Maps};
 use foveate::metrics::temporal::{Flicker, FlickerSummary};
 use foveate::metrics::Acuity;
-use foveate::metrics::{ErrorSummary, EyePixels};
+use foveate::metrics::{ErrorSummary, EyePixels, Stats};
 use foveate::plan::RenderConfig;
 use foveate::render::{HistoryOutcomes, Renderer};
 use foveate::scene::{walking_pose, Walker};
 use glam::{Mat4, Vec2};
 
+use crate::commands::motion_frontier::{self, plot_stem, MotionPoint};
 use crate::csv_out::{opt, CsvTable};
 use crate::frame_args::ComparedFrame;
 use crate::history_table::OutcomesAlong;
@@ -86,6 +87,13 @@ pub struct FlickerArgs {
     /// are written to it as CSV.
     #[arg(long, num_args = 0..=1, value_name = "CSV")]
     history_outcomes: Option<Option<PathBuf>>,
+    /// Also plot each motion's eFLIP p99 against frame time (× the reference's), stereo and
+    /// foveated points marked and the Pareto frontier joined, to `<STEM>-<motion>.png` and
+    /// `.svg`, and print the points. Needs `--flip`. A configuration's time is the median of
+    /// its frames along the motion (every configuration's frames interleaved, as `compare`
+    /// times them); rows counting `--history-outcomes` are not timed.
+    #[arg(long, value_name = "STEM")]
+    pareto: Option<PathBuf>,
     /// Also write the table as CSV to this file.
     #[arg(long)]
     csv: Option<PathBuf>,
@@ -122,6 +130,15 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         args.flip != Some(0),
         "invalid flip = 0: judge every Nth frame, N ≥ 1 (leave it out for none)"
     );
+    anyhow::ensure!(
+        args.pareto.is_none() || args.flip.is_some(),
+        "invalid pareto without flip: the frontier is eFLIP p99 against time, so --pareto needs --flip [N]"
+    );
+    if let Some(stem) = &args.pareto {
+        for motion in &args.motions {
+            crate::outputs::plot(&plot_stem(stem, motion.name()))?;
+        }
+    }
     let mut scene = args.frame.scene(&args.scene)?;
     let walker = args.walker.then(|| Walker::add(&mut scene, 4.0));
     let screen = args.frame.screen(&args.res)?;
@@ -197,6 +214,19 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     }
     bar.finish_and_clear();
     print_table(&results);
+    if let Some(stem) = &args.pareto {
+        for motion in &motions {
+            let points: Vec<MotionPoint> = (results.iter())
+                .filter(|r| r.motion == motion.name())
+                .filter_map(|r| r.point())
+                .collect();
+            let headset = format!(
+                "{}, {}/eye",
+                plans[0].hmd.display_name, plans[0].eye_resolution
+            );
+            motion_frontier::report(motion.name(), &points, &headset, stem)?;
+        }
+    }
     let outcomes: Vec<_> = results
         .iter_mut()
         .filter_map(|r| r.history.take())
@@ -307,15 +337,22 @@ fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene, space: GazeSpace) 
         .collect()
 }
 
-impl Motion {
+impl MotionKind {
     /// How the table's rows name it.
-    fn name(&self) -> &'static str {
-        match self.kind {
+    fn name(self) -> &'static str {
+        match self {
             MotionKind::Still => "still",
             MotionKind::Saccades => "saccades",
             MotionKind::LargeSaccades => "large saccades",
             MotionKind::Walking => "walking",
         }
+    }
+}
+
+impl Motion {
+    /// How the table's rows name it.
+    fn name(&self) -> &'static str {
+        self.kind.name()
     }
 
     /// How the header line names it.
@@ -428,6 +465,8 @@ impl MotionRun<'_> {
         let mut judged: Vec<Vec<ErrorSummary>> = self.configs.iter().map(|_| Vec::new()).collect();
         let mut history: Vec<Vec<HistoryOutcomes>> =
             self.configs.iter().map(|_| Vec::new()).collect();
+        // Every renderer's frame times, the reference's first (counting renderers: none).
+        let mut times: Vec<Vec<f64>> = renderers.iter().map(|_| Vec::new()).collect();
         // On the GPU both measures read the frames where they lie; on the CPU (`--metric cpu`)
         // every frame is read back.
         let mut in_place = GpuFlip::new(self.gpu);
@@ -452,6 +491,9 @@ impl MotionRun<'_> {
                     renderer.move_instance(w.instance, w.model(frame as f32 / RATE_HZ as f32))?;
                 }
                 let stats = renderer.render_frame(pose)?;
+                if !renderer.plan().count_fragments() {
+                    times[r].push(stats.frame_ms);
+                }
                 if let (Some(outcomes), Some(r)) = (stats.history, r.checked_sub(1)) {
                     history[r].push(outcomes);
                 }
@@ -501,11 +543,17 @@ impl MotionRun<'_> {
             }
             self.bar.inc(1);
         }
+        let median = |t: &[f64]| Stats::of(t).map(|s| s.median);
+        let reference_ms = median(&times[0]);
         let along = self.configs.iter().zip(&meters).zip(&judged).zip(history);
-        for ((((name, _), meter), frames), history) in along {
+        for (i, ((((name, config), meter), frames), history)) in along.enumerate() {
+            let frame_ms = median(&times[i + 1]);
             rows.push(Row {
                 motion: motion.name(),
                 name: name.clone(),
+                foveated: config.foveation.is_some(),
+                frame_ms,
+                ratio: frame_ms.zip(reference_ms).map(|(t, r)| t / r),
                 flicker: meter.summary(),
                 accuracy: AlongMotion::of(frames),
                 history: (!history.is_empty()).then(|| OutcomesAlong {
@@ -562,6 +610,25 @@ struct Row {
     accuracy: Option<AlongMotion>,
     /// What became of the history, frame by frame (`--history-outcomes`, accumulated rows).
     history: Option<OutcomesAlong>,
+    foveated: bool,
+    /// The median frame time along the motion, and over the reference's (counting rows: none).
+    frame_ms: Option<f64>,
+    ratio: Option<f64>,
+}
+
+impl Row {
+    /// The row as a point of its motion's frontier, when judged.
+    fn point(&self) -> Option<MotionPoint> {
+        let accuracy = self.accuracy?;
+        Some(MotionPoint {
+            name: self.name.clone(),
+            foveated: self.foveated,
+            frame_ms: self.frame_ms,
+            ratio: self.ratio,
+            eflip_mean: accuracy.mean,
+            eflip_p99: accuracy.p99,
+        })
+    }
 }
 
 /// The eccentricity-aware FLIP of a configuration's frames along a motion: the means over the

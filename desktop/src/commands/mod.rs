@@ -8,6 +8,7 @@ pub mod judge;
 pub mod latency;
 pub mod mask;
 pub mod mffr;
+mod motion_frontier;
 pub mod pixels;
 pub mod render;
 pub mod view;
