@@ -40,25 +40,16 @@ impl OutcomesAlong {
 }
 
 /// The outcomes shown as columns: every one but the hole (not accumulated).
-const COLUMNS: [HistoryOutcome; 7] = [
-    HistoryOutcome::Kept,
-    HistoryOutcome::Clipped,
-    HistoryOutcome::FromFovea,
-    HistoryOutcome::Reset,
-    HistoryOutcome::OffScreen,
-    HistoryOutcome::Disoccluded,
-    HistoryOutcome::Empty,
-];
+fn columns() -> impl Iterator<Item = HistoryOutcome> {
+    (HistoryOutcome::ALL.into_iter()).filter(|&o| o != HistoryOutcome::Hole)
+}
 
 pub fn print(runs: &[OutcomesAlong]) {
     if runs.is_empty() {
         return;
     }
     let width = runs.iter().map(|r| r.config.len()).max().unwrap_or(0);
-    let header: Vec<String> = COLUMNS
-        .iter()
-        .map(|o| format!("{:>11}", o.name()))
-        .collect();
+    let header: Vec<String> = columns().map(|o| format!("{:>11}", o.name())).collect();
     println!(
         "\nhistory (accumulated rows, counting frames):\n{:<14} {:<width$} {:<9} {} {:>13}",
         "motion",
@@ -70,8 +61,8 @@ pub fn print(runs: &[OutcomesAlong]) {
     for run in runs {
         let sum = run.sum();
         for region in Region::ALL {
-            let shares: Vec<String> = (COLUMNS.iter())
-                .map(|&o| format!("{:>10.2}%", 100.0 * sum.share(o, region)))
+            let shares: Vec<String> = columns()
+                .map(|o| format!("{:>10.2}%", 100.0 * sum.share(o, region)))
                 .collect();
             let (worst, frame) = run.worst(region);
             println!(

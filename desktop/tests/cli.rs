@@ -824,24 +824,27 @@ fn bench_rejects_a_bad_scale_naming_the_field() {
     assert!(stderr(&o).contains("scale"), "{}", stderr(&o));
 }
 
+/// A small `flicker` run: the flat scene at 48², four frames a motion, foveated 0.5 with its
+/// accumulated twin.
+const SMALL_FLICKER: [&str; 10] = [
+    "flicker",
+    "--scene",
+    "default",
+    "--res",
+    "48",
+    "--frames",
+    "4",
+    "--ratios",
+    "0.5",
+    "--temporal",
+];
+
 #[test]
 fn flicker_measures_each_approximation_along_every_motion() {
     let csv = std::env::temp_dir().join(format!("foveate-flicker-{}.csv", std::process::id()));
-    let o = foveate(&[
-        "flicker",
-        "--scene",
-        "default",
-        "--res",
-        "48",
-        "--frames",
-        "4",
-        "--ratios",
-        "0.5",
-        "--temporal",
-        "--flip",
-        "--csv",
-        csv.to_str().unwrap(),
-    ]);
+    let mut args = SMALL_FLICKER.to_vec();
+    args.extend(["--flip", "--csv", csv.to_str().unwrap()]);
+    let o = foveate(&args);
     assert!(o.status.success(), "{}", stderr(&o));
     let rows = read_csv(&csv, 11);
     // Four motions × (stereo MSAA 1, foveated 0.5, and accumulated), three changes each.
@@ -924,20 +927,8 @@ fn flicker_counts_history_outcomes_and_plots_frontiers_in_motion() {
     std::fs::create_dir_all(&dir).unwrap();
     let (history, stem) = (dir.join("history.csv"), dir.join("frontier"));
     let run = |extra: &[&str]| {
-        let mut args = vec![
-            "flicker",
-            "--scene",
-            "default",
-            "--res",
-            "48",
-            "--frames",
-            "4",
-            "--ratios",
-            "0.5",
-            "--temporal",
-            "--motions",
-            "still,walking",
-        ];
+        let mut args = SMALL_FLICKER.to_vec();
+        args.extend(["--motions", "still,walking"]);
         args.extend(extra);
         foveate(&args)
     };
