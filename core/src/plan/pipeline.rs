@@ -61,7 +61,7 @@ pub enum Constant {
     /// The output stage: upscale the periphery with Catmull-Rom rather than bilinearly.
     CatmullRom,
     /// The accumulating output stage of a counting frame: the first of its history-outcome
-    /// counter slots ([`FramePlan::history_outcome_base`](super::FramePlan::history_outcome_base)).
+    /// counter slots (the plan's `history_outcome_base`).
     HistoryOutcomeBase,
 }
 

@@ -119,26 +119,7 @@ enum MotionKind {
 
 pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     crate::interrupt::install();
-    let history_csv = args.history_outcomes.clone().flatten();
-    crate::outputs::files(&[args.csv.as_deref(), history_csv.as_deref()])?;
-    anyhow::ensure!(
-        args.frames >= 2,
-        "invalid frames = {}: at least 2 (flicker is a change between frames)",
-        args.frames
-    );
-    anyhow::ensure!(
-        args.flip != Some(0),
-        "invalid flip = 0: judge every Nth frame, N ≥ 1 (leave it out for none)"
-    );
-    anyhow::ensure!(
-        args.pareto.is_none() || args.flip.is_some(),
-        "invalid pareto without flip: the frontier is eFLIP p99 against time, so --pareto needs --flip [N]"
-    );
-    if let Some(stem) = &args.pareto {
-        for motion in &args.motions {
-            crate::outputs::plot(&plot_stem(stem, motion.name()))?;
-        }
-    }
+    let history_csv = check_args(args)?;
     let mut scene = args.frame.scene(&args.scene)?;
     let walker = args.walker.then(|| Walker::add(&mut scene, 4.0));
     let screen = args.frame.screen(&args.res)?;
@@ -215,17 +196,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     bar.finish_and_clear();
     print_table(&results);
     if let Some(stem) = &args.pareto {
-        for motion in &motions {
-            let points: Vec<MotionPoint> = (results.iter())
-                .filter(|r| r.motion == motion.name())
-                .filter_map(|r| r.point())
-                .collect();
-            let headset = format!(
-                "{}, {}/eye",
-                plans[0].hmd.display_name, plans[0].eye_resolution
-            );
-            motion_frontier::report(motion.name(), &points, &headset, stem)?;
-        }
+        report_frontiers(stem, &motions, &results, &plans[0])?;
     }
     let outcomes: Vec<_> = results
         .iter_mut()
@@ -244,6 +215,51 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
             results.len() / configs.len().max(1),
             if args.csv.is_some() { " and the CSV" } else { "" }
         )));
+    }
+    Ok(())
+}
+
+/// The arguments checked, and every output path writable, before any work: the history
+/// outcomes' CSV path, if asked for.
+fn check_args(args: &FlickerArgs) -> Result<Option<PathBuf>> {
+    let history_csv = args.history_outcomes.clone().flatten();
+    crate::outputs::files(&[args.csv.as_deref(), history_csv.as_deref()])?;
+    anyhow::ensure!(
+        args.frames >= 2,
+        "invalid frames = {}: at least 2 (flicker is a change between frames)",
+        args.frames
+    );
+    anyhow::ensure!(
+        args.flip != Some(0),
+        "invalid flip = 0: judge every Nth frame, N ≥ 1 (leave it out for none)"
+    );
+    anyhow::ensure!(
+        args.pareto.is_none() || args.flip.is_some(),
+        "invalid pareto without flip: the frontier is eFLIP p99 against time, so --pareto needs --flip [N]"
+    );
+    if let Some(stem) = &args.pareto {
+        for motion in &args.motions {
+            crate::outputs::plot(&plot_stem(stem, motion.name()))?;
+        }
+    }
+    Ok(history_csv)
+}
+
+/// Each motion's frontier (`--pareto`): its judged rows against their times, printed and
+/// plotted to `stem`'s file for the motion.
+fn report_frontiers(
+    stem: &std::path::Path,
+    motions: &[Motion],
+    results: &[Row],
+    plan: &foveate::plan::FramePlan,
+) -> Result<()> {
+    let headset = format!("{}, {}/eye", plan.hmd.display_name, plan.eye_resolution);
+    for motion in motions {
+        let points: Vec<MotionPoint> = (results.iter())
+            .filter(|r| r.motion == motion.name())
+            .filter_map(|r| r.point())
+            .collect();
+        motion_frontier::report(motion.name(), &points, &headset, stem)?;
     }
     Ok(())
 }
