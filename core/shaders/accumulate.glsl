@@ -139,7 +139,10 @@ vec3 previous_pixel(uint eye, vec2 here, vec2 t, float distance, bool sky) {
     bool under_fovea = abs(kind - FROM_FOVEA) < 0.1;
     vec2 motion = (uv - here) * vec2(textureSize(previous_depth, 0).xy); // periphery texels
     bool moved = dot(motion, motion) >= 0.01;
+#ifdef COUNT_FRAGMENTS
+    // Where the frame before's view saw this direction: a failed test there is a disocclusion.
     bool in_view = all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)));
+#endif
     if (!seen_before(eye, uv, clip.w, sky, moved, under_fovea)) {
         NOTE_OUTCOME(in_view ? OUTCOME_DISOCCLUDED : OUTCOME_OFF_SCREEN);
         return vec3(0.0, 0.0, -1.0);

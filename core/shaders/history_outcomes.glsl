@@ -13,7 +13,6 @@ const uint OUTCOME_OFF_SCREEN = 4u;  // the frame before did not see this direct
 const uint OUTCOME_DISOCCLUDED = 5u; // the frame before saw another surface there
 const uint OUTCOME_EMPTY = 6u;       // the history there holds nothing (lens-hidden, hole)
 const uint OUTCOME_HOLE = 7u;        // in the periphery's hole: nothing to accumulate
-const uint OUTCOME_COUNT = 8u;
 
 uint history_outcome = OUTCOME_KEPT;
 

@@ -24,12 +24,12 @@ fn counted_steps(passes: &[PassPlan]) -> Vec<CountedSlot> {
 pub(super) fn plan_counting(plan: &mut FramePlan) {
     plan.counted = counted_steps(&plan.passes);
     let steps = COUNTER_SLOTS_PER_STEP * plan.counted.len() as u32;
+    let outcomes = match plan.output_accumulates() {
+        true => HISTORY_OUTCOME_SLOTS,
+        false => 0,
+    };
     plan.buffers.push(BufferPlan {
         name: FRAGMENT_COUNTER,
-        bytes: 4 * steps as u64,
+        bytes: 4 * (steps + outcomes) as u64,
     });
-    if plan.history_outcome_base().is_some() {
-        let counter = plan.buffers.last_mut().expect("just pushed");
-        counter.bytes += 4 * HISTORY_OUTCOME_SLOTS as u64;
-    }
 }

@@ -487,13 +487,14 @@ impl FramePlan {
     /// every counted step's): [`HISTORY_OUTCOME_SLOTS`] of them, outcome by outcome, each
     /// region by region. `None` unless the frame counts and its output accumulates.
     pub fn history_outcome_base(&self) -> Option<u32> {
-        let accumulates = self
-            .passes
-            .iter()
-            .flat_map(|p| &p.steps)
-            .any(|s| matches!(s, super::steps::Step::Output(o) if o.temporal));
-        (self.count_fragments() && accumulates)
+        (self.count_fragments() && self.output_accumulates())
             .then(|| COUNTER_SLOTS_PER_STEP * self.counted.len() as u32)
+    }
+
+    /// Whether the output pass accumulates the periphery over frames.
+    pub(crate) fn output_accumulates(&self) -> bool {
+        (self.passes.iter().flat_map(|p| &p.steps))
+            .any(|s| matches!(s, super::steps::Step::Output(o) if o.temporal))
     }
 
     /// The per-frame list of culled instance ids, when some pass draws a culled set.

@@ -66,6 +66,10 @@ impl HistoryOutcome {
     }
 }
 
+// The plan sizes the counter by these: an outcome's slots, region by region.
+const _: () =
+    assert!(HistoryOutcome::ALL.len() * Region::ALL.len() == HISTORY_OUTCOME_SLOTS as usize);
+
 /// One counting frame's history outcomes: pixels per outcome and region, both eyes together.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct HistoryOutcomes {
