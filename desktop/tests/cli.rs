@@ -908,6 +908,24 @@ fn flicker_measures_each_approximation_along_every_motion() {
         stdout(&o)
     );
     assert_eq!(read_csv(&csv, 11).len(), 2);
+    // The gaze at rest moves the fovea of the still frames, and the judge's eye with it.
+    let still_at = |gaze: &str| {
+        let mut args = SMALL_FLICKER.to_vec();
+        args.extend(["--motions", "still", "--flip", "--gaze", gaze]);
+        args.extend(["--csv", csv.to_str().unwrap()]);
+        let o = foveate(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let row = read_csv(&csv, 11).remove(1);
+        assert_eq!(row["config"], "foveated 0.5, MSAA 4");
+        (stdout(&o), row["eflip_mean"].parse::<f64>().unwrap())
+    };
+    let ((ahead, centred), (aside, moved)) = (still_at("0,0"), still_at("0.3,-0.2"));
+    assert!(ahead.contains("still (head, gaze ahead)"), "{ahead}");
+    assert!(
+        aside.contains("still (head, gaze at (0.3, -0.2))"),
+        "{aside}"
+    );
+    assert_ne!(centred, moved, "the gaze changed nothing");
     let _ = std::fs::remove_file(&csv);
     let o = foveate(&["flicker", "--frames", "1"]);
     assert!(

@@ -86,6 +86,11 @@ fn silent_acceptance_is_an_error_naming_option_value_and_rule() {
         &with(&["--foveate", "0.5", "--gaze", "1e30,0"]),
         "invalid gaze = 1000000000000000000000000000000,0",
     );
+    refused(
+        &dir,
+        &["flicker", "--res", "32", "--gaze", "0.3,-1.5"],
+        "invalid gaze = 0.3,-1.5: X and Y finite, in -1..1",
+    );
     for (option, value, mode) in [
         ("--temporal-blend", "0.3", "--temporal"),
         ("--split", "2px", "--mffr"),

@@ -1,8 +1,8 @@
 //! `foveate flicker`: temporal stability (`metrics::temporal`). Each approximation runs frame by
-//! frame beside the full-quality reference (stereo, 4× MSAA) through two motions — the gaze
-//! jumping along a simulated saccade trace with the head still, and the head walking with the
-//! gaze straight ahead — and reports how much more its output changes between frames than the
-//! reference's does.
+//! frame beside the full-quality reference (stereo, 4× MSAA) through the motions asked for —
+//! head and gaze still, the gaze jumping along saccade traces with the head still, the head
+//! walking with the gaze at rest (ahead, or `--gaze`) — and reports how much more its output
+//! changes between frames than the reference's does.
 
 use std::cell::Cell;
 use std::path::PathBuf;
@@ -68,9 +68,18 @@ pub struct FlickerArgs {
     /// Seed of the simulated saccade traces.
     #[arg(long, default_value_t = 3)]
     seed: u32,
+    /// Gaze of both eyes where it rests (`still`, `walking`), normalised X,Y in -1..1. The
+    /// saccade traces start at the centre and move on their own.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        default_value = "0,0"
+    )]
+    gaze: Vec<f32>,
     /// The motions, in order: `still` (head and gaze still: the jitter's shimmer alone),
     /// `saccades` (a simulated trace, head still), `large-saccades` (15–30° each, head still),
-    /// `walking` (gaze ahead).
+    /// `walking` (gaze at rest, `--gaze`).
     #[arg(
         long,
         value_delimiter = ',',
@@ -120,6 +129,7 @@ enum MotionKind {
 pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     crate::interrupt::install();
     let history_csv = check_args(args)?;
+    let gaze = crate::gaze_arg::gaze_from(&args.gaze)?;
     let mut scene = args.frame.scene(&args.scene)?;
     let walker = args.walker.then(|| Walker::add(&mut scene, 4.0));
     let screen = args.frame.screen(&args.res)?;
@@ -149,7 +159,7 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     let space = GazeSpace {
         fov: plans[0].eyes.fov(foveate::view::Eye::Left),
     };
-    let motions = motions(args, &scene, space);
+    let motions = motions(args, gaze, &scene, space);
     println!(
         "device: {}; scene {}{}, {}, output {}; {} frames at {RATE_HZ} Hz per motion: {}",
         gpu.info().name,
@@ -310,8 +320,13 @@ fn flicker_configs(
 }
 
 /// The motions asked for: head and gaze still; saccades with the head still (a simulated
-/// trace); large saccades (15–30°) with the head still; a walk with the gaze ahead.
-fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene, space: GazeSpace) -> Vec<Motion> {
+/// trace); large saccades (15–30°) with the head still; a walk with the gaze at rest (`gaze`).
+fn motions(
+    args: &FlickerArgs,
+    gaze: Vec2,
+    scene: &foveate::scene::Scene,
+    space: GazeSpace,
+) -> Vec<Motion> {
     let seconds = args.frames as f64 / RATE_HZ;
     let head = |gazes: Vec<Vec2>| gazes.into_iter().map(|g| (scene.head, g)).collect();
     args.motions
@@ -319,7 +334,7 @@ fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene, space: GazeSpace) 
         .map(|kind| match kind {
             MotionKind::Still => Motion {
                 kind: *kind,
-                frames: vec![(scene.head, Vec2::ZERO); args.frames as usize],
+                frames: vec![(scene.head, gaze); args.frames as usize],
             },
             MotionKind::Saccades => Motion {
                 kind: *kind,
@@ -345,7 +360,7 @@ fn motions(args: &FlickerArgs, scene: &foveate::scene::Scene, space: GazeSpace) 
                 frames: (0..args.frames)
                     .map(|i| {
                         let t = i as f32 / RATE_HZ as f32;
-                        (walking_pose(scene.head, t), Vec2::ZERO)
+                        (walking_pose(scene.head, t), gaze)
                     })
                     .collect(),
             },
@@ -374,17 +389,27 @@ impl Motion {
     /// How the header line names it.
     fn describe(&self, args: &FlickerArgs) -> String {
         match self.kind {
-            MotionKind::Still => "still (head and gaze)".to_string(),
+            MotionKind::Still => format!("still (head, gaze {})", resting_gaze(args)),
             MotionKind::Saccades => format!("saccades (seed {}, head still)", args.seed),
             MotionKind::LargeSaccades => {
                 format!("large saccades (15–30°, seed {}, head still)", args.seed)
             }
             MotionKind::Walking => format!(
-                "walking ({} m/s, turning {}°/s, gaze ahead)",
+                "walking ({} m/s, turning {}°/s, gaze {})",
                 foveate::scene::WALK_SPEED_M_S,
-                foveate::scene::TURN_DEG_S
+                foveate::scene::TURN_DEG_S,
+                resting_gaze(args)
             ),
         }
+    }
+}
+
+/// Where the gaze rests in the still and walking motions, as the header line says it.
+fn resting_gaze(args: &FlickerArgs) -> String {
+    match args.gaze.as_slice() {
+        [x, y] if *x == 0.0 && *y == 0.0 => "ahead".to_string(),
+        [x, y] => format!("at ({x}, {y})"),
+        _ => format!("{:?}", args.gaze),
     }
 }
 
