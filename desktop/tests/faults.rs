@@ -340,6 +340,46 @@ fn sigint_during_compare_writes_the_rows_done() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// SIGINT as `flicker --pareto` starts its first motion stops it with nothing measured: it
+/// says so, and plots no empty frontier. Mutation: plotting every motion asked for leaves
+/// empty plots behind.
+#[test]
+fn sigint_during_flicker_plots_no_empty_frontier() {
+    let dir = scratch("sigint-flicker");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .current_dir(&dir)
+        .args(["flicker", "--res", "96", "--ratios", "0.5", "--flip"])
+        .args(["--motions", "still,walking", "--pareto", "frontier"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut out = String::new();
+    for line in BufReader::new(child.stdout.take().unwrap()).lines() {
+        let line = line.unwrap();
+        if line.starts_with("device:") {
+            let pid = child.id().to_string();
+            assert!(Command::new("kill")
+                .args(["-INT", &pid])
+                .status()
+                .unwrap()
+                .success());
+        }
+        out += &line;
+        out.push('\n');
+    }
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{out}");
+    assert!(
+        err.contains("flicker stopped during a motion; the 0 motions finished"),
+        "{err}"
+    );
+    let written: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(written.is_empty(), "{written:?}\n{out}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A scene whose buffer is a sparse 4 GB file declared as 36 bytes is refused by `plan` within
 /// 100 MB of address space (`ulimit -v`), naming the buffer and both sizes: it is refused from
 /// its size, before a byte is read, and before the device starts. Negative control: a loader

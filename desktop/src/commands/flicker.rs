@@ -269,6 +269,10 @@ fn report_frontiers(
             .filter(|r| r.motion == motion.name())
             .filter_map(|r| r.point())
             .collect();
+        // A motion an interruption cut short has no points: no empty plot.
+        if points.is_empty() {
+            continue;
+        }
         motion_frontier::report(motion.name(), &points, &headset, stem)?;
     }
     Ok(())
