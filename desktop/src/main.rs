@@ -15,6 +15,7 @@ mod interrupt;
 mod metric;
 mod outputs;
 mod progress;
+mod region_maps;
 mod side_by_side;
 mod variants;
 mod view_keys;

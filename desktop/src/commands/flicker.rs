@@ -16,7 +16,7 @@ use foveate::judge::{GpuFlicker, GpuFlip};
 use foveate::metrics::perceptual::{perceptual_error, Maps};
 use foveate::metrics::temporal::{Flicker, FlickerSummary};
 use foveate::metrics::Acuity;
-use foveate::metrics::{ErrorSummary, EyePixels, Stats};
+use foveate::metrics::{ErrorSummary, Stats};
 use foveate::plan::RenderConfig;
 use foveate::render::{HistoryOutcomes, Renderer};
 use foveate::scene::{walking_pose, Walker};
@@ -26,6 +26,7 @@ use crate::commands::motion_frontier::{self, plot_stem, MotionPoint};
 use crate::csv_out::{opt, CsvTable};
 use crate::frame_args::ComparedFrame;
 use crate::history_table::OutcomesAlong;
+use crate::region_maps::RegionMaps;
 use crate::side_by_side::settle;
 use crate::variants::{with_temporal, with_view_sets, Accumulation};
 
@@ -456,10 +457,12 @@ struct MotionRun<'a> {
 }
 
 /// Where a run's wall time went: rendering the frames (and, with `--metric cpu`, reading them
-/// back), measuring flicker, judging with eFLIP (and how many judgements).
+/// back), mapping the regions at each new gaze (on the CPU), measuring flicker, judging with
+/// eFLIP (and how many judgements).
 #[derive(Default)]
 struct Spent {
     rendering_s: Cell<f64>,
+    maps_s: Cell<f64>,
     flicker_s: Cell<f64>,
     judging_s: Cell<f64>,
     judgements: Cell<u64>,
@@ -480,8 +483,9 @@ impl Spent {
             ),
         };
         format!(
-            "time: rendering {:.0} s, flicker {:.0} s{judged}",
+            "time: rendering {:.0} s, region maps {:.0} s, flicker {:.0} s{judged}",
             self.rendering_s.get(),
+            self.maps_s.get(),
             self.flicker_s.get()
         )
     }
@@ -516,9 +520,7 @@ impl MotionRun<'_> {
         // every frame is read back.
         let mut in_place = GpuFlip::new(self.gpu);
         let mut on_host = crate::metric::flip_mapper(self.gpu);
-        // Each configuration's pixel map, made anew only when the gaze moves.
-        let mut maps: Vec<Option<(Vec2, [EyePixels; 2])>> =
-            self.configs.iter().map(|_| None).collect();
+        let mut maps = RegionMaps::default();
         for (frame, &(pose, gaze)) in motion.frames.iter().enumerate() {
             if crate::interrupt::requested() {
                 return Ok(None);
@@ -547,12 +549,11 @@ impl MotionRun<'_> {
                 }
             }
             Spent::add(&self.spent.rendering_s, rendering);
-            for (i, (meter, map)) in meters.iter_mut().zip(&mut maps).enumerate() {
-                let plan = &self.plans[i + 1];
-                if map.as_ref().is_none_or(|(at, _)| *at != gaze) {
-                    *map = Some((gaze, EyePixels::both(plan, gaze, plan.foveation.as_ref())));
-                }
-                let (_, pixels) = map.as_ref().expect("just made");
+            let mapping = Instant::now();
+            maps.look_at(gaze, &self.plans[1..]);
+            Spent::add(&self.spent.maps_s, mapping);
+            for (i, meter) in meters.iter_mut().enumerate() {
+                let pixels = maps.of(i);
                 let measuring = Instant::now();
                 match meter {
                     Meter::Gpu(m) => m.push(&renderers[0], &renderers[i + 1], pixels)?,

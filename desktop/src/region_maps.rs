@@ -1,0 +1,123 @@
+//! Each compared configuration's map of what the lens shows, region by region (fovea, band,
+//! periphery) and eccentricity from the gaze, kept while the gaze rests.
+
+use foveate::metrics::EyePixels;
+use foveate::plan::FramePlan;
+use glam::Vec2;
+
+/// The maps of a run's configurations at one gaze. A map depends on the screen, the lens and the
+/// fovea's placement, not on how the periphery is rendered (its density, samples or
+/// accumulation), so configurations with the same fovea share one: at a headset's panel a map
+/// costs seconds of CPU, and a saccade trace asks for one at nearly every frame.
+#[derive(Default)]
+pub struct RegionMaps {
+    gaze: Option<Vec2>,
+    /// The maps made at `gaze`, each with what it was made for.
+    made: Vec<(MapKey, [EyePixels; 2])>,
+    /// Per configuration, the index of its map in `made`.
+    of_config: Vec<usize>,
+}
+
+/// What a map depends on beyond the headset: the eye's screen, whether the output is
+/// pre-distorted for the lens, and the fovea's ratio, size and blend band (the fields
+/// [`EyePixels::new`] reads; none for a frame without foveation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct MapKey {
+    screen: (u32, u32),
+    lens: bool,
+    fovea: Option<(f32, f32, f32)>,
+}
+
+impl MapKey {
+    fn of(plan: &FramePlan) -> MapKey {
+        MapKey {
+            screen: (plan.eye_resolution.width, plan.eye_resolution.height),
+            lens: plan.lens.is_some(),
+            fovea: (plan.foveation.as_ref()).map(|f| (f.ratio, f.fovea_screen_px, f.blend_band_px)),
+        }
+    }
+}
+
+impl RegionMaps {
+    /// Makes every configuration's map (`plans`, in order) for the eyes looking at `gaze`,
+    /// unless they are at it already. Returns how many maps it made.
+    pub fn look_at(&mut self, gaze: Vec2, plans: &[FramePlan]) -> usize {
+        if self.gaze == Some(gaze) && self.of_config.len() == plans.len() {
+            return 0;
+        }
+        self.gaze = Some(gaze);
+        self.made.clear();
+        self.of_config.clear();
+        for plan in plans {
+            let key = MapKey::of(plan);
+            let index = match self.made.iter().position(|(k, _)| *k == key) {
+                Some(index) => index,
+                None => {
+                    let map = EyePixels::both(plan, gaze, plan.foveation.as_ref());
+                    self.made.push((key, map));
+                    self.made.len() - 1
+                }
+            };
+            self.of_config.push(index);
+        }
+        self.made.len()
+    }
+
+    /// Configuration `config`'s map (of the plans last given to [`RegionMaps::look_at`]).
+    pub fn of(&self, config: usize) -> &[EyePixels; 2] {
+        &self.made[self.of_config[config]].1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use foveate::foveation::FoveationConfig;
+    use foveate::plan::{DeviceCaps, RenderConfig, Resolution};
+
+    fn plan(foveation: Option<FoveationConfig>) -> FramePlan {
+        let config = RenderConfig {
+            resolution: Some(Resolution::square(48)),
+            foveation,
+            ..RenderConfig::default()
+        };
+        foveate::plan(
+            &foveate::scene::default_scene(),
+            &config,
+            &DeviceCaps::generic(),
+        )
+        .unwrap()
+    }
+
+    /// Rows that differ only in the periphery share a map; another fovea or none gets its own,
+    /// and each is the map made directly. Mutation: a key without the fovea's ratio shares
+    /// the 0.35 and 0.5 rows' map, and the test fails.
+    #[test]
+    fn rows_with_the_same_fovea_share_one_map() {
+        let fovea = |ratio, periphery_density| {
+            Some(FoveationConfig {
+                ratio,
+                periphery_density,
+                ..Default::default()
+            })
+        };
+        let plans = [
+            plan(None),
+            plan(fovea(0.35, None)),
+            plan(fovea(0.35, Some(0.5))),
+            plan(fovea(0.5, None)),
+        ];
+        let gaze = Vec2::new(0.3, -0.2);
+        let mut maps = RegionMaps::default();
+        assert_eq!(maps.look_at(gaze, &plans), 3);
+        assert_eq!(maps.look_at(gaze, &plans), 0, "the gaze rests");
+        assert!(std::ptr::eq(maps.of(1), maps.of(2)));
+        for (i, plan) in plans.iter().enumerate() {
+            let direct = EyePixels::both(plan, gaze, plan.foveation.as_ref());
+            for (shared, direct) in maps.of(i).iter().zip(&direct) {
+                assert!(shared == direct, "row {i}");
+            }
+        }
+        assert_eq!(maps.look_at(Vec2::ZERO, &plans), 3, "the gaze moved");
+    }
+}
