@@ -846,7 +846,7 @@ fn flicker_measures_each_approximation_along_every_motion() {
     args.extend(["--flip", "--csv", csv.to_str().unwrap()]);
     let o = foveate(&args);
     assert!(o.status.success(), "{}", stderr(&o));
-    let rows = read_csv(&csv, 11);
+    let rows = read_csv(&csv, 14);
     // Four motions × (stereo MSAA 1, foveated 0.5, and accumulated), three changes each.
     assert_eq!(rows.len(), 12, "{rows:?}");
     let motions: Vec<&str> = rows
@@ -884,6 +884,18 @@ fn flicker_measures_each_approximation_along_every_motion() {
     assert!(rows
         .iter()
         .any(|r| r["config"] == "foveated 0.5, temporal, MSAA 4"));
+    // Per region: a stereo frame is all periphery (its p99 the frame's); a foveated one has
+    // all three regions.
+    for r in &rows {
+        let regions = ["fovea", "band", "periphery"].map(|g| &r[&format!("eflip_p99_{g}")]);
+        match r["config"].as_str() {
+            "stereo, MSAA 1" => {
+                assert_eq!([regions[0].as_str(), regions[1]], ["", ""], "{r:?}");
+                assert_eq!(regions[2], &r["eflip_p99"], "{r:?}");
+            }
+            _ => assert!(regions.iter().all(|v| !v.is_empty()), "{r:?}"),
+        }
+    }
     // A walker crossing the view, moved in every renderer each frame.
     let o = foveate(&[
         "flicker",
@@ -907,7 +919,7 @@ fn flicker_measures_each_approximation_along_every_motion() {
         "{}",
         stdout(&o)
     );
-    assert_eq!(read_csv(&csv, 11).len(), 2);
+    assert_eq!(read_csv(&csv, 14).len(), 2);
     // The gaze at rest moves the fovea of the still frames, and the judge's eye with it.
     let still_at = |gaze: &str| {
         let mut args = SMALL_FLICKER.to_vec();
@@ -915,7 +927,7 @@ fn flicker_measures_each_approximation_along_every_motion() {
         args.extend(["--csv", csv.to_str().unwrap()]);
         let o = foveate(&args);
         assert!(o.status.success(), "{}", stderr(&o));
-        let row = read_csv(&csv, 11).remove(1);
+        let row = read_csv(&csv, 14).remove(1);
         assert_eq!(row["config"], "foveated 0.5, MSAA 4");
         (stdout(&o), row["eflip_mean"].parse::<f64>().unwrap())
     };

@@ -511,7 +511,7 @@ impl MotionRun<'_> {
             .map(|_| Meter::new(self.gpu))
             .collect::<Result<Vec<_>>>()?;
         let on_cpu = meters.iter().any(|m| matches!(m, Meter::Cpu(_)));
-        let mut judged: Vec<Vec<ErrorSummary>> = self.configs.iter().map(|_| Vec::new()).collect();
+        let mut judged: Vec<Vec<Judged>> = self.configs.iter().map(|_| Vec::new()).collect();
         let mut history: Vec<Vec<HistoryOutcomes>> =
             self.configs.iter().map(|_| Vec::new()).collect();
         // Every renderer's frame times, the reference's first (counting renderers: none).
@@ -584,7 +584,7 @@ impl MotionRun<'_> {
                     };
                     Spent::add(&self.spent.judging_s, judging);
                     self.spent.judgements.set(self.spent.judgements.get() + 1);
-                    judged[i].extend(error.eccentric);
+                    judged[i].extend(error.eccentric.map(|all| (all, error.regions)));
                 }
             }
             self.bar.inc(1);
@@ -627,6 +627,9 @@ fn write_csv(results: &[Row], path: Option<&std::path::Path>) -> Result<()> {
         "eflip_mean",
         "eflip_p99",
         "eflip_p99_worst",
+        "eflip_p99_fovea",
+        "eflip_p99_band",
+        "eflip_p99_periphery",
     ])?;
     for row in results {
         let (s, a) = (&row.flicker, row.accuracy);
@@ -643,6 +646,9 @@ fn write_csv(results: &[Row], path: Option<&std::path::Path>) -> Result<()> {
             &opt(a.map(|a| a.mean), 6),
             &opt(a.map(|a| a.p99), 6),
             &opt(a.map(|a| a.worst_p99), 6),
+            &opt(a.and_then(|a| a.region_p99[0]), 6),
+            &opt(a.and_then(|a| a.region_p99[1]), 6),
+            &opt(a.and_then(|a| a.region_p99[2]), 6),
         ])?;
     }
     csv.save(path)
@@ -677,23 +683,42 @@ impl Row {
     }
 }
 
+/// A judged frame's eccentricity-aware FLIP: over every pixel the lens shows, and per region
+/// at the frame's gaze (`Region::ALL`'s order; none where the region has no pixel).
+type Judged = (ErrorSummary, [Option<ErrorSummary>; 3]);
+
 /// The eccentricity-aware FLIP of a configuration's frames along a motion: the means over the
-/// frames of each frame's mean and 99th percentile, and the largest 99th percentile.
+/// frames of each frame's mean and 99th percentile, the largest 99th percentile, and the mean
+/// of each region's 99th percentile over the frames where it has pixels (where the error is).
 #[derive(Clone, Copy)]
 struct AlongMotion {
     mean: f64,
     p99: f64,
     worst_p99: f64,
+    region_p99: [Option<f64>; 3],
 }
 
 impl AlongMotion {
     /// `None` when no frame was judged.
-    fn of(frames: &[ErrorSummary]) -> Option<Self> {
-        let n = frames.len() as f64;
+    fn of(frames: &[Judged]) -> Option<Self> {
+        let average = |values: Vec<f64>| {
+            let n = values.len() as f64;
+            (!values.is_empty()).then(|| values.iter().sum::<f64>() / n)
+        };
+        let region = |r: usize| {
+            average(
+                frames
+                    .iter()
+                    .filter_map(|f| f.1[r])
+                    .map(|e| e.p99)
+                    .collect(),
+            )
+        };
         (!frames.is_empty()).then(|| AlongMotion {
-            mean: frames.iter().map(|e| e.mean).sum::<f64>() / n,
-            p99: frames.iter().map(|e| e.p99).sum::<f64>() / n,
-            worst_p99: frames.iter().map(|e| e.p99).fold(0.0, f64::max),
+            mean: average(frames.iter().map(|f| f.0.mean).collect()).unwrap_or(0.0),
+            p99: average(frames.iter().map(|f| f.0.p99).collect()).unwrap_or(0.0),
+            worst_p99: frames.iter().map(|f| f.0.p99).fold(0.0, f64::max),
+            region_p99: [0, 1, 2].map(region),
         })
     }
 }
@@ -703,8 +728,8 @@ fn print_table(rows: &[Row]) {
     let judged = rows.iter().any(|r| r.accuracy.is_some());
     let eflip = match judged {
         true => format!(
-            " {:>10} {:>10} {:>10}",
-            "eFLIP mean", "eFLIP p99", "worst p99"
+            " {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
+            "eFLIP mean", "eFLIP p99", "worst p99", "p99 fovea", "p99 band", "p99 periph"
         ),
         false => String::new(),
     };
@@ -716,7 +741,18 @@ fn print_table(rows: &[Row]) {
     for row in rows {
         let s = &row.flicker;
         let eflip = match row.accuracy {
-            Some(a) => format!(" {:>10.4} {:>10.4} {:>10.4}", a.mean, a.p99, a.worst_p99),
+            Some(a) => {
+                let region = |r: Option<f64>| r.map_or("-".to_string(), |p| format!("{p:.4}"));
+                format!(
+                    " {:>10.4} {:>10.4} {:>10.4} {:>10} {:>10} {:>10}",
+                    a.mean,
+                    a.p99,
+                    a.worst_p99,
+                    region(a.region_p99[0]),
+                    region(a.region_p99[1]),
+                    region(a.region_p99[2])
+                )
+            }
             None => String::new(),
         };
         println!(
@@ -735,7 +771,7 @@ fn print_table(rows: &[Row]) {
     );
     if judged {
         println!(
-            "(eFLIP: each frame against the reference's frame, the eccentricity-aware FLIP for the eye at that frame's gaze (metrics::flip); the mean over the frames of each frame's mean and 99th percentile, and the worst frame's 99th percentile)"
+            "(eFLIP: each frame against the reference's frame, the eccentricity-aware FLIP for the eye at that frame's gaze (metrics::flip); the mean over the frames of each frame's mean and 99th percentile, and the worst frame's 99th percentile; then each region's 99th percentile at the frame's gaze, its mean over the frames)"
         );
     }
 }
