@@ -297,34 +297,50 @@ fn special_files_are_neither_read_nor_replaced() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `foveate` started in `dir`, its stdout and stderr piped; with `logged`, its progress logged
+/// to stderr (read it as it runs: a full pipe would stall it).
+fn spawn_in(dir: &Path, args: &[&str], logged: bool) -> std::process::Child {
+    let log = if logged { "foveate=info" } else { "warn" };
+    Command::new(env!("CARGO_BIN_EXE_foveate"))
+        .current_dir(dir)
+        .env("RUST_LOG", log)
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// Ctrl-C, as a user at the terminal sends it.
+fn sigint(child: &std::process::Child) {
+    let pid = child.id().to_string();
+    assert!(Command::new("kill")
+        .args(["-INT", &pid])
+        .status()
+        .unwrap()
+        .success());
+}
+
 /// SIGINT in the middle of `compare` (once two configurations are judged) stops it after the
 /// row in hand: it exits non-zero saying so, and its CSV holds the rows finished, whole.
 /// Negative control: without the handler the signal kills it and no CSV exists.
 #[test]
 fn sigint_during_compare_writes_the_rows_done() {
     let dir = scratch("sigint");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_foveate"))
-        .current_dir(&dir)
-        .env("RUST_LOG", "foveate=info")
-        .args([
+    let mut child = spawn_in(
+        &dir,
+        &[
             "compare", "--res", "384", "--frames", "2", "--csv", "rows.csv",
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+        ],
+        true,
+    );
     let mut log = String::new();
     for line in BufReader::new(child.stderr.take().unwrap()).lines() {
         let line = line.unwrap();
         log += &line;
         log.push('\n');
         if line.contains("compare: judged 2 of") {
-            let pid = child.id().to_string();
-            assert!(Command::new("kill")
-                .args(["-INT", &pid])
-                .status()
-                .unwrap()
-                .success());
+            sigint(&child);
         }
     }
     let status = child.wait().unwrap();
@@ -346,24 +362,27 @@ fn sigint_during_compare_writes_the_rows_done() {
 #[test]
 fn sigint_during_flicker_plots_no_empty_frontier() {
     let dir = scratch("sigint-flicker");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_foveate"))
-        .current_dir(&dir)
-        .args(["flicker", "--res", "96", "--ratios", "0.5", "--flip"])
-        .args(["--motions", "still,walking", "--pareto", "frontier"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = spawn_in(
+        &dir,
+        &[
+            "flicker",
+            "--res",
+            "96",
+            "--ratios",
+            "0.5",
+            "--flip",
+            "--motions",
+            "still,walking",
+            "--pareto",
+            "frontier",
+        ],
+        false,
+    );
     let mut out = String::new();
     for line in BufReader::new(child.stdout.take().unwrap()).lines() {
         let line = line.unwrap();
         if line.starts_with("device:") {
-            let pid = child.id().to_string();
-            assert!(Command::new("kill")
-                .args(["-INT", &pid])
-                .status()
-                .unwrap()
-                .success());
+            sigint(&child);
         }
         out += &line;
         out.push('\n');
