@@ -394,7 +394,7 @@ impl Motion {
     /// How the header line names it.
     fn describe(&self, args: &FlickerArgs) -> String {
         match self.kind {
-            MotionKind::Still => format!("still (head, gaze {})", resting_gaze(args)),
+            MotionKind::Still => format!("still (head, gaze {})", self.resting_gaze()),
             MotionKind::Saccades => format!("saccades (seed {}, head still)", args.seed),
             MotionKind::LargeSaccades => {
                 format!("large saccades (15–30°, seed {}, head still)", args.seed)
@@ -403,18 +403,18 @@ impl Motion {
                 "walking ({} m/s, turning {}°/s, gaze {})",
                 foveate::scene::WALK_SPEED_M_S,
                 foveate::scene::TURN_DEG_S,
-                resting_gaze(args)
+                self.resting_gaze()
             ),
         }
     }
-}
 
-/// Where the gaze rests in the still and walking motions, as the header line says it.
-fn resting_gaze(args: &FlickerArgs) -> String {
-    match args.gaze.as_slice() {
-        [x, y] if *x == 0.0 && *y == 0.0 => "ahead".to_string(),
-        [x, y] => format!("at ({x}, {y})"),
-        _ => format!("{:?}", args.gaze),
+    /// Where the gaze rests (the still and walking motions keep their first frame's), as the
+    /// header line says it.
+    fn resting_gaze(&self) -> String {
+        match self.frames.first().map(|&(_, gaze)| gaze) {
+            Some(g) if g != Vec2::ZERO => format!("at ({}, {})", g.x, g.y),
+            _ => "ahead".to_string(),
+        }
     }
 }
 
