@@ -1,7 +1,7 @@
 //! Each compared configuration's map of what the lens shows, region by region (fovea, band,
 //! periphery) and eccentricity from the gaze, kept while the gaze rests.
 
-use foveate::metrics::EyePixels;
+use foveate::metrics::{EyePixels, PixelsKey};
 use foveate::plan::FramePlan;
 use glam::Vec2;
 
@@ -13,29 +13,9 @@ use glam::Vec2;
 pub struct RegionMaps {
     gaze: Option<Vec2>,
     /// The maps made at `gaze`, each with what it was made for.
-    made: Vec<(MapKey, [EyePixels; 2])>,
+    made: Vec<(PixelsKey, [EyePixels; 2])>,
     /// Per configuration, the index of its map in `made`.
     of_config: Vec<usize>,
-}
-
-/// What a map depends on beyond the headset: the eye's screen, whether the output is
-/// pre-distorted for the lens, and the fovea's ratio, size and blend band (the fields
-/// [`EyePixels::new`] reads; none for a frame without foveation).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct MapKey {
-    screen: (u32, u32),
-    lens: bool,
-    fovea: Option<(f32, f32, f32)>,
-}
-
-impl MapKey {
-    fn of(plan: &FramePlan) -> MapKey {
-        MapKey {
-            screen: (plan.eye_resolution.width, plan.eye_resolution.height),
-            lens: plan.lens.is_some(),
-            fovea: (plan.foveation.as_ref()).map(|f| (f.ratio, f.fovea_screen_px, f.blend_band_px)),
-        }
-    }
 }
 
 impl RegionMaps {
@@ -49,7 +29,7 @@ impl RegionMaps {
         self.made.clear();
         self.of_config.clear();
         for plan in plans {
-            let key = MapKey::of(plan);
+            let key = PixelsKey::of(plan);
             let index = match self.made.iter().position(|(k, _)| *k == key) {
                 Some(index) => index,
                 None => {

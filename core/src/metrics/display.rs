@@ -59,6 +59,29 @@ pub struct EyePixels {
     pub ppd: f64,
 }
 
+/// What a plan's [`EyePixels`] depend on beyond its headset and the gaze: the eye's screen,
+/// whether the output is pre-distorted for the lens, and the fovea's ratio, size and blend band
+/// (the fields [`EyePixels::seen`] reads; none for a frame without foveation). Plans of one
+/// headset with equal keys have equal maps at every gaze, whatever their periphery (its
+/// density, samples or accumulation), so a caller judging many configurations can share them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelsKey {
+    screen: (u32, u32),
+    lens: bool,
+    fovea: Option<(f32, f32, f32)>,
+}
+
+impl PixelsKey {
+    /// The key of `plan`'s maps, its own foveation placing the regions.
+    pub fn of(plan: &FramePlan) -> PixelsKey {
+        PixelsKey {
+            screen: (plan.eye_resolution.width, plan.eye_resolution.height),
+            lens: plan.lens.is_some(),
+            fovea: (plan.foveation.as_ref()).map(|f| (f.ratio, f.fovea_screen_px, f.blend_band_px)),
+        }
+    }
+}
+
 impl EyePixels {
     /// The map for `eye` of a frame planned as `plan` (its lens and output resolution), the eye
     /// looking at `gaze` (normalised, as `set_gaze`); regions from `foveation` when the frame

@@ -15,7 +15,7 @@ pub mod temporal;
 mod timing;
 
 pub use acuity::{Acuity, EyeFlipErrors, FlipMapper, FlipMaps, JudgeError};
-pub use display::{EyePixels, Region};
+pub use display::{EyePixels, PixelsKey, Region};
 pub use histogram::{ErrorHistogram, HISTOGRAM_BINS};
 pub use image::{FileError, ImageError, RgbaImage};
 pub use per_second::{PerSecond, SecondSummary};
