@@ -26,9 +26,19 @@ pub fn image(path: &Path) -> Result<()> {
 /// A plot written as `<stem>.png` and `<stem>.svg` (appended: a stem may hold a dot).
 pub fn plot(stem: &Path) -> Result<()> {
     for extension in ["png", "svg"] {
-        check_writable(&PathBuf::from(format!("{}.{extension}", stem.display())))?;
+        check_writable(&plot_file(stem, extension))?;
     }
     Ok(())
+}
+
+/// The file `<stem>.<extension>` of a plot. Appended, never `Path::with_extension`: that
+/// replaces whatever follows a stem's last dot (`frontier-0.6-still` would become
+/// `frontier-0.png`, and every motion's plot the same file).
+pub fn plot_file(stem: &Path, extension: &str) -> PathBuf {
+    let mut name = stem.as_os_str().to_owned();
+    name.push(".");
+    name.push(extension);
+    PathBuf::from(name)
 }
 
 /// A folder that receives files: made if missing, and a file can be written in it.

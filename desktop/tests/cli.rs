@@ -949,13 +949,14 @@ fn flicker_measures_each_approximation_along_every_motion() {
 
 /// `flicker --history-outcomes` counts every frame's history outcomes for the accumulated rows
 /// (a CSV row per motion, configuration, frame and outcome) and `--pareto` plots each motion's
-/// frontier (the counting row untimed, and said so); `--pareto` without `--flip` is an error
-/// naming both.
+/// frontier (the counting row untimed, and said so) to a file of its own, even when the stem
+/// holds a dot; `--pareto` without `--flip` is an error naming both.
 #[test]
 fn flicker_counts_history_outcomes_and_plots_frontiers_in_motion() {
     let dir = std::env::temp_dir().join(format!("foveate-history-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let (history, stem) = (dir.join("history.csv"), dir.join("frontier"));
+    // A stem with a dot, as a density names one: its motions' plots must not become one file.
+    let (history, stem) = (dir.join("history.csv"), dir.join("frontier-0.5"));
     let run = |extra: &[&str]| {
         let mut args = SMALL_FLICKER.to_vec();
         args.extend(["--motions", "still,walking"]);
@@ -987,9 +988,11 @@ fn flicker_counts_history_outcomes_and_plots_frontiers_in_motion() {
     }
     for motion in ["still", "walking"] {
         for extension in ["png", "svg"] {
-            let plot = dir.join(format!("frontier-{motion}.{extension}"));
+            let plot = dir.join(format!("frontier-0.5-{motion}.{extension}"));
             assert!(plot.exists(), "no {}", plot.display());
         }
+        let said = format!("frontier-0.5-{motion}.png and .svg");
+        assert!(out.contains(&said), "missing `{said}` in\n{out}");
     }
     // Untimed rows only without the outcomes: every row is on the plot then.
     let o = run(&["--flip", "--pareto", stem.to_str().unwrap()]);

@@ -447,7 +447,10 @@ fn report_picks(
                 crate::frame_args::headset_line(&reference.plan)
             );
             accuracy_plot(&accuracy, &caption, plot)?;
-            println!("wrote {} and .svg", plot.with_extension("png").display());
+            println!(
+                "wrote {} and .svg",
+                crate::outputs::plot_file(plot, "png").display()
+            );
         }
     }
     Ok(())

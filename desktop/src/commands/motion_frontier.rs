@@ -86,6 +86,9 @@ pub fn report(motion: &str, points: &[MotionPoint], headset: &str, stem: &Path) 
     );
     let stem = plot_stem(stem, motion);
     accuracy_plot(&accuracy, &caption, &stem)?;
-    println!("wrote {} and .svg", stem.with_extension("png").display());
+    println!(
+        "wrote {} and .svg",
+        crate::outputs::plot_file(&stem, "png").display()
+    );
     Ok(())
 }

@@ -11,6 +11,7 @@ use plotters::prelude::*;
 
 use super::accuracy::AccuracyPoint;
 use super::report::{FrameSample, Report};
+use crate::outputs::plot_file;
 
 const FONT: &str = "sans-serif";
 const SERIES: [(&str, RGBColor); 4] = [
@@ -400,9 +401,7 @@ pub fn latency_plot(
     stem: &Path,
 ) -> Result<()> {
     let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
-    // Appended, not `with_extension`: a stem may hold a dot (`foveated-0.5-…`).
-    let png = std::path::PathBuf::from(format!("{}.png", stem.display()));
-    let svg = std::path::PathBuf::from(format!("{}.svg", stem.display()));
+    let (png, svg) = (plot_file(stem, "png"), plot_file(stem, "svg"));
     plot_files!(&png, &svg, (1400, 900), |area| latency(
         curves, budget, caption, area
     ));
