@@ -87,7 +87,7 @@ vec2 distorted(vec2 t) {
 // `under_fovea`: the history there holds what the fovea showed, so where the frame before's
 // periphery has no depth (its hole) there is nothing to test.
 bool seen_before(uint eye, vec2 uv, float w, bool sky, bool moved, bool under_fovea) {
-    if (c.clip.x < 0.0) {
+    if (c.clip.y < 0.5) {
         return true; // HistoryClip::Off: the history is not held to anything
     }
     // Where the point has not moved, any of the 2×2 texels around it will do: the jitter

@@ -85,9 +85,11 @@ fn ghost(image: &StereoImage, fresh: &StereoImage, region: &[Vec<bool>; 2]) -> (
 /// no longer stands, the accumulated frame is redder than a frame without accumulation in
 /// less than a quarter of the pixels it is without clipping. Negative control in the test:
 /// with the history not clipped to the periphery's neighbourhood (`HistoryClip::Off`) the
-/// trail covers over a tenth of the region and the test sees it. Mutation run: the shader's
-/// clip removed while its disocclusion test stays (the kept history unclipped) fails it, 248
-/// of 2,280 pixels trailing against 357 unclipped: the depth test alone does not stop it.
+/// trail covers over a tenth of the region and the test sees it, and so it does with the depth
+/// test alone (`HistoryClip::DepthOnly`: the walker uncovers too little a frame for it; the
+/// clip is what holds it). Mutation run: the shader's clip removed while its disocclusion test
+/// stays (the kept history unclipped) fails it, 248 of 2,280 pixels trailing against 357
+/// unclipped.
 #[test]
 fn a_walker_leaves_no_trail() {
     let gpu = gpu();
@@ -120,6 +122,12 @@ fn a_walker_leaves_no_trail() {
     assert!(
         unclipped * 10 > region,
         "negative control: without clipping only {unclipped} of {region} pixels trail"
+    );
+    let (depth_tested, _) = run(HistoryClip::DepthOnly);
+    eprintln!("depth test alone: {depth_tested} of {region} pixels trail");
+    assert!(
+        depth_tested * 10 > region,
+        "the depth test alone holds the walker: only {depth_tested} of {region} pixels trail"
     );
     // Clipped, what remains hugs the walker's trailing edge (the periphery's neighbourhood
     // there still holds its red): a small fraction of the unclipped trail.

@@ -40,6 +40,11 @@ pub enum HistoryClip {
     },
     /// Moved into the neighbourhood's range (its min/max box) along the line to its centre.
     Range,
+    /// Not clipped, only tested against the frame before's depth (dropped where another
+    /// surface lay there). A surface that moves on its own keeps its trail; with the head
+    /// still, detail the jitter gathered is kept that a clip pulls back. To measure what the
+    /// clip costs and what it holds.
+    DepthOnly,
     /// Not held at all — neither clipped nor tested against the frame before's depth: a
     /// moving surface leaves a trail. To show what the two prevent.
     Off,
@@ -50,6 +55,7 @@ impl std::fmt::Display for HistoryClip {
         match self {
             HistoryClip::Variance { sigmas } => write!(f, "variance:{sigmas}"),
             HistoryClip::Range => f.write_str("range"),
+            HistoryClip::DepthOnly => f.write_str("depth"),
             HistoryClip::Off => f.write_str("off"),
         }
     }
@@ -58,11 +64,12 @@ impl std::fmt::Display for HistoryClip {
 impl std::str::FromStr for HistoryClip {
     type Err = ConfigError;
 
-    /// `variance` (1 standard deviation), `variance:SIGMAS`, `range` or `off`.
+    /// `variance` (1 standard deviation), `variance:SIGMAS`, `range`, `depth` or `off`.
     fn from_str(s: &str) -> Result<Self, ConfigError> {
         let clip = match s.split_once(':') {
             None if s == "variance" => HistoryClip::Variance { sigmas: 1.0 },
             None if s == "range" => HistoryClip::Range,
+            None if s == "depth" => HistoryClip::DepthOnly,
             None if s == "off" => HistoryClip::Off,
             Some(("variance", sigmas)) => HistoryClip::Variance {
                 sigmas: sigmas.parse().map_err(|_| {
@@ -73,7 +80,7 @@ impl std::str::FromStr for HistoryClip {
                 return Err(ConfigError::new(
                     "clip",
                     s,
-                    "variance, variance:SIGMAS, range or off",
+                    "variance, variance:SIGMAS, range, depth or off",
                 ))
             }
         };
@@ -82,14 +89,19 @@ impl std::str::FromStr for HistoryClip {
 }
 
 impl HistoryClip {
-    /// The shader's encoding (`accumulate.glsl`'s `SPREAD`): the box's half-size in standard
-    /// deviations; a huge one for the range alone; negative for none.
+    /// The shader's encoding (`accumulate.glsl`'s `c.clip.x`): the box's half-size in standard
+    /// deviations; a huge one for the range alone; negative for no clip.
     pub(crate) fn spread(self) -> f32 {
         match self {
             HistoryClip::Variance { sigmas } => sigmas,
             HistoryClip::Range => 1e30,
-            HistoryClip::Off => -1.0,
+            HistoryClip::DepthOnly | HistoryClip::Off => -1.0,
         }
+    }
+
+    /// Whether the history is tested against the frame before's depth (`c.clip.y`).
+    pub(crate) fn depth_tested(self) -> bool {
+        self != HistoryClip::Off
     }
 }
 
@@ -244,5 +256,24 @@ mod tests {
         .validate()
         .is_err());
         assert!(never.validate().is_ok());
+    }
+
+    /// Every clip reads back from the name it prints, and tells the shader whether to clip and
+    /// whether to test depth. Mutation: `depth` parsed as `off` fails the round trip.
+    #[test]
+    fn clips_round_trip_and_encode() {
+        for clip in [
+            HistoryClip::Variance { sigmas: 2.0 },
+            HistoryClip::Range,
+            HistoryClip::DepthOnly,
+            HistoryClip::Off,
+        ] {
+            assert_eq!(clip.to_string().parse::<HistoryClip>().unwrap(), clip);
+        }
+        assert!(HistoryClip::DepthOnly.spread() < 0.0 && HistoryClip::DepthOnly.depth_tested());
+        assert!(HistoryClip::Off.spread() < 0.0 && !HistoryClip::Off.depth_tested());
+        assert!(HistoryClip::Range.spread() > 0.0 && HistoryClip::Range.depth_tested());
+        let err = "deep".parse::<HistoryClip>().unwrap_err().to_string();
+        assert!(err.contains("deep") && err.contains("depth"), "{err}");
     }
 }

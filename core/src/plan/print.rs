@@ -489,6 +489,9 @@ fn clip_words(clip: crate::foveation::HistoryClip) -> String {
             format!("variance clipping, ±{sigmas} standard deviations")
         }
         crate::foveation::HistoryClip::Range => "its min/max box".to_string(),
+        crate::foveation::HistoryClip::DepthOnly => {
+            "not clipped: moving surfaces trail".to_string()
+        }
         crate::foveation::HistoryClip::Off => "not clipped: trails".to_string(),
     }
 }

@@ -72,7 +72,7 @@ impl TemporalAccumulation {
             depth: Vec4::new(a, b, hole_px * 0.5, 1.0 / self.frames_accumulated as f32),
             clip: Vec4::new(
                 self.config.clip.spread(),
-                0.0, // unused: std140 pads the field to a vec4 anyway
+                self.config.clip.depth_tested() as u32 as f32,
                 self.previous_jitter.x,
                 self.previous_jitter.y,
             ),
