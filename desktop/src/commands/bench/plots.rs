@@ -95,7 +95,7 @@ pub fn all(report: &Report, out: &Path) -> Result<()> {
 /// `<stem>.png` and `<stem>.svg`.
 pub fn accuracy_plot(points: &[AccuracyPoint], caption: &str, stem: &Path) -> Result<()> {
     let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
-    let (png, svg) = (stem.with_extension("png"), stem.with_extension("svg"));
+    let (png, svg) = (plot_file(stem, "png"), plot_file(stem, "svg"));
     plot_files!(&png, &svg, (1400, 900), |area| accuracy(
         points, caption, area
     ));
