@@ -117,7 +117,9 @@ bool seen_before(uint eye, vec2 uv, float w, bool sky, bool moved, bool under_fo
 // Where, in the previous frame's output pixels (continuous, centres at .5), direction `t`
 // (at `here` in this frame's rendered field) seen at `distance` (the sky: infinitely far)
 // lay; z < 0 when behind that frame's eye or when that frame saw another surface there.
-vec3 previous_pixel(uint eye, vec2 here, vec2 t, float distance, bool sky) {
+// `moved`: whether the point moved on screen since then (the head's motion).
+vec3 previous_pixel(uint eye, vec2 here, vec2 t, float distance, bool sky, out bool moved) {
+    moved = false;
     vec4 seen = sky ? vec4(t, -1.0, 0.0) : vec4(t * distance, -distance, 1.0);
     vec4 clip = c.previous_from_view[eye] * seen;
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
@@ -138,7 +140,7 @@ vec3 previous_pixel(uint eye, vec2 here, vec2 t, float distance, bool sky) {
     float kind = texelFetch(history, ivec3(nearest, eye), 0).a;
     bool under_fovea = abs(kind - FROM_FOVEA) < 0.1;
     vec2 motion = (uv - here) * vec2(textureSize(previous_depth, 0).xy); // periphery texels
-    bool moved = dot(motion, motion) >= 0.01;
+    moved = dot(motion, motion) >= 0.01;
 #ifdef COUNT_FRAGMENTS
     // Where the frame before's view saw this direction: a failed test there is a disocclusion.
     bool in_view = all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)));
@@ -220,7 +222,11 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
     float d = texelFetch(periphery_depth, ivec3(texel, eye), 0).r;
     bool sky = d <= 0.0;
     float distance = sky ? 0.0 : c.depth.y / (d + c.depth.x);
-    vec3 at = previous_pixel(eye, uv, t, distance, sky);
+    bool moved;
+    vec3 at = previous_pixel(eye, uv, t, distance, sky, moved);
+    // Whether the history is clipped here: HistoryClip::Moved clips only where the head's
+    // motion moved the point (clip.y = 2); elsewhere the depth test alone holds it.
+    bool clipped = c.clip.x >= 0.0 && (c.clip.y < 1.5 || moved);
     if (c.jitter.w >= 0.5) {
         NOTE_OUTCOME(OUTCOME_RESET);
     } else if (at.z > 0.0) {
@@ -232,13 +238,13 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
             // Taps past the edge of the frame before's view can still hold something: used.
             NOTE_OUTCOME(history_outcome == OUTCOME_OFF_SCREEN ? OUTCOME_KEPT : history_outcome);
             vec3 y = to_ycocg(h.rgb);
-            if (history_outcome == OUTCOME_KEPT && c.clip.x >= 0.0 && clip_to_box(y, lo, hi) != y) {
+            if (history_outcome == OUTCOME_KEPT && clipped && clip_to_box(y, lo, hi) != y) {
                 NOTE_OUTCOME(OUTCOME_CLIPPED);
             }
         }
 #endif
         if (h.w > 0.01) {
-            vec3 kept = c.clip.x < 0.0 ? h.rgb : from_ycocg(clip_to_box(to_ycocg(h.rgb), lo, hi));
+            vec3 kept = clipped ? from_ycocg(clip_to_box(to_ycocg(h.rgb), lo, hi)) : h.rgb;
             // How far the new sample lies from this pixel's centre, in screen pixels.
             vec2 off = (vec2(texel) + 0.5 - j - q) * c.screen.xy / vec2(size);
             float trust = max(c.jitter.z, c.depth.w) * exp(-2.0 * dot(off, off));

@@ -43,7 +43,8 @@ layout(std140, set = 0, binding = 1) uniform Output {
                                 // takes new samples at their mean's weight)
     vec4 clip;                  // x: the history's box around the neighbourhood's mean, in
                                 // standard deviations (huge: its range alone; < 0: no clip);
-                                // y: 1 tests the history against the frame before's depth;
+                                // y: 1 tests the history against the frame before's depth,
+                                // 2 too and clips only where the point moved;
                                 // zw: the frame before's jitter
 } c;
 

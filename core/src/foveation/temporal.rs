@@ -40,6 +40,12 @@ pub enum HistoryClip {
     },
     /// Moved into the neighbourhood's range (its min/max box) along the line to its centre.
     Range,
+    /// The range's clip only where the head's motion moved the point on screen (by a tenth of
+    /// a periphery texel or more); elsewhere the depth test alone. With the head still the clip
+    /// pulls back detail the jitter gathered, and makes the shimmer; in motion it holds what
+    /// reprojection blurs. A surface that moves on its own is held by the clip alone, so with
+    /// the head still it keeps its trail: for scenes where nothing moves but the viewer.
+    Moved,
     /// Not clipped, only tested against the frame before's depth (dropped where another
     /// surface lay there). A surface that moves on its own keeps its trail; with the head
     /// still, detail the jitter gathered is kept that a clip pulls back. To measure what the
@@ -55,6 +61,7 @@ impl std::fmt::Display for HistoryClip {
         match self {
             HistoryClip::Variance { sigmas } => write!(f, "variance:{sigmas}"),
             HistoryClip::Range => f.write_str("range"),
+            HistoryClip::Moved => f.write_str("moved"),
             HistoryClip::DepthOnly => f.write_str("depth"),
             HistoryClip::Off => f.write_str("off"),
         }
@@ -64,11 +71,12 @@ impl std::fmt::Display for HistoryClip {
 impl std::str::FromStr for HistoryClip {
     type Err = ConfigError;
 
-    /// `variance` (1 standard deviation), `variance:SIGMAS`, `range`, `depth` or `off`.
+    /// `variance` (1 standard deviation), `variance:SIGMAS`, `range`, `moved`, `depth` or `off`.
     fn from_str(s: &str) -> Result<Self, ConfigError> {
         let clip = match s.split_once(':') {
             None if s == "variance" => HistoryClip::Variance { sigmas: 1.0 },
             None if s == "range" => HistoryClip::Range,
+            None if s == "moved" => HistoryClip::Moved,
             None if s == "depth" => HistoryClip::DepthOnly,
             None if s == "off" => HistoryClip::Off,
             Some(("variance", sigmas)) => HistoryClip::Variance {
@@ -80,7 +88,7 @@ impl std::str::FromStr for HistoryClip {
                 return Err(ConfigError::new(
                     "clip",
                     s,
-                    "variance, variance:SIGMAS, range, depth or off",
+                    "variance, variance:SIGMAS, range, moved, depth or off",
                 ))
             }
         };
@@ -94,14 +102,19 @@ impl HistoryClip {
     pub(crate) fn spread(self) -> f32 {
         match self {
             HistoryClip::Variance { sigmas } => sigmas,
-            HistoryClip::Range => 1e30,
+            HistoryClip::Range | HistoryClip::Moved => 1e30,
             HistoryClip::DepthOnly | HistoryClip::Off => -1.0,
         }
     }
 
-    /// Whether the history is tested against the frame before's depth (`c.clip.y`).
-    pub(crate) fn depth_tested(self) -> bool {
-        self != HistoryClip::Off
+    /// The shader's `c.clip.y`: 0 no depth test, 1 the depth test, 2 the depth test and the
+    /// clip only where the point moved.
+    pub(crate) fn depth_test(self) -> f32 {
+        match self {
+            HistoryClip::Off => 0.0,
+            HistoryClip::Moved => 2.0,
+            _ => 1.0,
+        }
     }
 }
 
@@ -265,14 +278,17 @@ mod tests {
         for clip in [
             HistoryClip::Variance { sigmas: 2.0 },
             HistoryClip::Range,
+            HistoryClip::Moved,
             HistoryClip::DepthOnly,
             HistoryClip::Off,
         ] {
             assert_eq!(clip.to_string().parse::<HistoryClip>().unwrap(), clip);
         }
-        assert!(HistoryClip::DepthOnly.spread() < 0.0 && HistoryClip::DepthOnly.depth_tested());
-        assert!(HistoryClip::Off.spread() < 0.0 && !HistoryClip::Off.depth_tested());
-        assert!(HistoryClip::Range.spread() > 0.0 && HistoryClip::Range.depth_tested());
+        let encoded = |c: HistoryClip| (c.spread() >= 0.0, c.depth_test());
+        assert_eq!(encoded(HistoryClip::DepthOnly), (false, 1.0));
+        assert_eq!(encoded(HistoryClip::Off), (false, 0.0));
+        assert_eq!(encoded(HistoryClip::Range), (true, 1.0));
+        assert_eq!(encoded(HistoryClip::Moved), (true, 2.0));
         let err = "deep".parse::<HistoryClip>().unwrap_err().to_string();
         assert!(err.contains("deep") && err.contains("depth"), "{err}");
     }

@@ -489,6 +489,10 @@ fn clip_words(clip: crate::foveation::HistoryClip) -> String {
             format!("variance clipping, ±{sigmas} standard deviations")
         }
         crate::foveation::HistoryClip::Range => "its min/max box".to_string(),
+        crate::foveation::HistoryClip::Moved => {
+            "its min/max box where the head's motion moved the point, elsewhere not clipped"
+                .to_string()
+        }
         crate::foveation::HistoryClip::DepthOnly => {
             "not clipped: moving surfaces trail".to_string()
         }

@@ -72,7 +72,7 @@ impl TemporalAccumulation {
             depth: Vec4::new(a, b, hole_px * 0.5, 1.0 / self.frames_accumulated as f32),
             clip: Vec4::new(
                 self.config.clip.spread(),
-                self.config.clip.depth_tested() as u32 as f32,
+                self.config.clip.depth_test(),
                 self.previous_jitter.x,
                 self.previous_jitter.y,
             ),
