@@ -26,9 +26,13 @@ layout(location = 1) out vec4 out_history;
 // The history holds the square root of linear light in 10 bits (its steps finer than an 8-bit
 // display's down to the darks, so a small blend of a new sample is not rounded away); alpha 0
 // marks a pixel that holds nothing, 2/3 one that holds what the fovea showed over the
-// periphery's hole (no periphery depth lies beside it), 1 the accumulated periphery.
+// periphery's hole (no periphery depth lies beside it), 1 the accumulated periphery, 1/3 the
+// same where an instance that moves lay (the next frame clips it: that instance left it).
 const vec4 NOTHING = vec4(0.0);
 const float FROM_FOVEA = 2.0 / 3.0;
+const float MOVER = 1.0 / 3.0;
+// A scene pixel's alpha below this: an instance that moves covers some of it (scene.frag).
+const float MOVER_ALPHA = 1.0 - 0.5 / 255.0;
 
 // What became of this pixel's history (counting frames only: `history_outcomes.glsl` counts
 // it per region; timed frames compile none of it).
@@ -154,8 +158,10 @@ vec3 previous_pixel(uint eye, vec2 here, vec2 t, float distance, bool sky, out b
 }
 
 // The history at `at` (previous output pixels), bilinear over the taps that hold something;
-// w: the weight found (0: nothing usable).
-vec4 history_at(uint eye, vec2 at) {
+// w: the weight found (0: nothing usable). `mover`: a tap used holds where an instance that
+// moves lay.
+vec4 history_at(uint eye, vec2 at, out bool mover) {
+    mover = false;
     vec2 pos = at - 0.5;
     ivec2 base = ivec2(floor(pos));
     vec2 frac = pos - floor(pos);
@@ -168,9 +174,10 @@ vec4 history_at(uint eye, vec2 at) {
             continue;
         }
         vec4 h = texelFetch(history, ivec3(tap, eye), 0);
-        if (h.a < 0.5) {
+        if (h.a < 0.5 * MOVER) {
             continue;
         }
+        mover = mover || abs(h.a - MOVER) < 0.1;
         vec2 w2 = mix(1.0 - frac, frac, vec2(o));
         sum += w2.x * w2.y * h.rgb * h.rgb;
         weight += w2.x * w2.y;
@@ -202,10 +209,13 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
     vec3 squares = vec3(0.0);
     vec3 lo = vec3(1e30);
     vec3 hi = vec3(-1e30);
+    bool mover = false; // an instance that moves lies in the neighbourhood
     for (int dy = -1; dy <= 1; dy++) {
         for (int dx = -1; dx <= 1; dx++) {
             ivec2 n = clamp(texel + ivec2(dx, dy), ivec2(0), size - 1);
-            vec3 s = to_ycocg(texelFetch(images, ivec3(n, eye), 0).rgb);
+            vec4 fetched = texelFetch(images, ivec3(n, eye), 0);
+            mover = mover || fetched.a < MOVER_ALPHA;
+            vec3 s = to_ycocg(fetched.rgb);
             sum += s;
             squares += s * s;
             lo = min(lo, s);
@@ -225,12 +235,15 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
     bool moved;
     vec3 at = previous_pixel(eye, uv, t, distance, sky, moved);
     // Whether the history is clipped here: HistoryClip::Moved clips only where the head's
-    // motion moved the point (clip.y = 2); elsewhere the depth test alone holds it.
-    bool clipped = c.clip.x >= 0.0 && (c.clip.y < 1.5 || moved);
+    // motion moved the point (clip.y = 2), or where an instance that moves lies or lay (the
+    // reprojection follows the head alone); elsewhere the depth test alone holds it.
+    bool clipped = c.clip.x >= 0.0 && (c.clip.y < 1.5 || moved || mover);
     if (c.jitter.w >= 0.5) {
         NOTE_OUTCOME(OUTCOME_RESET);
     } else if (at.z > 0.0) {
-        vec4 h = history_at(eye, at.xy);
+        bool mover_before;
+        vec4 h = history_at(eye, at.xy, mover_before);
+        clipped = clipped || (c.clip.x >= 0.0 && mover_before);
 #ifdef COUNT_FRAGMENTS
         if (h.w <= 0.01) {
             NOTE_OUTCOME(history_outcome == OUTCOME_OFF_SCREEN ? OUTCOME_OFF_SCREEN : OUTCOME_EMPTY);
@@ -251,6 +264,6 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
             result = mix(max(kept, vec3(0.0)), nearest, trust);
         }
     }
-    next = to_history(result, 1.0);
+    next = to_history(result, mover ? MOVER : 1.0);
     return result;
 }

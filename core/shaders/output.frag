@@ -163,13 +163,17 @@ void main() {
             color += (1.0 - w) * periphery(eye, uv);
         }
 #endif
+        float fovea_alpha = 1.0;
         if (w > 0.0) {
-            color += w * texture(second, vec3(fovea_uv, float(FOVEA_LAYER + eye))).rgb;
+            vec4 fovea = texture(second, vec3(fovea_uv, float(FOVEA_LAYER + eye)));
+            color += w * fovea.rgb;
+            fovea_alpha = fovea.a;
         }
 #ifdef TEMPORAL
         // Over the periphery's hole the history keeps what the fovea shows: when the gaze moves
-        // on, those pixels start from it rather than from the bilinear periphery.
-        if (w >= 1.0 && out_history.a < 0.5) {
+        // on, those pixels start from it rather than from the bilinear periphery. Not where an
+        // instance that moves shows (alpha below 1): no depth test would catch its trail.
+        if (w >= 1.0 && out_history.a == 0.0 && fovea_alpha >= MOVER_ALPHA) {
             out_history = to_history(color, FROM_FOVEA);
         }
 #endif

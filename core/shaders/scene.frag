@@ -11,6 +11,9 @@ layout(early_fragment_tests) in;
 // The MFFR far pass writes near / depth into alpha (sky, cleared to 0, is infinitely far), so
 // the depth-shift composite can reproject by depth without a second attachment.
 layout(constant_id = 3) const bool DEPTH_IN_ALPHA = false;
+// Otherwise, where the periphery's accumulation clips by them (HistoryClip::Moved), alpha 0
+// marks an instance that moves on its own: the head's motion alone cannot reproject it.
+layout(constant_id = 7) const bool MARK_MOVING = false;
 
 layout(std140, set = 0, binding = 0) uniform Views {
     mat4 view_proj[5];
@@ -28,6 +31,7 @@ layout(location = 4) in vec3 in_world;
 layout(location = 5) in vec2 in_uv;
 layout(location = 6) flat in uint in_material;
 layout(location = 7) in vec4 in_tangent;
+layout(location = 8) flat in uint in_moves;
 
 layout(location = 0) out vec4 out_color;
 
@@ -56,7 +60,8 @@ void main() {
     float sky = 0.5 + 0.5 * n.y;
     vec3 shaded = in_color * (0.25 * sky + 0.85 * diffuse);
 #endif
-    out_color = vec4(shaded, DEPTH_IN_ALPHA ? clamp(views.light_dir.w / in_depth, 0.0, 1.0) : 1.0);
+    float alpha = MARK_MOVING && in_moves != 0u ? 0.0 : 1.0;
+    out_color = vec4(shaded, DEPTH_IN_ALPHA ? clamp(views.light_dir.w / in_depth, 0.0, 1.0) : alpha);
 #ifdef COUNT_FRAGMENTS
     count_fragment(in_view);
 #endif

@@ -28,7 +28,7 @@ layout(std140, set = 0, binding = 0) uniform Views {
 struct Instance {
     mat4 model;
     vec4 color;
-    uvec4 material; // x: index into the lit materials
+    uvec4 material; // x: index into the lit materials; y: 1 when the renderer moved or added it
 };
 layout(std430, set = 0, binding = 1) readonly buffer Instances {
     Instance instances[];
@@ -59,6 +59,7 @@ layout(location = 4) out vec3 out_world;
 layout(location = 5) out vec2 out_uv;
 layout(location = 6) flat out uint out_material;
 layout(location = 7) out vec4 out_tangent;
+layout(location = 8) flat out uint out_moves;
 
 out gl_PerVertex {
     vec4 gl_Position;
@@ -94,6 +95,7 @@ void main() {
         out_uv = vec2(0.0);
         out_material = 0u;
         out_tangent = vec4(0.0);
+        out_moves = 0u;
         return;
     }
 #endif
@@ -119,5 +121,6 @@ void main() {
     out_world = world.xyz;
     out_uv = in_uv;
     out_material = inst.material.x;
+    out_moves = inst.material.y;
     out_tangent = vec4(mat3(inst.model) * in_tangent.xyz, in_tangent.w);
 }

@@ -78,7 +78,7 @@ pub struct ConfigArgs {
     /// With --temporal: how the reprojected history is held to the periphery's neighbourhood:
     /// `variance[:SIGMAS]` (Salvi's variance clipping, 1 standard deviation by default),
     /// `range` (its min/max box), `moved` (the range only where the head's motion moved the
-    /// point: sharper with the head still, but a surface moving on its own trails), `depth`
+    /// point or a moving instance lies: sharper with the head still), `depth`
     /// (the depth test alone) or `off` (a moving surface leaves a trail). Default: the
     /// library's.
     #[arg(long)]

@@ -43,8 +43,9 @@ pub fn with_view_sets(
 pub struct Accumulation {
     /// With --temporal: one accumulated row per way of holding the history to the periphery:
     /// `variance[:SIGMAS]` (Salvi's variance clipping), `range` (the min/max box), `moved` (the
-    /// range only where the head's motion moved the point), `depth` (no clip, the frame
-    /// before's depth test alone), `off` (neither) (default: the library's).
+    /// range only where the head's motion moved the point or a moving instance lies), `depth`
+    /// (no clip, the frame before's depth test alone), `off` (neither) (default: the
+    /// library's).
     #[arg(long, value_delimiter = ',')]
     pub clips: Vec<HistoryClip>,
     /// With --temporal: a settled pixel's weight for a new sample (0 < w ≤ 1; default: the

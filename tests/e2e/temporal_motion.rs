@@ -87,9 +87,12 @@ fn ghost(image: &StereoImage, fresh: &StereoImage, region: &[Vec<bool>; 2]) -> (
 /// with the history not clipped to the periphery's neighbourhood (`HistoryClip::Off`) the
 /// trail covers over a tenth of the region and the test sees it, and so it does with the depth
 /// test alone (`HistoryClip::DepthOnly`: the walker uncovers too little a frame for it; the
-/// clip is what holds it), or with the clip only where the head moved (`HistoryClip::Moved`). Mutation run: the shader's clip removed while its disocclusion test
-/// stays (the kept history unclipped) fails it, 248 of 2,280 pixels trailing against 357
-/// unclipped.
+/// clip is what holds it). `HistoryClip::Moved` clips where the head moved and where the
+/// walker, an instance the renderer moves, lies or lay: with the head still, only that mark
+/// holds it. Mutation runs: the shader's clip removed while its disocclusion test stays (the
+/// kept history unclipped) fails it, 248 of 2,280 pixels trailing against 357 unclipped; with
+/// the scene pass not marking the walker, `moved` trails as `depth` does (248); with the
+/// history's mark ignored (only the walker's pixels now are clipped, not those it left), 271.
 #[test]
 fn a_walker_leaves_no_trail() {
     let gpu = gpu();
@@ -123,18 +126,20 @@ fn a_walker_leaves_no_trail() {
         unclipped * 10 > region,
         "negative control: without clipping only {unclipped} of {region} pixels trail"
     );
-    // So does the clip only where the head moved the point: here the head is still.
-    for clip in [HistoryClip::DepthOnly, HistoryClip::Moved] {
-        let (trail, _) = run(clip);
-        eprintln!("clip {clip}: {trail} of {region} pixels trail");
-        assert!(
-            trail * 10 > region,
-            "clip {clip} holds the walker: only {trail} of {region} pixels trail"
-        );
-    }
+    // So does the depth test alone.
+    let (trail, _) = run(HistoryClip::DepthOnly);
+    eprintln!("clip depth: {trail} of {region} pixels trail");
+    assert!(
+        trail * 10 > region,
+        "the depth test alone holds the walker: only {trail} of {region} pixels trail"
+    );
     // Clipped, what remains hugs the walker's trailing edge (the periphery's neighbourhood
     // there still holds its red): a small fraction of the unclipped trail.
-    for clip in [HistoryClip::Range, HistoryClip::Variance { sigmas: 1.0 }] {
+    for clip in [
+        HistoryClip::Range,
+        HistoryClip::Variance { sigmas: 1.0 },
+        HistoryClip::Moved,
+    ] {
         let (ghosts, _) = run(clip);
         eprintln!("clip {clip}: {ghosts} of {region} pixels trail; unclipped {unclipped}");
         assert!(
@@ -143,4 +148,70 @@ fn a_walker_leaves_no_trail() {
              (unclipped: {unclipped})"
         );
     }
+}
+
+/// `config`'s frame `after` frames after the walker, standing where it starts (never moved,
+/// so never marked as moving), was taken out of the scene `before` frames in, read back.
+fn removed(
+    gpu: &foveate::gpu::Gpu,
+    scene: &Scene,
+    walker: Walker,
+    config: &RenderConfig,
+    (before, after): (usize, usize),
+) -> StereoImage {
+    let plan = foveate::plan(scene, config, gpu.caps()).unwrap();
+    let mut renderer = Renderer::new(gpu, &plan, scene).unwrap();
+    renderer.set_gaze([GAZE; 2]).unwrap();
+    for frame in 0..before + after {
+        if frame == before {
+            renderer.remove_instance(walker.instance).unwrap();
+        }
+        renderer.render_frame(scene.head).unwrap();
+    }
+    let image = renderer.readback().unwrap();
+    drop(renderer);
+    assert_validation_clean(gpu);
+    image
+}
+
+/// An instance that never moved, taken out, leaves no trail either with the clip only where
+/// something moved (`HistoryClip::Moved`): no pixel of it is marked, so the frame after the
+/// removal clips everywhere. Two frames after it, what is redder than a frame without the
+/// walker where the walker stood stays within the range clip's count. Negative control in the
+/// test: the depth test alone keeps most of it (662 of 1,056 pixels when written: the test
+/// cannot tell it from what lies just behind). Mutation run: the frame after a removal not
+/// clipping everywhere fails it (`moved` 662, as the depth test alone).
+#[test]
+fn a_removed_instance_leaves_no_trail() {
+    let gpu = gpu();
+    let mut scene = atrium_scene();
+    let walker = Walker::add(&mut scene, 4.0);
+    let frames = (24, 2);
+    let single = config(None);
+    let with = removed(&gpu, &scene, walker, &single, (frames.0 + frames.1, 0));
+    let without = removed(&gpu, &scene, walker, &single, frames);
+    let stood = differ(&with, &without, 24);
+    let run = |clip| {
+        let t = TemporalConfig {
+            clip,
+            ..Default::default()
+        };
+        let accumulated = removed(&gpu, &scene, walker, &config(Some(t)), frames);
+        ghost(&accumulated, &without, &stood)
+    };
+    let (depth_only, region) = run(HistoryClip::DepthOnly);
+    let (range, _) = run(HistoryClip::Range);
+    let (moved, _) = run(HistoryClip::Moved);
+    eprintln!(
+        "of {region} pixels the walker stood on: depth {depth_only}, range {range}, moved {moved}"
+    );
+    assert!(region > 200, "the walker covers only {region} pixels");
+    assert!(
+        depth_only > 2 * range.max(10),
+        "negative control: the depth test alone leaves only {depth_only} pixels (range: {range})"
+    );
+    assert!(
+        moved <= range + range / 4,
+        "moved leaves {moved} of {region} pixels redder where the walker stood; range {range}"
+    );
 }

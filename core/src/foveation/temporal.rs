@@ -40,11 +40,16 @@ pub enum HistoryClip {
     },
     /// Moved into the neighbourhood's range (its min/max box) along the line to its centre.
     Range,
-    /// The range's clip only where the head's motion moved the point on screen (by a tenth of
-    /// a periphery texel or more); elsewhere the depth test alone. With the head still the clip
-    /// pulls back detail the jitter gathered, and makes the shimmer; in motion it holds what
-    /// reprojection blurs. A surface that moves on its own is held by the clip alone, so with
-    /// the head still it keeps its trail: for scenes where nothing moves but the viewer.
+    /// The range's clip only where something moved: where the head's motion moved the point
+    /// on screen (by a tenth of a periphery texel or more), and where an instance the renderer
+    /// moved or added (`Renderer::move_instance`, `Renderer::add_instance`) lies in the
+    /// periphery's 3×3 neighbourhood now or lay under the history the frame before (its
+    /// pixels are marked in the scene pass's alpha and the history's). Elsewhere the depth
+    /// test alone. With the head still the clip pulls back detail the jitter gathered, and
+    /// makes the shimmer; in motion it holds what reprojection blurs, and the reprojection
+    /// follows the head alone, so only the clip holds an instance that moves. A surface that
+    /// moves without the renderer knowing (a vertex animation, a changing light) keeps its
+    /// trail with the head still.
     Moved,
     /// Not clipped, only tested against the frame before's depth (dropped where another
     /// surface lay there). A surface that moves on its own keeps its trail; with the head

@@ -20,6 +20,8 @@ pub enum Constant {
     DepthShift,
     /// The far pass writes depth into alpha.
     DepthInAlpha,
+    /// The scene marks instances that move with alpha 0 (for `HistoryClip::Moved`).
+    MarkMoving,
     /// The step's first fragment-counter slot (counting shader variants only).
     CounterBase,
     /// The frame view the pass's view 0 is.
@@ -78,13 +80,14 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 25] = {
+    pub const ALL: [Constant; 26] = {
         use Constant::*;
         [
             ViewSource,
             ClipXyScale,
             DepthShift,
             DepthInAlpha,
+            MarkMoving,
             CounterBase,
             FirstView,
             FoveaTags,
@@ -118,6 +121,7 @@ impl Constant {
             ClipXyScale => (1, "CLIP_XY_SCALE", Float),
             DepthShift => (2, "DEPTH_SHIFT", Bool),
             DepthInAlpha => (3, "DEPTH_IN_ALPHA", Bool),
+            MarkMoving => (7, "MARK_MOVING", Bool),
             CounterBase => (4, "COUNTER_BASE", Uint),
             FirstView => (5, "FIRST_VIEW", Uint),
             FoveaTags => (6, "FOVEA_TAGS", Bool),

@@ -429,6 +429,15 @@ pub(super) fn scene_pipeline(
     .constant(Constant::ViewSource, view_source(pass.submission))
     .flag(Constant::FoveaTags, draw_set == DrawSet::FoveaTagged)
     .flag(Constant::DepthInAlpha, pass.kind == PassKind::FarField)
+    .flag(Constant::MarkMoving, marks_moving(plan))
+}
+
+/// Whether the scene passes mark the pixels of instances that move: only where the periphery's
+/// accumulation clips by them (`HistoryClip::Moved`) and instances can move.
+fn marks_moving(plan: &FramePlan) -> bool {
+    let temporal = plan.foveation.and_then(|g| g.temporal);
+    plan.moving_instances().is_some()
+        && temporal.is_some_and(|t| t.clip == crate::foveation::HistoryClip::Moved)
 }
 
 /// The vertex shader's `VIEW_SOURCE` for a submission (see `shaders/scene.vert`).

@@ -20,6 +20,8 @@ pub(super) struct FrameContext<'a> {
     pub jitter: Option<glam::Vec2>,
     /// Each eye's hidden-area mesh, when the plan's HMD mask takes one and one was handed in.
     pub hidden_area: Option<&'a [HiddenArea; 2]>,
+    /// Whether an instance was taken out of the scene since the frame before.
+    pub instance_removed: bool,
     /// 0 on even frames (counted from the renderer's first), 1 on odd: which image of each
     /// history pair the frame reads and which it writes, and which descriptor sets it binds.
     pub parity: usize,

@@ -28,6 +28,8 @@ pub(super) struct MovingInstances {
     changes: u64,
     /// The changes culling and the draws last followed.
     followed: u64,
+    /// Whether an instance was taken out since the last frame asked (`take_removed`).
+    removed: bool,
     /// Each frame slot's buffer: the changes it holds the instances after (`None`: unwritten).
     written: Vec<Option<u64>>,
 }
@@ -61,6 +63,7 @@ impl MovingInstances {
             // With spares, the first frame already draws fewer instances than the buffer holds.
             changes: u64::from(own < scene.instance_count()),
             followed: 0,
+            removed: false,
             written: vec![None; slots],
         }
     }
@@ -87,7 +90,10 @@ impl MovingInstances {
         Ok(place)
     }
 
-    fn put(&mut self, index: usize, instance: Instance) {
+    /// Puts `instance` in place `index`, marked as one that moves (its pixels' history is
+    /// clipped: `Instance::moves`).
+    fn put(&mut self, index: usize, mut instance: Instance) {
+        instance.moves = 1;
         let (batch, i) = self.places[index];
         self.scene.batches[batch].instances[i] = instance;
         self.flat[index] = instance;
@@ -144,7 +150,14 @@ impl MovingInstances {
         self.instance(index)?;
         self.present[index] = false;
         self.changes += 1;
+        self.removed = true;
         Ok(())
+    }
+
+    /// Whether an instance was taken out since the last call: the frame after it cannot mark
+    /// where it lay (it draws nothing there), so the accumulation clips everywhere once.
+    pub fn take_removed(&mut self) -> bool {
+        std::mem::take(&mut self.removed)
     }
 
     /// Brings frame slot `slot`'s `buffer` up to the instances as they stand, when it is older.

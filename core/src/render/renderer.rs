@@ -479,6 +479,7 @@ impl Renderer {
     /// buffer; returns the culling's CPU time in ms (placing moved instances again included).
     fn prepare(&mut self, slot: usize, world_from_head: Mat4, parity: usize) -> f64 {
         let placing_ms = self.follow_instances(slot);
+        let instance_removed = self.moving.as_mut().is_some_and(|m| m.take_removed());
         let plan = &self.plan;
         let fovea = plan.foveation.map(|g| {
             let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
@@ -505,6 +506,7 @@ impl Renderer {
             views: &views,
             jitter,
             hidden_area: self.hidden_area.as_ref(),
+            instance_removed,
             parity,
         };
         for executor in &mut self.executors {

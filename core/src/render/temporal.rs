@@ -7,7 +7,7 @@
 use glam::{Mat4, Vec2, Vec4};
 
 use super::executor::FrameContext;
-use crate::foveation::TemporalConfig;
+use crate::foveation::{HistoryClip, TemporalConfig};
 use crate::plan::FramePlan;
 use crate::view::{reverse_z_projection, Eye, FovTangents};
 
@@ -65,14 +65,20 @@ impl TemporalAccumulation {
         } else {
             self.frames_accumulated + 1
         };
+        // Where an instance was taken out, nothing marks its pixels: `moved` clips everywhere
+        // for this one frame, as the range clip does.
+        let clip = match self.config.clip {
+            HistoryClip::Moved if frame.instance_removed => HistoryClip::Range,
+            clip => clip,
+        };
         let block = AccumulateBlock {
             previous_from_view: Eye::BOTH
                 .map(|e| previous_clip[e.index()] * world_from_eye[e.index()]),
             jitter: Vec4::new(jitter.x, jitter.y, self.config.blend, reset as u32 as f32),
             depth: Vec4::new(a, b, hole_px * 0.5, 1.0 / self.frames_accumulated as f32),
             clip: Vec4::new(
-                self.config.clip.spread(),
-                self.config.clip.depth_test(),
+                clip.spread(),
+                clip.depth_test(),
                 self.previous_jitter.x,
                 self.previous_jitter.y,
             ),

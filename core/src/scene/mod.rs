@@ -144,7 +144,11 @@ pub struct Instance {
     pub color: Vec4,
     /// Index into [`Scene::materials`] (ignored when the scene is flat).
     pub material: u32,
-    _pad: [u32; 3],
+    /// 1 once the renderer has moved or added it (`Renderer::move_instance`,
+    /// `Renderer::add_instance`): the scene pass marks its pixels, and the periphery's
+    /// accumulation clips its history there (`HistoryClip::Moved`).
+    pub(crate) moves: u32,
+    _pad: [u32; 2],
 }
 
 impl Instance {
@@ -154,7 +158,8 @@ impl Instance {
             model,
             color: rgb.extend(1.0),
             material: 0,
-            _pad: [0; 3],
+            moves: 0,
+            _pad: [0; 2],
         }
     }
 
