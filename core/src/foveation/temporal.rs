@@ -131,7 +131,9 @@ impl Default for TemporalConfig {
             // A head moves ≈ 2 m/s and turns ≈ 300°/s at most: 90 Hz frames stay well inside.
             cut_distance_m: 0.5,
             cut_angle_deg: 30.0,
-            clip: HistoryClip::Range,
+            // The most accurate in every motion measured, and no slower (BENCHMARKS.md,
+            // "Accumulation in the output pass").
+            clip: HistoryClip::Moved,
         }
     }
 }
