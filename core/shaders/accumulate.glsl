@@ -260,7 +260,9 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
             vec3 kept = clipped ? from_ycocg(clip_to_box(to_ycocg(h.rgb), lo, hi)) : h.rgb;
             // How far the new sample lies from this pixel's centre, in screen pixels.
             vec2 off = (vec2(texel) + 0.5 - j - q) * c.screen.xy / vec2(size);
-            float trust = max(c.jitter.z, c.depth.w) * exp(-2.0 * dot(off, off));
+            // Where nothing moved the history needs no quick correction: the still weight.
+            float settled = moved || mover || mover_before ? c.jitter.z : c.still.x;
+            float trust = max(settled, c.depth.w) * exp(-2.0 * dot(off, off));
             result = mix(max(kept, vec3(0.0)), nearest, trust);
         }
     }

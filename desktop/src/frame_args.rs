@@ -72,6 +72,11 @@ pub struct ConfigArgs {
     /// With --temporal: a new sample's weight against the history (0 < w ≤ 1; default 0.125).
     #[arg(long)]
     pub temporal_blend: Option<f32>,
+    /// With --temporal: the same weight where nothing moved (the head's motion moved the
+    /// point less than a tenth of a periphery texel, no moving instance near). Default: the
+    /// library's.
+    #[arg(long)]
+    pub temporal_still_blend: Option<f32>,
     /// With --temporal: frames in the jitter cycle (1: no jitter; default 8).
     #[arg(long)]
     pub jitter_cycle: Option<u32>,
@@ -385,6 +390,7 @@ impl ConfigArgs {
                 let default = TemporalConfig::default();
                 TemporalConfig {
                     blend: self.temporal_blend.unwrap_or(default.blend),
+                    still_blend: self.temporal_still_blend.unwrap_or(default.still_blend),
                     jitter_cycle: self.jitter_cycle.unwrap_or(default.jitter_cycle),
                     clip: self.temporal_clip.unwrap_or(default.clip),
                     ..default
@@ -466,6 +472,7 @@ impl ConfigArgs {
                 self.temporal,
                 vec![
                     given("--temporal-blend", &self.temporal_blend),
+                    given("--temporal-still-blend", &self.temporal_still_blend),
                     given("--jitter-cycle", &self.jitter_cycle),
                     given("--temporal-clip", &self.temporal_clip),
                 ],

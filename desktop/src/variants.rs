@@ -52,6 +52,9 @@ pub struct Accumulation {
     /// library's).
     #[arg(long)]
     pub temporal_blend: Option<f32>,
+    /// With --temporal: the same weight where nothing moved (default: the library's).
+    #[arg(long)]
+    pub temporal_still_blend: Option<f32>,
     /// With --temporal: frames in the jitter cycle (1: no jitter; default: the library's).
     #[arg(long)]
     pub jitter_cycle: Option<u32>,
@@ -71,6 +74,9 @@ pub fn with_temporal(
     let library = TemporalConfig::default();
     let default = TemporalConfig {
         blend: accumulation.temporal_blend.unwrap_or(library.blend),
+        still_blend: accumulation
+            .temporal_still_blend
+            .unwrap_or(library.still_blend),
         jitter_cycle: accumulation.jitter_cycle.unwrap_or(library.jitter_cycle),
         ..library
     };

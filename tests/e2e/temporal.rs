@@ -299,7 +299,7 @@ fn a_teleport_drops_the_history() {
 /// puts a sample's own depth texel across every edge. Negative control in the test: the
 /// measure sees the accumulation settle (the first frame against the last: over 1 in 100).
 /// Mutation run: testing only the point's own texel also where nothing moved (`moved = true`
-/// in the shader) fails it, 1,305 of 28,998 pixels jumping against 159.
+/// in the shader) fails it, 1,305 of 28,998 pixels jumping against 55.
 #[test]
 fn a_still_head_keeps_its_history_at_edges() {
     let gpu = gpu();
@@ -326,5 +326,72 @@ fn a_still_head_keeps_its_history_at_edges() {
         jumps * 100 < n,
         "{jumps} of {n} periphery pixels jump by more than 8 levels between settled still \
          frames"
+    );
+}
+
+/// Mean change of the 8-bit channels between `a` and `b` over `region` (both eyes).
+fn mean_change(a: &StereoImage, b: &StereoImage, region: &[Vec<bool>; 2]) -> f64 {
+    let (mut sum, mut n) = (0u64, 0u64);
+    for e in Eye::BOTH {
+        let (x, y) = (a.eye(e), b.eye(e));
+        for (i, _) in region[e.index()].iter().enumerate().filter(|(_, &r)| r) {
+            let (px, py) = (i as u32 % x.width, i as u32 / x.width);
+            let (p, q) = (x.pixel(px, py), y.pixel(px, py));
+            sum += (0..3).map(|c| p[c].abs_diff(q[c]) as u64).sum::<u64>();
+            n += 3;
+        }
+    }
+    sum as f64 / n.max(1) as f64
+}
+
+/// Where nothing moved a settled pixel takes new samples at the still blend, and the jitter's
+/// shimmer falls with it: between two settled still frames the periphery changes less at ⅟16
+/// than at ⅛ (under three quarters as much). Where the head's motion moves every point (a
+/// head turning 60°/s) the still blend changes nothing: the frames are the same to the bit.
+/// Negative control in the test: the shimmer is there to fall (settled still frames differ).
+/// Mutation runs: the shader taking the blend everywhere fails the first half; the still
+/// blend everywhere, the second.
+#[test]
+fn the_still_blend_sets_the_shimmer_only_where_nothing_moved() {
+    let gpu = gpu();
+    let scene = atrium_scene();
+    let frames = 24;
+    let with = |still_blend: f32, poses: &[(Mat4, Vec2)]| {
+        let t = TemporalConfig {
+            still_blend,
+            ..TemporalConfig::default()
+        };
+        let last = poses.len() - 1;
+        render_sequence(&gpu, &scene, &config(SCREEN, Some(t)), poses, |f| {
+            f + 1 >= last
+        })
+    };
+    let still = vec![(scene.head, Vec2::ZERO); frames];
+    let (plan, eighth) = with(0.125, &still);
+    let (_, sixteenth) = with(0.0625, &still);
+    let region = periphery_only(&plan, Vec2::ZERO);
+    let shimmer = |i: &[StereoImage]| mean_change(&i[0], &i[1], &region);
+    let (at_eighth, at_sixteenth) = (shimmer(&eighth), shimmer(&sixteenth));
+    eprintln!("shimmer (mean 8-bit change): at 1/8 {at_eighth:.4}, at 1/16 {at_sixteenth:.4}");
+    assert!(
+        at_eighth > 0.01,
+        "negative control: settled still frames barely change ({at_eighth})"
+    );
+    assert!(
+        at_sixteenth < 0.75 * at_eighth,
+        "the still blend of 1/16 leaves the shimmer at {at_sixteenth} (1/8: {at_eighth})"
+    );
+    let turn: Vec<_> = (0..frames)
+        .map(|f| {
+            let angle = (60.0f32 / 90.0 * f as f32).to_radians();
+            (scene.head * Mat4::from_rotation_y(angle), Vec2::ZERO)
+        })
+        .collect();
+    let (_, a) = with(0.125, &turn);
+    let (_, b) = with(0.0625, &turn);
+    assert!(
+        a[1].eye(Eye::Left).data == b[1].eye(Eye::Left).data
+            && a[1].eye(Eye::Right).data == b[1].eye(Eye::Right).data,
+        "turning, the still blend changes the image"
     );
 }

@@ -15,6 +15,11 @@ pub struct TemporalConfig {
     /// The weight a fully trusted new sample gets against the history (an exponential moving
     /// average: about `2 / blend − 1` frames remembered). 1 keeps no history.
     pub blend: f32,
+    /// The same weight where nothing moved: the head's motion moved the point less than a
+    /// tenth of a periphery texel and no instance that moves lies near it. There the history
+    /// needs no quick correction, and the jitter's shimmer, which scales with the weight, is
+    /// all a new sample can add.
+    pub still_blend: f32,
     /// Frames in the jitter cycle (Halton 2, 3); 1 renders every frame at the pixel centres.
     pub jitter_cycle: u32,
     /// A head that moves farther than this between frames (metres) is a cut: the history is
@@ -127,6 +132,9 @@ impl Default for TemporalConfig {
     fn default() -> Self {
         TemporalConfig {
             blend: 0.125,
+            // Halves the jitter's shimmer with the head still (to the ≤ 0.0003 asked at the
+            // Quest Pro's panel) for 4–9 % of that frame's eFLIP p99 (BENCHMARKS.md).
+            still_blend: 0.0625,
             jitter_cycle: 8,
             // A head moves ≈ 2 m/s and turns ≈ 300°/s at most: 90 Hz frames stay well inside.
             cut_distance_m: 0.5,
@@ -141,12 +149,13 @@ impl Default for TemporalConfig {
 impl TemporalConfig {
     /// Checks every field against its range; the error names the first out of it.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        if !(self.blend > 0.0 && self.blend <= 1.0) {
-            return Err(ConfigError::new(
-                "temporal_blend",
-                self.blend,
-                "0 < blend ≤ 1",
-            ));
+        for (field, value) in [
+            ("temporal_blend", self.blend),
+            ("temporal_still_blend", self.still_blend),
+        ] {
+            if !(value > 0.0 && value <= 1.0) {
+                return Err(ConfigError::new(field, value, "0 < blend ≤ 1"));
+            }
         }
         if !(1..=256).contains(&self.jitter_cycle) {
             return Err(ConfigError::new(
@@ -269,6 +278,15 @@ mod tests {
         };
         assert!(!never.is_cut(at(0.0, 0.0), at(3.0, 90.0)));
         assert!(TemporalConfig { blend: 0.0, ..t }.validate().is_err());
+        let still = TemporalConfig {
+            still_blend: 1.5,
+            ..t
+        };
+        assert!(still
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("still_blend"));
         assert!(TemporalConfig {
             cut_distance_m: f32::NAN,
             ..t

@@ -345,8 +345,8 @@ impl FramePlan {
                     if let Some(t) = self.foveation.and_then(|f| f.temporal) {
                         writeln!(
                             f,
-                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth (dropped where the frame before's periphery depth differs by over 10 %: in the texel it lay in where it moved, in any of the 2x2 around it where it did not), clipped to the periphery's 3x3 neighbourhood in YCoCg ({}), the new sample blended in (weight {}); over the periphery's hole what the fovea showed, reset at cuts (> {} m, > {}°)",
-                            t.jitter_cycle, clip_words(t.clip), t.blend, t.cut_distance_m, t.cut_angle_deg
+                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth (dropped where the frame before's periphery depth differs by over 10 %: in the texel it lay in where it moved, in any of the 2x2 around it where it did not), clipped to the periphery's 3x3 neighbourhood in YCoCg ({}), the new sample blended in (weight {}; {} where nothing moved); over the periphery's hole what the fovea showed, reset at cuts (> {} m, > {}°)",
+                            t.jitter_cycle, clip_words(t.clip), t.blend, t.still_blend, t.cut_distance_m, t.cut_angle_deg
                         )?;
                     }
                     if let (Some(h), Some(d)) = (self.history, self.depth_history) {
@@ -490,7 +490,8 @@ fn clip_words(clip: crate::foveation::HistoryClip) -> String {
         }
         crate::foveation::HistoryClip::Range => "its min/max box".to_string(),
         crate::foveation::HistoryClip::Moved => {
-            "its min/max box where the head's motion moved the point, elsewhere not clipped"
+            "its min/max box where the head's motion moved the point or an instance that moves \
+             lies, elsewhere not clipped"
                 .to_string()
         }
         crate::foveation::HistoryClip::DepthOnly => {

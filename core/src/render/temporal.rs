@@ -20,6 +20,7 @@ pub(super) struct AccumulateBlock {
     jitter: Vec4,
     depth: Vec4,
     clip: Vec4,
+    still: Vec4,
 }
 
 pub(super) struct TemporalAccumulation {
@@ -82,6 +83,7 @@ impl TemporalAccumulation {
                 self.previous_jitter.x,
                 self.previous_jitter.y,
             ),
+            still: Vec4::new(self.config.still_blend, 0.0, 0.0, 0.0),
         };
         self.previous_jitter = jitter;
         self.previous = Some((
