@@ -16,7 +16,9 @@ pub struct TemporalConfig {
     /// average: about `2 / blend − 1` frames remembered). 1 keeps no history.
     pub blend: f32,
     /// The same weight where nothing moved: the head's motion moved the point less than a
-    /// tenth of a periphery texel and no instance that moves lies near it. There the history
+    /// tenth of a periphery texel and no instance that moves lies near it (instances are
+    /// marked only under [`HistoryClip::Moved`]; under the other clips the head's motion
+    /// alone decides). There the history
     /// needs no quick correction, and the jitter's shimmer, which scales with the weight, is
     /// all a new sample can add.
     pub still_blend: f32,
