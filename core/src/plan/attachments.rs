@@ -36,6 +36,15 @@ impl Format {
         }
     }
 
+    /// Bytes per pixel of the stencil alone (what a depth/stencil image keeps beside its
+    /// depth; a sampler reads the depth and not this).
+    pub fn stencil_bytes_per_pixel(self) -> u64 {
+        match self {
+            Format::D32S8 => 1,
+            _ => 0,
+        }
+    }
+
     /// Whether this is a depth (or depth/stencil) format.
     pub fn is_depth(self) -> bool {
         matches!(self, Format::D32 | Format::D32S8)
@@ -88,6 +97,11 @@ impl AttachmentPlan {
             * self.format.bytes_per_pixel()
     }
 
+    /// Bytes of the stencil alone, in every layer and sample (0 without one).
+    pub fn stencil_bytes(&self) -> u64 {
+        self.bytes() / self.format.bytes_per_pixel() * self.format.stencil_bytes_per_pixel()
+    }
+
     pub(super) fn layer_bytes(&self) -> u64 {
         self.bytes() / self.layers as u64
     }
@@ -108,6 +122,10 @@ pub struct Use {
     pub load: LoadOp,
     /// Whether the pass keeps what it wrote.
     pub store: StoreOp,
+    /// The same for a depth attachment's stencil: kept only when a later pass loads the
+    /// attachment (sampling reads the depth alone, and the stencil masks are drawn anew in
+    /// every pass that tests them). `DontCare` for a format without stencil.
+    pub stencil_store: StoreOp,
     /// Layout at the pass's start and end (derived: [`Layout::around`]).
     pub initial_layout: Layout,
     /// Layout at the pass's end.
@@ -131,6 +149,7 @@ impl Use {
             access,
             load: LoadOp::from_access(access),
             store: StoreOp::DontCare,
+            stencil_store: StoreOp::DontCare,
             initial_layout: Layout::Undefined,
             final_layout: Layout::Undefined,
             clear: None,

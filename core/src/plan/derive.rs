@@ -45,11 +45,20 @@ pub(super) fn derive_ops(plan: &mut FramePlan) {
             }
             let sampled_next_frame = next_frame.contains(&u.attachment) && !replaced_later;
             let sampled_later = sampled_after[i].contains(&u.attachment) || sampled_next_frame;
+            // Samplers read the depth alone: only a later pass that loads it needs the stencil.
+            let loaded_later = kept_later;
             kept_later |= sampled_later;
             let read_by_frame_reader =
                 plan.attachments[u.attachment].read_after_frame && !replaced_later;
             u.load = LoadOp::from_access(u.access);
             u.store = StoreOp::from_read_later(kept_later || read_by_frame_reader);
+            let stencil = plan.attachments[u.attachment]
+                .format
+                .stencil_bytes_per_pixel()
+                > 0;
+            u.stencil_store = StoreOp::from_read_later(
+                stencil && u.store == StoreOp::Store && (loaded_later || read_by_frame_reader),
+            );
             let a = &plan.attachments[u.attachment];
             let working = if a.format.is_depth() {
                 Layout::DepthStencilAttachment

@@ -484,8 +484,9 @@ fn temporal_accumulation_folds_into_the_output_stage_only_when_asked() {
         "kept for the next frame, which samples it"
     );
     assert_eq!(
-        (depth.store, depth.final_layout),
-        (StoreOp::Store, Layout::ShaderReadOnly)
+        (depth.store, depth.stencil_store, depth.final_layout),
+        (StoreOp::Store, StoreOp::DontCare, Layout::ShaderReadOnly),
+        "the depth kept for the samplers, which read no stencil"
     );
     for id in [pair.read, pair.written] {
         let a = &on.attachments[id];

@@ -17,7 +17,7 @@ impl fmt::Display for FramePlan {
         for p in &self.passes {
             self.write_pass(f, p)?;
             self.write_step_notes(f, p)?;
-            write_pass_targets(f, p)?;
+            write_pass_targets(f, self, p)?;
         }
         self.write_footer(f)
     }
@@ -433,7 +433,7 @@ impl FramePlan {
 }
 
 /// A pass's workarounds, attachment uses (ops, layouts, clears) and barriers.
-fn write_pass_targets(f: &mut fmt::Formatter<'_>, p: &PassPlan) -> fmt::Result {
+fn write_pass_targets(f: &mut fmt::Formatter<'_>, plan: &FramePlan, p: &PassPlan) -> fmt::Result {
     if p.depth_clamp {
         writeln!(
             f,
@@ -454,9 +454,16 @@ fn write_pass_targets(f: &mut fmt::Formatter<'_>, p: &PassPlan) -> fmt::Result {
         ("history", p.history.as_ref()),
     ] {
         let Some(u) = u else { continue };
+        let stencil = match plan.attachments[u.attachment]
+            .format
+            .stencil_bytes_per_pixel()
+        {
+            0 => String::new(),
+            _ => format!(" (stencil {})", u.stencil_store),
+        };
         writeln!(
             f,
-            "    {what:<7} #{} layers {}..{}: load {}, store {}",
+            "    {what:<7} #{} layers {}..{}: load {}, store {}{stencil}",
             u.attachment,
             u.base_layer,
             u.base_layer + u.layer_count,

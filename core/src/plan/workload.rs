@@ -48,16 +48,22 @@ impl FramePlan {
             .map(|u| {
                 let a = &self.attachments[u.attachment];
                 let bytes = a.layer_bytes() * u.layer_count as u64;
+                let stencil = a.stencil_bytes() / a.layers as u64 * u.layer_count as u64;
                 let loaded = if u.load == LoadOp::Load { bytes } else { 0 };
-                let stored = if u.store == StoreOp::Store { bytes } else { 0 };
+                let stored = match (u.store, u.stencil_store) {
+                    (StoreOp::Store, StoreOp::Store) => bytes,
+                    (StoreOp::Store, StoreOp::DontCare) => bytes - stencil,
+                    (StoreOp::DontCare, _) => 0,
+                };
                 loaded + stored
             })
             .sum();
+        // A sampler reads a depth/stencil image's depth alone.
         let sampled: u64 = self
             .passes
             .iter()
             .flat_map(|p| &p.samples)
-            .map(|&i| self.attachments[i].bytes())
+            .map(|&i| self.attachments[i].bytes() - self.attachments[i].stencil_bytes())
             .sum();
         let read_back: u64 = self
             .outputs()

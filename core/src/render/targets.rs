@@ -136,10 +136,9 @@ fn description(plan: &FramePlan, u: &Use) -> vk::AttachmentDescription {
         } else {
             vk::AttachmentLoadOp::DONT_CARE
         })
-        .stencil_store_op(if stencil {
-            store
-        } else {
-            vk::AttachmentStoreOp::DONT_CARE
+        .stencil_store_op(match u.stencil_store {
+            StoreOp::Store => vk::AttachmentStoreOp::STORE,
+            StoreOp::DontCare => vk::AttachmentStoreOp::DONT_CARE,
         })
         .initial_layout(vk_layout(u.initial_layout))
         .final_layout(vk_layout(u.final_layout))
