@@ -185,6 +185,48 @@ vec4 history_at(uint eye, vec2 at, out bool mover) {
     return vec4(weight > 0.0 ? sum / weight : vec3(0.0), weight);
 }
 
+// Catmull-Rom's weights for the taps at -1, 0, 1 and 2 texels from the one below `f`.
+vec4 catmull_rom(float f) {
+    float f2 = f * f;
+    float f3 = f2 * f;
+    return vec4(-0.5 * f3 + f2 - 0.5 * f, 1.5 * f3 - 2.5 * f2 + 1.0, -1.5 * f3 + 2.0 * f2 + 0.5 * f,
+                0.5 * f3 - 0.5 * f2);
+}
+
+// The history at `at` resampled with Catmull-Rom over its 4×4 taps (Karis 2014: a bilinear
+// resample every frame blurs a history whose points all move, as on a walk), held within the
+// range of the 2×2 taps around `at` so its negative lobes cannot ring. `bilinear` where a tap
+// holds nothing or lies past the edge: a sharper kernel there would mix what was never seen.
+vec3 history_sharp(uint eye, vec2 at, vec3 bilinear) {
+    vec2 pos = at - 0.5;
+    ivec2 base = ivec2(floor(pos)) - 1;
+    if (any(lessThan(base, ivec2(0))) || any(greaterThan(base + 3, ivec2(c.screen.xy) - 1))) {
+        return bilinear;
+    }
+    vec4 wx = catmull_rom(pos.x - floor(pos.x));
+    vec4 wy = catmull_rom(pos.y - floor(pos.y));
+    vec3 sum = vec3(0.0);
+    vec3 lo = vec3(1e30);
+    vec3 hi = vec3(-1e30);
+    for (int y = 0; y < 4; y++) {
+        for (int x = 0; x < 4; x++) {
+            vec4 h = texelFetch(history, ivec3(base + ivec2(x, y), eye), 0);
+            if (h.a < 0.5 * MOVER) {
+                return bilinear;
+            }
+            vec3 linear = h.rgb * h.rgb;
+            sum += wx[x] * wy[y] * linear;
+            if (x == 1 || x == 2) {
+                if (y == 1 || y == 2) {
+                    lo = min(lo, linear);
+                    hi = max(hi, linear);
+                }
+            }
+        }
+    }
+    return clamp(sum, lo, hi);
+}
+
 // The accumulated periphery of eye `eye` at `uv` (the rendered field's) in direction `t`;
 // `next` is what the history keeps of this pixel.
 vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
@@ -244,6 +286,9 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
         bool mover_before;
         vec4 h = history_at(eye, at.xy, mover_before);
         clipped = clipped || (c.clip.x >= 0.0 && mover_before);
+        if (c.still.y > 0.5 && moved && h.w > 0.99) {
+            h.rgb = history_sharp(eye, at.xy, h.rgb);
+        }
 #ifdef COUNT_FRAGMENTS
         if (h.w <= 0.01) {
             NOTE_OUTCOME(history_outcome == OUTCOME_OFF_SCREEN ? OUTCOME_OFF_SCREEN : OUTCOME_EMPTY);

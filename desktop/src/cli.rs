@@ -44,7 +44,7 @@ enum Command {
     /// What accuracy costs: a full-quality stereo reference against foveation ratios x MSAA,
     /// blend bands and periphery sharpening: frame time beside PSNR and SSIM per region, FLIP and
     /// the eccentricity-aware FLIP; `--recommend` picks within an error budget.
-    Compare(crate::commands::compare::CompareArgs),
+    Compare(Box<crate::commands::compare::CompareArgs>),
     /// Temporal stability: flicker of each approximation beyond the reference's own change,
     /// along a saccade trace and with the head walking.
     Flicker(crate::commands::flicker::FlickerArgs),

@@ -3,7 +3,9 @@
 
 use anyhow::Result;
 use clap::Args;
-use foveate::foveation::{FoveationConfig, HistoryClip, PeripheryFilter, TemporalConfig};
+use foveate::foveation::{
+    FoveationConfig, HistoryClip, HistoryFilter, PeripheryFilter, TemporalConfig,
+};
 use foveate::mffr::MffrConfig;
 use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
 use foveate::scene::{named_scene, ClusterSettings, LodSettings, Scene, Shading};
@@ -88,6 +90,10 @@ pub struct ConfigArgs {
     /// library's.
     #[arg(long)]
     pub temporal_clip: Option<HistoryClip>,
+    /// With --temporal: how the history is read where the point moved: `bilinear` or
+    /// `catmull-rom` (sharper, three times the reads). Default: the library's.
+    #[arg(long)]
+    pub temporal_filter: Option<HistoryFilter>,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -393,6 +399,7 @@ impl ConfigArgs {
                     still_blend: self.temporal_still_blend.unwrap_or(default.still_blend),
                     jitter_cycle: self.jitter_cycle.unwrap_or(default.jitter_cycle),
                     clip: self.temporal_clip.unwrap_or(default.clip),
+                    filter: self.temporal_filter.unwrap_or(default.filter),
                     ..default
                 }
             }),
@@ -475,6 +482,7 @@ impl ConfigArgs {
                     given("--temporal-still-blend", &self.temporal_still_blend),
                     given("--jitter-cycle", &self.jitter_cycle),
                     given("--temporal-clip", &self.temporal_clip),
+                    given("--temporal-filter", &self.temporal_filter),
                 ],
             ),
             (

@@ -1,7 +1,9 @@
 //! The foveated variants a sweep measures beyond its plain rows (`compare`, `flicker`): the
 //! periphery at its own density and sample count, and accumulated over frames.
 
-use foveate::foveation::{FoveationConfig, HistoryClip, PeripheryFilter, TemporalConfig};
+use foveate::foveation::{
+    FoveationConfig, HistoryClip, HistoryFilter, PeripheryFilter, TemporalConfig,
+};
 
 /// Each foveated variant as it is, then with the periphery at each of `densities` and at each
 /// of `periphery_msaa`'s sample counts (every combination), named after what changed.
@@ -48,6 +50,10 @@ pub struct Accumulation {
     /// library's).
     #[arg(long, value_delimiter = ',')]
     pub clips: Vec<HistoryClip>,
+    /// With --temporal: one accumulated row per way of reading the history where the point
+    /// moved: `bilinear`, `catmull-rom` (default: the library's).
+    #[arg(long, value_delimiter = ',')]
+    pub history_filters: Vec<HistoryFilter>,
     /// With --temporal: a settled pixel's weight for a new sample (0 < w ≤ 1; default: the
     /// library's).
     #[arg(long)]
@@ -85,23 +91,52 @@ pub fn with_temporal(
         [] => &[default.clip][..],
         given => given,
     };
+    let filters = match &accumulation.history_filters[..] {
+        [] => &[default.filter][..],
+        given => given,
+    };
+    let ways: Vec<TemporalConfig> = clips
+        .iter()
+        .flat_map(|&clip| {
+            filters.iter().map(move |&filter| TemporalConfig {
+                clip,
+                filter,
+                ..default
+            })
+        })
+        .collect();
     let temporal: Vec<(String, FoveationConfig)> = variants
         .iter()
         .filter(|(name, f)| plain(f) && !name.contains(", band "))
         .flat_map(|(name, f)| {
-            clips.iter().map(move |&clip| {
+            ways.iter().map(move |&way| {
                 let config = FoveationConfig {
                     periphery_msaa: Some(1),
-                    periphery_temporal: Some(TemporalConfig { clip, ..default }),
+                    periphery_temporal: Some(way),
                     ..*f
                 };
-                let name = match clip == default.clip {
-                    true => format!("{name}, temporal"),
-                    false => format!("{name}, temporal (clip {clip})"),
-                };
-                (name, config)
+                (
+                    format!("{name}, temporal{}", way_words(way, default)),
+                    config,
+                )
             })
         })
         .collect();
     Ok(variants.into_iter().chain(temporal).collect())
+}
+
+/// What sets `way` apart from the default accumulation in a row's name: "" or " (clip range,
+/// catmull-rom)".
+fn way_words(way: TemporalConfig, default: TemporalConfig) -> String {
+    let mut words = Vec::new();
+    if way.clip != default.clip {
+        words.push(format!("clip {}", way.clip));
+    }
+    if way.filter != default.filter {
+        words.push(way.filter.to_string());
+    }
+    match words.is_empty() {
+        true => String::new(),
+        false => format!(" ({})", words.join(", ")),
+    }
 }
