@@ -18,6 +18,9 @@
 // blended in with a weight that falls with its distance from the pixel's centre. With no usable
 // history, the pixel starts from the bilinear periphery.
 
+// Read the history with Catmull-Rom where the point moved (HistoryFilter::CatmullRom).
+layout(constant_id = 36) const bool HISTORY_CATMULL_ROM = false;
+
 layout(set = 0, binding = 4) uniform sampler2DArray history;
 layout(set = 0, binding = 5) uniform sampler2DArray periphery_depth;
 layout(set = 0, binding = 6) uniform sampler2DArray previous_depth;
@@ -286,7 +289,7 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
         bool mover_before;
         vec4 h = history_at(eye, at.xy, mover_before);
         clipped = clipped || (c.clip.x >= 0.0 && mover_before);
-        if (c.still.y > 0.5 && moved && h.w > 0.99) {
+        if (HISTORY_CATMULL_ROM && moved && h.w > 0.99) {
             h.rgb = history_sharp(eye, at.xy, h.rgb);
         }
 #ifdef COUNT_FRAGMENTS

@@ -46,8 +46,7 @@ layout(std140, set = 0, binding = 1) uniform Output {
                                 // y: 1 tests the history against the frame before's depth,
                                 // 2 too and clips only where the point moved;
                                 // zw: the frame before's jitter
-    vec4 still;                 // x: a new sample's weight where nothing moved; y: 1 to
-                                // resample the history with Catmull-Rom where the point moved
+    vec4 still;                 // x: a new sample's weight where nothing moved
 } c;
 
 layout(location = 0) in vec2 in_uv;

@@ -65,6 +65,9 @@ pub enum Constant {
     /// The accumulating output stage of a counting frame: the first of its history-outcome
     /// counter slots (the plan's `history_outcome_base`).
     HistoryOutcomeBase,
+    /// The accumulating output stage: read the history with Catmull-Rom where the point moved
+    /// (`HistoryFilter::CatmullRom`): a constant, so a frame without it compiles none of it.
+    HistoryCatmullRom,
 }
 
 /// How a constant's 32 bits read.
@@ -80,7 +83,7 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 26] = {
+    pub const ALL: [Constant; 27] = {
         use Constant::*;
         [
             ViewSource,
@@ -109,6 +112,7 @@ impl Constant {
             Sharpen,
             CatmullRom,
             HistoryOutcomeBase,
+            HistoryCatmullRom,
         ]
     };
 
@@ -143,6 +147,7 @@ impl Constant {
             Sharpen => (33, "SHARPEN", Bool),
             CatmullRom => (34, "CATMULL_ROM", Bool),
             HistoryOutcomeBase => (35, "HISTORY_OUTCOME_BASE", Uint),
+            HistoryCatmullRom => (36, "HISTORY_CATMULL_ROM", Bool),
         }
     }
 

@@ -209,3 +209,41 @@ fn pipelines_that_differ_in_a_constant_are_not_the_same_value() {
     );
     assert!(text.contains("FIRST_VIEW=2"), "{text}");
 }
+
+/// The history's Catmull-Rom read is compiled into the accumulating output stage only when the
+/// configuration asks for it: the default frame's pipeline has none of it. Mutation: the
+/// constant set from the clip instead of the filter fails it.
+#[test]
+fn the_history_filter_is_a_constant_of_the_output_stage() {
+    use crate::foveation::{HistoryFilter, TemporalConfig};
+    let output_constant = |filter| {
+        let config = RenderConfig {
+            msaa: 1,
+            foveation: Some(FoveationConfig {
+                ratio: 0.35,
+                periphery_density: Some(0.5),
+                periphery_msaa: Some(1),
+                periphery_temporal: Some(TemporalConfig {
+                    filter,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            }),
+            ..base(StereoMode::Multiview)
+        };
+        let planned = plan(&atrium_scene(), &config, &DeviceCaps::generic()).unwrap();
+        let output = planned.passes.last().unwrap();
+        let step = output
+            .steps
+            .iter()
+            .position(|s| matches!(s, Step::Output(_)))
+            .expect("the output step");
+        output.pipelines[step]
+            .constants
+            .iter()
+            .find(|c| c.0 == Constant::HistoryCatmullRom)
+            .map(|c| c.1)
+    };
+    assert_ne!(output_constant(HistoryFilter::Bilinear), Some(1));
+    assert_eq!(output_constant(HistoryFilter::CatmullRom), Some(1));
+}

@@ -7,7 +7,7 @@
 use glam::{Mat4, Vec2, Vec4};
 
 use super::executor::FrameContext;
-use crate::foveation::{HistoryClip, HistoryFilter, TemporalConfig};
+use crate::foveation::{HistoryClip, TemporalConfig};
 use crate::plan::FramePlan;
 use crate::view::{reverse_z_projection, Eye, FovTangents};
 
@@ -83,12 +83,7 @@ impl TemporalAccumulation {
                 self.previous_jitter.x,
                 self.previous_jitter.y,
             ),
-            still: Vec4::new(
-                self.config.still_blend,
-                (self.config.filter == HistoryFilter::CatmullRom) as u32 as f32,
-                0.0,
-                0.0,
-            ),
+            still: Vec4::new(self.config.still_blend, 0.0, 0.0, 0.0),
         };
         self.previous_jitter = jitter;
         self.previous = Some((
