@@ -60,7 +60,10 @@ xr_start() {
         XRT_COMPOSITOR_NULL=1 XRT_NO_STDIN=1 QWERTY_ENABLE=1 monado-service \
         >"$(xr_dir)/monado.log" 2>&1 &
     XR_SERVICE_PID=$!
-    for i in $(seq 1 100); do
+    # Its null compositor usually starts in about 5 s on lavapipe, but twice in a row on an
+    # idle 2-core machine it had not within 10 s (a start by hand just after took 5 s): wait
+    # up to 60 s (a service that died ends the wait at once).
+    for i in $(seq 1 600); do
         [ -S "$root/run/xr/monado_comp_ipc" ] && {
             echo "foveate xr: monado-service $(cat "$root/.foveate-ready") running (pid $XR_SERVICE_PID)" >&2
             return 0
