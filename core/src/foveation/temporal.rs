@@ -44,7 +44,7 @@ pub enum HistoryFilter {
     Bilinear,
     /// Catmull-Rom over the 4×4 pixels around it (Karis 2014, "High quality temporal
     /// supersampling"), held within the 2×2's range so its negative lobes cannot ring;
-    /// bilinear where any of the 16 holds nothing. Sharper, and three times the reads.
+    /// bilinear where any of the 16 holds nothing. Sharper, and four times the reads (16 to 4).
     CatmullRom,
 }
 
