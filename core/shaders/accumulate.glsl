@@ -219,11 +219,9 @@ vec3 history_sharp(uint eye, vec2 at, vec3 bilinear) {
             }
             vec3 linear = h.rgb * h.rgb;
             sum += wx[x] * wy[y] * linear;
-            if (x == 1 || x == 2) {
-                if (y == 1 || y == 2) {
-                    lo = min(lo, linear);
-                    hi = max(hi, linear);
-                }
+            if ((x == 1 || x == 2) && (y == 1 || y == 2)) {
+                lo = min(lo, linear);
+                hi = max(hi, linear);
             }
         }
     }
