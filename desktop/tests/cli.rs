@@ -846,7 +846,7 @@ fn flicker_measures_each_approximation_along_every_motion() {
     args.extend(["--flip", "--csv", csv.to_str().unwrap()]);
     let o = foveate(&args);
     assert!(o.status.success(), "{}", stderr(&o));
-    let rows = read_csv(&csv, 14);
+    let rows = read_csv(&csv, 16);
     // Four motions × (stereo MSAA 1, foveated 0.5, and accumulated), three changes each.
     assert_eq!(rows.len(), 12, "{rows:?}");
     let motions: Vec<&str> = rows
@@ -858,6 +858,9 @@ fn flicker_measures_each_approximation_along_every_motion() {
     for r in &rows {
         assert_numeric(r, &["motion", "config"]);
         assert_eq!(r["changes"], "3");
+        // Each row's time beside its error, as a ratio to the reference's in the same run.
+        assert!(r["frame_ms"].parse::<f64>().unwrap() > 0.0, "{r:?}");
+        assert!(r["x_ref"].parse::<f64>().unwrap() > 0.0, "{r:?}");
     }
     let at = |motion: &str, config: &str, column: &str| -> f64 {
         let r = rows
@@ -919,7 +922,7 @@ fn flicker_measures_each_approximation_along_every_motion() {
         "{}",
         stdout(&o)
     );
-    assert_eq!(read_csv(&csv, 14).len(), 2);
+    assert_eq!(read_csv(&csv, 16).len(), 2);
     // The gaze at rest moves the fovea of the still frames, and the judge's eye with it.
     let still_at = |gaze: &str| {
         let mut args = SMALL_FLICKER.to_vec();
@@ -927,7 +930,7 @@ fn flicker_measures_each_approximation_along_every_motion() {
         args.extend(["--csv", csv.to_str().unwrap()]);
         let o = foveate(&args);
         assert!(o.status.success(), "{}", stderr(&o));
-        let row = read_csv(&csv, 14).remove(1);
+        let row = read_csv(&csv, 16).remove(1);
         assert_eq!(row["config"], "foveated 0.5, MSAA 4");
         (stdout(&o), row["eflip_mean"].parse::<f64>().unwrap())
     };

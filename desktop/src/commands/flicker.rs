@@ -618,6 +618,8 @@ fn write_csv(results: &[Row], path: Option<&std::path::Path>) -> Result<()> {
     let mut csv = CsvTable::new(&[
         "motion",
         "config",
+        "frame_ms",
+        "x_ref",
         "changes",
         "flicker_mean",
         "flicker_p99",
@@ -637,6 +639,8 @@ fn write_csv(results: &[Row], path: Option<&std::path::Path>) -> Result<()> {
         csv.row(&[
             &row.motion,
             &row.name,
+            &opt(row.frame_ms, 3),
+            &opt(row.ratio, 4),
             &s.changes,
             &mean(s.all),
             &opt(s.all.map(|e| e.p99), 6),
@@ -734,8 +738,8 @@ fn print_table(rows: &[Row]) {
         false => String::new(),
     };
     println!(
-        "\n{:<10} {:<width$} {:>10} {:>8} {:>10} {:>10} {:>10}{eflip}",
-        "motion", "configuration", "mean", "p99", "fovea", "band", "periphery"
+        "\n{:<10} {:<width$} {:>9} {:>6} {:>10} {:>8} {:>10} {:>10} {:>10}{eflip}",
+        "motion", "configuration", "frame ms", "x ref", "mean", "p99", "fovea", "band", "periphery"
     );
     let mean = |e: Option<ErrorSummary>| e.map_or("-".to_string(), |e| format!("{:.5}", e.mean));
     for row in rows {
@@ -755,10 +759,14 @@ fn print_table(rows: &[Row]) {
             }
             None => String::new(),
         };
+        let time =
+            |t: Option<f64>, digits: usize| t.map_or("-".to_string(), |t| format!("{t:.digits$}"));
         println!(
-            "{:<10} {:<width$} {:>10} {:>8} {:>10} {:>10} {:>10}{eflip}",
+            "{:<10} {:<width$} {:>9} {:>6} {:>10} {:>8} {:>10} {:>10} {:>10}{eflip}",
             row.motion,
             row.name,
+            time(row.frame_ms, 1),
+            time(row.ratio, 3),
             mean(s.all),
             s.all.map_or("-".to_string(), |e| format!("{:.4}", e.p99)),
             mean(s.regions[0]),
@@ -766,6 +774,13 @@ fn print_table(rows: &[Row]) {
             mean(s.regions[2]),
         );
     }
+    let untimed = match rows.iter().any(|r| r.frame_ms.is_none()) {
+        true => "; -: its frames count --history-outcomes, so they are no timing",
+        false => "",
+    };
+    println!(
+        "(time: the median frame time along the motion, every configuration's frames interleaved with the reference's (stereo, MSAA 4), none carrying an instrument; x ref: over the reference's median{untimed})"
+    );
     println!(
         "(flicker: per pixel and frame, how much more the output's luma (0..1) changed from the previous frame than the reference's (stereo, MSAA 4) did — max(0, |ΔT| − |ΔR|) — over the pixels the lens shows, both eyes; mean and 99th percentile, then the mean per region at each frame's gaze; metrics::temporal)"
     );
