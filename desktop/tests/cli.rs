@@ -846,7 +846,7 @@ fn flicker_measures_each_approximation_along_every_motion() {
     args.extend(["--flip", "--csv", csv.to_str().unwrap()]);
     let o = foveate(&args);
     assert!(o.status.success(), "{}", stderr(&o));
-    let rows = read_csv(&csv, 16);
+    let rows = read_csv(&csv, 17);
     // Four motions × (stereo MSAA 1, foveated 0.5, and accumulated), three changes each.
     assert_eq!(rows.len(), 12, "{rows:?}");
     let motions: Vec<&str> = rows
@@ -875,6 +875,11 @@ fn flicker_measures_each_approximation_along_every_motion() {
     assert_eq!(at("saccades", "stereo, MSAA 1", "flicker_mean"), 0.0);
     assert_eq!(at("still", "foveated 0.5, MSAA 4", "flicker_mean"), 0.0);
     assert!(at("saccades", "foveated 0.5, MSAA 4", "flicker_mean") > 0.0);
+    // The bytes beside the time: what each plan moves (a formula), the accumulated history
+    // on top of the single-frame periphery's.
+    let bytes = |config: &str| at("walking", config, "external_traffic_bytes");
+    assert!(bytes("stereo, MSAA 1") > 0.0);
+    assert!(bytes("foveated 0.5, temporal, MSAA 4") > bytes("foveated 0.5, MSAA 4"));
     // Every row is judged frame by frame; none equals the reference.
     for r in &rows {
         let name = r["config"].as_str();
@@ -922,7 +927,7 @@ fn flicker_measures_each_approximation_along_every_motion() {
         "{}",
         stdout(&o)
     );
-    assert_eq!(read_csv(&csv, 16).len(), 2);
+    assert_eq!(read_csv(&csv, 17).len(), 2);
     // The gaze at rest moves the fovea of the still frames, and the judge's eye with it.
     let still_at = |gaze: &str| {
         let mut args = SMALL_FLICKER.to_vec();
@@ -930,7 +935,7 @@ fn flicker_measures_each_approximation_along_every_motion() {
         args.extend(["--csv", csv.to_str().unwrap()]);
         let o = foveate(&args);
         assert!(o.status.success(), "{}", stderr(&o));
-        let row = read_csv(&csv, 16).remove(1);
+        let row = read_csv(&csv, 17).remove(1);
         assert_eq!(row["config"], "foveated 0.5, MSAA 4");
         (stdout(&o), row["eflip_mean"].parse::<f64>().unwrap())
     };

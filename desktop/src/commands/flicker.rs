@@ -600,6 +600,7 @@ impl MotionRun<'_> {
                 foveated: config.foveation.is_some(),
                 frame_ms,
                 ratio: frame_ms.zip(reference_ms).map(|(t, r)| t / r),
+                traffic_bytes: self.plans[i + 1].external_traffic_bytes(),
                 flicker: meter.summary(),
                 accuracy: AlongMotion::of(frames),
                 history: (!history.is_empty()).then(|| OutcomesAlong {
@@ -620,6 +621,7 @@ fn write_csv(results: &[Row], path: Option<&std::path::Path>) -> Result<()> {
         "config",
         "frame_ms",
         "x_ref",
+        "external_traffic_bytes",
         "changes",
         "flicker_mean",
         "flicker_p99",
@@ -641,6 +643,7 @@ fn write_csv(results: &[Row], path: Option<&std::path::Path>) -> Result<()> {
             &row.name,
             &opt(row.frame_ms, 3),
             &opt(row.ratio, 4),
+            &row.traffic_bytes,
             &s.changes,
             &mean(s.all),
             &opt(s.all.map(|e| e.p99), 6),
@@ -670,6 +673,8 @@ struct Row {
     /// The median frame time along the motion, and over the reference's (counting rows: none).
     frame_ms: Option<f64>,
     ratio: Option<f64>,
+    /// What a tile GPU would move per frame by the plan's rule (a formula, not a measurement).
+    traffic_bytes: u64,
 }
 
 impl Row {
@@ -738,8 +743,17 @@ fn print_table(rows: &[Row]) {
         false => String::new(),
     };
     println!(
-        "\n{:<10} {:<width$} {:>9} {:>6} {:>10} {:>8} {:>10} {:>10} {:>10}{eflip}",
-        "motion", "configuration", "frame ms", "x ref", "mean", "p99", "fovea", "band", "periphery"
+        "\n{:<10} {:<width$} {:>9} {:>6} {:>7} {:>10} {:>8} {:>10} {:>10} {:>10}{eflip}",
+        "motion",
+        "configuration",
+        "frame ms",
+        "x ref",
+        "MiB",
+        "mean",
+        "p99",
+        "fovea",
+        "band",
+        "periphery"
     );
     let mean = |e: Option<ErrorSummary>| e.map_or("-".to_string(), |e| format!("{:.5}", e.mean));
     for row in rows {
@@ -762,11 +776,12 @@ fn print_table(rows: &[Row]) {
         let time =
             |t: Option<f64>, digits: usize| t.map_or("-".to_string(), |t| format!("{t:.digits$}"));
         println!(
-            "{:<10} {:<width$} {:>9} {:>6} {:>10} {:>8} {:>10} {:>10} {:>10}{eflip}",
+            "{:<10} {:<width$} {:>9} {:>6} {:>7.1} {:>10} {:>8} {:>10} {:>10} {:>10}{eflip}",
             row.motion,
             row.name,
             time(row.frame_ms, 1),
             time(row.ratio, 3),
+            row.traffic_bytes as f64 / (1024.0 * 1024.0),
             mean(s.all),
             s.all.map_or("-".to_string(), |e| format!("{:.4}", e.p99)),
             mean(s.regions[0]),
@@ -779,7 +794,7 @@ fn print_table(rows: &[Row]) {
         false => "",
     };
     println!(
-        "(time: the median frame time along the motion, every configuration's frames interleaved with the reference's (stereo, MSAA 4), none carrying an instrument; x ref: over the reference's median{untimed})"
+        "(time: the median frame time along the motion, every configuration's frames interleaved with the reference's (stereo, MSAA 4), none carrying an instrument; x ref: over the reference's median{untimed}; MiB: what a tile GPU moves per frame by the plan's rule, attachment loads and stores, sampling and readback, a formula as `foveate plan` prints it)"
     );
     println!(
         "(flicker: per pixel and frame, how much more the output's luma (0..1) changed from the previous frame than the reference's (stereo, MSAA 4) did — max(0, |ΔT| − |ΔR|) — over the pixels the lens shows, both eyes; mean and 99th percentile, then the mean per region at each frame's gaze; metrics::temporal)"
