@@ -1,7 +1,13 @@
-//! Printing what a counting frame measured: fragments per step and view, scene and total.
+//! Printing workload counts: what a counting frame measured (fragments per step and view, scene
+//! and total), and bytes in MiB.
 
 use foveate::plan::CountedStep;
 use foveate::render::FrameStats;
+
+/// Bytes in MiB, as the workload columns print them.
+pub fn mib(bytes: u64) -> f64 {
+    bytes as f64 / (1024.0 * 1024.0)
+}
 
 const VIEW_NAMES: [&str; 5] = [
     "left eye",

@@ -13,6 +13,7 @@ use foveate::scene::{named_scene, Shading};
 use crate::commands::bench::accuracy::AccuracyPoint;
 use crate::commands::bench::plots::accuracy_plot;
 use crate::commands::latency::{latency_sweep, LatencyArgs, Sweep};
+use crate::counts::mib;
 use crate::csv_out::{opt, CsvTable};
 use crate::file_names::slug;
 use crate::fovea_table::{self, TableSettings};
@@ -496,7 +497,7 @@ fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
             row.run.scene_fragments(),
             row.run.total_fragments,
             row.run.plan.resolved_samples(),
-            row.run.plan.external_traffic_bytes() as f64 / (1024.0 * 1024.0),
+            mib(row.run.plan.external_traffic_bytes()),
             cells[0],
             cells[1],
             cells[2],
@@ -530,7 +531,7 @@ fn print_frontier(rows: &[Row], points: &[Point]) {
             p.error,
             r.run.total_fragments,
             r.run.plan.resolved_samples(),
-            r.run.plan.external_traffic_bytes() as f64 / (1024.0 * 1024.0)
+            mib(r.run.plan.external_traffic_bytes())
         );
     }
 }

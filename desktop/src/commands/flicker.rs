@@ -23,6 +23,7 @@ use foveate::scene::{walking_pose, Walker};
 use glam::{Mat4, Vec2};
 
 use crate::commands::motion_frontier::{self, plot_stem, MotionPoint};
+use crate::counts::mib;
 use crate::csv_out::{opt, CsvTable};
 use crate::frame_args::ComparedFrame;
 use crate::history_table::OutcomesAlong;
@@ -781,7 +782,7 @@ fn print_table(rows: &[Row]) {
             row.name,
             time(row.frame_ms, 1),
             time(row.ratio, 3),
-            row.traffic_bytes as f64 / (1024.0 * 1024.0),
+            mib(row.traffic_bytes),
             mean(s.all),
             s.all.map_or("-".to_string(), |e| format!("{:.4}", e.p99)),
             mean(s.regions[0]),

@@ -14,6 +14,7 @@ use serde::Serialize;
 
 use super::accuracy::AccuracyPoint;
 use super::{BenchArgs, Settings, Toggles};
+use crate::counts::mib;
 use crate::csv_out::{opt, CsvTable};
 
 /// One measured configuration.
@@ -551,10 +552,6 @@ impl Report {
         }
         csv.into_string()
     }
-}
-
-fn mib(bytes: u64) -> f64 {
-    bytes as f64 / (1024.0 * 1024.0)
 }
 
 /// The baseline's attachments and buffers, as the thesis lists its VRAM (Table 6.3).
