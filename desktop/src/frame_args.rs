@@ -71,7 +71,8 @@ pub struct ConfigArgs {
     /// depth. Needs a 1x periphery (--periphery-msaa 1).
     #[arg(long)]
     pub temporal: bool,
-    /// With --temporal: a new sample's weight against the history (0 < w ≤ 1; default 0.125).
+    /// With --temporal: a new sample's weight against the history where the point moved
+    /// (0 < w ≤ 1). Default: the library's.
     #[arg(long)]
     pub temporal_blend: Option<f32>,
     /// With --temporal: the same weight where nothing moved (the head's motion moved the

@@ -83,6 +83,28 @@ fn periphery_only(plan: &FramePlan, gaze: Vec2) -> [Vec<bool>; 2] {
     })
 }
 
+/// Half a second of the head turning 20°/s from the scene's pose, the gaze ahead: every point
+/// of the periphery moves every frame.
+fn turning(scene: &Scene) -> Vec<(Mat4, Vec2)> {
+    (0..45)
+        .map(|f| {
+            let angle = (20.0f32 / 90.0 * f as f32).to_radians();
+            (scene.head * Mat4::from_rotation_y(angle), Vec2::ZERO)
+        })
+        .collect()
+}
+
+/// The supersampled reference at `pose`: the scene in stereo at 4× the resolution, box-filtered.
+fn supersampled(gpu: &foveate::gpu::Gpu, scene: &Scene, pose: (Mat4, Vec2)) -> [Vec<[f64; 3]>; 2] {
+    let stereo = RenderConfig {
+        foveation: None,
+        resolution: Some(Resolution::square(SCREEN * 4)),
+        ..config(SCREEN, None)
+    };
+    let (_, big) = render_sequence(gpu, scene, &stereo, &[pose], |_| true);
+    Eye::BOTH.map(|e| box_down(big[0].eye(e), 4))
+}
+
 /// Mean absolute error in linear light against the reference, over `region`, both eyes.
 fn periphery_error(
     image: &StereoImage,
@@ -408,21 +430,8 @@ fn the_still_blend_sets_the_shimmer_only_where_nothing_moved() {
 fn catmull_rom_keeps_a_turning_history_sharper() {
     let gpu = gpu();
     let scene = atrium_scene();
-    let frames = 45;
-    let turn: Vec<_> = (0..frames)
-        .map(|f| {
-            let angle = (20.0f32 / 90.0 * f as f32).to_radians();
-            (scene.head * Mat4::from_rotation_y(angle), Vec2::ZERO)
-        })
-        .collect();
-    let stereo = RenderConfig {
-        foveation: None,
-        resolution: Some(Resolution::square(SCREEN * 4)),
-        ..config(SCREEN, None)
-    };
-    let last = turn[frames - 1];
-    let (_, big) = render_sequence(&gpu, &scene, &stereo, &[last], |_| true);
-    let reference = Eye::BOTH.map(|e| box_down(big[0].eye(e), 4));
+    let turn = turning(&scene);
+    let reference = supersampled(&gpu, &scene, turn[turn.len() - 1]);
     let with = |filter: HistoryFilter, poses: &[(Mat4, Vec2)]| {
         let t = TemporalConfig {
             filter,
@@ -448,5 +457,54 @@ fn catmull_rom_keeps_a_turning_history_sharper() {
         a[0].eye(Eye::Left).data == c[0].eye(Eye::Left).data
             && a[0].eye(Eye::Right).data == c[0].eye(Eye::Right).data,
         "with the head still, catmull-rom changes the image"
+    );
+}
+
+/// Where the head's motion moves every point, the history is resampled every frame and blurs
+/// with each resample; a new sample blended in at the default moving blend (0.35) keeps fewer
+/// resamples in the image than ⅛ does, so after half a second of a head turning 20°/s the
+/// periphery lies closer to the supersampled reference. With the head still the moving blend
+/// is never used (the still blend is), and the two give the same image to the bit. Mutation
+/// runs: the default put back at ⅛ (the two configurations then equal) fails the first half;
+/// the shader taking the moving blend everywhere, the second.
+#[test]
+fn the_moving_blend_keeps_a_turning_history_sharper() {
+    let gpu = gpu();
+    let scene = atrium_scene();
+    let turn = turning(&scene);
+    let reference = supersampled(&gpu, &scene, turn[turn.len() - 1]);
+    let with = |t: TemporalConfig, poses: &[(Mat4, Vec2)]| {
+        render_sequence(&gpu, &scene, &config(SCREEN, Some(t)), poses, |f| {
+            f == poses.len() - 1
+        })
+    };
+    let default = TemporalConfig::default();
+    let eighth = TemporalConfig {
+        blend: 0.125,
+        ..default
+    };
+    let (plan, at_default) = with(default, &turn);
+    let (_, at_eighth) = with(eighth, &turn);
+    let region = periphery_only(&plan, Vec2::ZERO);
+    let (d, e) = (
+        periphery_error(&at_default[0], &reference, &region),
+        periphery_error(&at_eighth[0], &reference, &region),
+    );
+    eprintln!(
+        "periphery error after the turn: blend {} {d:.5}, 1/8 {e:.5}",
+        default.blend
+    );
+    assert!(
+        d < 0.97 * e,
+        "blend {}: {d} against 1/8's {e}",
+        default.blend
+    );
+    let still = vec![(scene.head, Vec2::ZERO); 12];
+    let (_, a) = with(default, &still);
+    let (_, b) = with(eighth, &still);
+    assert!(
+        a[0].eye(Eye::Left).data == b[0].eye(Eye::Left).data
+            && a[0].eye(Eye::Right).data == b[0].eye(Eye::Right).data,
+        "with the head still, the moving blend changes the image"
     );
 }

@@ -174,7 +174,11 @@ impl HistoryClip {
 impl Default for TemporalConfig {
     fn default() -> Self {
         TemporalConfig {
-            blend: 0.125,
+            // A history resampled every frame blurs with each resample it keeps. Along the walk
+            // at the Quest Pro's panel 0.35 had the least flicker of ⅛, ¼, 0.35, ½ and 1
+            // (0.00241 against ⅛'s 0.00262) and an eFLIP p99 within 3 % of the best (0.0534
+            // against ⅛'s 0.0604) (BENCHMARKS.md, "A faster blend where the point moved").
+            blend: 0.35,
             // Halves the jitter's shimmer with the head still (to the ≤ 0.0003 asked at the
             // Quest Pro's panel) for 4–9 % of that frame's eFLIP p99 (BENCHMARKS.md).
             still_blend: 0.0625,
