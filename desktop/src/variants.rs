@@ -64,6 +64,10 @@ pub struct Accumulation {
     /// With --temporal: frames in the jitter cycle (1: no jitter; default: the library's).
     #[arg(long)]
     pub jitter_cycle: Option<u32>,
+    /// With --temporal: one accumulated row per periphery sample count, 1 or 4 (default 1;
+    /// 4 needs a device that resolves depth in a pass, VK_KHR_depth_stencil_resolve).
+    #[arg(long, value_delimiter = ',')]
+    pub temporal_msaa: Vec<u32>,
 }
 
 /// `variants` and, after them, each plain one (single-sample periphery, not sharpened,
@@ -105,18 +109,31 @@ pub fn with_temporal(
             })
         })
         .collect();
+    let samples = match &accumulation.temporal_msaa[..] {
+        [] => &[1][..],
+        given => given,
+    };
+    let ways: Vec<(TemporalConfig, u32)> = ways
+        .iter()
+        .flat_map(|&way| samples.iter().map(move |&m| (way, m)))
+        .collect();
     let temporal: Vec<(String, FoveationConfig)> = variants
         .iter()
         .filter(|(name, f)| plain(f) && !name.contains(", band "))
         .flat_map(|(name, f)| {
-            ways.iter().map(move |&way| {
+            ways.iter().map(move |&(way, samples)| {
                 let config = FoveationConfig {
-                    periphery_msaa: Some(1),
+                    periphery_msaa: Some(samples),
                     periphery_temporal: Some(way),
                     ..*f
                 };
+                let at = if samples == 1 {
+                    String::new()
+                } else {
+                    format!(" at {samples}x")
+                };
                 (
-                    format!("{name}, temporal{}", way_words(way, default)),
+                    format!("{name}, temporal{at}{}", way_words(way, default)),
                     config,
                 )
             })

@@ -843,15 +843,22 @@ const SMALL_FLICKER: [&str; 10] = [
 fn flicker_measures_each_approximation_along_every_motion() {
     let csv = std::env::temp_dir().join(format!("foveate-flicker-{}.csv", std::process::id()));
     let mut args = SMALL_FLICKER.to_vec();
-    args.extend(["--flip", "--csv", csv.to_str().unwrap()]);
+    args.extend([
+        "--temporal-msaa",
+        "1,4",
+        "--flip",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
     let o = foveate(&args);
     assert!(o.status.success(), "{}", stderr(&o));
     let rows = read_csv(&csv, 17);
-    // Four motions × (stereo MSAA 1, foveated 0.5, and accumulated), three changes each.
-    assert_eq!(rows.len(), 12, "{rows:?}");
+    // Four motions × (stereo MSAA 1, foveated 0.5, and accumulated at 1× and 4×), three
+    // changes each.
+    assert_eq!(rows.len(), 16, "{rows:?}");
     let motions: Vec<&str> = rows
         .iter()
-        .step_by(3)
+        .step_by(4)
         .map(|r| r["motion"].as_str())
         .collect();
     assert_eq!(motions, ["still", "saccades", "large saccades", "walking"]);
@@ -880,6 +887,10 @@ fn flicker_measures_each_approximation_along_every_motion() {
     let bytes = |config: &str| at("walking", config, "external_traffic_bytes");
     assert!(bytes("stereo, MSAA 1") > 0.0);
     assert!(bytes("foveated 0.5, temporal, MSAA 4") > bytes("foveated 0.5, MSAA 4"));
+    // A 4× periphery's samples and depth stay on tile: it moves no more than at 1×.
+    assert!(
+        bytes("foveated 0.5, temporal at 4x, MSAA 4") <= bytes("foveated 0.5, temporal, MSAA 4")
+    );
     // Every row is judged frame by frame; none equals the reference.
     for r in &rows {
         let name = r["config"].as_str();

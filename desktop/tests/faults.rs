@@ -91,6 +91,18 @@ fn silent_acceptance_is_an_error_naming_option_value_and_rule() {
         &["flicker", "--res", "32", "--gaze", "0.3,-1.5"],
         "invalid gaze = 0.3,-1.5: X and Y finite, in -1..1",
     );
+    refused(
+        &dir,
+        &[
+            "flicker",
+            "--res",
+            "32",
+            "--temporal",
+            "--temporal-msaa",
+            "1,2",
+        ],
+        "invalid periphery_msaa = 2: 1 or 4",
+    );
     for (option, value, mode) in [
         ("--temporal-blend", "0.3", "--temporal"),
         ("--split", "2px", "--mffr"),

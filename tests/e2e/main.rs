@@ -28,4 +28,5 @@ mod shaders;
 mod stereo;
 mod temporal;
 mod temporal_motion;
+mod temporal_msaa;
 mod zero_cost;

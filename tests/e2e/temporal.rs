@@ -34,7 +34,7 @@ pub(crate) fn config(screen: u32, temporal: Option<TemporalConfig>) -> RenderCon
 
 /// Plans `config` and renders `poses` in order (each a head pose and a gaze), reading back
 /// after each frame that `read` asks for.
-fn render_sequence(
+pub(crate) fn render_sequence(
     gpu: &foveate::gpu::Gpu,
     scene: &Scene,
     config: &RenderConfig,
@@ -67,7 +67,7 @@ fn box_down(image: &RgbaImage, k: u32) -> Vec<[f64; 3]> {
 }
 
 /// Where the periphery alone shows: beyond the fovea circle (band included) by two pixels.
-fn periphery_only(plan: &FramePlan, gaze: Vec2) -> [Vec<bool>; 2] {
+pub(crate) fn periphery_only(plan: &FramePlan, gaze: Vec2) -> [Vec<bool>; 2] {
     let g = plan.foveation.unwrap();
     let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
     let fovea = fovea_views(&plan.eyes, g.ratio, [gaze; 2], screen);
@@ -95,7 +95,11 @@ fn turning(scene: &Scene) -> Vec<(Mat4, Vec2)> {
 }
 
 /// The supersampled reference at `pose`: the scene in stereo at 4× the resolution, box-filtered.
-fn supersampled(gpu: &foveate::gpu::Gpu, scene: &Scene, pose: (Mat4, Vec2)) -> [Vec<[f64; 3]>; 2] {
+pub(crate) fn supersampled(
+    gpu: &foveate::gpu::Gpu,
+    scene: &Scene,
+    pose: (Mat4, Vec2),
+) -> [Vec<[f64; 3]>; 2] {
     let stereo = RenderConfig {
         foveation: None,
         resolution: Some(Resolution::square(SCREEN * 4)),
@@ -106,7 +110,7 @@ fn supersampled(gpu: &foveate::gpu::Gpu, scene: &Scene, pose: (Mat4, Vec2)) -> [
 }
 
 /// Mean absolute error in linear light against the reference, over `region`, both eyes.
-fn periphery_error(
+pub(crate) fn periphery_error(
     image: &StereoImage,
     reference: &[Vec<[f64; 3]>; 2],
     region: &[Vec<bool>; 2],

@@ -358,7 +358,17 @@ pub struct Gpu {
     pub(crate) pipelines: Arc<ObjectCache<Pipeline, PipelineKey>>,
     /// The driver's pipeline cache, saved where it was loaded from when the last handle goes.
     pub(crate) pipeline_cache: Arc<PipelineCacheFile>,
+    /// `vkCreateRenderPass2KHR`, where [`DeviceCaps::depth_resolve`] is on: the render passes
+    /// that resolve depth are made with it.
+    pub(crate) render_pass2: Option<ash::khr::create_renderpass2::Device>,
 }
+
+/// The device extensions a pass needs to resolve its depth (`DeviceCaps::depth_resolve`),
+/// enabled wherever all are offered (Vulkan 1.1 devices; core in 1.2).
+const DEPTH_RESOLVE_EXTENSIONS: [&std::ffi::CStr; 2] = [
+    ash::khr::create_renderpass2::NAME,
+    ash::khr::depth_stencil_resolve::NAME,
+];
 
 impl Gpu {
     /// Opens the best device (discrete > integrated > virtual > CPU, so lavapipe where nothing
@@ -415,13 +425,20 @@ impl Gpu {
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
         let mut device_extensions = Vec::new();
-        if options.display.is_some() {
-            let offered = unsafe { vk_instance.enumerate_device_extension_properties(physical) }
-                .vk("vkEnumerateDeviceExtensionProperties")?;
-            if !offered
+        // SAFETY: a query on a valid physical device.
+        let offered = unsafe { vk_instance.enumerate_device_extension_properties(physical) }
+            .vk("vkEnumerateDeviceExtensionProperties")?;
+        let offers = |name| {
+            offered
                 .iter()
-                .any(|e| e.extension_name_as_c_str() == Ok(ash::khr::swapchain::NAME))
-            {
+                .any(|e| e.extension_name_as_c_str() == Ok(name))
+        };
+        let depth_resolve = DEPTH_RESOLVE_EXTENSIONS.iter().all(|&name| offers(name));
+        if depth_resolve {
+            device_extensions.extend(DEPTH_RESOLVE_EXTENSIONS.iter().map(|n| n.as_ptr()));
+        }
+        if options.display.is_some() {
+            if !offers(ash::khr::swapchain::NAME) {
                 return Err(GpuError::NoPresentation(format!(
                     "{} does not offer VK_KHR_swapchain",
                     chosen.info.name
@@ -449,6 +466,7 @@ impl Gpu {
             queue_family,
             queue_index: 0,
             enabled: features,
+            depth_resolve,
             owned: true,
             queue_lock: Arc::default(),
         };

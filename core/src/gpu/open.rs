@@ -47,6 +47,8 @@ pub(super) struct DeviceParts {
     pub queue_family: u32,
     pub queue_index: u32,
     pub enabled: vk::PhysicalDeviceFeatures,
+    /// The extensions a pass needs to resolve depth are enabled.
+    pub depth_resolve: bool,
     pub owned: bool,
     pub queue_lock: Arc<Mutex<()>>,
 }
@@ -131,6 +133,7 @@ impl Gpu {
             queue_family: engine.queue_family,
             queue_index: engine.queue_index,
             enabled: engine.enabled_features,
+            depth_resolve: false,
             owned: false,
             queue_lock: engine.queue_lock,
         };
@@ -176,7 +179,10 @@ impl Gpu {
         };
         let timestamps = props.limits.timestamp_compute_and_graphics == vk::TRUE
             || families[parts.queue_family as usize].timestamp_valid_bits > 0;
-        let caps = device_caps(chosen, &props, &parts.enabled, timestamps);
+        let caps = device_caps(chosen, &props, &parts, timestamps);
+        let render_pass2 = parts
+            .depth_resolve
+            .then(|| ash::khr::create_renderpass2::Device::new(vk_instance, &device));
         log::info!(
             "device: {} ({:?}, driver {}{}); quirks: {:?}",
             chosen.info.name,
@@ -209,6 +215,7 @@ impl Gpu {
             render_passes: Arc::default(),
             pipelines: Arc::default(),
             pipeline_cache: Arc::new(pipeline_cache),
+            render_pass2,
         })
     }
 
@@ -223,10 +230,11 @@ impl Gpu {
 fn device_caps(
     chosen: &Candidate,
     props: &vk::PhysicalDeviceProperties,
-    enabled: &vk::PhysicalDeviceFeatures,
+    parts: &DeviceParts,
     timestamps: bool,
 ) -> DeviceCaps {
     let on = |f: vk::Bool32| f == vk::TRUE;
+    let enabled = &parts.enabled;
     DeviceCaps {
         device_name: chosen.info.name.clone(),
         max_multiview_views: chosen.info.max_multiview_views,
@@ -252,6 +260,7 @@ fn device_caps(
         },
         pipeline_statistics: on(enabled.pipeline_statistics_query),
         depth_stencil: chosen.info.depth_stencil,
+        depth_resolve: parts.depth_resolve,
         quirks: chosen.info.quirks.clone(),
     }
 }

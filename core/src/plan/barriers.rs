@@ -62,10 +62,12 @@ fn pass_touches(
         .contains(&attachment)
         .then_some((Touch::Sampled, all_layers));
     let depth = pass.depth.iter().map(|u| (Touch::DepthAttachment, u));
+    // Resolves, depth's included, happen at colour attachment output with colour writes.
     let colour = [
         Some(&pass.color),
         pass.resolve.as_ref(),
         pass.history.as_ref(),
+        pass.depth_resolve.as_ref(),
     ]
     .into_iter()
     .flatten()

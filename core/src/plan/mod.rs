@@ -49,6 +49,8 @@ pub use steps::{
 };
 
 #[cfg(test)]
+mod depth_resolve_tests;
+#[cfg(test)]
 mod effect_tests;
 #[cfg(test)]
 mod pipeline_tests;

@@ -62,6 +62,9 @@ pub struct PassPlan {
     pub depth: Option<Use>,
     /// In-pass MSAA resolve target (`pResolveAttachments`).
     pub resolve: Option<Use>,
+    /// In-pass resolve of the multisampled depth to one sample (its sample 0), for a later
+    /// pass to sample (`pDepthStencilResolveAttachment`; the accumulated periphery's).
+    pub depth_resolve: Option<Use>,
     /// The next frame's history, written as a second colour attachment (location 1) beside
     /// `color` (temporal accumulation folded into the output stage). Its image swaps roles
     /// with the history the pass samples every frame ([`FramePlan::history`]).
@@ -107,6 +110,7 @@ impl PassPlan {
             color,
             depth: None,
             resolve: None,
+            depth_resolve: None,
             history: None,
             samples: Vec::new(),
             submission,
@@ -119,14 +123,15 @@ impl PassPlan {
         }
     }
 
-    /// Every attachment use of the pass: colour, depth, resolve, history (the render pass's
-    /// attachment order).
+    /// Every attachment use of the pass: colour, depth, resolve, history, depth resolve (the
+    /// render pass's attachment order).
     pub fn uses(&self) -> impl Iterator<Item = &Use> {
         [
             Some(&self.color),
             self.depth.as_ref(),
             self.resolve.as_ref(),
             self.history.as_ref(),
+            self.depth_resolve.as_ref(),
         ]
         .into_iter()
         .flatten()
@@ -171,6 +176,7 @@ impl PassPlan {
             self.depth.as_mut(),
             self.resolve.as_mut(),
             self.history.as_mut(),
+            self.depth_resolve.as_mut(),
         ]
         .into_iter()
         .flatten()

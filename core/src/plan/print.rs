@@ -452,6 +452,7 @@ fn write_pass_targets(f: &mut fmt::Formatter<'_>, plan: &FramePlan, p: &PassPlan
         ("depth", p.depth.as_ref()),
         ("resolve", p.resolve.as_ref()),
         ("history", p.history.as_ref()),
+        ("depth resolve (sample 0)", p.depth_resolve.as_ref()),
     ] {
         let Some(u) = u else { continue };
         let stencil = match plan.attachments[u.attachment]

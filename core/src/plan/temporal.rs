@@ -9,6 +9,7 @@
 use super::model::{AttachmentPlan, AttachmentRole, Format, HistoryPair, PassKind, PassPlan};
 use super::ops::{Access, AttachmentId};
 use super::Resolution;
+use super::Use;
 
 /// What temporal accumulation adds to a frame whose scene passes are planned.
 pub(super) struct Accumulation {
@@ -34,16 +35,34 @@ impl Accumulation {
 }
 
 /// Adds the history pair at the output's size (`eye`); `None` without a periphery pass with
-/// depth.
+/// depth. A multisampled periphery resolves its depth to one sample in its pass (sample 0:
+/// the depth at the pixel's centre, as a single-sample periphery has it), and the pair holds
+/// that instead; the multisampled depth stays on tile.
 pub(super) fn add_accumulation(
-    passes: &[PassPlan],
+    passes: &mut [PassPlan],
     attachments: &mut Vec<AttachmentPlan>,
     eye: Resolution,
 ) -> Option<Accumulation> {
     let periphery = passes
-        .iter()
+        .iter_mut()
         .find(|p| p.kind == PassKind::Scene && p.first_view == 0)?;
-    let depth = periphery.depth?.attachment;
+    let depth_use = periphery.depth?;
+    let mut depth = depth_use.attachment;
+    if attachments[depth].samples > 1 {
+        attachments.push(AttachmentPlan {
+            name: "periphery depth, resolved (even frames write)",
+            format: Format::D32,
+            samples: 1,
+            ..attachments[depth].clone()
+        });
+        depth = attachments.len() - 1;
+        periphery.depth_resolve = Some(Use::new(
+            depth,
+            depth_use.base_layer,
+            depth_use.layer_count,
+            Access::Overwrite,
+        ));
+    }
     let previous_depth = AttachmentPlan {
         name: "periphery depth (even frames read)",
         ..attachments[depth].clone()

@@ -173,15 +173,19 @@ pub(super) fn validate_view_sets(
         ));
     }
     if foveation.temporal.is_some() {
-        // The history reprojects each periphery pixel by its depth, read from the single-sample
-        // depth image; the jitter is the periphery's antialiasing.
+        // The history reprojects each periphery pixel by its depth, read from a single-sample
+        // image: a multisampled periphery's depth is resolved to it in the pass.
         let samples = foveation.periphery_samples(config.msaa);
-        if samples != 1 {
+        if samples != 1 && !caps.depth_resolve {
             return Err(ConfigError::new(
                 "periphery_msaa",
                 samples,
-                "1 with temporal accumulation (its jitter antialiases the periphery, and its \
-                 reprojection reads single-sample depth)",
+                format!(
+                    "1 with temporal accumulation on {} (the reprojection reads one depth per \
+                     pixel, and the device cannot resolve a multisampled depth in the pass: \
+                     VK_KHR_depth_stencil_resolve is not enabled)",
+                    caps.device_name
+                ),
             ));
         }
         // The output stage accumulates pixel by pixel: it has no accumulated neighbourhood to

@@ -206,31 +206,6 @@ pub(crate) fn compile_pass<'i>(
     let uses: Vec<&Use> = pass.uses().collect();
     let descriptions: Vec<vk::AttachmentDescription> =
         uses.iter().map(|u| description(plan, u)).collect();
-    // References follow `uses()`: colour, then depth, resolve and history if any; the
-    // history is colour attachment 1 (the shader's location 1).
-    let colour = |attachment| vk::AttachmentReference {
-        attachment,
-        layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-    };
-    let history_index = 1 + pass.depth.is_some() as u32 + pass.resolve.is_some() as u32;
-    let color_ref = [colour(0), colour(history_index)];
-    let colour_attachments = 1 + pass.history.is_some() as usize;
-    let depth_ref = vk::AttachmentReference {
-        attachment: 1,
-        layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-    };
-    let resolve_index = 1 + pass.depth.is_some() as u32;
-    // The history is not resolved.
-    let resolve_ref = [colour(resolve_index), colour(vk::ATTACHMENT_UNUSED)];
-    let mut subpass = vk::SubpassDescription::default()
-        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
-        .color_attachments(&color_ref[..colour_attachments]);
-    if pass.depth.is_some() {
-        subpass = subpass.depth_stencil_attachment(&depth_ref);
-    }
-    if pass.resolve.is_some() {
-        subpass = subpass.resolve_attachments(&resolve_ref[..colour_attachments]);
-    }
     // The plan's barriers, as the render pass's external dependencies: what the pass waits
     // on before its first subpass, and what later work waits on after it.
     let dependencies: Vec<vk::SubpassDependency> = [
@@ -246,6 +221,7 @@ pub(crate) fn compile_pass<'i>(
         pass.depth.is_some() as u64,
         pass.resolve.is_some() as u64,
         pass.history.is_some() as u64,
+        pass.depth_resolve.is_some() as u64,
     ];
     for d in &dependencies {
         description.extend([
@@ -268,22 +244,17 @@ pub(crate) fn compile_pass<'i>(
             d.final_layout.as_raw() as u64,
         ]);
     }
-    let subpasses = [subpass];
-    let masks = [pass.view_mask];
-    let mut multiview = vk::RenderPassMultiviewCreateInfo::default()
-        .view_masks(&masks)
-        .correlation_masks(&masks);
-    let mut info = vk::RenderPassCreateInfo::default()
-        .attachments(&descriptions)
-        .subpasses(&subpasses)
-        .dependencies(&dependencies);
-    if pass.view_mask != 0 {
-        info = info.push_next(&mut multiview);
-    }
+    let parts = PassParts {
+        view_mask: pass.view_mask,
+        refs: SubpassRefs::of(pass),
+        descriptions: &descriptions,
+        dependencies: &dependencies,
+    };
     let render_pass = gpu.render_passes.get_or_create(description.clone(), || {
-        // SAFETY: the create info points at locals alive for the call.
-        let raw =
-            unsafe { gpu.device().create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
+        let raw = match parts.refs.depth_resolve {
+            None => create_render_pass(gpu, &parts)?,
+            Some(_) => create_render_pass2(gpu, &parts)?,
+        };
         Ok::<_, GpuError>(RenderPass::from_raw(&gpu.dev, raw))
     })?;
 
@@ -313,6 +284,183 @@ pub(crate) fn compile_pass<'i>(
         description,
         _views: views,
         extent,
-        colour_attachments: colour_attachments as u32,
+        colour_attachments: parts.refs.colour.len() as u32,
     })
+}
+
+/// Where each of a pass's attachments sits in its render pass (the order of
+/// [`PassPlan::uses`](crate::plan::PassPlan::uses)) as its subpass refers to them.
+struct SubpassRefs {
+    /// Colour attachments: the output, then the next history if the pass writes it
+    /// (location 1).
+    colour: Vec<u32>,
+    depth: Option<u32>,
+    /// One per colour attachment where the pass resolves (the history is not resolved).
+    resolve: Option<Vec<u32>>,
+    depth_resolve: Option<u32>,
+}
+
+impl SubpassRefs {
+    fn of(pass: &crate::plan::PassPlan) -> Self {
+        let mut next = 0;
+        let mut index = |present: bool| {
+            present.then(|| {
+                next += 1;
+                next - 1
+            })
+        };
+        let colour = index(true);
+        let depth = index(pass.depth.is_some());
+        let resolve = index(pass.resolve.is_some());
+        let history = index(pass.history.is_some());
+        let depth_resolve = index(pass.depth_resolve.is_some());
+        SubpassRefs {
+            colour: colour.into_iter().chain(history).collect(),
+            depth,
+            resolve: resolve.map(|r| {
+                std::iter::once(r)
+                    .chain(history.map(|_| vk::ATTACHMENT_UNUSED))
+                    .collect()
+            }),
+            depth_resolve,
+        }
+    }
+
+    /// The references as `make` builds them (either render pass version's struct): colour,
+    /// resolve, depth and depth resolve.
+    fn made<R>(&self, make: impl Fn(u32, vk::ImageLayout) -> R) -> MadeRefs<R> {
+        let colour = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+        let depth = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+        MadeRefs {
+            colour: self.colour.iter().map(|&a| make(a, colour)).collect(),
+            resolve: self
+                .resolve
+                .iter()
+                .flatten()
+                .map(|&a| make(a, colour))
+                .collect(),
+            depth: self.depth.map(|a| make(a, depth)),
+            depth_resolve: self.depth_resolve.map(|a| make(a, depth)),
+        }
+    }
+}
+
+/// What either version of `vkCreateRenderPass` makes a pass from.
+struct PassParts<'a> {
+    view_mask: u32,
+    refs: SubpassRefs,
+    descriptions: &'a [vk::AttachmentDescription],
+    dependencies: &'a [vk::SubpassDependency],
+}
+
+/// A subpass's references, made.
+struct MadeRefs<R> {
+    colour: Vec<R>,
+    resolve: Vec<R>,
+    depth: Option<R>,
+    depth_resolve: Option<R>,
+}
+
+/// The render pass with `vkCreateRenderPass` (Vulkan 1.0 with multiview).
+fn create_render_pass(gpu: &Gpu, parts: &PassParts) -> Result<vk::RenderPass, GpuError> {
+    let made = parts
+        .refs
+        .made(|attachment, layout| vk::AttachmentReference { attachment, layout });
+    let mut subpass = vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .color_attachments(&made.colour);
+    if let Some(depth) = &made.depth {
+        subpass = subpass.depth_stencil_attachment(depth);
+    }
+    if parts.refs.resolve.is_some() {
+        subpass = subpass.resolve_attachments(&made.resolve);
+    }
+    let subpasses = [subpass];
+    let masks = [parts.view_mask];
+    let mut multiview = vk::RenderPassMultiviewCreateInfo::default()
+        .view_masks(&masks)
+        .correlation_masks(&masks);
+    let mut info = vk::RenderPassCreateInfo::default()
+        .attachments(parts.descriptions)
+        .subpasses(&subpasses)
+        .dependencies(parts.dependencies);
+    if parts.view_mask != 0 {
+        info = info.push_next(&mut multiview);
+    }
+    // SAFETY: the create info points at locals alive for the call.
+    unsafe { gpu.device().create_render_pass(&info, None) }.vk("vkCreateRenderPass")
+}
+
+/// The render pass with `vkCreateRenderPass2KHR`: the same attachments, subpass and
+/// dependencies, and the depth resolved to one sample in the pass (sample 0, the depth at
+/// the pixel's centre; every device that resolves depth offers it). The stencil is not
+/// resolved: the resolved image has none.
+fn create_render_pass2(gpu: &Gpu, parts: &PassParts) -> Result<vk::RenderPass, GpuError> {
+    let Some(loader) = &gpu.render_pass2 else {
+        return Err(GpuError::Unusable {
+            name: gpu.caps().device_name.clone(),
+            why: "a pass resolves depth, and VK_KHR_depth_stencil_resolve is not enabled".into(),
+        });
+    };
+    let made = parts.refs.made(|attachment, layout| {
+        vk::AttachmentReference2::default()
+            .attachment(attachment)
+            .layout(layout)
+    });
+    let attachments: Vec<vk::AttachmentDescription2> = parts
+        .descriptions
+        .iter()
+        .map(|d| {
+            vk::AttachmentDescription2::default()
+                .format(d.format)
+                .samples(d.samples)
+                .load_op(d.load_op)
+                .store_op(d.store_op)
+                .stencil_load_op(d.stencil_load_op)
+                .stencil_store_op(d.stencil_store_op)
+                .initial_layout(d.initial_layout)
+                .final_layout(d.final_layout)
+        })
+        .collect();
+    // Sample 0 for both aspects: a device without independent resolve modes needs them equal,
+    // and the stencil has nowhere to go.
+    let mut resolve = vk::SubpassDescriptionDepthStencilResolve::default()
+        .depth_resolve_mode(vk::ResolveModeFlags::SAMPLE_ZERO)
+        .stencil_resolve_mode(vk::ResolveModeFlags::SAMPLE_ZERO);
+    if let Some(r) = &made.depth_resolve {
+        resolve = resolve.depth_stencil_resolve_attachment(r);
+    }
+    let mut subpass = vk::SubpassDescription2::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .view_mask(parts.view_mask)
+        .color_attachments(&made.colour)
+        .push_next(&mut resolve);
+    if let Some(depth) = &made.depth {
+        subpass = subpass.depth_stencil_attachment(depth);
+    }
+    if parts.refs.resolve.is_some() {
+        subpass = subpass.resolve_attachments(&made.resolve);
+    }
+    let dependencies: Vec<vk::SubpassDependency2> = parts
+        .dependencies
+        .iter()
+        .map(|d| {
+            vk::SubpassDependency2::default()
+                .src_subpass(d.src_subpass)
+                .dst_subpass(d.dst_subpass)
+                .src_stage_mask(d.src_stage_mask)
+                .dst_stage_mask(d.dst_stage_mask)
+                .src_access_mask(d.src_access_mask)
+                .dst_access_mask(d.dst_access_mask)
+        })
+        .collect();
+    let subpasses = [subpass];
+    let masks = [parts.view_mask];
+    let info = vk::RenderPassCreateInfo2::default()
+        .attachments(&attachments)
+        .subpasses(&subpasses)
+        .dependencies(&dependencies)
+        .correlated_view_masks(if parts.view_mask != 0 { &masks } else { &[] });
+    // SAFETY: the create info points at locals alive for the call.
+    unsafe { loader.create_render_pass2(&info, None) }.vk("vkCreateRenderPass2KHR")
 }

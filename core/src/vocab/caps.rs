@@ -32,6 +32,11 @@ pub struct DeviceCaps {
     /// `D32_SFLOAT_S8_UINT` as a depth-stencil attachment: stencil masks (the HMD mask,
     /// foveation's inset and outset masks) need it; a plan without them does not.
     pub depth_stencil: bool,
+    /// `VK_KHR_depth_stencil_resolve` with `VK_KHR_create_renderpass2` enabled (core in Vulkan
+    /// 1.2): a pass can resolve its multisampled depth to one sample on tile, as it resolves
+    /// colour. An accumulated periphery with MSAA needs it (its reprojection reads one depth
+    /// per pixel); an engine's device plans without it (foveate cannot see what it enabled).
+    pub depth_resolve: bool,
     /// What its driver gets wrong.
     pub quirks: DriverQuirks,
 }
@@ -55,6 +60,7 @@ impl DeviceCaps {
             max_anisotropy: 16.0,
             pipeline_statistics: true,
             depth_stencil: true,
+            depth_resolve: true,
             quirks: DriverQuirks::default(),
         }
     }
