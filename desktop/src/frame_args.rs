@@ -68,8 +68,8 @@ pub struct ConfigArgs {
     pub periphery_msaa: Option<u32>,
     /// Accumulate the periphery over frames in the output pass: its views jittered (Halton), a
     /// history at the output's pixels (32 bits each, two images swapping roles) reprojected by
-    /// depth. A multisampled periphery (--periphery-msaa, default --msaa) has its depth
-    /// resolved to one sample in its pass, on devices that can (VK_KHR_depth_stencil_resolve).
+    /// depth. The periphery is then 1x unless --periphery-msaa asks for more (its depth is
+    /// resolved to one sample in its pass, on devices with VK_KHR_depth_stencil_resolve).
     #[arg(long)]
     pub temporal: bool,
     /// With --temporal: a new sample's weight against the history where the point moved

@@ -179,9 +179,11 @@ impl Default for TemporalConfig {
             // (0.00241 against ⅛'s 0.00262) and an eFLIP p99 within 3 % of the best (0.0534
             // against ⅛'s 0.0604) (BENCHMARKS.md, "A faster blend where the point moved").
             blend: 0.35,
-            // Halves the jitter's shimmer with the head still (to the ≤ 0.0003 asked at the
-            // Quest Pro's panel) for 4–9 % of that frame's eFLIP p99 (BENCHMARKS.md).
-            still_blend: 0.0625,
+            // Keeps the jitter's shimmer with the head still within the ≤ 0.0003 asked at the
+            // Quest Pro's panel, at both gazes and the periphery at 0.5 and 0.6 (0.00022–0.00028;
+            // ⅟16 let 0.6 reach 0.00034), for under 2 % of that frame's eFLIP p99
+            // (BENCHMARKS.md, "The density the walk needs").
+            still_blend: 0.05,
             jitter_cycle: 8,
             // A head moves ≈ 2 m/s and turns ≈ 300°/s at most: 90 Hz frames stay well inside.
             cut_distance_m: 0.5,

@@ -20,13 +20,31 @@ fn accumulated(periphery_msaa: u32) -> RenderConfig {
 
 /// At 4× the periphery pass resolves its depth into a single-sample image that the depth pair
 /// holds (stored, sampled, no stencil), while the multisampled depth stays transient: the frame
-/// moves no more bytes than at 1×, where nothing is resolved. A device that cannot resolve depth refuses it, naming the field, the count and
+/// moves no more bytes than at 1×, where nothing is resolved; asked for no sample count, the
+/// periphery is 1×. A device that cannot resolve depth refuses it, naming the field, the count and
 /// the device. Mutations: the resolve left out (the pair then holds the multisampled depth,
-/// sampled), or the refusal gone, fail it.
+/// sampled), the refusal gone, or the unasked default the frame's 4×, fail it.
 #[test]
 fn a_multisampled_periphery_resolves_its_depth_in_its_pass() {
     let single = planned(&accumulated(1));
     assert!(single.passes.iter().all(|p| p.depth_resolve.is_none()));
+    // Asked for no sample count, an accumulated periphery is 1× in a 4× frame: its jitter
+    // antialiases it (4× measured no better along the walk at the Quest Pro's panel).
+    let unasked = accumulated(1);
+    let unasked = RenderConfig {
+        foveation: unasked.foveation.map(|f| FoveationConfig {
+            periphery_msaa: None,
+            ..f
+        }),
+        ..unasked
+    };
+    assert_eq!(unasked.msaa, 4);
+    let unasked = planned(&unasked);
+    assert_eq!(
+        unasked.attachments[unasked.passes[0].color.attachment].samples,
+        1
+    );
+    assert!(unasked.passes.iter().all(|p| p.depth_resolve.is_none()));
 
     let plan = planned(&accumulated(4));
     let periphery = &plan.passes[0];
