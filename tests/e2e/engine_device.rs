@@ -2,13 +2,15 @@
 //! `ash`, as an engine would), lends them through `Gpu::from_engine`, renders, drops foveate —
 //! and its device still works and is destroyed by the engine alone.
 
+use std::ffi::CStr;
 use std::sync::{Arc, Mutex};
 
 use ash::vk;
+use foveate::foveation::{FoveationConfig, TemporalConfig};
 use foveate::gpu::{EngineDevice, Gpu, GpuOptions};
 use foveate::plan::{RenderConfig, Resolution};
 use foveate::render::Renderer;
-use foveate::scene::default_scene;
+use foveate::scene::{atrium_scene, default_scene};
 use foveate_tests::gpu;
 
 /// The engine's own instance and device: Vulkan 1.1, multiview on, the features foveate can
@@ -24,6 +26,11 @@ struct Engine {
 
 impl Engine {
     fn new() -> Engine {
+        Engine::with_extensions(&[])
+    }
+
+    /// The engine's device, with these device extensions enabled as well.
+    fn with_extensions(extensions: &[&CStr]) -> Engine {
         let entry = unsafe { ash::Entry::load() }.unwrap();
         let app = vk::ApplicationInfo::default().api_version(vk::API_VERSION_1_1);
         let info = vk::InstanceCreateInfo::default().application_info(&app);
@@ -40,8 +47,10 @@ impl Engine {
         let queues = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(family)
             .queue_priorities(&priorities)];
+        let names: Vec<_> = extensions.iter().map(|n| n.as_ptr()).collect();
         let info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
+            .enabled_extension_names(&names)
             .enabled_features(&features)
             .push_next(&mut multiview);
         let device = unsafe { instance.create_device(physical, &info, None) }.unwrap();
@@ -138,4 +147,69 @@ fn a_borrowed_device_without_what_foveate_needs_is_refused() {
         .expect("refused")
         .to_string();
     assert!(error.contains("queue_index 99"), "{error}");
+}
+
+/// The extensions a pass needs to resolve its depth.
+const DEPTH_RESOLVE: [&CStr; 2] = [
+    ash::khr::create_renderpass2::NAME,
+    ash::khr::depth_stencil_resolve::NAME,
+];
+
+/// An engine that enabled depth resolve and says so (`from_engine_with_extensions`) gets a
+/// multisampled accumulated periphery, pixel for pixel foveate's own device's frames; lent
+/// without saying so, the plan refuses it naming `periphery_msaa`; a name the device does not
+/// offer is refused, named. Mutation: the declared list ignored (depth resolve left off)
+/// makes the declared device's plan fail.
+#[test]
+fn an_engine_declares_the_extensions_it_enabled() {
+    let owned = gpu();
+    if !owned.caps().depth_resolve {
+        eprintln!("skipped: {} cannot resolve depth", owned.caps().device_name);
+        return;
+    }
+    let scene = atrium_scene();
+    let base = super::temporal::config(64, Some(TemporalConfig::default()));
+    let config = RenderConfig {
+        msaa: 4,
+        foveation: base.foveation.map(|f| FoveationConfig {
+            periphery_msaa: Some(4),
+            ..f
+        }),
+        ..base
+    };
+    let frames = |gpu: &Gpu| {
+        let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
+        let mut renderer = Renderer::new(gpu, &plan, &scene).unwrap();
+        (0..3)
+            .map(|_| {
+                renderer.render_frame(scene.head).unwrap();
+                renderer.readback().unwrap()
+            })
+            .collect::<Vec<_>>()
+    };
+    let expected = frames(&owned);
+    let engine = Engine::with_extensions(&DEPTH_RESOLVE);
+    let options = GpuOptions::default();
+    {
+        // SAFETY: the engine's handles outlive the Gpus (dropped in this block), and it
+        // enabled what it declares.
+        let declared = unsafe {
+            Gpu::from_engine_with_extensions(engine.lend(true), &DEPTH_RESOLVE, &options)
+        }
+        .unwrap();
+        assert!(declared.caps().depth_resolve);
+        assert!(frames(&declared) == expected);
+        let undeclared = unsafe { Gpu::from_engine(engine.lend(true), &options) }.unwrap();
+        let error = foveate::plan(&scene, &config, undeclared.caps())
+            .expect_err("refused")
+            .to_string();
+        assert!(error.contains("periphery_msaa"), "{error}");
+        let unknown = c"VK_EXT_nothing_of_the_kind";
+        let error =
+            unsafe { Gpu::from_engine_with_extensions(engine.lend(true), &[unknown], &options) }
+                .err()
+                .expect("refused")
+                .to_string();
+        assert!(error.contains("VK_EXT_nothing_of_the_kind"), "{error}");
+    }
 }

@@ -365,7 +365,7 @@ pub struct Gpu {
 
 /// The device extensions a pass needs to resolve its depth (`DeviceCaps::depth_resolve`),
 /// enabled wherever all are offered (Vulkan 1.1 devices; core in 1.2).
-const DEPTH_RESOLVE_EXTENSIONS: [&std::ffi::CStr; 2] = [
+pub(super) const DEPTH_RESOLVE_EXTENSIONS: [&std::ffi::CStr; 2] = [
     ash::khr::create_renderpass2::NAME,
     ash::khr::depth_stencil_resolve::NAME,
 ];

@@ -3,16 +3,17 @@
 //! the allocator, the capabilities foveate plans with, the pipeline cache.
 
 use std::collections::BTreeMap;
+use std::ffi::CStr;
 use std::mem::ManuallyDrop;
 use std::sync::{Arc, Mutex};
 
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
-use super::context::InstanceOwner;
+use super::context::{InstanceOwner, DEPTH_RESOLVE_EXTENSIONS};
 use super::device_choice::{candidates, Candidate};
 use super::pipeline_cache::{create_pipeline_cache, PipelineCacheFile};
-use super::{DeviceOwner, Gpu, GpuError, GpuOptions};
+use super::{DeviceOwner, Gpu, GpuError, GpuOptions, VkResultExt};
 use crate::vocab::DeviceCaps;
 
 /// A Vulkan device an engine made, lent to foveate by [`Gpu::from_engine`]. foveate destroys
@@ -71,6 +72,27 @@ impl Gpu {
         engine: EngineDevice,
         options: &GpuOptions,
     ) -> Result<Self, GpuError> {
+        // SAFETY: the caller's contract is this function's.
+        unsafe { Self::from_engine_with_extensions(engine, &[], options) }
+    }
+
+    /// [`Gpu::from_engine`], told which device extensions the engine enabled on `device`
+    /// (Vulkan has no query for them): foveate uses those it can use and plans without the
+    /// rest. Today that is `VK_KHR_create_renderpass2` with `VK_KHR_depth_stencil_resolve`
+    /// (both, or neither counts): with them a pass resolves its depth, which an accumulated
+    /// periphery at more than one sample needs ([`DeviceCaps::depth_resolve`]). Others are
+    /// ignored.
+    ///
+    /// A named extension the physical device does not offer is refused, naming it.
+    ///
+    /// # Safety
+    /// As [`Gpu::from_engine`]; and every extension in `enabled_extensions` was enabled when
+    /// `device` was made.
+    pub unsafe fn from_engine_with_extensions(
+        engine: EngineDevice,
+        enabled_extensions: &[&CStr],
+        options: &GpuOptions,
+    ) -> Result<Self, GpuError> {
         // SAFETY: loading the system Vulkan loader library.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::Loader(e.to_string()))?;
         // SAFETY: the caller vouches for the instance handle.
@@ -127,13 +149,33 @@ impl Gpu {
             }
             Some(true) => {}
         }
+        // SAFETY: a query on a valid physical device.
+        let offered = unsafe {
+            owner
+                .instance
+                .enumerate_device_extension_properties(engine.physical)
+        }
+        .vk("vkEnumerateDeviceExtensionProperties")?;
+        if let Some(name) = enabled_extensions.iter().find(|&&name| {
+            !offered
+                .iter()
+                .any(|e| e.extension_name_as_c_str() == Ok(name))
+        }) {
+            return Err(missing(format!(
+                "enabled_extensions names {}, which the device does not offer",
+                name.to_string_lossy()
+            )));
+        }
+        let depth_resolve = DEPTH_RESOLVE_EXTENSIONS
+            .iter()
+            .all(|name| enabled_extensions.contains(name));
         // SAFETY: the caller vouches for the device handle.
         let device = unsafe { ash::Device::load(owner.instance.fp_v1_0(), engine.device) };
         let parts = DeviceParts {
             queue_family: engine.queue_family,
             queue_index: engine.queue_index,
             enabled: engine.enabled_features,
-            depth_resolve: false,
+            depth_resolve,
             owned: false,
             queue_lock: engine.queue_lock,
         };

@@ -183,7 +183,8 @@ pub(super) fn validate_view_sets(
                 format!(
                     "1 with temporal accumulation on {} (the reprojection reads one depth per \
                      pixel, and the device cannot resolve a multisampled depth in the pass: \
-                     VK_KHR_depth_stencil_resolve is not enabled)",
+                     VK_KHR_depth_stencil_resolve is not enabled; an engine's device declares it \
+                     with Gpu::from_engine_with_extensions)",
                     caps.device_name
                 ),
             ));
