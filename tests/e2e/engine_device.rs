@@ -7,7 +7,7 @@ use std::sync::{Arc, Mutex};
 
 use ash::vk;
 use foveate::foveation::{FoveationConfig, TemporalConfig};
-use foveate::gpu::{EngineDevice, Gpu, GpuOptions};
+use foveate::gpu::{EngineDevice, Gpu, GpuOptions, DEPTH_RESOLVE_EXTENSIONS};
 use foveate::plan::{RenderConfig, Resolution};
 use foveate::render::Renderer;
 use foveate::scene::{atrium_scene, default_scene};
@@ -149,12 +149,6 @@ fn a_borrowed_device_without_what_foveate_needs_is_refused() {
     assert!(error.contains("queue_index 99"), "{error}");
 }
 
-/// The extensions a pass needs to resolve its depth.
-const DEPTH_RESOLVE: [&CStr; 2] = [
-    ash::khr::create_renderpass2::NAME,
-    ash::khr::depth_stencil_resolve::NAME,
-];
-
 /// An engine that enabled depth resolve and says so (`from_engine_with_extensions`) gets a
 /// multisampled accumulated periphery, pixel for pixel foveate's own device's frames; lent
 /// without saying so, the plan refuses it naming `periphery_msaa`; a name the device does not
@@ -188,13 +182,13 @@ fn an_engine_declares_the_extensions_it_enabled() {
             .collect::<Vec<_>>()
     };
     let expected = frames(&owned);
-    let engine = Engine::with_extensions(&DEPTH_RESOLVE);
+    let engine = Engine::with_extensions(&DEPTH_RESOLVE_EXTENSIONS);
     let options = GpuOptions::default();
     {
         // SAFETY: the engine's handles outlive the Gpus (dropped in this block), and it
         // enabled what it declares.
         let declared = unsafe {
-            Gpu::from_engine_with_extensions(engine.lend(true), &DEPTH_RESOLVE, &options)
+            Gpu::from_engine_with_extensions(engine.lend(true), &DEPTH_RESOLVE_EXTENSIONS, &options)
         }
         .unwrap();
         assert!(declared.caps().depth_resolve);

@@ -364,8 +364,9 @@ pub struct Gpu {
 }
 
 /// The device extensions a pass needs to resolve its depth (`DeviceCaps::depth_resolve`),
-/// enabled wherever all are offered (Vulkan 1.1 devices; core in 1.2).
-pub(super) const DEPTH_RESOLVE_EXTENSIONS: [&std::ffi::CStr; 2] = [
+/// enabled wherever all are offered (Vulkan 1.1 devices; core in 1.2). An engine that lends
+/// its device enables these and names them to [`Gpu::from_engine_with_extensions`].
+pub const DEPTH_RESOLVE_EXTENSIONS: [&std::ffi::CStr; 2] = [
     ash::khr::create_renderpass2::NAME,
     ash::khr::depth_stencil_resolve::NAME,
 ];

@@ -16,7 +16,9 @@ mod submit;
 mod swapchain;
 
 pub use blit_layout::BlitSource;
-pub use context::{DeviceInfo, Gpu, GpuOptions, RawHandles, VulkanCreator};
+pub use context::{
+    DeviceInfo, Gpu, GpuOptions, RawHandles, VulkanCreator, DEPTH_RESOLVE_EXTENSIONS,
+};
 pub use error::GpuError;
 internal_use!(error::VkResultExt);
 internal_use!(handles::{

@@ -10,10 +10,10 @@ use std::sync::{Arc, Mutex};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
-use super::context::{InstanceOwner, DEPTH_RESOLVE_EXTENSIONS};
+use super::context::InstanceOwner;
 use super::device_choice::{candidates, Candidate};
 use super::pipeline_cache::{create_pipeline_cache, PipelineCacheFile};
-use super::{DeviceOwner, Gpu, GpuError, GpuOptions, VkResultExt};
+use super::{DeviceOwner, Gpu, GpuError, GpuOptions, VkResultExt, DEPTH_RESOLVE_EXTENSIONS};
 use crate::vocab::DeviceCaps;
 
 /// A Vulkan device an engine made, lent to foveate by [`Gpu::from_engine`]. foveate destroys
@@ -78,10 +78,9 @@ impl Gpu {
 
     /// [`Gpu::from_engine`], told which device extensions the engine enabled on `device`
     /// (Vulkan has no query for them): foveate uses those it can use and plans without the
-    /// rest. Today that is `VK_KHR_create_renderpass2` with `VK_KHR_depth_stencil_resolve`
-    /// (both, or neither counts): with them a pass resolves its depth, which an accumulated
-    /// periphery at more than one sample needs ([`DeviceCaps::depth_resolve`]). Others are
-    /// ignored.
+    /// rest. Today that is [`DEPTH_RESOLVE_EXTENSIONS`] (all, or none counts): with them a
+    /// pass resolves its depth, which an accumulated periphery at more than one sample needs
+    /// ([`DeviceCaps::depth_resolve`]). Others are ignored.
     ///
     /// A named extension the physical device does not offer is refused, naming it.
     ///
