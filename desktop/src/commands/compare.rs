@@ -457,9 +457,15 @@ fn report_picks(
     Ok(())
 }
 
+/// The configuration column's width: the longest name's.
+fn name_width(rows: &[Row]) -> usize {
+    rows.iter().map(|r| r.name.len()).max().unwrap_or(0).max(13)
+}
+
 fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
+    let width = name_width(rows);
     println!(
-        "\n{:<44} {:>9} {:>6} {:>11} {:>11} {:>11} {:>9} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
+        "\n{:<width$} {:>9} {:>6} {:>11} {:>11} {:>11} {:>9} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
         "configuration",
         "frame ms",
         "ratio",
@@ -490,7 +496,7 @@ fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
             |s: Option<ErrorSummary>| s.map_or("-".to_string(), |s| format!("{:.4}", s.mean));
         let p99 = |s: Option<ErrorSummary>| s.map_or("-".to_string(), |s| format!("{:.3}", s.p99));
         println!(
-            "{:<44} {:>9.2} {:>6.3} {:>11} {:>11} {:>11} {:>9.1} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
+            "{:<width$} {:>9.2} {:>6.3} {:>11} {:>11} {:>11} {:>9.1} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
             row.name,
             row.run.frame_ms,
             row.run.frame_ms / reference_ms,
@@ -513,8 +519,9 @@ fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
 /// workload beside each time.
 fn print_frontier(rows: &[Row], points: &[Point]) {
     println!("\nPareto frontier (eFLIP p99 against frame time; S stereo, F foveated):");
+    let width = name_width(rows);
     println!(
-        "  {:<44} {:>7} {:>8} {:>12} {:>12} {:>10}",
+        "  {:<width$} {:>7} {:>8} {:>12} {:>12} {:>10}",
         "configuration", "x ref", "p99", "fragments", "resolved", "MiB moved"
     );
     for i in pareto_frontier(points) {
@@ -525,7 +532,7 @@ fn print_frontier(rows: &[Row], points: &[Point]) {
             "S"
         };
         println!(
-            "{kind} {:<44} {:>7.3} {:>8.4} {:>12} {:>12} {:>10.1}",
+            "{kind} {:<width$} {:>7.3} {:>8.4} {:>12} {:>12} {:>10.1}",
             r.name,
             p.time,
             p.error,

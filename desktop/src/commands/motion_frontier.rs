@@ -46,15 +46,21 @@ pub fn report(motion: &str, points: &[MotionPoint], headset: &str, stem: &Path) 
     println!(
         "\n{motion}: eFLIP p99 against frame time (S stereo, F foveated; * on the Pareto frontier):"
     );
+    let width = points
+        .iter()
+        .map(|p| p.name.len())
+        .max()
+        .unwrap_or(0)
+        .max(13);
     println!(
-        "  {:<50} {:>9} {:>7} {:>8}",
+        "  {:<width$} {:>9} {:>7} {:>8}",
         "configuration", "frame ms", "x ref", "p99"
     );
     for (i, p) in timed.iter().enumerate() {
         let kind = if p.foveated { "F" } else { "S" };
         let mark = if frontier.contains(&i) { "*" } else { " " };
         println!(
-            "{kind}{mark}{:<50} {:>9.1} {:>7.3} {:>8.4}",
+            "{kind}{mark}{:<width$} {:>9.1} {:>7.3} {:>8.4}",
             p.name,
             p.frame_ms.unwrap_or(f64::NAN),
             xy[i].time,
