@@ -11,15 +11,18 @@
 // before's periphery saw the same surface there (its depth within 10 %: in the texel the point
 // lay in when it moved, in any of the 2×2 around it when it did not; where the fovea covered
 // the periphery's hole the history holds what the fovea showed, and no depth lies beside it).
-// History taps that hold nothing (the lens hid them, never rendered) are dropped;
-// what remains is clipped towards the periphery's 3x3 neighbourhood in YCoCg — its mean, within
-// its spread (Salvi's variance clipping): a surface that moved or changed cannot leave a trail,
+// History taps that hold nothing (the lens hid them, never rendered) are dropped; what
+// remains is clipped towards the periphery's 3x3 neighbourhood (or its cross) in YCoCg — its
+// mean, within its spread (Salvi's variance clipping): a surface that moved or changed cannot leave a trail,
 // and unlike a min/max clamp the box does not widen with every outlier — and the new sample is
 // blended in with a weight that falls with its distance from the pixel's centre. With no usable
 // history, the pixel starts from the bilinear periphery.
 
 // Read the history with Catmull-Rom where the point moved (HistoryFilter::CatmullRom).
 layout(constant_id = 36) const bool HISTORY_CATMULL_ROM = false;
+// The clip's box from the texel and its four edge neighbours rather than the 3×3
+// (ClipNeighbourhood::Cross): five reads instead of nine.
+layout(constant_id = 37) const bool CROSS_NEIGHBOURHOOD = false;
 
 layout(set = 0, binding = 4) uniform sampler2DArray history;
 layout(set = 0, binding = 5) uniform sampler2DArray periphery_depth;
@@ -255,6 +258,9 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
     bool mover = false; // an instance that moves lies in the neighbourhood
     for (int dy = -1; dy <= 1; dy++) {
         for (int dx = -1; dx <= 1; dx++) {
+            if (CROSS_NEIGHBOURHOOD && dx != 0 && dy != 0) {
+                continue; // a corner
+            }
             ivec2 n = clamp(texel + ivec2(dx, dy), ivec2(0), size - 1);
             vec4 fetched = texelFetch(images, ivec3(n, eye), 0);
             mover = mover || fetched.a < MOVER_ALPHA;
@@ -265,8 +271,9 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
             hi = max(hi, s);
         }
     }
-    vec3 mean = sum / 9.0;
-    vec3 spread = c.clip.x * sqrt(max(squares / 9.0 - mean * mean, vec3(0.0)));
+    float texels = CROSS_NEIGHBOURHOOD ? 5.0 : 9.0;
+    vec3 mean = sum / texels;
+    vec3 spread = c.clip.x * sqrt(max(squares / texels - mean * mean, vec3(0.0)));
     // The variance box, within the neighbourhood's range.
     lo = max(lo, mean - spread);
     hi = min(hi, mean + spread);

@@ -4,7 +4,7 @@
 use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{
-    FoveationConfig, HistoryClip, HistoryFilter, PeripheryFilter, TemporalConfig,
+    ClipNeighbourhood, FoveationConfig, HistoryClip, HistoryFilter, PeripheryFilter, TemporalConfig,
 };
 use foveate::mffr::MffrConfig;
 use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
@@ -96,6 +96,11 @@ pub struct ConfigArgs {
     /// `catmull-rom` (sharper, four times the reads: 16 where bilinear makes 4). Default: the library's.
     #[arg(long)]
     pub temporal_filter: Option<HistoryFilter>,
+    /// With --temporal: which periphery texels make the clip's box: `3x3` or `cross` (the texel
+    /// and its four edge neighbours: five reads for nine, a faster frame and more flicker along
+    /// a walk). Default: the library's.
+    #[arg(long)]
+    pub temporal_neighbourhood: Option<ClipNeighbourhood>,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -402,6 +407,7 @@ impl ConfigArgs {
                     jitter_cycle: self.jitter_cycle.unwrap_or(default.jitter_cycle),
                     clip: self.temporal_clip.unwrap_or(default.clip),
                     filter: self.temporal_filter.unwrap_or(default.filter),
+                    neighbourhood: self.temporal_neighbourhood.unwrap_or(default.neighbourhood),
                     ..default
                 }
             }),
@@ -448,12 +454,13 @@ impl ConfigArgs {
     /// Options that set a mode's parameters are refused without their mode: silently ignored,
     /// they would leave the user believing they measured something they did not.
     fn check_modes(&self) -> Result<()> {
-        fn given<T: std::fmt::Debug>(
+        // Display, so the error repeats the value as it was typed (`catmull-rom`, not
+        // `CatmullRom`).
+        fn given<T: std::fmt::Display>(
             name: &'static str,
             v: &Option<T>,
         ) -> Option<(&'static str, String)> {
-            v.as_ref()
-                .map(|v| (name, format!("{v:?}").trim_matches('"').to_string()))
+            v.as_ref().map(|v| (name, v.to_string()))
         }
         fn flag(name: &'static str, on: bool) -> Option<(&'static str, String)> {
             on.then(|| (name, "true".to_string()))
@@ -485,6 +492,7 @@ impl ConfigArgs {
                     given("--jitter-cycle", &self.jitter_cycle),
                     given("--temporal-clip", &self.temporal_clip),
                     given("--temporal-filter", &self.temporal_filter),
+                    given("--temporal-neighbourhood", &self.temporal_neighbourhood),
                 ],
             ),
             (

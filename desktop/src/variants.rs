@@ -2,7 +2,7 @@
 //! periphery at its own density and sample count, and accumulated over frames.
 
 use foveate::foveation::{
-    FoveationConfig, HistoryClip, HistoryFilter, PeripheryFilter, TemporalConfig,
+    ClipNeighbourhood, FoveationConfig, HistoryClip, HistoryFilter, PeripheryFilter, TemporalConfig,
 };
 
 /// Each foveated variant as it is, then with the periphery at each of `densities` and at each
@@ -54,6 +54,10 @@ pub struct Accumulation {
     /// moved: `bilinear`, `catmull-rom` (default: the library's).
     #[arg(long, value_delimiter = ',')]
     pub history_filters: Vec<HistoryFilter>,
+    /// With --temporal: one accumulated row per set of periphery texels making the clip's box:
+    /// `3x3`, `cross` (default: the library's).
+    #[arg(long, value_delimiter = ',')]
+    pub neighbourhoods: Vec<ClipNeighbourhood>,
     /// With --temporal: a settled pixel's weight for a new sample (0 < w ≤ 1; default: the
     /// library's).
     #[arg(long)]
@@ -99,13 +103,22 @@ pub fn with_temporal(
         [] => &[default.filter][..],
         given => given,
     };
+    let neighbourhoods = match &accumulation.neighbourhoods[..] {
+        [] => &[default.neighbourhood][..],
+        given => given,
+    };
     let ways: Vec<TemporalConfig> = clips
         .iter()
         .flat_map(|&clip| {
-            filters.iter().map(move |&filter| TemporalConfig {
-                clip,
-                filter,
-                ..default
+            filters.iter().flat_map(move |&filter| {
+                neighbourhoods
+                    .iter()
+                    .map(move |&neighbourhood| TemporalConfig {
+                        clip,
+                        filter,
+                        neighbourhood,
+                        ..default
+                    })
             })
         })
         .collect();
@@ -143,7 +156,7 @@ pub fn with_temporal(
 }
 
 /// What sets `way` apart from the default accumulation in a row's name: "" or " (clip range,
-/// catmull-rom)".
+/// catmull-rom, box cross)".
 fn way_words(way: TemporalConfig, default: TemporalConfig) -> String {
     let mut words = Vec::new();
     if way.clip != default.clip {
@@ -151,6 +164,9 @@ fn way_words(way: TemporalConfig, default: TemporalConfig) -> String {
     }
     if way.filter != default.filter {
         words.push(way.filter.to_string());
+    }
+    if way.neighbourhood != default.neighbourhood {
+        words.push(format!("box {}", way.neighbourhood));
     }
     match words.is_empty() {
         true => String::new(),

@@ -105,6 +105,7 @@ fn silent_acceptance_is_an_error_naming_option_value_and_rule() {
     );
     for (option, value, mode) in [
         ("--temporal-blend", "0.3", "--temporal"),
+        ("--temporal-neighbourhood", "cross", "--temporal"),
         ("--split", "2px", "--mffr"),
         ("--periphery-density", "0.5", "--foveate"),
         ("--radial-outer", "0.9", "--radial-density"),
@@ -113,6 +114,17 @@ fn silent_acceptance_is_an_error_naming_option_value_and_rule() {
             format!("invalid {option} = {value}: it sets a parameter of {mode}, which is off");
         refused(&dir, &with(&[option, value]), &needle);
     }
+    refused(
+        &dir,
+        &with(&[
+            "--foveate",
+            "0.5",
+            "--temporal",
+            "--temporal-neighbourhood",
+            "5x5",
+        ]),
+        "invalid clip neighbourhood = 5x5: 3x3 or cross",
+    );
     // A negative number is a value, not an option: the range check answers, not the parser.
     refused(&dir, &with(&["--ipd-mm", "-64"]), "invalid ipd = -0.064");
     refused(

@@ -3,7 +3,7 @@
 //! covered the periphery before a gaze jump; everywhere after a teleport).
 
 use foveate::foveation::{
-    fovea_centre_px, fovea_views, FoveationConfig, HistoryFilter, TemporalConfig,
+    fovea_centre_px, fovea_views, ClipNeighbourhood, FoveationConfig, HistoryFilter, TemporalConfig,
 };
 use foveate::metrics::RgbaImage;
 use foveate::plan::{FoveaLayout, FramePlan, OutputStage, RenderConfig, Resolution, StereoMode};
@@ -456,6 +456,41 @@ fn catmull_rom_keeps_a_turning_history_sharper() {
     assert!(
         a[0] == c[0],
         "with the head still, catmull-rom changes the image"
+    );
+}
+
+/// The clip's box from a cross of five texels changes the image only where it is used: where
+/// the head's motion moved the point (a turn). With the head still the `Moved` clip uses no box,
+/// and the two neighbourhoods give the same image to the bit. Mutation: the neighbourhood not
+/// passed to the shader (the constant never set) gives the 3×3's image on the turn, and fails.
+#[test]
+fn a_cross_neighbourhood_changes_only_what_moved() {
+    let gpu = gpu();
+    let scene = atrium_scene();
+    let with = |neighbourhood: ClipNeighbourhood, poses: &[(Mat4, Vec2)]| {
+        let t = TemporalConfig {
+            neighbourhood,
+            ..TemporalConfig::default()
+        };
+        render_sequence(&gpu, &scene, &config(SCREEN, Some(t)), poses, |f| {
+            f == poses.len() - 1
+        })
+        .1
+    };
+    let turn = turning(&scene);
+    let (square, cross) = (
+        with(ClipNeighbourhood::Square, &turn),
+        with(ClipNeighbourhood::Cross, &turn),
+    );
+    assert!(square[0] != cross[0], "turning, the cross changes nothing");
+    let still = vec![(scene.head, Vec2::ZERO); 12];
+    let (square, cross) = (
+        with(ClipNeighbourhood::Square, &still),
+        with(ClipNeighbourhood::Cross, &still),
+    );
+    assert!(
+        square[0] == cross[0],
+        "with the head still, the cross changes the image"
     );
 }
 

@@ -33,6 +33,44 @@ pub struct TemporalConfig {
     pub clip: HistoryClip,
     /// How the history is resampled where the head's motion moved the point.
     pub filter: HistoryFilter,
+    /// Which periphery texels around the pixel make the box the clip holds the history to.
+    pub neighbourhood: ClipNeighbourhood,
+}
+
+/// The periphery texels around a pixel whose colours make the box its history is clipped to
+/// (and in which a moving instance is looked for).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ClipNeighbourhood {
+    /// The 3×3 texels around it: nine reads.
+    Square,
+    /// The texel and its four edge neighbours: five reads. Measured at the Quest Pro's panel
+    /// (lavapipe): 5 % off the frame; along a walk the same eFLIP p99 and 4 % more flicker
+    /// (its box, from fewer colours, is narrower and clips more); with the head still the same
+    /// figures, since the `Moved` clip uses no box where nothing moved (BENCHMARKS.md, "A
+    /// neighbourhood of five reads instead of nine").
+    Cross,
+}
+
+impl std::fmt::Display for ClipNeighbourhood {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ClipNeighbourhood::Square => "3x3",
+            ClipNeighbourhood::Cross => "cross",
+        })
+    }
+}
+
+impl std::str::FromStr for ClipNeighbourhood {
+    type Err = ConfigError;
+
+    /// `3x3` or `cross`.
+    fn from_str(s: &str) -> Result<Self, ConfigError> {
+        match s {
+            "3x3" => Ok(ClipNeighbourhood::Square),
+            "cross" => Ok(ClipNeighbourhood::Cross),
+            _ => Err(ConfigError::new("clip neighbourhood", s, "3x3 or cross")),
+        }
+    }
 }
 
 /// How the history is read where the point moved since the frame before, and so lies between
@@ -74,8 +112,8 @@ impl std::str::FromStr for HistoryFilter {
     }
 }
 
-/// How the reprojected history is held to the periphery's 3×3 neighbourhood around the pixel
-/// (in YCoCg) before the new sample is blended in: what stops a surface that moved, changed or
+/// How the reprojected history is held to the periphery's neighbourhood around the pixel
+/// ([`ClipNeighbourhood`], in YCoCg) before the new sample is blended in: what stops a surface that moved, changed or
 /// was uncovered from leaving a trail.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum HistoryClip {
@@ -192,6 +230,8 @@ impl Default for TemporalConfig {
             // "Accumulation in the output pass").
             clip: HistoryClip::Moved,
             filter: HistoryFilter::Bilinear,
+            // The cross is faster but flickers more along a walk, and no GPU has timed it yet.
+            neighbourhood: ClipNeighbourhood::Square,
         }
     }
 }
@@ -366,5 +406,16 @@ mod tests {
         assert_eq!(encoded(HistoryClip::Moved), (true, 2.0));
         let err = "deep".parse::<HistoryClip>().unwrap_err().to_string();
         assert!(err.contains("deep") && err.contains("depth"), "{err}");
+    }
+
+    /// Both neighbourhoods read back from the names they print; a wrong name is refused,
+    /// naming itself and the two it could be. Mutation: `cross` parsed as the 3×3 fails it.
+    #[test]
+    fn neighbourhoods_round_trip() {
+        for n in [ClipNeighbourhood::Square, ClipNeighbourhood::Cross] {
+            assert_eq!(n.to_string().parse::<ClipNeighbourhood>().unwrap(), n);
+        }
+        let err = "5x5".parse::<ClipNeighbourhood>().unwrap_err().to_string();
+        assert!(err.contains("5x5") && err.contains("cross"), "{err}");
     }
 }

@@ -8,7 +8,7 @@ use super::ops::{Access, AttachmentId};
 use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{OutputSource, OutputStep, Step};
 use super::{ConfigError, OutputFormat, Resolution};
-use crate::foveation::{HistoryFilter, PeripheryFilter};
+use crate::foveation::{ClipNeighbourhood, HistoryFilter, PeripheryFilter};
 use crate::shaders::{
     COMPOSITE_VERT, OUTPUT_FRAG, OUTPUT_FRAG_COUNTING, OUTPUT_TEMPORAL_FRAG,
     OUTPUT_TEMPORAL_FRAG_COUNTING,
@@ -161,10 +161,9 @@ pub(super) fn output_pipeline(
 ) -> PipelineDesc {
     let foveation = plan.foveation.as_ref();
     let catmull_rom = foveation.is_some_and(|f| f.periphery_filter == PeripheryFilter::CatmullRom);
-    let history_catmull_rom = step.temporal
-        && foveation
-            .and_then(|f| f.temporal)
-            .is_some_and(|t| t.filter == HistoryFilter::CatmullRom);
+    let temporal = foveation.and_then(|f| f.temporal).filter(|_| step.temporal);
+    let history_catmull_rom = temporal.is_some_and(|t| t.filter == HistoryFilter::CatmullRom);
+    let cross = temporal.is_some_and(|t| t.neighbourhood == ClipNeighbourhood::Cross);
     let (fovea_layer, sharpen) = match step.source {
         OutputSource::Foveated {
             fovea_layer,
@@ -185,6 +184,7 @@ pub(super) fn output_pipeline(
         .flag(Constant::Sharpen, sharpen)
         .flag(Constant::CatmullRom, catmull_rom)
         .flag(Constant::HistoryCatmullRom, history_catmull_rom)
+        .flag(Constant::CrossNeighbourhood, cross)
         .constant(
             Constant::HistoryOutcomeBase,
             plan.history_outcome_base().unwrap_or(0),

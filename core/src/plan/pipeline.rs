@@ -68,6 +68,9 @@ pub enum Constant {
     /// The accumulating output stage: read the history with Catmull-Rom where the point moved
     /// (`HistoryFilter::CatmullRom`): a constant, so a frame without it compiles none of it.
     HistoryCatmullRom,
+    /// The accumulating output stage: the clip's box from a cross of five periphery texels
+    /// rather than the 3×3 (`ClipNeighbourhood::Cross`).
+    CrossNeighbourhood,
 }
 
 /// How a constant's 32 bits read.
@@ -83,7 +86,7 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 27] = {
+    pub const ALL: [Constant; 28] = {
         use Constant::*;
         [
             ViewSource,
@@ -113,6 +116,7 @@ impl Constant {
             CatmullRom,
             HistoryOutcomeBase,
             HistoryCatmullRom,
+            CrossNeighbourhood,
         ]
     };
 
@@ -148,6 +152,7 @@ impl Constant {
             CatmullRom => (34, "CATMULL_ROM", Bool),
             HistoryOutcomeBase => (35, "HISTORY_OUTCOME_BASE", Uint),
             HistoryCatmullRom => (36, "HISTORY_CATMULL_ROM", Bool),
+            CrossNeighbourhood => (37, "CROSS_NEIGHBOURHOOD", Bool),
         }
     }
 

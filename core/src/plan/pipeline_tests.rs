@@ -210,23 +210,21 @@ fn pipelines_that_differ_in_a_constant_are_not_the_same_value() {
     assert!(text.contains("FIRST_VIEW=2"), "{text}");
 }
 
-/// The history's Catmull-Rom read is compiled into the accumulating output stage only when the
-/// configuration asks for it: the default frame's pipeline has none of it. Mutation: the
-/// constant set from the clip instead of the filter fails it.
+/// The history's Catmull-Rom read and the clip's cross neighbourhood are compiled into the
+/// accumulating output stage only when the configuration asks for them: the default frame's
+/// pipeline has neither. Mutation: the constant set from the clip instead of the filter fails
+/// it.
 #[test]
 fn the_history_filter_is_a_constant_of_the_output_stage() {
-    use crate::foveation::{HistoryFilter, TemporalConfig};
-    let output_constant = |filter| {
+    use crate::foveation::{ClipNeighbourhood, HistoryFilter, TemporalConfig};
+    let output_constant = |temporal: TemporalConfig, constant: Constant| {
         let config = RenderConfig {
             msaa: 1,
             foveation: Some(FoveationConfig {
                 ratio: 0.35,
                 periphery_density: Some(0.5),
                 periphery_msaa: Some(1),
-                periphery_temporal: Some(TemporalConfig {
-                    filter,
-                    ..Default::default()
-                }),
+                periphery_temporal: Some(temporal),
                 ..Default::default()
             }),
             ..base(StereoMode::Multiview)
@@ -241,9 +239,33 @@ fn the_history_filter_is_a_constant_of_the_output_stage() {
         output.pipelines[step]
             .constants
             .iter()
-            .find(|c| c.0 == Constant::HistoryCatmullRom)
+            .find(|c| c.0 == constant)
             .map(|c| c.1)
     };
-    assert_ne!(output_constant(HistoryFilter::Bilinear), Some(1));
-    assert_eq!(output_constant(HistoryFilter::CatmullRom), Some(1));
+    let default = TemporalConfig::default();
+    let sharp = TemporalConfig {
+        filter: HistoryFilter::CatmullRom,
+        ..default
+    };
+    let cross = TemporalConfig {
+        neighbourhood: ClipNeighbourhood::Cross,
+        ..default
+    };
+    assert_ne!(
+        output_constant(default, Constant::HistoryCatmullRom),
+        Some(1)
+    );
+    assert_eq!(output_constant(sharp, Constant::HistoryCatmullRom), Some(1));
+    assert_ne!(
+        output_constant(sharp, Constant::CrossNeighbourhood),
+        Some(1)
+    );
+    assert_ne!(
+        output_constant(default, Constant::CrossNeighbourhood),
+        Some(1)
+    );
+    assert_eq!(
+        output_constant(cross, Constant::CrossNeighbourhood),
+        Some(1)
+    );
 }
