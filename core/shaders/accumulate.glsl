@@ -13,10 +13,10 @@
 // the periphery's hole the history holds what the fovea showed, and no depth lies beside it).
 // History taps that hold nothing (the lens hid them, never rendered) are dropped; what
 // remains is clipped towards the periphery's 3x3 neighbourhood (or its cross) in YCoCg — its
-// mean, within its spread (Salvi's variance clipping): a surface that moved or changed cannot leave a trail,
-// and unlike a min/max clamp the box does not widen with every outlier — and the new sample is
-// blended in with a weight that falls with its distance from the pixel's centre. With no usable
-// history, the pixel starts from the bilinear periphery.
+// mean, within its spread (Salvi's variance clipping): a surface that moved or changed cannot
+// leave a trail, and unlike a min/max clamp the box does not widen with every outlier — and the
+// new sample is blended in with a weight that falls with its distance from the pixel's centre.
+// With no usable history, the pixel starts from the bilinear periphery.
 
 // Read the history with Catmull-Rom where the point moved (HistoryFilter::CatmullRom).
 layout(constant_id = 36) const bool HISTORY_CATMULL_ROM = false;

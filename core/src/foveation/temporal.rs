@@ -44,7 +44,7 @@ pub enum ClipNeighbourhood {
     /// The 3×3 texels around it: nine reads.
     Square,
     /// The texel and its four edge neighbours: five reads. Measured at the Quest Pro's panel
-    /// (lavapipe): 5 % off the frame; along a walk the same eFLIP p99 and 4 % more flicker
+    /// (lavapipe): 5–6 % off the frame; along a walk the same eFLIP p99 and 4 % more flicker
     /// (its box, from fewer colours, is narrower and clips more); with the head still the same
     /// figures, since the `Moved` clip uses no box where nothing moved (BENCHMARKS.md, "A
     /// neighbourhood of five reads instead of nine").
@@ -113,8 +113,8 @@ impl std::str::FromStr for HistoryFilter {
 }
 
 /// How the reprojected history is held to the periphery's neighbourhood around the pixel
-/// ([`ClipNeighbourhood`], in YCoCg) before the new sample is blended in: what stops a surface that moved, changed or
-/// was uncovered from leaving a trail.
+/// ([`ClipNeighbourhood`], in YCoCg) before the new sample is blended in: what stops a surface
+/// that moved, changed or was uncovered from leaving a trail.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum HistoryClip {
     /// Variance clipping (Salvi 2016, "An excursion in temporal supersampling"): moved along

@@ -212,8 +212,8 @@ fn pipelines_that_differ_in_a_constant_are_not_the_same_value() {
 
 /// The history's Catmull-Rom read and the clip's cross neighbourhood are compiled into the
 /// accumulating output stage only when the configuration asks for them: the default frame's
-/// pipeline has neither. Mutation: the constant set from the clip instead of the filter fails
-/// it.
+/// pipeline has neither. Mutations: the Catmull-Rom constant set from the clip instead of the
+/// filter fails it; so does the cross's constant never set.
 #[test]
 fn the_history_filter_is_a_constant_of_the_output_stage() {
     use crate::foveation::{ClipNeighbourhood, HistoryFilter, TemporalConfig};

@@ -457,13 +457,8 @@ fn report_picks(
     Ok(())
 }
 
-/// The configuration column's width: the longest name's.
-fn name_width(rows: &[Row]) -> usize {
-    rows.iter().map(|r| r.name.len()).max().unwrap_or(0).max(13)
-}
-
 fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
-    let width = name_width(rows);
+    let width = super::name_column_width(rows.iter().map(|r| r.name.as_str()));
     println!(
         "\n{:<width$} {:>9} {:>6} {:>11} {:>11} {:>11} {:>9} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
         "configuration",
@@ -519,7 +514,7 @@ fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
 /// workload beside each time.
 fn print_frontier(rows: &[Row], points: &[Point]) {
     println!("\nPareto frontier (eFLIP p99 against frame time; S stereo, F foveated):");
-    let width = name_width(rows);
+    let width = super::name_column_width(rows.iter().map(|r| r.name.as_str()));
     println!(
         "  {:<width$} {:>7} {:>8} {:>12} {:>12} {:>10}",
         "configuration", "x ref", "p99", "fragments", "resolved", "MiB moved"

@@ -734,7 +734,7 @@ impl AlongMotion {
 }
 
 fn print_table(rows: &[Row]) {
-    let width = rows.iter().map(|r| r.name.len()).max().unwrap_or(0).max(13);
+    let width = super::name_column_width(rows.iter().map(|r| r.name.as_str()));
     let judged = rows.iter().any(|r| r.accuracy.is_some());
     let eflip = match judged {
         true => format!(

@@ -13,3 +13,13 @@ pub mod pixels;
 pub mod render;
 pub mod view;
 pub mod xr;
+
+/// The width of a table's configuration column: its longest name, and at least the header
+/// ("configuration"), so the figures after a long name stay under their headings.
+fn name_column_width<'a>(names: impl Iterator<Item = &'a str>) -> usize {
+    names
+        .map(str::len)
+        .max()
+        .unwrap_or(0)
+        .max("configuration".len())
+}

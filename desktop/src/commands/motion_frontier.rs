@@ -46,12 +46,7 @@ pub fn report(motion: &str, points: &[MotionPoint], headset: &str, stem: &Path) 
     println!(
         "\n{motion}: eFLIP p99 against frame time (S stereo, F foveated; * on the Pareto frontier):"
     );
-    let width = points
-        .iter()
-        .map(|p| p.name.len())
-        .max()
-        .unwrap_or(0)
-        .max(13);
+    let width = super::name_column_width(points.iter().map(|p| p.name.as_str()));
     println!(
         "  {:<width$} {:>9} {:>7} {:>8}",
         "configuration", "frame ms", "x ref", "p99"
