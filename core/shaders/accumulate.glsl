@@ -23,6 +23,9 @@ layout(constant_id = 36) const bool HISTORY_CATMULL_ROM = false;
 // The clip's box from the texel and its four edge neighbours rather than the 3×3
 // (ClipNeighbourhood::Cross): five reads instead of nine.
 layout(constant_id = 37) const bool CROSS_NEIGHBOURHOOD = false;
+// The scene passes mark instances that move (alpha below 1; scene.frag): only then are they
+// looked for in the neighbourhood, and only then is the box needed where nothing moved.
+layout(constant_id = 7) const bool MARK_MOVING = false;
 
 layout(set = 0, binding = 4) uniform sampler2DArray history;
 layout(set = 0, binding = 5) uniform sampler2DArray periphery_depth;
@@ -73,14 +76,16 @@ vec3 clip_to_box(vec3 h, vec3 lo, vec3 hi) {
 }
 
 // The display tangent a lens-distorted output shows direction `t` at: the radial polynomial
-// r(1 + k1 r² + k2 r⁴) inverted by Newton's method (monotone over a lens's field).
-vec2 distorted(vec2 t) {
+// r(1 + k1 r² + k2 r⁴) inverted by Newton's method (monotone over a lens's field). It starts
+// from the display radius of `near` (this pixel's own place, whose direction lies a frame's
+// motion from `t`): two steps from there land closer than four from `t`'s own radius did.
+vec2 distorted(vec2 t, vec2 near) {
     float target = length(t);
     if (target < 1e-6) {
         return t;
     }
-    float r = target;
-    for (int i = 0; i < 4; i++) {
+    float r = length(near);
+    for (int i = 0; i < 2; i++) {
         float r2 = r * r;
         float f = r * (1.0 + r2 * (c.screen.z + c.screen.w * r2)) - target;
         float slope = 1.0 + r2 * (3.0 * c.screen.z + 5.0 * c.screen.w * r2);
@@ -107,6 +112,9 @@ bool seen_before(uint eye, vec2 uv, float w, bool sky, bool moved, bool under_fo
     ivec2 size = textureSize(previous_depth, 0).xy;
     vec2 at = uv * vec2(size) + c.clip.zw;
     ivec2 base = moved ? ivec2(floor(at)) : ivec2(floor(at - 0.5));
+    // The distances within 10 % of `w` as an interval of depth values, found once: each tap
+    // then compares its depth with no division (depth falls as distance grows).
+    vec2 depths = c.depth.y / (vec2(1.1, 0.9) * w) - c.depth.x;
     for (int k = 0; k < (moved ? 1 : 4); k++) {
         ivec2 texel = clamp(base + ivec2(k & 1, k >> 1), ivec2(0), size - 1);
         float d = texelFetch(previous_depth, ivec3(texel, eye), 0).r;
@@ -116,8 +124,7 @@ bool seen_before(uint eye, vec2 uv, float w, bool sky, bool moved, bool under_fo
         if (sky || d <= 0.0) {
             continue;
         }
-        float before = c.depth.y / (d + c.depth.x);
-        if (abs(before - w) <= 0.1 * w) {
+        if (d >= depths.x && d <= depths.y) {
             return true;
         }
     }
@@ -127,8 +134,10 @@ bool seen_before(uint eye, vec2 uv, float w, bool sky, bool moved, bool under_fo
 // Where, in the previous frame's output pixels (continuous, centres at .5), direction `t`
 // (at `here` in this frame's rendered field) seen at `distance` (the sky: infinitely far)
 // lay; z < 0 when behind that frame's eye or when that frame saw another surface there.
-// `moved`: whether the point moved on screen since then (the head's motion).
-vec3 previous_pixel(uint eye, vec2 here, vec2 t, float distance, bool sky, out bool moved) {
+// `moved`: whether the point moved on screen since then (the head's motion). `display`: this
+// pixel's place on the display (LENS).
+vec3 previous_pixel(uint eye, vec2 here, vec2 t, vec2 display, float distance, bool sky,
+                    out bool moved) {
     moved = false;
     vec4 seen = sky ? vec4(t, -1.0, 0.0) : vec4(t * distance, -distance, 1.0);
     vec4 clip = c.previous_from_view[eye] * seen;
@@ -142,7 +151,7 @@ vec3 previous_pixel(uint eye, vec2 here, vec2 t, float distance, bool sky, out b
         vec4 p = c.periphery[eye];
         vec4 d = c.display[eye];
         vec2 tp = vec2(-p.x + uv.x * (p.x + p.y), p.z - uv.y * (p.z + p.w));
-        vec2 td = distorted(tp);
+        vec2 td = distorted(tp, display);
         at = vec2((td.x + d.x) / (d.x + d.y), (d.z - td.y) / (d.z + d.w));
     }
     at *= c.screen.xy;
@@ -231,31 +240,15 @@ vec3 history_sharp(uint eye, vec2 at, vec3 bilinear) {
     return clamp(sum, lo, hi);
 }
 
-// The accumulated periphery of eye `eye` at `uv` (the rendered field's) in direction `t`;
-// `next` is what the history keeps of this pixel.
-vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
-    vec4 p = c.periphery[eye];
-    vec4 f = c.fovea[eye];
-    vec2 fovea_centre = vec2((f.y - f.x) * 0.5, (f.z - f.w) * 0.5);
-    vec2 px_per_tangent = c.screen.xy / vec2(p.x + p.y, p.z + p.w);
-    ivec2 size = textureSize(images, 0).xy;
-    vec2 q = uv * vec2(size);
-    vec2 j = c.jitter.xy;
-    // The bilinear periphery at this pixel's centre (the jitter undone).
-    vec3 bilinear = texture(images, vec3((q + j) / vec2(size), float(eye))).rgb;
-    // Inside the periphery's hole nothing was rendered: the output keeps what the fovea shows.
-    if (length((t - fovea_centre) * px_per_tangent) < c.depth.z) {
-        NOTE_OUTCOME(OUTCOME_HOLE);
-        next = NOTHING;
-        return bilinear;
-    }
-    ivec2 texel = clamp(ivec2(floor(q + j)), ivec2(0), size - 1);
-    vec3 nearest = texelFetch(images, ivec3(texel, eye), 0).rgb;
+// The periphery's variance box around `texel` (Salvi's variance clipping, in YCoCg): the
+// neighbourhood's mean ± c.clip.x standard deviations, within its range. True where an instance
+// that moves lies in the neighbourhood.
+bool neighbourhood_box(uint eye, ivec2 texel, ivec2 size, out vec3 lo, out vec3 hi) {
     vec3 sum = vec3(0.0);
     vec3 squares = vec3(0.0);
-    vec3 lo = vec3(1e30);
-    vec3 hi = vec3(-1e30);
-    bool mover = false; // an instance that moves lies in the neighbourhood
+    lo = vec3(1e30);
+    hi = vec3(-1e30);
+    bool mover = false;
     for (int dy = -1; dy <= 1; dy++) {
         for (int dx = -1; dx <= 1; dx++) {
             if (CROSS_NEIGHBOURHOOD && dx != 0 && dy != 0) {
@@ -274,20 +267,50 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, out vec4 next) {
     float texels = CROSS_NEIGHBOURHOOD ? 5.0 : 9.0;
     vec3 mean = sum / texels;
     vec3 spread = c.clip.x * sqrt(max(squares / texels - mean * mean, vec3(0.0)));
-    // The variance box, within the neighbourhood's range.
     lo = max(lo, mean - spread);
     hi = min(hi, mean + spread);
+    return mover;
+}
 
+// The accumulated periphery of eye `eye` at `uv` (the rendered field's) in direction `t`,
+// shown at `display` (display tangents, LENS); `next` is what the history keeps of this pixel.
+vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
+    vec4 p = c.periphery[eye];
+    vec4 f = c.fovea[eye];
+    vec2 fovea_centre = vec2((f.y - f.x) * 0.5, (f.z - f.w) * 0.5);
+    vec2 px_per_tangent = c.screen.xy / vec2(p.x + p.y, p.z + p.w);
+    ivec2 size = textureSize(images, 0).xy;
+    vec2 q = uv * vec2(size);
+    vec2 j = c.jitter.xy;
+    // The bilinear periphery at this pixel's centre (the jitter undone).
+    vec3 bilinear = texture(images, vec3((q + j) / vec2(size), float(eye))).rgb;
+    // Inside the periphery's hole nothing was rendered: the output keeps what the fovea shows.
+    if (length((t - fovea_centre) * px_per_tangent) < c.depth.z) {
+        NOTE_OUTCOME(OUTCOME_HOLE);
+        next = NOTHING;
+        return bilinear;
+    }
+    ivec2 texel = clamp(ivec2(floor(q + j)), ivec2(0), size - 1);
+    vec3 nearest = texelFetch(images, ivec3(texel, eye), 0).rgb;
+    vec3 lo, hi;
+    bool mover = false; // an instance that moves lies in the neighbourhood
+    if (MARK_MOVING) {
+        mover = neighbourhood_box(eye, texel, size, lo, hi);
+    }
     vec3 result = bilinear;
     float d = texelFetch(periphery_depth, ivec3(texel, eye), 0).r;
     bool sky = d <= 0.0;
     float distance = sky ? 0.0 : c.depth.y / (d + c.depth.x);
     bool moved;
-    vec3 at = previous_pixel(eye, uv, t, distance, sky, moved);
+    vec3 at = previous_pixel(eye, uv, t, display, distance, sky, moved);
     // Whether the history is clipped here: HistoryClip::Moved clips only where the head's
     // motion moved the point (clip.y = 2), or where an instance that moves lies or lay (the
     // reprojection follows the head alone); elsewhere the depth test alone holds it.
     bool clipped = c.clip.x >= 0.0 && (c.clip.y < 1.5 || moved || mover);
+    if (!MARK_MOVING && clipped) {
+        // Without instances that move, the box is built only where it clips.
+        neighbourhood_box(eye, texel, size, lo, hi);
+    }
     if (c.jitter.w >= 0.5) {
         NOTE_OUTCOME(OUTCOME_RESET);
     } else if (at.z > 0.0) {

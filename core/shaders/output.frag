@@ -121,11 +121,13 @@ void main() {
     uint eye = gl_ViewIndex;
     vec4 p = c.periphery[eye];
     vec2 uv = in_uv;
-    // This pixel's direction in the rendered field, as tangents (x right, y up).
+    // This pixel's direction in the rendered field, as tangents (x right, y up); through the
+    // lens, `td` is its place on the display (display tangents).
     vec2 t;
+    vec2 td = vec2(0.0);
     if (LENS) {
         vec4 d = c.display[eye];
-        vec2 td = vec2(-d.x + in_uv.x * (d.x + d.y), d.z - in_uv.y * (d.z + d.w));
+        td = vec2(-d.x + in_uv.x * (d.x + d.y), d.z - in_uv.y * (d.z + d.w));
         float r2 = dot(td, td);
         t = td * (1.0 + r2 * (c.screen.z + c.screen.w * r2));
         uv = vec2((t.x + p.x) / (p.x + p.y), (p.z - t.y) / (p.z + p.w));
@@ -154,7 +156,7 @@ void main() {
 #ifdef TEMPORAL
         // Accumulated wherever the periphery was rendered, shown or not (under the fovea's
         // edge it is ready when the gaze moves).
-        color += (1.0 - w) * accumulate(eye, uv, t, out_history);
+        color += (1.0 - w) * accumulate(eye, uv, t, td, out_history);
 #ifdef COUNT_FRAGMENTS
         count_history_outcome(w);
 #endif

@@ -148,7 +148,7 @@ fn default_scene_renders_foveated_with_a_moving_gaze() {
 /// Where the composite blends, for one foveated frame: each eye's fovea centre in screen
 /// pixels, the fovea's radius and the band's width; through the lens, where each display pixel
 /// looks.
-struct Blend {
+pub(crate) struct Blend {
     centres: [Vec2; 2],
     radius: f32,
     band: f32,
@@ -202,7 +202,7 @@ impl LensOracle {
 }
 
 impl Blend {
-    fn of(gpu: &foveate::gpu::Gpu, config: &RenderConfig, gaze: Vec2) -> Blend {
+    pub(crate) fn of(gpu: &foveate::gpu::Gpu, config: &RenderConfig, gaze: Vec2) -> Blend {
         let plan = foveate::plan(&Scene::empty(), config, gpu.caps()).unwrap();
         let g = plan.foveation.unwrap();
         let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
@@ -226,6 +226,13 @@ impl Blend {
             None => Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
         };
         p.distance(self.centres[eye.index()])
+    }
+
+    /// Whether display pixel (x, y) shows the periphery alone, two pixels clear of the fovea,
+    /// within the rendered field.
+    pub(crate) fn periphery_only(&self, eye: Eye, x: u32, y: u32) -> bool {
+        let d = self.distance(eye, x, y);
+        d.is_finite() && d > self.radius + 2.0
     }
 
     /// The fovea's weight at distance `d`, as the composite computes it.

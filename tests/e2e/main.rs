@@ -27,6 +27,7 @@ mod robustness;
 mod shaders;
 mod stereo;
 mod temporal;
+mod temporal_lens;
 mod temporal_motion;
 mod temporal_msaa;
 mod zero_cost;

@@ -47,7 +47,7 @@ pub(crate) fn render_sequence(
 }
 
 /// `image` averaged over `k`×`k` blocks in linear light: a supersampled reference.
-fn box_down(image: &RgbaImage, k: u32) -> Vec<[f64; 3]> {
+pub(crate) fn box_down(image: &RgbaImage, k: u32) -> Vec<[f64; 3]> {
     let (w, h) = (image.width / k, image.height / k);
     let mut out = vec![[0.0; 3]; (w * h) as usize];
     for y in 0..h {
@@ -85,7 +85,7 @@ pub(crate) fn periphery_only(plan: &FramePlan, gaze: Vec2) -> [Vec<bool>; 2] {
 
 /// Half a second of the head turning 20°/s from the scene's pose, the gaze ahead: every point
 /// of the periphery moves every frame.
-fn turning(scene: &Scene) -> Vec<(Mat4, Vec2)> {
+pub(crate) fn turning(scene: &Scene) -> Vec<(Mat4, Vec2)> {
     (0..45)
         .map(|f| {
             let angle = (20.0f32 / 90.0 * f as f32).to_radians();

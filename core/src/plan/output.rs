@@ -7,6 +7,7 @@ use super::model::*;
 use super::ops::{Access, AttachmentId};
 use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{OutputSource, OutputStep, Step};
+use super::stereo_scene::marks_moving;
 use super::{ConfigError, OutputFormat, Resolution};
 use crate::foveation::{ClipNeighbourhood, HistoryFilter, PeripheryFilter};
 use crate::shaders::{
@@ -153,7 +154,9 @@ pub(super) fn full_view_pass(
 }
 
 /// The output stage's full-view draw: the lens, the source and, for a foveated frame, where
-/// the fovea views lie, whether the periphery is sharpened and how it is upscaled.
+/// the fovea views lie, whether the periphery is sharpened and how it is upscaled; with
+/// accumulation, how the history is read and clipped, and whether the scene passes mark
+/// instances that move (only then are they looked for).
 pub(super) fn output_pipeline(
     ctx: &StepContext,
     step: &OutputStep,
@@ -185,6 +188,7 @@ pub(super) fn output_pipeline(
         .flag(Constant::CatmullRom, catmull_rom)
         .flag(Constant::HistoryCatmullRom, history_catmull_rom)
         .flag(Constant::CrossNeighbourhood, cross)
+        .flag(Constant::MarkMoving, step.temporal && marks_moving(plan))
         .constant(
             Constant::HistoryOutcomeBase,
             plan.history_outcome_base().unwrap_or(0),

@@ -210,6 +210,21 @@ fn pipelines_that_differ_in_a_constant_are_not_the_same_value() {
     assert!(text.contains("FIRST_VIEW=2"), "{text}");
 }
 
+/// The value `constant` takes in the frame's output step, if it is set.
+fn output_step_constant(planned: &FramePlan, constant: Constant) -> Option<u32> {
+    let output = planned.passes.last().unwrap();
+    let step = output
+        .steps
+        .iter()
+        .position(|s| matches!(s, Step::Output(_)))
+        .expect("the output step");
+    output.pipelines[step]
+        .constants
+        .iter()
+        .find(|c| c.0 == constant)
+        .map(|c| c.1)
+}
+
 /// The history's Catmull-Rom read and the clip's cross neighbourhood are compiled into the
 /// accumulating output stage only when the configuration asks for them: the default frame's
 /// pipeline has neither. Mutations: the Catmull-Rom constant set from the clip instead of the
@@ -230,17 +245,7 @@ fn the_history_filter_is_a_constant_of_the_output_stage() {
             ..base(StereoMode::Multiview)
         };
         let planned = plan(&atrium_scene(), &config, &DeviceCaps::generic()).unwrap();
-        let output = planned.passes.last().unwrap();
-        let step = output
-            .steps
-            .iter()
-            .position(|s| matches!(s, Step::Output(_)))
-            .expect("the output step");
-        output.pipelines[step]
-            .constants
-            .iter()
-            .find(|c| c.0 == constant)
-            .map(|c| c.1)
+        output_step_constant(&planned, constant)
     };
     let default = TemporalConfig::default();
     let sharp = TemporalConfig {
@@ -268,4 +273,46 @@ fn the_history_filter_is_a_constant_of_the_output_stage() {
         output_constant(cross, Constant::CrossNeighbourhood),
         Some(1)
     );
+}
+
+/// The accumulating output stage looks for instances that move exactly where the scene passes
+/// mark them (a plan whose instances move, clipped where things moved); elsewhere it builds the
+/// clip's box only where it clips. Mutation: the flag never set on the output stage fails it
+/// (and the walker's test then finds a trail).
+#[test]
+fn the_output_stage_looks_for_moving_instances_where_the_scene_marks_them() {
+    use crate::foveation::{HistoryClip, TemporalConfig};
+    for (moving, clip) in [
+        (false, HistoryClip::Moved),
+        (true, HistoryClip::Moved),
+        (true, HistoryClip::DepthOnly),
+    ] {
+        let config = RenderConfig {
+            msaa: 1,
+            moving_instances: moving,
+            foveation: Some(FoveationConfig {
+                ratio: 0.35,
+                periphery_density: Some(0.5),
+                periphery_msaa: Some(1),
+                periphery_temporal: Some(TemporalConfig {
+                    clip,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            }),
+            ..base(StereoMode::Multiview)
+        };
+        let planned = plan(&atrium_scene(), &config, &DeviceCaps::generic()).unwrap();
+        let marked = moving && clip == HistoryClip::Moved;
+        let scene_marks = planned.passes[0]
+            .pipelines
+            .iter()
+            .any(|p| p.constants.contains(&(Constant::MarkMoving, 1)));
+        assert_eq!(scene_marks, marked, "{moving} {clip}");
+        assert_eq!(
+            output_step_constant(&planned, Constant::MarkMoving) == Some(1),
+            marked,
+            "{moving} {clip}"
+        );
+    }
 }

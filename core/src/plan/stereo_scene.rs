@@ -433,8 +433,9 @@ pub(super) fn scene_pipeline(
 }
 
 /// Whether the scene passes mark the pixels of instances that move: only where the periphery's
-/// accumulation clips by them (`HistoryClip::Moved`) and instances can move.
-fn marks_moving(plan: &FramePlan) -> bool {
+/// accumulation clips by them (`HistoryClip::Moved`) and instances can move. The output
+/// stage looks for them by the same constant.
+pub(super) fn marks_moving(plan: &FramePlan) -> bool {
     let temporal = plan.foveation.and_then(|g| g.temporal);
     plan.moving_instances().is_some()
         && temporal.is_some_and(|t| t.clip == crate::foveation::HistoryClip::Moved)
