@@ -185,15 +185,21 @@ impl LensOracle {
         ((0.0..=w).contains(&px) && (0.0..=h).contains(&py)).then_some((px, py))
     }
 
+    /// Display pixel (x, y)'s centre in display tangents (x right, y up).
+    fn display_point(&self, eye: Eye, x: f64, y: f64) -> (f64, f64) {
+        let (w, h) = (self.screen.0 as f64, self.screen.1 as f64);
+        let d = self.display[eye.index()];
+        let (dl, dr, du, dd) = (d.left as f64, d.right as f64, d.up as f64, d.down as f64);
+        let (u, v) = ((x + 0.5) / w, (y + 0.5) / h);
+        (-dl + u * (dl + dr), du - v * (du + dd))
+    }
+
     /// Display pixel (x, y)'s centre seen through the lens, in undistorted image pixels.
     fn image_point(&self, eye: Eye, x: f64, y: f64) -> (f64, f64) {
         let (w, h) = (self.screen.0 as f64, self.screen.1 as f64);
-        let d = self.display[eye.index()];
         let p = self.fov[eye.index()];
-        let (dl, dr, du, dd) = (d.left as f64, d.right as f64, d.up as f64, d.down as f64);
         let (pl, pr, pu, pd) = (p.left as f64, p.right as f64, p.up as f64, p.down as f64);
-        let (u, v) = ((x + 0.5) / w, (y + 0.5) / h);
-        let (dx, dy) = (-dl + u * (dl + dr), du - v * (du + dd));
+        let (dx, dy) = self.display_point(eye, x, y);
         let r2 = dx * dx + dy * dy;
         let k = 1.0 + r2 * (self.k1 + self.k2 * r2);
         let (tx, ty) = (dx * k, dy * k);
@@ -226,6 +232,14 @@ impl Blend {
             None => Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
         };
         p.distance(self.centres[eye.index()])
+    }
+
+    /// How far from the lens's axis display pixel (x, y) lies, in display tangents (through
+    /// the lens).
+    pub(crate) fn display_radius(&self, eye: Eye, x: u32, y: u32) -> Option<f64> {
+        let lens = self.lens.as_ref()?;
+        let (dx, dy) = lens.display_point(eye, x as f64, y as f64);
+        Some(dx.hypot(dy))
     }
 
     /// Whether display pixel (x, y) shows the periphery alone, two pixels clear of the fovea,
