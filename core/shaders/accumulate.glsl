@@ -242,31 +242,33 @@ vec3 history_sharp(uint eye, vec2 at, vec3 bilinear) {
 
 // The periphery's variance box around `texel` (Salvi's variance clipping, in YCoCg): the
 // neighbourhood's mean ± c.clip.x standard deviations, within its range. True where an instance
-// that moves lies in the neighbourhood.
-bool neighbourhood_box(uint eye, ivec2 texel, ivec2 size, out vec3 lo, out vec3 hi) {
+// that moves lies in the neighbourhood. Read only where `wanted`: a loop that runs no texel
+// where it is not, which a GPU and lavapipe both skip when no pixel of a group wants it (lavapipe
+// runs both sides of an `if` under a mask, but ends a loop that no pixel runs).
+bool neighbourhood_box(uint eye, ivec2 texel, ivec2 size, bool wanted, out vec3 lo,
+                       out vec3 hi) {
     vec3 sum = vec3(0.0);
     vec3 squares = vec3(0.0);
     lo = vec3(1e30);
     hi = vec3(-1e30);
     bool mover = false;
-    for (int dy = -1; dy <= 1; dy++) {
-        for (int dx = -1; dx <= 1; dx++) {
-            if (CROSS_NEIGHBOURHOOD && dx != 0 && dy != 0) {
-                continue; // a corner
-            }
-            ivec2 n = clamp(texel + ivec2(dx, dy), ivec2(0), size - 1);
-            vec4 fetched = texelFetch(images, ivec3(n, eye), 0);
-            mover = mover || fetched.a < MOVER_ALPHA;
-            vec3 s = to_ycocg(fetched.rgb);
-            sum += s;
-            squares += s * s;
-            lo = min(lo, s);
-            hi = max(hi, s);
-        }
+    int texels = CROSS_NEIGHBOURHOOD ? 5 : 9;
+    for (int k = 0; k < (wanted ? texels : 0); k++) {
+        // The cross: the texel and its four edge neighbours; the square: row by row.
+        ivec2 offset = CROSS_NEIGHBOURHOOD
+            ? ivec2[5](ivec2(0), ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1))[k]
+            : ivec2(k % 3 - 1, k / 3 - 1);
+        ivec2 n = clamp(texel + offset, ivec2(0), size - 1);
+        vec4 fetched = texelFetch(images, ivec3(n, eye), 0);
+        mover = mover || fetched.a < MOVER_ALPHA;
+        vec3 s = to_ycocg(fetched.rgb);
+        sum += s;
+        squares += s * s;
+        lo = min(lo, s);
+        hi = max(hi, s);
     }
-    float texels = CROSS_NEIGHBOURHOOD ? 5.0 : 9.0;
-    vec3 mean = sum / texels;
-    vec3 spread = c.clip.x * sqrt(max(squares / texels - mean * mean, vec3(0.0)));
+    vec3 mean = sum / float(texels);
+    vec3 spread = c.clip.x * sqrt(max(squares / float(texels) - mean * mean, vec3(0.0)));
     lo = max(lo, mean - spread);
     hi = min(hi, mean + spread);
     return mover;
@@ -295,7 +297,7 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
     vec3 lo, hi;
     bool mover = false; // an instance that moves lies in the neighbourhood
     if (MARK_MOVING) {
-        mover = neighbourhood_box(eye, texel, size, lo, hi);
+        mover = neighbourhood_box(eye, texel, size, true, lo, hi);
     }
     vec3 result = bilinear;
     float d = texelFetch(periphery_depth, ivec3(texel, eye), 0).r;
@@ -307,9 +309,9 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
     // motion moved the point (clip.y = 2), or where an instance that moves lies or lay (the
     // reprojection follows the head alone); elsewhere the depth test alone holds it.
     bool clipped = c.clip.x >= 0.0 && (c.clip.y < 1.5 || moved || mover);
-    if (!MARK_MOVING && clipped) {
+    if (!MARK_MOVING) {
         // Without instances that move, the box is built only where it clips.
-        neighbourhood_box(eye, texel, size, lo, hi);
+        neighbourhood_box(eye, texel, size, clipped, lo, hi);
     }
     if (c.jitter.w >= 0.5) {
         NOTE_OUTCOME(OUTCOME_RESET);
