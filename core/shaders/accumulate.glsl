@@ -318,6 +318,8 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
     } else if (at.z > 0.0) {
         bool mover_before;
         vec4 h = history_at(eye, at.xy, mover_before);
+        // Only a frame whose scene marks instances that move writes MOVER into the history, and
+        // then (MARK_MOVING) the box was built everywhere: clipping switched on here has one.
         clipped = clipped || (c.clip.x >= 0.0 && mover_before);
         if (HISTORY_CATMULL_ROM && moved && h.w > 0.99) {
             h.rgb = history_sharp(eye, at.xy, h.rgb);
