@@ -966,6 +966,52 @@ fn flicker_measures_each_approximation_along_every_motion() {
     );
 }
 
+/// `flicker --fovea-msaa 1,4` measures each foveated row at both of its fovea's sample counts,
+/// the accumulated ones too: the aliased fovea is judged worse there than the 4× one. A count
+/// the frame is not built for is an error naming the option and the value.
+#[test]
+fn flicker_measures_the_fovea_at_each_sample_count() {
+    let csv = std::env::temp_dir().join(format!("foveate-fovea-msaa-{}.csv", std::process::id()));
+    let mut args = SMALL_FLICKER.to_vec();
+    args.extend(["--motions", "still", "--fovea-msaa", "1,4", "--flip"]);
+    args.extend(["--csv", csv.to_str().unwrap()]);
+    let o = foveate(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = read_csv(&csv, 17);
+    let _ = std::fs::remove_file(&csv);
+    let configs: Vec<&str> = rows.iter().map(|r| r["config"].as_str()).collect();
+    assert_eq!(
+        configs,
+        [
+            "stereo, MSAA 1",
+            "foveated 0.5, MSAA 1",
+            "foveated 0.5, MSAA 4",
+            "foveated 0.5, temporal, MSAA 1",
+            "foveated 0.5, temporal, MSAA 4"
+        ]
+    );
+    let fovea_p99 = |config: &str| -> f64 {
+        let r = rows.iter().find(|r| r["config"] == config).unwrap();
+        r["eflip_p99_fovea"].parse().unwrap()
+    };
+    for row in ["foveated 0.5", "foveated 0.5, temporal"] {
+        let (aliased, multisampled) = (
+            fovea_p99(&format!("{row}, MSAA 1")),
+            fovea_p99(&format!("{row}, MSAA 4")),
+        );
+        assert!(
+            aliased > multisampled,
+            "{row}: {aliased} against {multisampled}"
+        );
+    }
+    let o = foveate(&["flicker", "--fovea-msaa", "4,2"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("fovea-msaa = 2"),
+        "{}",
+        stderr(&o)
+    );
+}
+
 /// `flicker --history-outcomes` counts every frame's history outcomes for the accumulated rows
 /// (a CSV row per motion, configuration, frame and outcome) and `--pareto` plots each motion's
 /// frontier (the counting row untimed, and said so) to a file of its own, even when the stem

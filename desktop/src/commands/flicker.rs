@@ -41,9 +41,13 @@ pub struct FlickerArgs {
     scene: String,
     #[command(flatten)]
     frame: ComparedFrame,
-    /// Foveation ratios to measure (MSAA 4).
+    /// Foveation ratios to measure (the fovea at `--fovea-msaa`).
     #[arg(long, value_delimiter = ',', default_value = "0.35,0.5")]
     ratios: Vec<f32>,
+    /// Each foveated row once per sample count of its fovea views (the frame's MSAA), 1 or 4.
+    /// An accumulated periphery stays at its own (1×), a single-frame one follows the fovea's.
+    #[arg(long, value_delimiter = ',', default_value = "4")]
+    fovea_msaa: Vec<u32>,
     /// Also each ratio with the periphery sharpened at these strengths.
     #[arg(long, value_delimiter = ',')]
     sharpen: Vec<f32>,
@@ -52,8 +56,8 @@ pub struct FlickerArgs {
     #[arg(long, value_delimiter = ',')]
     densities: Vec<f32>,
     /// Also each plain foveated row (every density) with its periphery accumulated over frames
-    /// (1x, jittered; the fovea at 4x). Its history first settles on the motion's first frame
-    /// (two jitter cycles, not measured).
+    /// (1x, jittered; the fovea at `--fovea-msaa`). Its history first settles on the motion's
+    /// first frame (two jitter cycles, not measured).
     #[arg(long)]
     temporal: bool,
     #[command(flatten)]
@@ -241,6 +245,9 @@ fn check_args(args: &FlickerArgs) -> Result<Option<PathBuf>> {
         "invalid frames = {}: at least 2 (flicker is a change between frames)",
         args.frames
     );
+    if let Some(m) = args.fovea_msaa.iter().find(|m| !matches!(m, 1 | 4)) {
+        anyhow::bail!("invalid fovea-msaa = {m}: each sample count 1 or 4");
+    }
     anyhow::ensure!(
         args.flip != Some(0),
         "invalid flip = 0: judge every Nth frame, N ≥ 1 (leave it out for none)"
@@ -315,12 +322,14 @@ fn flicker_configs(
     )];
     for (name, foveation) in variants {
         foveation.geometry(screen)?;
-        let config = RenderConfig {
-            msaa: 4,
-            foveation: Some(foveation),
-            ..base.clone()
-        };
-        configs.push((format!("{name}, MSAA 4"), config));
+        for &msaa in &args.fovea_msaa {
+            let config = RenderConfig {
+                msaa,
+                foveation: Some(foveation),
+                ..base.clone()
+            };
+            configs.push((format!("{name}, MSAA {msaa}"), config));
+        }
     }
     Ok(configs)
 }
