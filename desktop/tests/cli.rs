@@ -903,17 +903,11 @@ fn flicker_measures_each_approximation_along_every_motion() {
     assert!(rows
         .iter()
         .any(|r| r["config"] == "foveated 0.5, temporal, MSAA 4"));
-    // Per region: a stereo frame is all periphery (its p99 the frame's); a foveated one has
-    // all three regions.
+    // Per region, every row: a stereo frame's regions are where the foveated row puts its
+    // fovea, so its error there stands beside the foveated rows'.
     for r in &rows {
         let regions = ["fovea", "band", "periphery"].map(|g| &r[&format!("eflip_p99_{g}")]);
-        match r["config"].as_str() {
-            "stereo, MSAA 1" => {
-                assert_eq!([regions[0].as_str(), regions[1]], ["", ""], "{r:?}");
-                assert_eq!(regions[2], &r["eflip_p99"], "{r:?}");
-            }
-            _ => assert!(regions.iter().all(|v| !v.is_empty()), "{r:?}"),
-        }
+        assert!(regions.iter().all(|v| !v.is_empty()), "{r:?}");
     }
     // A walker crossing the view, moved in every renderer each frame.
     let o = foveate(&[
@@ -1002,6 +996,12 @@ fn flicker_measures_the_fovea_at_each_sample_count() {
         assert!(
             aliased > multisampled,
             "{row}: {aliased} against {multisampled}"
+        );
+        // Aliased stereo, judged where the fovea lies, is as far from the reference there.
+        let stereo = fovea_p99("stereo, MSAA 1");
+        assert!(
+            stereo > multisampled,
+            "{row}: stereo {stereo} against {multisampled}"
         );
     }
     let o = foveate(&["flicker", "--fovea-msaa", "4,2"]);

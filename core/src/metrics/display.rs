@@ -74,10 +74,17 @@ pub struct PixelsKey {
 impl PixelsKey {
     /// The key of `plan`'s maps, its own foveation placing the regions.
     pub fn of(plan: &FramePlan) -> PixelsKey {
+        PixelsKey::placed(plan, plan.foveation.as_ref())
+    }
+
+    /// The key of the maps of `plan`'s frame with `foveation` placing the regions (as
+    /// [`EyePixels::new`] takes it: a frame without a fovea judged where another frame puts
+    /// its fovea).
+    pub fn placed(plan: &FramePlan, foveation: Option<&FoveationGeometry>) -> PixelsKey {
         PixelsKey {
             screen: (plan.eye_resolution.width, plan.eye_resolution.height),
             lens: plan.lens.is_some(),
-            fovea: (plan.foveation.as_ref()).map(|f| (f.ratio, f.fovea_screen_px, f.blend_band_px)),
+            fovea: foveation.map(|f| (f.ratio, f.fovea_screen_px, f.blend_band_px)),
         }
     }
 }

@@ -807,11 +807,11 @@ fn print_table(rows: &[Row]) {
         "(time: the median frame time along the motion, every configuration's frames interleaved with the reference's (stereo, MSAA 4), none carrying an instrument; x ref: over the reference's median{untimed}; MiB: what a tile GPU moves per frame by the plan's rule, attachment loads and stores, sampling and readback, a formula as `foveate plan` prints it)"
     );
     println!(
-        "(flicker: per pixel and frame, how much more the output's luma (0..1) changed from the previous frame than the reference's (stereo, MSAA 4) did — max(0, |ΔT| − |ΔR|) — over the pixels the lens shows, both eyes; mean and 99th percentile, then the mean per region at each frame's gaze; metrics::temporal)"
+        "(flicker: per pixel and frame, how much more the output's luma (0..1) changed from the previous frame than the reference's (stereo, MSAA 4) did — max(0, |ΔT| − |ΔR|) — over the pixels the lens shows, both eyes; mean and 99th percentile, then the mean per region at each frame's gaze (a stereo row's regions: where the first foveated row puts its fovea); metrics::temporal)"
     );
     if judged {
         println!(
-            "(eFLIP: each frame against the reference's frame, the eccentricity-aware FLIP for the eye at that frame's gaze (metrics::flip); the mean over the frames of each frame's mean and 99th percentile, and the worst frame's 99th percentile; then each region's 99th percentile at the frame's gaze, its mean over the frames)"
+            "(eFLIP: each frame against the reference's frame, the eccentricity-aware FLIP for the eye at that frame's gaze (metrics::flip); the mean over the frames of each frame's mean and 99th percentile, and the worst frame's 99th percentile; then each region's 99th percentile at the frame's gaze, its mean over the frames; a stereo row's regions: where the first foveated row puts its fovea)"
         );
     }
 }
