@@ -961,8 +961,11 @@ fn flicker_measures_each_approximation_along_every_motion() {
 }
 
 /// `flicker --fovea-msaa 1,4` measures each foveated row at both of its fovea's sample counts,
-/// the accumulated ones too: the aliased fovea is judged worse there than the 4× one. A count
-/// the frame is not built for is an error naming the option and the value.
+/// the accumulated ones too: the aliased fovea is judged worse there than the 4× one, and so is
+/// aliased stereo judged where the fovea lies. A count the frame is not built for is an error
+/// naming the option and the value. Mutation runs: the count ignored (every row at 4×) makes
+/// the two rows equal (0.016022 both) and fails; a stereo row placed by its own (absent) fovea
+/// has no fovea figure and fails.
 #[test]
 fn flicker_measures_the_fovea_at_each_sample_count() {
     let csv = std::env::temp_dir().join(format!("foveate-fovea-msaa-{}.csv", std::process::id()));
