@@ -140,7 +140,9 @@ pub struct Judged {
 /// The one accuracy sweep: `configs[0]` is the full-quality reference; every configuration (the
 /// reference too, which scores perfectly) is measured side by side through [`measure_group`]
 /// and its output image judged against the reference's with `acuity`, its eccentricity-aware
-/// maps kept as `maps` says. Every command that prices
+/// maps kept as `maps` says. Region by region, a configuration without a fovea is judged where
+/// the first foveated configuration puts it ([`crate::region_maps::regions_of`]); with none
+/// foveated, all its pixels are periphery. Every command that prices
 /// an approximation in time and error sweeps through here. After Ctrl-C or SIGTERM
 /// ([`crate::interrupt`]) it stops judging and returns the configurations judged so far, in
 /// order: fewer than the group's.
@@ -149,14 +151,20 @@ pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity, maps: Maps) -> Result<Vec
     let (gaze, label, total) = (group.gaze, group.label, measured.len());
     let reference_plan = measured[0].plan.clone();
     let reference_image = measured[0].image.clone();
+    // Where each row's regions lie: a stereo row has no fovea of its own, so its error is
+    // judged region by region where the first foveated row puts the fovea.
+    let plans: Vec<FramePlan> = measured.iter().map(|m| m.plan.clone()).collect();
+    let placements: Vec<_> = (plans.iter())
+        .map(|p| crate::region_maps::regions_of(p, &plans).copied())
+        .collect();
     let bar = crate::progress::bar(&format!("{label}: FLIP"), total as u64);
     let mut judged = Vec::new();
     let mut flip = crate::metric::flip_mapper(gpu);
-    for m in measured {
+    for (m, placement) in measured.into_iter().zip(placements) {
         if crate::interrupt::requested() {
             break;
         }
-        let pixels = EyePixels::both(&reference_plan, gaze, m.plan.foveation.as_ref());
+        let pixels = EyePixels::both(&reference_plan, gaze, placement.as_ref());
         let accuracy = frame_accuracy(
             reference_image.eyes(),
             m.image.eyes(),

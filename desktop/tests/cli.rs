@@ -466,6 +466,15 @@ fn compare_prints_time_and_error_per_region() {
     let flip =
         |r: &std::collections::HashMap<String, String>, k: &str| -> f64 { r[k].parse().unwrap() };
     assert_eq!(flip(stereo4, "flip_mean"), 0.0, "{stereo4:?}");
+    // A stereo row is judged region by region where the foveated rows put the fovea (a stereo
+    // row placed by its own foveation, a mutation, has no fovea and an empty cell here).
+    for key in [
+        "psnr_fovea",
+        "eccentric_flip_p99_fovea",
+        "eccentric_flip_p99_band",
+    ] {
+        assert!(!stereo4[key].is_empty(), "{key} empty in {stereo4:?}");
+    }
     assert!(flip(row, "flip_mean") > 0.0 && flip(row, "eccentric_flip_p99") > 0.0);
     // Radial density masking is priced like every other approximation.
     let masked = rows
