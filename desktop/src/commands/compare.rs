@@ -219,7 +219,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     println!(
         "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); the tile-GPU workload from the plan: samples the in-pass MSAA resolves average and external traffic (attachment loads and stores, sampling, readback); on the output image ({}), both eyes, pixels the lens hides left out: PSNR in dB / SSIM per region against the reference ({}); FLIP: mean at the display's pixels per degree; eFLIP: the eccentricity-aware FLIP for the eye at the gaze (metrics::flip), mean and 99th percentile, then p99 per region)",
         base.output,
-        stereo_regions(&rows)
+        unfoveated_regions(&rows)
     );
     if let Some(dir) = &args.heatmaps {
         println!("wrote {} heat maps into {}", rows.len(), dir.display());
@@ -458,12 +458,12 @@ fn report_picks(
     Ok(())
 }
 
-/// Where the legend says the stereo rows' regions lie: a stereo frame has no fovea of its own,
-/// so the sweep judges it where the first foveated row puts the fovea.
-fn stereo_regions(rows: &[Row]) -> String {
+/// Where the legend says the regions of rows without a fovea (stereo, radial density) lie: the
+/// sweep judges them where the first foveated row puts the fovea.
+fn unfoveated_regions(rows: &[Row]) -> String {
     match rows.iter().find(|r| r.run.plan.foveation.is_some()) {
-        Some(first) => format!("stereo rows at the regions of {}", first.name),
-        None => "stereo rows: all periphery".to_string(),
+        Some(first) => format!("rows without a fovea at the regions of {}", first.name),
+        None => "rows without a fovea: all periphery".to_string(),
     }
 }
 
