@@ -15,7 +15,12 @@
 // remains is clipped towards the periphery's 3x3 neighbourhood (or its cross) in YCoCg — its
 // mean, within its spread (Salvi's variance clipping): a surface that moved or changed cannot
 // leave a trail, and unlike a min/max clamp the box does not widen with every outlier — and the
-// new sample is blended in with a weight that falls with its distance from the pixel's centre.
+// new sample is blended in with a weight that falls with its distance from the pixel's centre
+// (Yang, Nehab & Sander's sample weight): the nearest periphery texel, or (NewSample::Weighted)
+// the 3×3 texels around the pixel, each weighted so: which texel is nearest switches as the head
+// turns, and its colour enters at once, where with every neighbour weighed what enters changes
+// smoothly (the walk's flicker in the periphery 2 % lower at density 0.6, 21 % at the screen's,
+// for 6–7 % of the frame on lavapipe: BENCHMARKS.md).
 // With no usable history, the pixel starts from the bilinear periphery.
 
 // Read the history with Catmull-Rom where the point moved (HistoryFilter::CatmullRom).
@@ -23,6 +28,9 @@ layout(constant_id = 36) const bool HISTORY_CATMULL_ROM = false;
 // The clip's box from the texel and its four edge neighbours rather than the 3×3
 // (ClipNeighbourhood::Cross): five reads instead of nine.
 layout(constant_id = 37) const bool CROSS_NEIGHBOURHOOD = false;
+// The new sample from the 3×3 periphery texels around the pixel, each weighted by its distance
+// (NewSample::Weighted): nine reads where the nearest texel alone takes one.
+layout(constant_id = 38) const bool WEIGHTED_NEW_SAMPLE = false;
 // The scene passes mark instances that move (alpha below 1; scene.frag): only then are they
 // looked for in the neighbourhood, and only then is the box needed where nothing moved.
 layout(constant_id = 7) const bool MARK_MOVING = false;
@@ -274,6 +282,29 @@ bool neighbourhood_box(uint eye, ivec2 texel, ivec2 size, bool wanted, out vec3 
     return mover;
 }
 
+// This frame's periphery around `texel` for the pixel whose centre lies at `centre` (in this
+// frame's jittered texels, where the texels' centres lie at n + 0.5): each of the 3×3 texels weighted by exp(−2d²), d
+// its distance from the centre in screen pixels, as the nearest alone was weighted before; a
+// texel past the 3×3 lies over 1.5 texels away, where the weight is 1 % or less at the
+// screen's density. `mass` is the weights' sum: how much of this frame lies near the pixel.
+// Without WEIGHTED_NEW_SAMPLE, the nearest texel alone.
+vec3 new_sample(uint eye, ivec2 texel, ivec2 size, vec2 centre, out float mass) {
+    vec2 screen_per_texel = c.screen.xy / vec2(size);
+    vec3 sum = vec3(0.0);
+    mass = 0.0;
+    for (int k = 0; k < (WEIGHTED_NEW_SAMPLE ? 9 : 1); k++) {
+        ivec2 n = WEIGHTED_NEW_SAMPLE ? texel + ivec2(k % 3 - 1, k / 3 - 1) : texel;
+        // A texel past the image's edge was never rendered: it adds no weight.
+        if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size))) {
+            vec2 off = (vec2(n) + 0.5 - centre) * screen_per_texel;
+            float w = exp(-2.0 * dot(off, off));
+            sum += w * texelFetch(images, ivec3(n, eye), 0).rgb;
+            mass += w;
+        }
+    }
+    return sum / mass;
+}
+
 // The accumulated periphery of eye `eye` at `uv` (the rendered field's) in direction `t`,
 // shown at `display` (display tangents, LENS); `next` is what the history keeps of this pixel.
 vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
@@ -293,7 +324,6 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
         return bilinear;
     }
     ivec2 texel = clamp(ivec2(floor(q + j)), ivec2(0), size - 1);
-    vec3 nearest = texelFetch(images, ivec3(texel, eye), 0).rgb;
     vec3 lo, hi;
     bool mover = false; // an instance that moves lies in the neighbourhood
     if (MARK_MOVING) {
@@ -338,12 +368,12 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
 #endif
         if (h.w > 0.01) {
             vec3 kept = clipped ? from_ycocg(clip_to_box(to_ycocg(h.rgb), lo, hi)) : h.rgb;
-            // How far the new sample lies from this pixel's centre, in screen pixels.
-            vec2 off = (vec2(texel) + 0.5 - j - q) * c.screen.xy / vec2(size);
+            float mass;
+            vec3 fresh = new_sample(eye, texel, size, q + j, mass);
             // Where nothing moved the history needs no quick correction: the still weight.
             float settled = moved || mover || mover_before ? c.jitter.z : c.still.x;
-            float trust = max(settled, c.depth.w) * exp(-2.0 * dot(off, off));
-            result = mix(max(kept, vec3(0.0)), nearest, trust);
+            float trust = max(settled, c.depth.w) * min(mass, 1.0);
+            result = mix(max(kept, vec3(0.0)), fresh, trust);
         }
     }
     next = to_history(result, mover ? MOVER : 1.0);

@@ -4,7 +4,8 @@
 use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{
-    ClipNeighbourhood, FoveationConfig, HistoryClip, HistoryFilter, PeripheryFilter, TemporalConfig,
+    ClipNeighbourhood, FoveationConfig, HistoryClip, HistoryFilter, NewSample, PeripheryFilter,
+    TemporalConfig,
 };
 use foveate::mffr::MffrConfig;
 use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
@@ -101,6 +102,11 @@ pub struct ConfigArgs {
     /// a walk). Default: the library's.
     #[arg(long)]
     pub temporal_neighbourhood: Option<ClipNeighbourhood>,
+    /// With --temporal: what of each frame's periphery enters the history: `nearest` (the
+    /// nearest texel alone) or `weighted` (the 3×3 texels around the pixel, each by its
+    /// distance: nine reads for one, less flicker along a walk). Default: the library's.
+    #[arg(long)]
+    pub temporal_new_sample: Option<NewSample>,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -408,6 +414,7 @@ impl ConfigArgs {
                     clip: self.temporal_clip.unwrap_or(default.clip),
                     filter: self.temporal_filter.unwrap_or(default.filter),
                     neighbourhood: self.temporal_neighbourhood.unwrap_or(default.neighbourhood),
+                    new_sample: self.temporal_new_sample.unwrap_or(default.new_sample),
                     ..default
                 }
             }),
@@ -493,6 +500,7 @@ impl ConfigArgs {
                     given("--temporal-clip", &self.temporal_clip),
                     given("--temporal-filter", &self.temporal_filter),
                     given("--temporal-neighbourhood", &self.temporal_neighbourhood),
+                    given("--temporal-new-sample", &self.temporal_new_sample),
                 ],
             ),
             (

@@ -2,7 +2,8 @@
 //! periphery at its own density and sample count, and accumulated over frames.
 
 use foveate::foveation::{
-    ClipNeighbourhood, FoveationConfig, HistoryClip, HistoryFilter, PeripheryFilter, TemporalConfig,
+    ClipNeighbourhood, FoveationConfig, HistoryClip, HistoryFilter, NewSample, PeripheryFilter,
+    TemporalConfig,
 };
 
 /// Each foveated variant as it is, then with the periphery at each of `densities` and at each
@@ -58,6 +59,10 @@ pub struct Accumulation {
     /// `3x3`, `cross` (default: the library's).
     #[arg(long, value_delimiter = ',')]
     pub neighbourhoods: Vec<ClipNeighbourhood>,
+    /// With --temporal: one accumulated row per new sample: `nearest` (the nearest texel
+    /// alone), `weighted` (the 3×3 texels, each by its distance) (default: the library's).
+    #[arg(long, value_delimiter = ',')]
+    pub new_samples: Vec<NewSample>,
     /// With --temporal: a settled pixel's weight for a new sample (0 < w ≤ 1; default: the
     /// library's).
     #[arg(long)]
@@ -107,21 +112,24 @@ pub fn with_temporal(
         [] => &[default.neighbourhood][..],
         given => given,
     };
-    let ways: Vec<TemporalConfig> = clips
-        .iter()
-        .flat_map(|&clip| {
-            filters.iter().flat_map(move |&filter| {
-                neighbourhoods
-                    .iter()
-                    .map(move |&neighbourhood| TemporalConfig {
-                        clip,
-                        filter,
-                        neighbourhood,
-                        ..default
-                    })
-            })
-        })
-        .collect();
+    let new_samples = match &accumulation.new_samples[..] {
+        [] => &[default.new_sample][..],
+        given => given,
+    };
+    let mut ways = Vec::new();
+    for &clip in clips {
+        for &filter in filters {
+            for &neighbourhood in neighbourhoods {
+                ways.extend(new_samples.iter().map(|&new_sample| TemporalConfig {
+                    clip,
+                    filter,
+                    neighbourhood,
+                    new_sample,
+                    ..default
+                }));
+            }
+        }
+    }
     let samples = match &accumulation.temporal_msaa[..] {
         [] => &[1][..],
         given => given,
@@ -167,6 +175,9 @@ fn way_words(way: TemporalConfig, default: TemporalConfig) -> String {
     }
     if way.neighbourhood != default.neighbourhood {
         words.push(format!("box {}", way.neighbourhood));
+    }
+    if way.new_sample != default.new_sample {
+        words.push(format!("{} sample", way.new_sample));
     }
     match words.is_empty() {
         true => String::new(),

@@ -106,6 +106,7 @@ fn silent_acceptance_is_an_error_naming_option_value_and_rule() {
     for (option, value, mode) in [
         ("--temporal-blend", "0.3", "--temporal"),
         ("--temporal-neighbourhood", "cross", "--temporal"),
+        ("--temporal-new-sample", "nearest", "--temporal"),
         ("--split", "2px", "--mffr"),
         ("--periphery-density", "0.5", "--foveate"),
         ("--radial-outer", "0.9", "--radial-density"),
@@ -124,6 +125,17 @@ fn silent_acceptance_is_an_error_naming_option_value_and_rule() {
             "5x5",
         ]),
         "invalid clip neighbourhood = 5x5: 3x3 or cross",
+    );
+    refused(
+        &dir,
+        &with(&[
+            "--foveate",
+            "0.5",
+            "--temporal",
+            "--temporal-new-sample",
+            "bilinear",
+        ]),
+        "invalid new sample = bilinear: nearest or weighted",
     );
     // A negative number is a value, not an option: the range check answers, not the parser.
     refused(&dir, &with(&["--ipd-mm", "-64"]), "invalid ipd = -0.064");

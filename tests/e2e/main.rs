@@ -30,4 +30,5 @@ mod temporal;
 mod temporal_lens;
 mod temporal_motion;
 mod temporal_msaa;
+mod temporal_new_sample;
 mod zero_cost;

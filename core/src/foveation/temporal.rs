@@ -35,6 +35,47 @@ pub struct TemporalConfig {
     pub filter: HistoryFilter,
     /// Which periphery texels around the pixel make the box the clip holds the history to.
     pub neighbourhood: ClipNeighbourhood,
+    /// What of this frame's periphery is blended into the history at a pixel.
+    pub new_sample: NewSample,
+}
+
+/// What of this frame's periphery enters the history at a pixel, each periphery texel weighted
+/// by `exp(−2d²)`, `d` its distance from the pixel's centre in screen pixels (Yang, Nehab &
+/// Sander 2009's sample weight), the history's weight falling as theirs sum up to one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NewSample {
+    /// The nearest texel alone: one read. As the head turns, which texel is nearest switches
+    /// from frame to frame and its colour enters at once: the walk's periphery flickers more.
+    Nearest,
+    /// The 3×3 texels around the pixel, so what enters changes smoothly as the texels move
+    /// past: nine reads. Measured along the walk at half the Quest Pro's panel (lavapipe, side
+    /// by side): in the periphery, flicker 2 % lower than the nearest's with the periphery at
+    /// 0.6 and 21 % lower at the screen's density, eFLIP p99 2 % lower at both, for 6–7 % of
+    /// the frame; at the fovea layout's own density (texels over two pixels apart) the same
+    /// figures (BENCHMARKS.md, "Every neighbour as a new sample").
+    Weighted,
+}
+
+impl std::fmt::Display for NewSample {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            NewSample::Nearest => "nearest",
+            NewSample::Weighted => "weighted",
+        })
+    }
+}
+
+impl std::str::FromStr for NewSample {
+    type Err = ConfigError;
+
+    /// `nearest` or `weighted`.
+    fn from_str(s: &str) -> Result<Self, ConfigError> {
+        match s {
+            "nearest" => Ok(NewSample::Nearest),
+            "weighted" => Ok(NewSample::Weighted),
+            _ => Err(ConfigError::new("new sample", s, "nearest or weighted")),
+        }
+    }
 }
 
 /// The periphery texels around a pixel whose colours make the box its history is clipped to
@@ -232,6 +273,10 @@ impl Default for TemporalConfig {
             filter: HistoryFilter::Bilinear,
             // The cross is faster but flickers more along a walk, and no GPU has timed it yet.
             neighbourhood: ClipNeighbourhood::Square,
+            // The weighted sample's gain at the recommended density 0.6 (2 % in the walk's
+            // p99 and flicker) costs 6 % of the frame on lavapipe (BENCHMARKS.md, "Every
+            // neighbour as a new sample").
+            new_sample: NewSample::Nearest,
         }
     }
 }
@@ -417,5 +462,19 @@ mod tests {
         }
         let err = "5x5".parse::<ClipNeighbourhood>().unwrap_err().to_string();
         assert!(err.contains("5x5") && err.contains("cross"), "{err}");
+    }
+
+    /// Both new samples read back from the names they print; a wrong name is refused, naming
+    /// itself and the two it could be. Mutation: `nearest` parsed as weighted fails it.
+    #[test]
+    fn new_samples_round_trip() {
+        for n in [NewSample::Nearest, NewSample::Weighted] {
+            assert_eq!(n.to_string().parse::<NewSample>().unwrap(), n);
+        }
+        let err = "bilinear".parse::<NewSample>().unwrap_err().to_string();
+        assert!(
+            err.contains("bilinear") && err.contains("weighted"),
+            "{err}"
+        );
     }
 }

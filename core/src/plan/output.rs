@@ -9,7 +9,7 @@ use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{OutputSource, OutputStep, Step};
 use super::stereo_scene::marks_moving;
 use super::{ConfigError, OutputFormat, Resolution};
-use crate::foveation::{ClipNeighbourhood, HistoryFilter, PeripheryFilter};
+use crate::foveation::{ClipNeighbourhood, HistoryFilter, NewSample, PeripheryFilter};
 use crate::shaders::{
     COMPOSITE_VERT, OUTPUT_FRAG, OUTPUT_FRAG_COUNTING, OUTPUT_TEMPORAL_FRAG,
     OUTPUT_TEMPORAL_FRAG_COUNTING,
@@ -167,6 +167,7 @@ pub(super) fn output_pipeline(
     let temporal = foveation.and_then(|f| f.temporal).filter(|_| step.temporal);
     let history_catmull_rom = temporal.is_some_and(|t| t.filter == HistoryFilter::CatmullRom);
     let cross = temporal.is_some_and(|t| t.neighbourhood == ClipNeighbourhood::Cross);
+    let weighted = temporal.is_some_and(|t| t.new_sample == NewSample::Weighted);
     let (fovea_layer, sharpen) = match step.source {
         OutputSource::Foveated {
             fovea_layer,
@@ -188,6 +189,7 @@ pub(super) fn output_pipeline(
         .flag(Constant::CatmullRom, catmull_rom)
         .flag(Constant::HistoryCatmullRom, history_catmull_rom)
         .flag(Constant::CrossNeighbourhood, cross)
+        .flag(Constant::WeightedNewSample, weighted)
         .flag(Constant::MarkMoving, step.temporal && marks_moving(plan))
         .constant(
             Constant::HistoryOutcomeBase,

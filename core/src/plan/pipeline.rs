@@ -71,6 +71,9 @@ pub enum Constant {
     /// The accumulating output stage: the clip's box from a cross of five periphery texels
     /// rather than the 3×3 (`ClipNeighbourhood::Cross`).
     CrossNeighbourhood,
+    /// The accumulating output stage: the new sample from the 3×3 periphery texels, each
+    /// weighted by its distance, rather than the nearest alone (`NewSample::Weighted`).
+    WeightedNewSample,
 }
 
 /// How a constant's 32 bits read.
@@ -153,6 +156,7 @@ impl Constant {
             HistoryOutcomeBase => (35, "HISTORY_OUTCOME_BASE", Uint),
             HistoryCatmullRom => (36, "HISTORY_CATMULL_ROM", Bool),
             CrossNeighbourhood => (37, "CROSS_NEIGHBOURHOOD", Bool),
+            WeightedNewSample => (38, "WEIGHTED_NEW_SAMPLE", Bool),
         }
     }
 

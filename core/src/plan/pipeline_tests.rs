@@ -225,13 +225,14 @@ fn output_step_constant(planned: &FramePlan, constant: Constant) -> Option<u32> 
         .map(|c| c.1)
 }
 
-/// The history's Catmull-Rom read and the clip's cross neighbourhood are compiled into the
-/// accumulating output stage only when the configuration asks for them: the default frame's
-/// pipeline has neither. Mutations: the Catmull-Rom constant set from the clip instead of the
-/// filter fails it; so does the cross's constant never set.
+/// The history's Catmull-Rom read, the clip's cross neighbourhood and the weighted new sample
+/// are compiled into the accumulating output stage only when the configuration asks for them:
+/// the default frame's pipeline has none. Mutations: the Catmull-Rom constant set from the clip
+/// instead of the filter fails it; so does the cross's or the weighted sample's constant never
+/// set.
 #[test]
 fn the_history_filter_is_a_constant_of_the_output_stage() {
-    use crate::foveation::{ClipNeighbourhood, HistoryFilter, TemporalConfig};
+    use crate::foveation::{ClipNeighbourhood, HistoryFilter, NewSample, TemporalConfig};
     let output_constant = |temporal: TemporalConfig, constant: Constant| {
         let config = RenderConfig {
             msaa: 1,
@@ -271,6 +272,18 @@ fn the_history_filter_is_a_constant_of_the_output_stage() {
     );
     assert_eq!(
         output_constant(cross, Constant::CrossNeighbourhood),
+        Some(1)
+    );
+    let weighted = TemporalConfig {
+        new_sample: NewSample::Weighted,
+        ..default
+    };
+    assert_ne!(
+        output_constant(default, Constant::WeightedNewSample),
+        Some(1)
+    );
+    assert_eq!(
+        output_constant(weighted, Constant::WeightedNewSample),
         Some(1)
     );
 }

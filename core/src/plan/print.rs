@@ -345,8 +345,8 @@ impl FramePlan {
                     if let Some(t) = self.foveation.and_then(|f| f.temporal) {
                         writeln!(
                             f,
-                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth and read {} where the point moved (dropped where the frame before's periphery depth differs by over 10 %: in the texel it lay in where it moved, in any of the 2x2 around it where it did not), clipped to the periphery's {} in YCoCg ({}), the new sample blended in (weight {}; {} where nothing moved); over the periphery's hole what the fovea showed, reset at cuts (> {} m, > {}°)",
-                            t.jitter_cycle, filter_words(t.filter), neighbourhood_words(t.neighbourhood), clip_words(t.clip), t.blend, t.still_blend, t.cut_distance_m, t.cut_angle_deg
+                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth and read {} where the point moved (dropped where the frame before's periphery depth differs by over 10 %: in the texel it lay in where it moved, in any of the 2x2 around it where it did not), clipped to the periphery's {} in YCoCg ({}), {} blended in (weight {}; {} where nothing moved); over the periphery's hole what the fovea showed, reset at cuts (> {} m, > {}°)",
+                            t.jitter_cycle, filter_words(t.filter), neighbourhood_words(t.neighbourhood), clip_words(t.clip), new_sample_words(t.new_sample), t.blend, t.still_blend, t.cut_distance_m, t.cut_angle_deg
                         )?;
                     }
                     if let (Some(h), Some(d)) = (self.history, self.depth_history) {
@@ -505,6 +505,15 @@ fn neighbourhood_words(neighbourhood: crate::foveation::ClipNeighbourhood) -> &'
         crate::foveation::ClipNeighbourhood::Square => "3x3 neighbourhood",
         crate::foveation::ClipNeighbourhood::Cross => {
             "cross of five texels (the texel and its edge neighbours)"
+        }
+    }
+}
+
+fn new_sample_words(new_sample: crate::foveation::NewSample) -> &'static str {
+    match new_sample {
+        crate::foveation::NewSample::Nearest => "the nearest periphery texel",
+        crate::foveation::NewSample::Weighted => {
+            "the periphery's 3x3 texels, each weighted by its distance,"
         }
     }
 }
