@@ -115,28 +115,21 @@ fn silent_acceptance_is_an_error_naming_option_value_and_rule() {
             format!("invalid {option} = {value}: it sets a parameter of {mode}, which is off");
         refused(&dir, &with(&[option, value]), &needle);
     }
-    refused(
-        &dir,
-        &with(&[
-            "--foveate",
-            "0.5",
-            "--temporal",
+    for (option, value, needle) in [
+        (
             "--temporal-neighbourhood",
             "5x5",
-        ]),
-        "invalid clip neighbourhood = 5x5: 3x3 or cross",
-    );
-    refused(
-        &dir,
-        &with(&[
-            "--foveate",
-            "0.5",
-            "--temporal",
+            "invalid clip neighbourhood = 5x5: 3x3 or cross",
+        ),
+        (
             "--temporal-new-sample",
             "bilinear",
-        ]),
-        "invalid new sample = bilinear: nearest or weighted",
-    );
+            "invalid new sample = bilinear: nearest or weighted",
+        ),
+    ] {
+        let args = with(&["--foveate", "0.5", "--temporal", option, value]);
+        refused(&dir, &args, needle);
+    }
     // A negative number is a value, not an option: the range check answers, not the parser.
     refused(&dir, &with(&["--ipd-mm", "-64"]), "invalid ipd = -0.064");
     refused(
