@@ -282,18 +282,23 @@ bool neighbourhood_box(uint eye, ivec2 texel, ivec2 size, bool wanted, out vec3 
     return mover;
 }
 
-// This frame's periphery around `texel` for the pixel whose centre lies at `centre` (in this
-// frame's jittered texels, where the texels' centres lie at n + 0.5): each of the 3×3 texels weighted by exp(−2d²), d
-// its distance from the centre in screen pixels, as the nearest alone was weighted before; a
-// texel past the 3×3 lies over 1.5 texels away, where the weight is 1 % or less at the
-// screen's density. `mass` is the weights' sum: how much of this frame lies near the pixel.
-// Without WEIGHTED_NEW_SAMPLE, the nearest texel alone.
+// This frame's periphery for the pixel whose centre lies at `centre` (in this frame's jittered
+// texels, whose centres lie at n + 0.5), `texel` the nearest: that texel, weighted by exp(−2d²),
+// d its distance from the centre in screen pixels; with WEIGHTED_NEW_SAMPLE each of the 3×3
+// texels around it so weighted, their weighted mean (a texel past the 3×3 lies over 1.5 texels
+// away, where the weight is 1 % or less at the screen's density). `mass`: the weights' sum.
 vec3 new_sample(uint eye, ivec2 texel, ivec2 size, vec2 centre, out float mass) {
     vec2 screen_per_texel = c.screen.xy / vec2(size);
+    vec3 nearest = texelFetch(images, ivec3(texel, eye), 0).rgb;
+    if (!WEIGHTED_NEW_SAMPLE) {
+        vec2 off = (vec2(texel) + 0.5 - centre) * screen_per_texel;
+        mass = exp(-2.0 * dot(off, off));
+        return nearest;
+    }
     vec3 sum = vec3(0.0);
     mass = 0.0;
-    for (int k = 0; k < (WEIGHTED_NEW_SAMPLE ? 9 : 1); k++) {
-        ivec2 n = WEIGHTED_NEW_SAMPLE ? texel + ivec2(k % 3 - 1, k / 3 - 1) : texel;
+    for (int k = 0; k < 9; k++) {
+        ivec2 n = texel + ivec2(k % 3 - 1, k / 3 - 1);
         // A texel past the image's edge was never rendered: it adds no weight.
         if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size))) {
             vec2 off = (vec2(n) + 0.5 - centre) * screen_per_texel;
@@ -302,7 +307,8 @@ vec3 new_sample(uint eye, ivec2 texel, ivec2 size, vec2 centre, out float mass) 
             mass += w;
         }
     }
-    return sum / mass;
+    // Far below the screen's density every weight can round to 0: the nearest texel then.
+    return mass > 0.0 ? sum / mass : nearest;
 }
 
 // The accumulated periphery of eye `eye` at `uv` (the rendered field's) in direction `t`,
