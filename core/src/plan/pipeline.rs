@@ -89,7 +89,7 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 28] = {
+    pub const ALL: [Constant; 29] = {
         use Constant::*;
         [
             ViewSource,
@@ -120,6 +120,7 @@ impl Constant {
             HistoryOutcomeBase,
             HistoryCatmullRom,
             CrossNeighbourhood,
+            WeightedNewSample,
         ]
     };
 
