@@ -248,67 +248,80 @@ vec3 history_sharp(uint eye, vec2 at, vec3 bilinear) {
     return clamp(sum, lo, hi);
 }
 
-// The periphery's variance box around `texel` (Salvi's variance clipping, in YCoCg): the
-// neighbourhood's mean ± c.clip.x standard deviations, within its range. True where an instance
-// that moves lies in the neighbourhood. Read only where `wanted`: a loop that runs no texel
-// where it is not, which a GPU and lavapipe both skip when no pixel of a group wants it (lavapipe
-// runs both sides of an `if` under a mask, but ends a loop that no pixel runs).
-bool neighbourhood_box(uint eye, ivec2 texel, ivec2 size, bool wanted, out vec3 lo,
-                       out vec3 hi) {
+// The periphery around `texel` (Salvi's variance clipping, in YCoCg): `lo`, `hi`, the
+// neighbourhood's mean ± c.clip.x standard deviations, within its range; `mover`, an instance
+// that moves lies in it; and, from the same reads, the weighted new sample's sum (`weighted`,
+// `mass`: new_sample below).
+struct Neighbourhood {
+    vec3 lo;
+    vec3 hi;
+    bool mover;
+    vec3 weighted;
+    float mass;
+};
+
+// The neighbourhood's box where `box` is wanted, its weighted new sample for the pixel whose
+// centre lies at `centre` where `weigh` is. Read only where either is: a loop that runs no texel
+// where neither is, which a GPU and lavapipe both skip when no pixel of a group wants it
+// (lavapipe runs both sides of an `if` under a mask, but ends a loop that no pixel runs). The
+// weighted sample takes the 3×3 even when the box takes the cross: the box then counts only the
+// cross's texels.
+Neighbourhood neighbourhood(uint eye, ivec2 texel, ivec2 size, vec2 centre, bool box,
+                            bool weigh) {
+    Neighbourhood n = Neighbourhood(vec3(1e30), vec3(-1e30), false, vec3(0.0), 0.0);
+    vec2 screen_per_texel = c.screen.xy / vec2(size);
     vec3 sum = vec3(0.0);
     vec3 squares = vec3(0.0);
-    lo = vec3(1e30);
-    hi = vec3(-1e30);
-    bool mover = false;
-    int texels = CROSS_NEIGHBOURHOOD ? 5 : 9;
-    for (int k = 0; k < (wanted ? texels : 0); k++) {
+    bool cross_only = CROSS_NEIGHBOURHOOD && !weigh;
+    int texels = cross_only ? 5 : 9;
+    for (int k = 0; k < (box || weigh ? texels : 0); k++) {
         // The cross: the texel and its four edge neighbours; the square: row by row.
-        ivec2 offset = CROSS_NEIGHBOURHOOD
+        ivec2 offset = cross_only
             ? ivec2[5](ivec2(0), ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1))[k]
             : ivec2(k % 3 - 1, k / 3 - 1);
-        ivec2 n = clamp(texel + offset, ivec2(0), size - 1);
-        vec4 fetched = texelFetch(images, ivec3(n, eye), 0);
-        mover = mover || fetched.a < MOVER_ALPHA;
+        ivec2 at = texel + offset;
+        vec4 fetched = texelFetch(images, ivec3(clamp(at, ivec2(0), size - 1), eye), 0);
+        // A texel past the image's edge was never rendered: it adds no weight.
+        if (weigh && all(greaterThanEqual(at, ivec2(0))) && all(lessThan(at, size))) {
+            vec2 off = (vec2(at) + 0.5 - centre) * screen_per_texel;
+            float w = exp(-2.0 * dot(off, off));
+            n.weighted += w * fetched.rgb;
+            n.mass += w;
+        }
+        if (CROSS_NEIGHBOURHOOD && offset.x != 0 && offset.y != 0) {
+            continue;
+        }
+        n.mover = n.mover || fetched.a < MOVER_ALPHA;
         vec3 s = to_ycocg(fetched.rgb);
         sum += s;
         squares += s * s;
-        lo = min(lo, s);
-        hi = max(hi, s);
+        n.lo = min(n.lo, s);
+        n.hi = max(n.hi, s);
     }
-    vec3 mean = sum / float(texels);
-    vec3 spread = c.clip.x * sqrt(max(squares / float(texels) - mean * mean, vec3(0.0)));
-    lo = max(lo, mean - spread);
-    hi = min(hi, mean + spread);
-    return mover;
+    float count = CROSS_NEIGHBOURHOOD ? 5.0 : 9.0;
+    vec3 mean = sum / count;
+    vec3 spread = c.clip.x * sqrt(max(squares / count - mean * mean, vec3(0.0)));
+    n.lo = max(n.lo, mean - spread);
+    n.hi = min(n.hi, mean + spread);
+    return n;
 }
 
 // This frame's periphery for the pixel whose centre lies at `centre` (in this frame's jittered
 // texels, whose centres lie at n + 0.5), `texel` the nearest: that texel, weighted by exp(−2d²),
-// d its distance from the centre in screen pixels; with WEIGHTED_NEW_SAMPLE each of the 3×3
-// texels around it so weighted, their weighted mean (a texel past the 3×3 lies over 1.5 texels
-// away, where the weight is 1 % or less at the screen's density). `mass`: the weights' sum.
-vec3 new_sample(uint eye, ivec2 texel, ivec2 size, vec2 centre, out float mass) {
-    vec2 screen_per_texel = c.screen.xy / vec2(size);
-    vec3 nearest = texelFetch(images, ivec3(texel, eye), 0).rgb;
-    if (!WEIGHTED_NEW_SAMPLE) {
-        vec2 off = (vec2(texel) + 0.5 - centre) * screen_per_texel;
-        mass = exp(-2.0 * dot(off, off));
-        return nearest;
-    }
-    vec3 sum = vec3(0.0);
-    mass = 0.0;
-    for (int k = 0; k < 9; k++) {
-        ivec2 n = texel + ivec2(k % 3 - 1, k / 3 - 1);
-        // A texel past the image's edge was never rendered: it adds no weight.
-        if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size))) {
-            vec2 off = (vec2(n) + 0.5 - centre) * screen_per_texel;
-            float w = exp(-2.0 * dot(off, off));
-            sum += w * texelFetch(images, ivec3(n, eye), 0).rgb;
-            mass += w;
-        }
-    }
+// d its distance from the centre in screen pixels; where WEIGHTED_NEW_SAMPLE weighed the 3×3
+// texels around it so (`n`: where the point moved, from the box's own reads), their weighted
+// mean (a texel past the 3×3 lies over 1.5 texels away, where the weight is 1 % or less at the
+// screen's density). `mass`: the weights' sum.
+vec3 new_sample(uint eye, ivec2 texel, ivec2 size, vec2 centre, Neighbourhood n,
+                out float mass) {
     // Far below the screen's density every weight can round to 0: the nearest texel then.
-    return mass > 0.0 ? sum / mass : nearest;
+    if (n.mass > 0.0) {
+        mass = n.mass;
+        return n.weighted / n.mass;
+    }
+    vec2 off = (vec2(texel) + 0.5 - centre) * (c.screen.xy / vec2(size));
+    mass = exp(-2.0 * dot(off, off));
+    return texelFetch(images, ivec3(texel, eye), 0).rgb;
 }
 
 // The accumulated periphery of eye `eye` at `uv` (the rendered field's) in direction `t`,
@@ -330,11 +343,6 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
         return bilinear;
     }
     ivec2 texel = clamp(ivec2(floor(q + j)), ivec2(0), size - 1);
-    vec3 lo, hi;
-    bool mover = false; // an instance that moves lies in the neighbourhood
-    if (MARK_MOVING) {
-        mover = neighbourhood_box(eye, texel, size, true, lo, hi);
-    }
     vec3 result = bilinear;
     float d = texelFetch(periphery_depth, ivec3(texel, eye), 0).r;
     bool sky = d <= 0.0;
@@ -343,12 +351,19 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
     vec3 at = previous_pixel(eye, uv, t, display, distance, sky, moved);
     // Whether the history is clipped here: HistoryClip::Moved clips only where the head's
     // motion moved the point (clip.y = 2), or where an instance that moves lies or lay (the
-    // reprojection follows the head alone); elsewhere the depth test alone holds it.
-    bool clipped = c.clip.x >= 0.0 && (c.clip.y < 1.5 || moved || mover);
-    if (!MARK_MOVING) {
-        // Without instances that move, the box is built only where it clips.
-        neighbourhood_box(eye, texel, size, clipped, lo, hi);
-    }
+    // reprojection follows the head alone); elsewhere the depth test alone holds it. With
+    // instances that move the box is built everywhere (they are found in it); without, only
+    // where it clips. The weighted new sample only where the point moved: there the box's
+    // reads are made anyway, and where nothing moved the still blend's small weight hides
+    // which texel is nearest.
+    bool clip_on = c.clip.x >= 0.0;
+    bool weigh = WEIGHTED_NEW_SAMPLE && moved;
+    Neighbourhood n = neighbourhood(eye, texel, size, q + j,
+                                    MARK_MOVING || (clip_on && (c.clip.y < 1.5 || moved)), weigh);
+    bool mover = MARK_MOVING && n.mover; // an instance that moves lies in the neighbourhood
+    bool clipped = clip_on && (c.clip.y < 1.5 || moved || mover);
+    vec3 lo = n.lo;
+    vec3 hi = n.hi;
     if (c.jitter.w >= 0.5) {
         NOTE_OUTCOME(OUTCOME_RESET);
     } else if (at.z > 0.0) {
@@ -375,7 +390,7 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
         if (h.w > 0.01) {
             vec3 kept = clipped ? from_ycocg(clip_to_box(to_ycocg(h.rgb), lo, hi)) : h.rgb;
             float mass;
-            vec3 fresh = new_sample(eye, texel, size, q + j, mass);
+            vec3 fresh = new_sample(eye, texel, size, q + j, n, mass);
             // Where nothing moved the history needs no quick correction: the still weight.
             float settled = moved || mover || mover_before ? c.jitter.z : c.still.x;
             float trust = max(settled, c.depth.w) * min(mass, 1.0);

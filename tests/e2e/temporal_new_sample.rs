@@ -1,13 +1,14 @@
 //! What of each frame's periphery enters the history (`NewSample`): the nearest texel alone, or
-//! the 3×3 texels around the pixel, each weighted by its distance from the pixel's centre.
+//! the 3×3 texels around the pixel, each weighted by its distance from the pixel's centre, where
+//! the point moved.
 
-use foveate::foveation::{FoveationConfig, NewSample, TemporalConfig};
+use foveate::foveation::{ClipNeighbourhood, FoveationConfig, NewSample, TemporalConfig};
 use foveate::metrics::temporal::Flicker;
 use foveate::metrics::{EyePixels, Region};
 use foveate::plan::RenderConfig;
 use foveate::render::StereoImage;
 use foveate::scene::atrium_scene;
-use glam::Vec2;
+use glam::{Mat4, Vec2};
 
 use crate::temporal::{config, render_sequence, turning};
 
@@ -69,4 +70,45 @@ fn the_weighted_new_sample_flickers_less_along_a_turn() {
     );
     eprintln!("periphery flicker along the turn: weighted {w:.5}, nearest {n:.5}");
     assert!(w < 0.9 * n, "weighted {w} against the nearest's {n}");
+}
+
+/// The weighted new sample is taken only where the head's motion moved the point, from the reads
+/// the clip's box makes there: with the head still, weighted and nearest give the same image to
+/// the bit. And where the box takes the cross of five texels, the weighted sample reads the 3×3
+/// but the box still counts the cross alone: along a turn, the cross and the square differ.
+/// Mutation runs: the weighted sample taken everywhere fails the first half; the box counting
+/// every texel the sample read, the second.
+#[test]
+fn the_weighted_new_sample_changes_only_what_moved() {
+    let gpu = foveate_tests::gpu();
+    let scene = atrium_scene();
+    let with = |new_sample, neighbourhood, poses: &[(Mat4, Vec2)]| {
+        let t = TemporalConfig {
+            new_sample,
+            neighbourhood,
+            ..TemporalConfig::default()
+        };
+        render_sequence(&gpu, &scene, &config(SCREEN, Some(t)), poses, |f| {
+            f == poses.len() - 1
+        })
+        .1
+    };
+    let still = vec![(scene.head, Vec2::ZERO); 12];
+    let (weighted, nearest) = (
+        with(NewSample::Weighted, ClipNeighbourhood::Square, &still),
+        with(NewSample::Nearest, ClipNeighbourhood::Square, &still),
+    );
+    assert!(
+        weighted[0] == nearest[0],
+        "with the head still, the weighted new sample changes the image"
+    );
+    let turn = turning(&scene);
+    let (square, cross) = (
+        with(NewSample::Weighted, ClipNeighbourhood::Square, &turn),
+        with(NewSample::Weighted, ClipNeighbourhood::Cross, &turn),
+    );
+    assert!(
+        square[0] != cross[0],
+        "turning, with the weighted new sample, the cross's box is the square's"
+    );
 }

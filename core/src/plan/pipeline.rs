@@ -72,7 +72,8 @@ pub enum Constant {
     /// rather than the 3×3 (`ClipNeighbourhood::Cross`).
     CrossNeighbourhood,
     /// The accumulating output stage: the new sample from the 3×3 periphery texels, each
-    /// weighted by its distance, rather than the nearest alone (`NewSample::Weighted`).
+    /// weighted by its distance, rather than the nearest alone, where the point moved
+    /// (`NewSample::Weighted`).
     WeightedNewSample,
 }
 

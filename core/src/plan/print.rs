@@ -513,7 +513,8 @@ fn new_sample_words(new_sample: crate::foveation::NewSample) -> &'static str {
     match new_sample {
         crate::foveation::NewSample::Nearest => "the nearest periphery texel",
         crate::foveation::NewSample::Weighted => {
-            "the periphery's 3x3 texels, each weighted by its distance,"
+            "the periphery's 3x3 texels, each weighted by its distance, where the point moved \
+             (the nearest texel elsewhere),"
         }
     }
 }
