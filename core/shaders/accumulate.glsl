@@ -17,10 +17,11 @@
 // leave a trail, and unlike a min/max clamp the box does not widen with every outlier — and the
 // new sample is blended in with a weight that falls with its distance from the pixel's centre
 // (Yang, Nehab & Sander's sample weight): the nearest periphery texel, or (NewSample::Weighted)
-// the 3×3 texels around the pixel, each weighted so: which texel is nearest switches as the head
-// turns, and its colour enters at once, where with every neighbour weighed what enters changes
-// smoothly (the walk's flicker in the periphery 2 % lower at density 0.6, 21 % at the screen's,
-// for 6–7 % of the frame on lavapipe: BENCHMARKS.md).
+// where the point moved the 3×3 texels around the pixel, each weighted so, from the box's reads:
+// which texel is nearest switches as the head turns, and its colour enters at once, where with
+// every neighbour weighed what enters changes smoothly (the walk's flicker in the periphery 2 %
+// lower at density 0.6, for no time measurable on lavapipe; 20 % at the screen's, for 3 %:
+// BENCHMARKS.md).
 // With no usable history, the pixel starts from the bilinear periphery.
 
 // Read the history with Catmull-Rom where the point moved (HistoryFilter::CatmullRom).

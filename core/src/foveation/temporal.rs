@@ -47,12 +47,15 @@ pub enum NewSample {
     /// The nearest texel alone: one read. As the head turns, which texel is nearest switches
     /// from frame to frame and its colour enters at once: the walk's periphery flickers more.
     Nearest,
-    /// The 3×3 texels around the pixel, so what enters changes smoothly as the texels move
-    /// past: nine reads. Measured along the walk at half the Quest Pro's panel (lavapipe, side
-    /// by side): in the periphery, flicker 2 % lower than the nearest's with the periphery at
-    /// 0.6 and 21 % lower at the screen's density, eFLIP p99 2 % lower at both, for 6–7 % of
-    /// the frame; at the fovea layout's own density (texels over two pixels apart) the same
-    /// figures (BENCHMARKS.md, "Every neighbour as a new sample").
+    /// Where the head's motion moved the point, the 3×3 texels around the pixel, so what
+    /// enters changes smoothly as the texels move past; taken from the reads the clip's box
+    /// makes there, so it costs nine weights, not nine more reads. Where nothing moved, the
+    /// nearest texel (a still frame is the nearest's to the bit). Measured along the walk at
+    /// half the Quest Pro's panel (lavapipe, side by side): in the periphery, flicker 2 % lower
+    /// than the nearest's with the periphery at 0.6 and 20 % lower at the screen's density,
+    /// eFLIP p99 2 % lower at both; no time measurable at 0.6, 3 % of the frame at the
+    /// screen's density; at the fovea layout's own density (texels over two pixels apart) the
+    /// same figures for 2–5 % (BENCHMARKS.md, "Every neighbour as a new sample").
     Weighted,
 }
 
