@@ -363,8 +363,6 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
                                     MARK_MOVING || (clip_on && (c.clip.y < 1.5 || moved)), weigh);
     bool mover = MARK_MOVING && n.mover; // an instance that moves lies in the neighbourhood
     bool clipped = clip_on && (c.clip.y < 1.5 || moved || mover);
-    vec3 lo = n.lo;
-    vec3 hi = n.hi;
     if (c.jitter.w >= 0.5) {
         NOTE_OUTCOME(OUTCOME_RESET);
     } else if (at.z > 0.0) {
@@ -372,7 +370,7 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
         vec4 h = history_at(eye, at.xy, mover_before);
         // Only a frame whose scene marks instances that move writes MOVER into the history, and
         // then (MARK_MOVING) the box was built everywhere: clipping switched on here has one.
-        clipped = clipped || (c.clip.x >= 0.0 && mover_before);
+        clipped = clipped || (clip_on && mover_before);
         if (HISTORY_CATMULL_ROM && moved && h.w > 0.99) {
             h.rgb = history_sharp(eye, at.xy, h.rgb);
         }
@@ -383,13 +381,13 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
             // Taps past the edge of the frame before's view can still hold something: used.
             NOTE_OUTCOME(history_outcome == OUTCOME_OFF_SCREEN ? OUTCOME_KEPT : history_outcome);
             vec3 y = to_ycocg(h.rgb);
-            if (history_outcome == OUTCOME_KEPT && clipped && clip_to_box(y, lo, hi) != y) {
+            if (history_outcome == OUTCOME_KEPT && clipped && clip_to_box(y, n.lo, n.hi) != y) {
                 NOTE_OUTCOME(OUTCOME_CLIPPED);
             }
         }
 #endif
         if (h.w > 0.01) {
-            vec3 kept = clipped ? from_ycocg(clip_to_box(to_ycocg(h.rgb), lo, hi)) : h.rgb;
+            vec3 kept = clipped ? from_ycocg(clip_to_box(to_ycocg(h.rgb), n.lo, n.hi)) : h.rgb;
             float mass;
             vec3 fresh = new_sample(eye, texel, size, q + j, n, mass);
             // Where nothing moved the history needs no quick correction: the still weight.

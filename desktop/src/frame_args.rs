@@ -103,8 +103,9 @@ pub struct ConfigArgs {
     #[arg(long)]
     pub temporal_neighbourhood: Option<ClipNeighbourhood>,
     /// With --temporal: what of each frame's periphery enters the history: `nearest` (the
-    /// nearest texel alone) or `weighted` (the 3×3 texels around the pixel, each by its
-    /// distance: nine reads for one, less flicker along a walk). Default: the library's.
+    /// nearest texel alone) or `weighted` (where the point moved, the 3×3 texels around the
+    /// pixel, each by its distance, from the clip box's reads: less flicker along a walk).
+    /// Default: the library's.
     #[arg(long)]
     pub temporal_new_sample: Option<NewSample>,
     /// Foveation without the inset/outset stencil masks.

@@ -60,7 +60,8 @@ pub struct Accumulation {
     #[arg(long, value_delimiter = ',')]
     pub neighbourhoods: Vec<ClipNeighbourhood>,
     /// With --temporal: one accumulated row per new sample: `nearest` (the nearest texel
-    /// alone), `weighted` (the 3×3 texels, each by its distance) (default: the library's).
+    /// alone), `weighted` (where the point moved, the 3×3 texels, each by its distance)
+    /// (default: the library's).
     #[arg(long, value_delimiter = ',')]
     pub new_samples: Vec<NewSample>,
     /// With --temporal: a settled pixel's weight for a new sample (0 < w ≤ 1; default: the

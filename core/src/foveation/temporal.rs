@@ -277,8 +277,9 @@ impl Default for TemporalConfig {
             // The cross is faster but flickers more along a walk, and no GPU has timed it yet.
             neighbourhood: ClipNeighbourhood::Square,
             // The weighted sample's gain at the recommended density 0.6 (2 % in the walk's
-            // p99 and flicker) costs 6 % of the frame on lavapipe (BENCHMARKS.md, "Every
-            // neighbour as a new sample").
+            // p99 and flicker, for no time measurable on lavapipe) is not yet measured at the
+            // panel itself, and every figure in the README is at this default (BENCHMARKS.md,
+            // "Every neighbour as a new sample").
             new_sample: NewSample::Nearest,
         }
     }
