@@ -56,8 +56,8 @@ pub enum NewSample {
     /// eFLIP p99 2 % lower at both; no time measurable at 0.6, 3 % of the frame at the
     /// screen's density; at the fovea layout's own density (texels over two pixels apart) the
     /// same figures for 2–5 %. At the panel itself, at 0.6: the walk's p99 and flicker 2–3 %
-    /// lower, the still frame and the saccade trace unchanged, the walk's frame +6 % in one
-    /// run whose like rows spread 3 % (BENCHMARKS.md, "Every neighbour as a new sample").
+    /// lower at both gazes, the still frame and the saccade trace unchanged, the walk's frame
+    /// 2–6 % slower (BENCHMARKS.md, "Every neighbour as a new sample").
     Weighted,
 }
 
@@ -279,9 +279,10 @@ impl Default for TemporalConfig {
             // The cross is faster but flickers more along a walk, and no GPU has timed it yet.
             neighbourhood: ClipNeighbourhood::Square,
             // The weighted sample's gain at the recommended density 0.6 holds at the panel
-            // (2–3 % in the walk's p99 and flicker), but one panel run priced the walk's frame
-            // at +6 % against a spread of 3 % between like rows: until a second run settles
-            // the time, the nearest stays (BENCHMARKS.md, "Every neighbour as a new sample").
+            // (2–3 % in the walk's p99 and flicker, both gazes), but it costs 2–6 % of the
+            // walk's frame there in four runs, two of them side by side within 1 %, and the
+            // default was to cost no measurable time (BENCHMARKS.md, "Every neighbour
+            // as a new sample").
             new_sample: NewSample::Nearest,
         }
     }
