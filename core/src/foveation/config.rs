@@ -62,6 +62,13 @@ pub struct FoveationConfig {
     pub periphery_temporal: Option<TemporalConfig>,
 }
 
+/// Single frames: the periphery at the fovea's ratio, upscaled, nothing kept between frames.
+/// That is the cheapest foveated frame, it reads and writes no history, and nothing in it
+/// changes while the head is still. Accumulating the periphery (`periphery_temporal`, with
+/// `periphery_density` near 0.6) is what measured at least as accurate as stereo without MSAA
+/// on the lit atrium at the Quest Pro's panel, but at more time than stereo on lavapipe and
+/// more bytes than the stereo frame, so it is asked for, not assumed (BENCHMARKS.md, "Where the
+/// targets stand"). `foveate plan` prints the same reasons.
 impl Default for FoveationConfig {
     fn default() -> Self {
         FoveationConfig {
