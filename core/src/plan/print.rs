@@ -543,7 +543,8 @@ fn clip_words(clip: crate::foveation::HistoryClip) -> String {
 }
 
 /// Why the periphery is made the way it is: what each choice trades, in words. The figures
-/// behind them are measurements (BENCHMARKS.md), so a plan names none.
+/// behind them are measurements on one scene and panel (BENCHMARKS.md), so a plan names no
+/// measured figure, and says "measured" where a verdict is one.
 fn periphery_reason(
     g: &crate::foveation::FoveationGeometry,
     screen: crate::vocab::Resolution,
@@ -551,10 +552,10 @@ fn periphery_reason(
     let density = g.periphery_view.width as f32 / screen.width as f32;
     match g.temporal {
         None => format!(
-            "one frame at {density:.2} of the screen's density, upscaled, nothing kept between frames (single frames are the library's default: the cheapest foveated frame, no history to read or write, nothing that changes while the head is still); it is blurrier than stereo without MSAA, and accumulating it over jittered frames near 0.6 of the screen's density is what measured at least as accurate as that over the frame (eFLIP p99) in every motion on the lit atrium at the Quest Pro's panel, for more time and a history's bytes (BENCHMARKS.md)"
+            "one frame at {density:.2} of the screen's density, upscaled, nothing kept between frames (single frames are the library's default: the cheapest foveated frame, no history to read or write, nothing that changes while the head is still); accumulating it over jittered frames is what buys accuracy back: near 0.6 of the screen's density it measured at least as accurate as stereo without MSAA over the frame (eFLIP p99) in every motion on the lit atrium at the Quest Pro's panel, for more time and a history's bytes (BENCHMARKS.md)"
         ),
         Some(_) => format!(
-            "accumulated over jittered frames at {density:.2} of the screen's density: sharper than one frame at that density, for a history at the output's pixels read and written every frame (its bytes below) and a faint shimmer with the head still; while the head moves it flickers more than stereo without MSAA (BENCHMARKS.md)"
+            "accumulated over jittered frames at {density:.2} of the screen's density: sharper than one frame at that density, for a history at the output's pixels read and written every frame (its bytes below) and a faint shimmer with the head still; while the head moves it measured to flicker more than stereo without MSAA at every density tried (BENCHMARKS.md)"
         ),
     }
 }
