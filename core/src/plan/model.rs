@@ -436,6 +436,13 @@ impl LensOutput {
 }
 
 impl FramePlan {
+    /// The periphery views' pixels per side over the screen's, as resolved (the configured
+    /// density, or the fovea's ratio); `None` without foveation.
+    pub fn periphery_density(&self) -> Option<f64> {
+        let g = self.foveation?;
+        Some(g.periphery_view.width as f64 / self.eye_resolution.width as f64)
+    }
+
     /// Display pixels per degree at `eye`'s lens axis: across the display's field (the lens
     /// model's) when the output is distorted for the lens, the rendered field otherwise, over
     /// the eye's output width.

@@ -98,11 +98,9 @@ impl FramePlan {
                 g.blend_band_px,
                 if g.stencil { "on" } else { "off" }
             )?;
-            writeln!(
-                f,
-                "  periphery: {}",
-                periphery_reason(g, self.eye_resolution)
-            )?;
+            if let Some(density) = self.periphery_density() {
+                writeln!(f, "  periphery: {}", periphery_reason(g, density))?;
+            }
         }
         if let Some(c) = &self.fovea_layout {
             writeln!(
@@ -545,11 +543,7 @@ fn clip_words(clip: crate::foveation::HistoryClip) -> String {
 /// Why the periphery is made the way it is: what each choice trades, in words. The figures
 /// behind them are measurements on one scene and panel (BENCHMARKS.md), so a plan names no
 /// measured figure, and says "measured" where a verdict is one.
-fn periphery_reason(
-    g: &crate::foveation::FoveationGeometry,
-    screen: crate::vocab::Resolution,
-) -> String {
-    let density = g.periphery_view.width as f32 / screen.width as f32;
+fn periphery_reason(g: &crate::foveation::FoveationGeometry, density: f64) -> String {
     match g.temporal {
         None => format!(
             "one frame at {density:.2} of the screen's density, upscaled, nothing kept between frames (single frames are the library's default: the cheapest foveated frame, no history to read or write, nothing that changes while the head is still); accumulating it over jittered frames is what buys accuracy back: near 0.6 of the screen's density it measured at least as accurate as stereo without MSAA over the frame (eFLIP p99) in every motion on the lit atrium at the Quest Pro's panel, for more time and a history's bytes (BENCHMARKS.md)"

@@ -587,10 +587,7 @@ fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<Cs
             &opt(f.map(|f| f.ratio as f64), 4),
             &opt(f.map(|f| f.blend_band_px as f64), 1),
             &opt(f.map(|f| f.periphery_sharpen as f64), 2),
-            &opt(
-                f.map(|f| f.periphery_view.width as f64 / row.run.plan.eye_resolution.width as f64),
-                4,
-            ),
+            &opt(row.run.plan.periphery_density(), 4),
             &opt(f.map(|f| f.periphery_samples(row.msaa) as f64), 0),
             &format!("{:.3}", row.run.frame_ms),
             &format!("{:.4}", row.run.frame_ms / reference_ms),
