@@ -18,7 +18,7 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// `commands/compare.rs` → `commands::compare`; a folder's files (and its `mod.rs`) → the folder,
+/// `commands/mask.rs` → `commands::mask`; a folder's files (and its `mod.rs`) → the folder,
 /// except `commands/`, whose files are the commands.
 fn node(relative: &Path) -> String {
     let parts: Vec<String> = relative

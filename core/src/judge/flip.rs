@@ -159,8 +159,8 @@ impl FlipJudge {
         (self.width, self.height)
     }
 
-    /// Both FLIP maps of `test` against `reference`, as [`crate::metrics::flip`]'s
-    /// `eccentric_flip_map` defines them, computed on the GPU: the display's `ppd` at the gaze,
+    /// Both FLIP maps of `test` against `reference`, as `metrics::flip`'s `eccentric_flip_map`
+    /// (feature `flip`) defines them, computed on the GPU: the display's `ppd` at the gaze,
     /// the eye's `acuity`, and each pixel's angle from the gaze (`None`: not judged, `NaN` in
     /// both maps). The ppd levels whose filters are wide are filtered on a coarser pyramid
     /// level and sampled back with Catmull-Rom (the approximation the judge's tests bound).
