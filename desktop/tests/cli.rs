@@ -602,10 +602,19 @@ fn mffr_prices_every_variant_against_stereo() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let rows = read_csv(&csv, 20);
-    assert_eq!(rows.len(), 2 * 5, "stereo and four variants per split");
+    assert_eq!(
+        rows.len(),
+        2 * 6,
+        "stereo, aliased stereo and four variants per split"
+    );
     for r in &rows {
         assert_numeric(r, &["variant", "split"]);
     }
+    assert_eq!(rows[1]["variant"], "stereo, MSAA 1", "the accuracy yardstick");
+    assert_eq!(
+        rows[2]["far_density"], "0.8",
+        "without --far-density, the library's default"
+    );
     let _ = std::fs::remove_file(&csv);
     let text = stdout(&o);
     for needle in [
@@ -638,7 +647,7 @@ fn mffr_prices_every_variant_against_stereo() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let rows = read_csv(&csv, 20);
-    let far: Vec<(&str, &str)> = rows[1..]
+    let far: Vec<(&str, &str)> = rows[2..]
         .iter()
         .map(|r| (r["far_msaa"].as_str(), r["far_density"].as_str()))
         .collect();

@@ -86,13 +86,21 @@ pub struct MffrConfig {
     /// The far pass's MSAA samples (`None`: the frame's). Far edges move less than a pixel
     /// between the eyes but alias like near ones: fewer samples are a price in accuracy.
     pub far_msaa: Option<u32>,
-    /// The far image's pixel density, as a fraction of the eyes' ([`FAR_DENSITY_RANGE`]).
+    /// The far image's pixel density, as a fraction of the eyes' ([`FAR_DENSITY_RANGE`];
+    /// [`MffrConfig::default`]: 0.8). 1 is exact up to the disparity bound; below it the far
+    /// field is resampled, a price in accuracy for fewer far fragments.
     pub far_density: f32,
 }
 
 /// The far image's pixel densities a plan accepts, as fractions of the eyes'.
 pub const FAR_DENSITY_RANGE: std::ops::RangeInclusive<f32> = 0.25..=1.0;
 
+/// Near-first from the head centre at a 1 px split, the far pass at the frame's samples and 0.8
+/// of the eyes' density: on the city at 1024² per eye (4×, lavapipe), the cheapest far setting
+/// measured as accurate as aliased stereo (eFLIP p99 0.0608 on Mesa 22.3 and 25.0 alike), with
+/// 35 % fewer far fragments than full density and faster in each of four paired runs on the two
+/// drivers. A 1× far pass is cheaper on lavapipe (which pays per sample; a tile GPU resolves 4×
+/// nearly free) but 14 % worse in eFLIP p99; 0.75 is 2 % worse, full density 1 % better.
 impl Default for MffrConfig {
     fn default() -> Self {
         Self {
@@ -100,7 +108,7 @@ impl Default for MffrConfig {
             order: MffrOrder::NearFirst,
             variant: MffrVariant::Centre,
             far_msaa: None,
-            far_density: 1.0,
+            far_density: 0.8,
         }
     }
 }

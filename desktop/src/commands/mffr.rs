@@ -43,8 +43,9 @@ pub struct MffrArgs {
     /// The far pass's MSAA samples to compare, each 1 or 4 (default: the frame's `--msaa`).
     #[arg(long, value_delimiter = ',')]
     far_msaa: Vec<u32>,
-    /// The far image's pixel densities to compare, fractions of the eyes' in 0.25..=1.
-    #[arg(long, value_delimiter = ',', default_value = "1")]
+    /// The far image's pixel densities to compare, fractions of the eyes' in 0.25..=1 (default:
+    /// the library's, 0.8).
+    #[arg(long, value_delimiter = ',')]
     far_density: Vec<f32>,
     /// Frames per configuration, rendered in interleaved rounds (the first is a warm-up).
     #[arg(long, default_value_t = 6)]
@@ -187,21 +188,32 @@ fn mffr_csv() -> Result<CsvTable> {
     ])
 }
 
-/// The configurations one split measures: stereo (the reference), then each variant at each
-/// far sample count and density asked for.
+/// The configurations one split measures: stereo (the reference), aliased stereo (MSAA 1, the
+/// accuracy a far field's settings are held to) when the frame has more samples, then each
+/// variant at each far sample count and density asked for.
 fn split_configs(
     args: &MffrArgs,
     base: &RenderConfig,
     split: SplitDistance,
 ) -> Result<Vec<RenderConfig>> {
     let far_msaa: Vec<Option<u32>> = match args.far_msaa.as_slice() {
-        [] => vec![None],
+        [] => vec![MffrConfig::default().far_msaa],
         m => m.iter().copied().map(Some).collect(),
     };
+    let far_density = match args.far_density.as_slice() {
+        [] => vec![MffrConfig::default().far_density],
+        d => d.to_vec(),
+    };
     let mut configs = vec![base.clone()];
+    if base.msaa > 1 {
+        configs.push(RenderConfig {
+            msaa: 1,
+            ..base.clone()
+        });
+    }
     for name in &args.variants {
         for &msaa in &far_msaa {
-            for &density in &args.far_density {
+            for &density in &far_density {
                 configs.push(RenderConfig {
                     mffr: Some(MffrConfig {
                         far_msaa: msaa,
@@ -242,6 +254,9 @@ impl VariantRow<'_> {
                 (g.config.name(), g.split_m, g.disparity_at_split_px, bound)
             }
             None if i == 0 => ("stereo", f32::NAN, f32::NAN, 0.0),
+            None if plan.samples < reference.plan.samples => {
+                ("stereo, MSAA 1", f32::NAN, f32::NAN, 0.0)
+            }
             None => ("(no far field)", f32::NAN, f32::NAN, 0.0),
         };
         let (far_samples, far_density) = plan.mffr.map_or((0, f32::NAN), |g| {
@@ -277,7 +292,7 @@ impl VariantRow<'_> {
         println!(
                 "{:<14} {:>9} {:>7.2} {:>4} {:>5.2} {:>9.2} {:>6.3} {:>8.2} {:>8.2} {:>10} {:>10} {:>10} {:>6} {:>6.4} {:>7.4} {:>7.3} {:>7.2} {:>7.2}% {:>7}",
                 name,
-                if i == 0 { "-".to_string() } else { format!("{split_m:.1}m") },
+                if plan.mffr.is_none() { "-".to_string() } else { format!("{split_m:.1}m") },
                 disparity,
                 far_samples,
                 far_density,
