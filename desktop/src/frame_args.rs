@@ -429,7 +429,9 @@ impl ConfigArgs {
                 let split = self.split.as_deref().unwrap_or("1px").parse()?;
                 Ok::<_, anyhow::Error>(MffrConfig {
                     far_msaa: self.far_msaa,
-                    far_density: self.far_density.unwrap_or(MffrConfig::default().far_density),
+                    far_density: self
+                        .far_density
+                        .unwrap_or(MffrConfig::default().far_density),
                     ..MffrConfig::named(name, split)?
                 })
             })

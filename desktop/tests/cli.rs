@@ -610,7 +610,10 @@ fn mffr_prices_every_variant_against_stereo() {
     for r in &rows {
         assert_numeric(r, &["variant", "split"]);
     }
-    assert_eq!(rows[1]["variant"], "stereo, MSAA 1", "the accuracy yardstick");
+    assert_eq!(
+        rows[1]["variant"], "stereo, MSAA 1",
+        "the accuracy yardstick"
+    );
     assert_eq!(
         rows[2]["far_density"], "0.8",
         "without --far-density, the library's default"

@@ -34,6 +34,17 @@ pub fn plan(
     config: &RenderConfig,
     caps: &DeviceCaps,
 ) -> Result<FramePlan, ConfigError> {
+    plan_with(scene, false, config, caps)
+}
+
+/// Plans a frame of `scene`, or (`engine`) one whose scene steps an engine draws, `scene`
+/// then empty (see `plan::plan_for_engine`).
+pub(super) fn plan_with(
+    scene: &Scene,
+    engine: bool,
+    config: &RenderConfig,
+    caps: &DeviceCaps,
+) -> Result<FramePlan, ConfigError> {
     let e = resolve_effects(scene, config, caps)?;
     let layout = target_layout(config.stereo, caps);
     let mut attachments = Vec::new();
@@ -44,11 +55,7 @@ pub fn plan(
     let far_colour = far
         .as_ref()
         .map(|p| p.resolve.unwrap_or(p.color).attachment);
-    let fovea_layout = e.foveation.map(|f| {
-        let cull = f.cull_fovea && e.mffr.is_none();
-        let differ = f.views_differ(config.msaa);
-        choose_fovea_layout(config.fovea_layout, cull, differ, scene, f.fovea_view, caps)
-    });
+    let fovea_layout = fovea_layout_of(&e, config, (!engine).then_some(scene), caps);
     let mut passes: Vec<PassPlan> = far.into_iter().collect();
     passes.extend(scene_passes(
         config,
@@ -122,13 +129,17 @@ pub fn plan(
             .then(|| caps.max_anisotropy.min(8.0)),
         lens: lens.then(|| LensOutput::new(e.hmd.distortion, &e.eyes)),
         external_output: config.external_output,
+        engine_draws: engine,
         hidden_area_mesh: config.hidden_area_mesh,
         frame_slots: config.frames_in_flight,
         history,
         depth_history,
     };
     check_external_output(&plan)?;
-    assign_cull_slots(&mut plan);
+    // An engine's scene steps draw what the engine culls: no cull slot of foveate's.
+    if !engine {
+        assign_cull_slots(&mut plan);
+    }
     plan.draw_calls_estimate = draw_calls_estimate(scene, &plan);
     plan_queries(&mut plan, config, caps);
     plan_instance_buffers(&mut plan, scene, caps, config);
@@ -396,17 +407,45 @@ fn plan_queries(plan: &mut FramePlan, config: &RenderConfig, caps: &DeviceCaps) 
     }
 }
 
+/// A foveated frame's layout for `scene` (`None`: an engine's draws).
+fn fovea_layout_of(
+    e: &Effects,
+    config: &RenderConfig,
+    scene: Option<&Scene>,
+    caps: &DeviceCaps,
+) -> Option<FoveaLayoutChoice> {
+    let f = e.foveation?;
+    let cull = f.cull_fovea && e.mffr.is_none();
+    let differ = f.views_differ(config.msaa);
+    let triangles = scene.map(|s| s.triangle_count() as u64);
+    let choice = choose_fovea_layout(
+        config.fovea_layout,
+        cull,
+        differ,
+        triangles,
+        f.fovea_view,
+        caps,
+    );
+    // An engine culls each pass against its views itself; one pass for all four views then
+    // draws the same in each (no per-view tags: those are foveate's culled ids).
+    let engine_one_pass = scene.is_none() && choice.layout == FoveaLayout::OnePass;
+    Some(FoveaLayoutChoice {
+        cull: choice.cull && !engine_one_pass,
+        ..choice
+    })
+}
+
 /// The layout of a foveated frame's views: as asked, or chosen from the device's quirks and the
-/// scene's geometry against the fovea views' pixels, with the reason.
+/// scene's geometry (`triangles` per view; `None`: an engine's, unknown) against the fovea
+/// views' pixels, with the reason.
 fn choose_fovea_layout(
     asked: FoveaLayout,
     cull: bool,
     views_differ: bool,
-    scene: &Scene,
+    triangles: Option<u64>,
     view: Resolution,
     caps: &DeviceCaps,
 ) -> FoveaLayoutChoice {
-    let triangles = scene.triangle_count() as u64;
     let pixels = view.width as u64 * view.height as u64;
     let (layout, reason) = match asked {
         FoveaLayout::OnePass | FoveaLayout::TwoPass => (asked, format!("asked for ({asked})")),
@@ -430,19 +469,27 @@ fn choose_fovea_layout(
                 caps.device_name
             ),
         ),
-        FoveaLayout::Auto if triangles > pixels => (
+        FoveaLayout::Auto if triangles.is_none() => (
+            FoveaLayout::OnePass,
+            "an engine draws the scene: one 4-view pass takes its draws once, and the fovea views \
+             show what the periphery views show"
+                .to_string(),
+        ),
+        FoveaLayout::Auto if triangles > Some(pixels) => (
             FoveaLayout::TwoPass,
             format!(
-                "vertex-bound: {triangles} triangles per view exceed a view's {pixels} pixels, so \
-                 skipping the fovea-culled instances' vertices outweighs a second pass"
+                "vertex-bound: {} triangles per view exceed a view's {pixels} pixels, so \
+                 skipping the fovea-culled instances' vertices outweighs a second pass",
+                triangles.unwrap_or(0)
             ),
         ),
         FoveaLayout::Auto => (
             FoveaLayout::OnePass,
             format!(
-                "fragment-bound: {triangles} triangles per view against a view's {pixels} pixels; \
+                "fragment-bound: {} triangles per view against a view's {pixels} pixels; \
                  one 4-view pass bins the scene once, fovea-culled instances emit no primitives \
-                 in the fovea views"
+                 in the fovea views",
+                triangles.unwrap_or(0)
             ),
         ),
     };

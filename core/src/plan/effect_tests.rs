@@ -194,15 +194,7 @@ fn mffr_plans_a_mono_far_pass_the_eye_pass_samples() {
 #[test]
 fn the_far_pass_has_samples_and_density_of_its_own() {
     let scene = crate::scene::city_scene();
-    let default = with_mffr(crate::mffr::MffrOrder::NearFirst);
-    // At the eyes' own density (the default resamples the far field at 0.8).
-    let base = RenderConfig {
-        mffr: default.mffr.map(|m| crate::mffr::MffrConfig {
-            far_density: 1.0,
-            ..m
-        }),
-        ..default
-    };
+    let base = with_mffr(crate::mffr::MffrOrder::NearFirst);
     let full = plan(&scene, &base, &caps()).unwrap();
     let custom = RenderConfig {
         mffr: base.mffr.map(|m| crate::mffr::MffrConfig {

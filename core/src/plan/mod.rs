@@ -10,6 +10,7 @@ mod build;
 mod config;
 mod counting;
 mod derive;
+mod engine;
 mod masks;
 mod mffr;
 mod model;
@@ -33,6 +34,7 @@ pub use config::{
     CullConfig, FoveaLayout, OutputFormat, OutputStage, RadialDensity, RadialDensityGeometry,
     RenderConfig, StereoMode, MAX_FRAMES_IN_FLIGHT, MAX_SPARE_INSTANCES, MAX_VIEWS,
 };
+pub use engine::plan_for_engine;
 pub use model::{
     BufferPlan, ClusterPlan, CountedSlot, FoveaLayoutChoice, FramePlan, HistoryPair, LensOutput,
     LodPlan, PassKind, PassPlan, Submission, TargetLayout, COUNTER_SLOTS_PER_STEP,

@@ -305,6 +305,9 @@ pub struct FramePlan {
     pub lens: Option<LensOutput>,
     /// The output image is handed in per frame (see [`RenderConfig::external_output`](crate::plan::RenderConfig::external_output)).
     pub external_output: bool,
+    /// An engine draws the scene steps with its own pipelines (`plan::plan_for_engine`): the
+    /// plan has no scene of foveate's (no instances, culling, MFFR or levels of detail).
+    pub engine_draws: bool,
     /// The HMD mask drops a hidden-area mesh handed in per frame (see
     /// [`RenderConfig::hidden_area_mesh`](crate::plan::RenderConfig::hidden_area_mesh)).
     pub hidden_area_mesh: bool,

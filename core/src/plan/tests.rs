@@ -36,10 +36,13 @@ pub(super) fn foveated(stencil: bool) -> RenderConfig {
     }
 }
 
+/// MFFR drawn `order` first, its far image at the eyes' density (exact up to the disparity
+/// bound; the default resamples it at 0.8).
 pub(super) fn with_mffr(order: crate::mffr::MffrOrder) -> RenderConfig {
     RenderConfig {
         mffr: Some(crate::mffr::MffrConfig {
             order,
+            far_density: 1.0,
             ..Default::default()
         }),
         ..config(StereoMode::Multiview, 4)

@@ -46,6 +46,10 @@ pub enum Command {
         instance_count: u32,
         first_instance: u32,
     },
+    /// The engine draws its own world into a pass's views (a `FoveationLayer`'s frame).
+    EngineDraws {
+        pass: usize,
+    },
 }
 
 /// The commands one frame of a plan records.
@@ -66,12 +70,22 @@ impl<'p> CommandLog<'p> {
         };
         record_frame(
             plan,
-            &FrameDraws {
+            &FrameDraws::Scene {
                 all: &all,
                 culled: &culled,
             },
             &mut log,
         );
+        log
+    }
+
+    /// Records one frame of `plan` whose scene steps an engine draws.
+    pub fn record_engine(plan: &'p FramePlan) -> Self {
+        let mut log = CommandLog {
+            plan,
+            commands: Vec::new(),
+        };
+        record_frame(plan, &FrameDraws::Engine, &mut log);
         log
     }
 }
@@ -142,6 +156,9 @@ impl Recorder for CommandLog<'_> {
             instance_count,
             first_instance,
         });
+    }
+    fn engine_draws(&mut self, pass: usize, _step: usize) {
+        self.commands.push(Command::EngineDraws { pass });
     }
 }
 

@@ -52,9 +52,11 @@ pub(super) struct SlotFrame {
     pub instances_drawn: Vec<u64>,
 }
 
-/// The scene's resources a slot's descriptor set binds beside the slot's own buffers.
+/// The scene's resources a slot's descriptor set binds beside the slot's own buffers: foveate's
+/// scene's instances and a lit scene's materials; none when an engine draws the scene.
+#[derive(Clone, Copy, Default)]
 pub(super) struct SharedBindings<'a> {
-    pub scene: &'a SceneBuffers,
+    pub scene: Option<&'a SceneBuffers>,
     pub materials: Option<&'a MaterialSet>,
 }
 
@@ -95,7 +97,7 @@ impl FrameSlot {
         let bindings = scene_bindings(
             gpu,
             &views_block,
-            instances.as_ref().unwrap_or(&shared.scene.instances),
+            instances.as_ref().or(shared.scene.map(|s| &s.instances)),
             counter.as_ref(),
             masks,
             instance_ids.as_ref(),

@@ -55,12 +55,12 @@ impl Renderer {
         let start = std::time::Instant::now();
         if let Some(changed) = moving.changed() {
             if self.culling.is_some() {
-                let culling = FrameCulling::new(changed.scene, &self.scene, &self.plan);
+                let culling = FrameCulling::new(changed.scene, &self.scene, &self.layer.plan);
                 self.culling = Some(culling.with_present(changed.present));
             }
             self.present_draws = Some(changed.draws);
         }
-        if let Some(buffer) = &mut self.slots[slot].instances {
+        if let Some(buffer) = &mut self.layer.slots[slot].instances {
             moving.write_slot(slot, buffer);
         }
         start.elapsed().as_secs_f64() * 1e3

@@ -13,14 +13,14 @@ use crate::shaders::ShaderBinary;
 
 const ENTRY: &CStr = c"main";
 
-/// The scene shaders' resources: views (binding 0), instances (1) and, only when their effect
-/// is on, the fragment counter (2), the stencil mask shapes (3), culled instance ids (4) and a
-/// lit scene's textures (5–7), materials (8) and lights (9); the view index or mask shape set
-/// as a vertex push constant.
+/// The scene shaders' resources: views (binding 0), instances (1: foveate's scene's, none when
+/// an engine draws) and, only when their effect is on, the fragment counter (2), the stencil
+/// mask shapes (3), culled instance ids (4) and a lit scene's textures (5–7), materials (8)
+/// and lights (9); the view index or mask shape set as a vertex push constant.
 pub(crate) fn scene_bindings(
     gpu: &Gpu,
     views: &Buffer,
-    instances: &Buffer,
+    instances: Option<&Buffer>,
     counter: Option<&Buffer>,
     masks: Option<&Buffer>,
     instance_ids: Option<&Buffer>,
@@ -32,10 +32,12 @@ pub(crate) fn scene_bindings(
         stages,
         resource,
     };
-    let mut bindings = vec![
-        binding(0, Stage::VERTEX | Stage::FRAGMENT, Resource::Uniform(views)),
-        binding(1, Stage::VERTEX, Resource::Storage(instances)),
-    ];
+    let mut bindings = vec![binding(
+        0,
+        Stage::VERTEX | Stage::FRAGMENT,
+        Resource::Uniform(views),
+    )];
+    bindings.extend(instances.map(|b| binding(1, Stage::VERTEX, Resource::Storage(b))));
     bindings.extend(counter.map(|b| binding(2, Stage::FRAGMENT, Resource::Storage(b))));
     bindings.extend(masks.map(|b| binding(3, Stage::VERTEX, Resource::Uniform(b))));
     bindings.extend(instance_ids.map(|b| binding(4, Stage::VERTEX, Resource::Storage(b))));
@@ -58,7 +60,7 @@ pub(crate) fn scene_bindings(
 }
 
 /// The plan's stencil state in Vulkan's terms (failing fragments keep the value).
-fn vk_stencil(s: StencilState) -> vk::StencilOpState {
+pub(super) fn vk_stencil(s: StencilState) -> vk::StencilOpState {
     vk::StencilOpState {
         fail_op: vk::StencilOp::KEEP,
         pass_op: match s.pass {

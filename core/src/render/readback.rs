@@ -2,6 +2,7 @@
 
 use ash::vk;
 
+use super::layer::FoveationLayer;
 use super::renderer::Renderer;
 use crate::gpu::{
     access, memory_barrier, transition_image, BlitSource, Buffer, GpuError, ImageState,
@@ -41,7 +42,7 @@ impl StereoImage {
 }
 
 /// Where a frame's two eyes lie in a buffer its outputs were copied into
-/// ([`Renderer::output_texels`]).
+/// ([`FoveationLayer::output_texels`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct OutputTexels {
     /// The outputs' format.
@@ -55,7 +56,7 @@ pub(crate) struct OutputTexels {
     pub eyes: [(u64, u32); 2],
 }
 
-impl Renderer {
+impl FoveationLayer {
     /// Copies the last frame's stereo image back to the CPU.
     pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
         if self.frames_rendered == 0 {
@@ -110,7 +111,7 @@ impl Renderer {
         })
     }
 
-    /// Where the last frame's eyes lie once [`Renderer::record_output_copy`] has copied its
+    /// Where the last frame's eyes lie once [`FoveationLayer::record_output_copy`] has copied its
     /// outputs into a buffer.
     pub(crate) fn output_texels(&self) -> OutputTexels {
         let outputs = self.plan.outputs();
@@ -234,5 +235,36 @@ impl Renderer {
                 source(outputs[0], 0, w / 2, w / 2),
             ],
         })
+    }
+}
+
+/// The renderer's output is its layer's.
+impl Renderer {
+    /// Copies the last frame's stereo image back to the CPU.
+    pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
+        self.layer.readback()
+    }
+
+    /// Where the last frame's eyes lie once [`Renderer::record_output_copy`] has copied its
+    /// outputs into a buffer.
+    pub(crate) fn output_texels(&self) -> OutputTexels {
+        self.layer.output_texels()
+    }
+
+    /// Records copying the last frame's outputs into `buffer` from byte `start` (see
+    /// [`FoveationLayer::record_output_copy`]).
+    pub(crate) fn record_output_copy(
+        &self,
+        cmd: vk::CommandBuffer,
+        buffer: vk::Buffer,
+        start: u64,
+    ) {
+        self.layer.record_output_copy(cmd, buffer, start)
+    }
+
+    /// The last frame's eye images where they lie (left, right) for a swapchain to show
+    /// ([`crate::gpu::Swapchain::present`]); the outputs stay in `TRANSFER_SRC_OPTIMAL`.
+    pub fn present_sources(&self) -> Result<[BlitSource; 2], GpuError> {
+        self.layer.present_sources()
     }
 }

@@ -47,9 +47,10 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
                     hidden_area,
                 } => super::masks::record_mask_fans(pass, stencil, hidden_area, area, rec),
                 Step::FarComposite { .. } => super::mffr::record_far_composite(pass, area, rec),
-                Step::Scene { cull_slot, .. } => {
-                    super::stereo_scene::record_scene(plan, pass, area, draws.of(cull_slot), rec)
-                }
+                Step::Scene { cull_slot, .. } => match draws.of(cull_slot) {
+                    Some(draws) => super::stereo_scene::record_scene(plan, pass, area, draws, rec),
+                    None => rec.engine_draws(index, step_index),
+                },
                 Step::Probe { .. } => super::probe::record_probe(pass, area, rec),
                 Step::Output(_) => super::output::record_output(pass, area, rec),
                 Step::RadialMask { .. } => {

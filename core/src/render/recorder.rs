@@ -51,16 +51,31 @@ pub trait Recorder {
     fn draw(&mut self, vertices: u32);
     /// Mesh `mesh` for `instance_count` instances from `first_instance`.
     fn draw_indexed(&mut self, mesh: usize, instance_count: u32, first_instance: u32);
+    /// Step `step` of pass `pass` is the engine's: it draws its own world into the pass's
+    /// views, with its own pipelines and resources.
+    fn engine_draws(&mut self, pass: usize, step: usize);
 }
 
-/// What one frame draws: every instance, and each cull slot's culled draws.
-pub struct FrameDraws<'a> {
-    pub all: &'a [Draw],
-    pub culled: &'a [Vec<Draw>],
+/// Who draws a frame's scene steps.
+pub enum FrameDraws<'a> {
+    /// foveate's scene: every instance, and each cull slot's culled draws.
+    Scene {
+        all: &'a [Draw],
+        culled: &'a [Vec<Draw>],
+    },
+    /// An engine, its own draws (a `FoveationLayer`'s frame).
+    Engine,
 }
 
 impl FrameDraws<'_> {
-    pub(super) fn of(&self, cull_slot: Option<usize>) -> &[Draw] {
-        cull_slot.map_or(self.all, |slot| &self.culled[slot])
+    /// The draws of a scene step of foveate's scene culled into `cull_slot` (every instance
+    /// when none); `None` when the engine draws.
+    pub(super) fn of(&self, cull_slot: Option<usize>) -> Option<&[Draw]> {
+        match self {
+            FrameDraws::Scene { all, culled } => {
+                Some(cull_slot.map_or(*all, |slot| &culled[slot][..]))
+            }
+            FrameDraws::Engine => None,
+        }
     }
 }

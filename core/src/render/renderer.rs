@@ -1,32 +1,27 @@
-use std::time::Instant;
-
 use ash::vk;
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec2};
 
 use super::culling::FrameCulling;
-use super::executor::{Executor, FrameContext};
 use super::far_view::FarView;
-use super::frame_input::{eyes_fit, head_is_finite, FrameInput, FrameRecord};
-use super::frame_slot::{FrameSlot, SharedBindings, SlotFrame};
-use super::masks::MaskShapes;
+use super::frame_input::{FrameInput, FrameRecord};
+use super::frame_slot::SharedBindings;
+use super::layer::{FoveationLayer, PreparedFrame, SceneFigures};
 use super::materials::MaterialSet;
 use super::moving::MovingInstances;
-use super::output_targets::OutputTargets;
-use super::record::record_frame;
 use super::recorder::FrameDraws;
 use super::scene_buffers::SceneBuffers;
-use super::setup::{check_scene, compile_passes, make_sampleable, sampling_executors};
+use super::setup::check_scene;
 use super::stats::FrameStats;
-use super::targets::{create_images, CompiledPass};
-use super::views::FrameViews;
-use super::vulkan_recorder::{BoundStep, FrameObjects, VulkanRecorder};
-use crate::foveation::fovea_views;
-use crate::gpu::{Buffer, Gpu, GpuError, Image, VkResultExt};
-use crate::plan::{ConfigError, FramePlan, PassPlan, RenderConfig, Step};
+use super::vulkan_recorder::SceneSteps;
+use crate::gpu::{Gpu, GpuError};
+use crate::plan::{ConfigError, FramePlan, RenderConfig, Step};
 use crate::scene::{Draw, Scene};
 use crate::view::{EyeParams, HiddenArea};
 
-/// A [`FramePlan`] compiled into Vulkan objects for one scene.
+/// A [`FramePlan`] compiled into Vulkan objects for one scene: foveate's own scene drawn by
+/// the [`FoveationLayer`] the plan also compiles into (the views, masks, output stage and frame
+/// slots are the layer's; the scene's buffers, materials, culling and moving instances are the
+/// renderer's).
 ///
 /// A renderer records frames into command buffers ([`Renderer::record`]): the caller's, which
 /// the caller submits with its own semaphores and fence, or its own ([`Renderer::render_frame`],
@@ -34,21 +29,9 @@ use crate::view::{EyeParams, HiddenArea};
 /// descriptor sets and query pools of their own — so up to that many frames may be in flight.
 /// It holds a handle to its [`Gpu`] (no borrow) and may move to another thread.
 pub struct Renderer {
-    pub(super) gpu: Gpu,
-    pub(super) plan: FramePlan,
-    // Passes (framebuffers, views) go before the images they view.
-    /// Each pass compiled.
-    passes: Vec<CompiledPass>,
-    /// The passes touching the history pair compiled with its roles swapped, for odd frames.
-    odd_frame_passes: Vec<(usize, CompiledPass)>,
-    /// Output images handed in (an OpenXR swapchain's), with their passes.
-    output_targets: Option<OutputTargets>,
-    /// Each pass's steps as recorded: pipeline, layout and each slot's descriptor set (the sets
-    /// belong to the slots and executors below).
-    steps: Vec<Vec<BoundStep>>,
-    /// Each technique's executor the plan calls for (masks, output stage, far composite,
-    /// reconstruction), in no particular order: each owns its resources and per-frame uniforms.
-    executors: Vec<Box<dyn Executor>>,
+    /// Everything around the scene steps (its slots' descriptor sets bind the scene's buffers
+    /// and materials below, so it goes first).
+    pub(super) layer: FoveationLayer,
     /// Per-frame culling (only when a pass draws a culled set).
     pub(super) culling: Option<FrameCulling>,
     /// The instances as they stand, when they move between frames.
@@ -56,23 +39,9 @@ pub struct Renderer {
     /// The draws of the instances in the scene, once some are absent (the scene's draws
     /// otherwise).
     pub(super) present_draws: Option<Vec<Draw>>,
-    /// Each frame slot's buffers, bindings and queries.
-    pub(super) slots: Vec<FrameSlot>,
-    /// The slot the next frame records into.
-    next_slot: usize,
-    pub(super) images: Vec<Image>,
     /// A lit scene's textures, materials and lights (after the bindings that refer to them).
     _materials: Option<MaterialSet>,
     pub(super) scene: SceneBuffers,
-    pub(super) readback: Option<Buffer>,
-    light_dir: Vec3,
-    /// Each eye's gaze, normalised (−1…1, x right, y up); moves the fovea views.
-    gaze: [Vec2; 2],
-    /// The eyes the plan was made for: the bounds of [`Renderer::set_eyes`].
-    planned_eyes: EyeParams,
-    /// Each eye's hidden-area mesh (a runtime's), when handed in.
-    hidden_area: Option<[HiddenArea; 2]>,
-    pub(super) frames_rendered: u64,
 }
 
 impl Renderer {
@@ -105,6 +74,14 @@ impl Renderer {
         scene: &Scene,
         output_images: &[vk::Image],
     ) -> Result<Self, GpuError> {
+        if plan.engine_draws {
+            return Err(ConfigError::new(
+                "plan",
+                "planned for an engine's draws",
+                "a plan made for foveate's scene (foveate::plan): an engine's plan is a FoveationLayer's",
+            )
+            .into());
+        }
         // The plan's spare instances join the scene, absent until added.
         let own = scene.instance_count();
         let spared =
@@ -116,39 +93,12 @@ impl Renderer {
             .lit
             .then(|| MaterialSet::new(gpu, plan, scene))
             .transpose()?;
-        let slot_count = plan.frame_slots.max(1) as usize;
-        let masks = plan
-            .passes
-            .iter()
-            .any(PassPlan::has_masks)
-            .then(|| MaskShapes::new(gpu, slot_count))
-            .transpose()?;
         let shared = SharedBindings {
-            scene: &scene_buffers,
+            scene: Some(&scene_buffers),
             materials: materials.as_ref(),
         };
-        let slots = (0..slot_count)
-            .map(|s| {
-                let masks = masks.as_ref().map(|m| &m.buffers[s]);
-                FrameSlot::new(gpu, plan, &shared, masks)
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let images = create_images(gpu, plan, output_images)?;
-        let output_targets = plan
-            .external_output
-            .then(|| OutputTargets::new(gpu, plan, output_images, &images))
-            .transpose()?;
-        make_sampleable(gpu, plan, &images)?;
-        let counters: Vec<_> = slots.iter().map(|s| s.counter.as_ref()).collect();
-        let mut executors = sampling_executors(gpu, plan, &images, &counters)?;
-        executors.extend(masks.map(|m| Box::new(m) as Box<dyn Executor>));
-        let sets = |step: &Step, slot, parity| {
-            executors
-                .iter()
-                .find_map(|e| e.descriptors(step, slot, parity))
-        };
-        let bindings: Vec<_> = slots.iter().map(|s| &s.bindings).collect();
-        let compiled = compile_passes(gpu, plan, &images, &bindings, sets)?;
+        let mut layer = FoveationLayer::build(gpu, plan, shared, output_images)?;
+        layer.light_dir = scene.light_dir;
         log::debug!(
             "renderer: {} passes, {} attachments, {} instances in {} draws, {} shading, {} frame slots",
             plan.passes.len(),
@@ -156,16 +106,9 @@ impl Renderer {
             scene.instance_count(),
             scene.batches.len(),
             scene.shading(),
-            slot_count
+            layer.frame_slots()
         );
         Ok(Renderer {
-            gpu: gpu.clone(),
-            plan: plan.clone(),
-            passes: compiled.passes,
-            odd_frame_passes: compiled.odd_frames,
-            output_targets,
-            steps: compiled.steps,
-            executors,
             culling: plan
                 .instance_ids()
                 .is_some()
@@ -173,48 +116,34 @@ impl Renderer {
             moving: plan
                 .moving_instances()
                 .is_some()
-                .then(|| MovingInstances::new(scene, own, slot_count)),
+                .then(|| MovingInstances::new(scene, own, layer.frame_slots())),
+            layer,
             present_draws: None,
-            slots,
-            next_slot: 0,
-            images,
             _materials: materials,
             scene: scene_buffers,
-            readback: None,
-            light_dir: scene.light_dir,
-            gaze: [Vec2::ZERO; 2],
-            planned_eyes: plan.eyes,
-            hidden_area: None,
-            frames_rendered: 0,
         })
+    }
+
+    /// The layer the renderer draws its scene through: its views, masks, output stage and
+    /// frame slots.
+    pub fn layer(&self) -> &FoveationLayer {
+        &self.layer
     }
 
     /// The device the renderer records for.
     pub fn gpu(&self) -> &Gpu {
-        &self.gpu
+        self.layer.gpu()
     }
 
     /// The plan the renderer was made from.
     pub fn plan(&self) -> &FramePlan {
-        &self.plan
-    }
-
-    /// The image output `id` of the last frame lies in: the selected one of those handed in,
-    /// or the renderer's own.
-    pub(super) fn output_image(&self, id: usize) -> vk::Image {
-        match self.output_targets.as_ref().and_then(|t| t.image()) {
-            Some(image) => image.raw,
-            None => self.images[id].raw,
-        }
+        self.layer.plan()
     }
 
     /// The output image the next frames end in, by its index among those handed to
     /// [`Renderer::with_output_images`].
     pub fn select_output(&mut self, index: usize) -> Result<(), GpuError> {
-        match &mut self.output_targets {
-            Some(t) => t.select(index),
-            None => Err(GpuError::NoOutputImages),
-        }
+        self.layer.select_output(index)
     }
 
     /// This frame's eyes (an OpenXR runtime's located views), without replanning: they must
@@ -222,24 +151,14 @@ impl Renderer {
     /// cant the planned one — so every image size, culling reach and far view the plan fixed
     /// still covers them. Anything else needs a new plan (and renderer); the error says which.
     pub fn set_eyes(&mut self, eyes: EyeParams) -> Result<(), ConfigError> {
-        eyes_fit(&eyes, &self.planned_eyes)?;
-        self.plan.eyes = eyes;
-        Ok(())
+        self.layer.set_eyes(eyes)
     }
 
     /// Each eye's hidden-area mesh (a runtime's `XR_KHR_visibility_mask`) for the following
     /// frames: the HMD mask drops it. The plan must have taken one
     /// ([`RenderConfig::hidden_area_mesh`]).
     pub fn set_hidden_area(&mut self, areas: [HiddenArea; 2]) -> Result<(), ConfigError> {
-        if !self.plan.hidden_area_mesh {
-            return Err(ConfigError::new(
-                "hidden_area_mesh",
-                false,
-                "a hidden-area mesh needs a plan that takes one (hmd_mask and hidden_area_mesh on)",
-            ));
-        }
-        self.hidden_area = Some(areas);
-        Ok(())
+        self.layer.set_hidden_area(areas)
     }
 
     /// Sets each eye's gaze (normalised −1…1, x right, y up) for the following frames. A gaze
@@ -247,14 +166,12 @@ impl Renderer {
     /// ([`crate::foveation::check_gaze`]): filter raw tracker samples first
     /// ([`crate::foveation::GazeFilter`]).
     pub fn set_gaze(&mut self, gaze: [Vec2; 2]) -> Result<(), ConfigError> {
-        crate::foveation::check_gaze(gaze)?;
-        self.gaze = gaze;
-        Ok(())
+        self.layer.set_gaze(gaze)
     }
 
     /// Each eye's gaze for the next frame.
     pub fn gaze(&self) -> [Vec2; 2] {
-        self.gaze
+        self.layer.gaze()
     }
 
     /// Renders one frame with the head at `world_from_head` (a finite matrix, or an error) and
@@ -267,43 +184,10 @@ impl Renderer {
     /// it and waits for it: the convenience over [`Renderer::record`] for programs that do not
     /// overlap frames.
     pub fn render(&mut self, input: &FrameInput) -> Result<FrameStats, GpuError> {
-        let slot = self.next_slot;
-        let (pool, cmd) = (self.slots[slot].pool.raw, self.slots[slot].cmd);
-        let device = self.gpu.device();
-        let start = Instant::now();
-        // SAFETY: the slot's last frame through here was waited on, and one recorded by a
-        // caller into its own buffer never used this pool: the pool's buffer is idle.
-        unsafe {
-            device
-                .reset_command_pool(pool, vk::CommandPoolResetFlags::empty())
-                .vk("vkResetCommandPool")?;
-            let begin = vk::CommandBufferBeginInfo::default()
-                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-            device
-                .begin_command_buffer(cmd, &begin)
-                .vk("vkBeginCommandBuffer")?;
-        }
-        // SAFETY: the buffer is this device's and recording; the slot's previous frame is done.
-        let record = unsafe { self.record(cmd, input)? };
-        let device = self.gpu.device();
-        unsafe { device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
-        let recorded = Instant::now();
-        // SAFETY: the frame's command buffer was just ended; everything it uses is the
-        // renderer's, alive until the wait below.
-        unsafe { self.gpu.submit(cmd, &self.slots[slot].fence)? };
-        let submitted = Instant::now();
-        self.gpu.wait(&self.slots[slot].fence)?;
-        let done = Instant::now();
-        let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;
-        let mut stats = self
-            .stats_of(record, true)?
-            .ok_or(GpuError::FrameSlotReused {
-                frame: record.frame,
-                slot,
-            })?;
-        stats.cpu_submit_ms = ms(recorded, submitted);
-        stats.frame_ms = ms(start, done);
-        Ok(stats)
+        let own = self.layer.begin_own_buffer()?;
+        // SAFETY: the buffer is the slot's own, recording; its previous frame was waited on.
+        let frame = unsafe { self.record(own.cmd, input)? };
+        self.layer.submit_own_buffer(own, frame)
     }
 
     /// Records the frame `input` describes into `cmd`, using only the resources of the next
@@ -367,67 +251,23 @@ impl Renderer {
         cmd: vk::CommandBuffer,
         input: &FrameInput,
     ) -> Result<FrameRecord, GpuError> {
-        if let (Some(raw), None) = (input.output, &self.output_targets) {
-            return Err(ConfigError::new(
-                "output",
-                format!("{raw:?}"),
-                "a plan whose output is handed in (RenderConfig::external_output)",
-            )
-            .into());
-        }
-        self.take_input(input)?;
-        if let (Some(raw), Some(targets)) = (input.output, &mut self.output_targets) {
-            targets.select_image(&self.gpu, &self.plan, raw, &self.images)?;
-        }
-        let slot = self.next_slot;
-        // Decided here alone: the executors' uniforms, passes and sets follow it.
-        let parity = (self.frames_rendered % 2) as usize;
-        let world_from_head = input.world_from_head;
-        let cpu_cull_ms = self.prepare(slot, world_from_head, parity);
-        let start = Instant::now();
-        let (tally, pass_ends) = {
-            let draws = FrameDraws {
-                all: self.present_draws.as_ref().unwrap_or(&self.scene.draws),
-                culled: self.culling.as_ref().map_or(&[][..], |c| &c.sets),
-            };
-            let output_passes = self.output_targets.as_ref().map(|t| t.passes(parity));
-            let output_passes = output_passes.unwrap_or([&[], &[]]);
-            let swapped = [&[][..], &self.odd_frame_passes][parity];
-            let frame = &self.slots[slot];
-            let objects = FrameObjects {
-                device: self.gpu.device(),
-                passes: &self.passes,
-                // The output image's passes first, then odd frames' swapped pairs.
-                retargeted: [output_passes[0], output_passes[1], swapped],
-                steps: &self.steps,
-                slot,
-                parity,
-                timestamps: frame.queries.as_ref().map(|q| q.raw),
-                statistics: frame.statistics.as_ref().map(|q| q.raw),
-                counter: frame.counter.as_ref().map(|c| c.raw),
-                scene: &self.scene,
-            };
-            let mut recorder = VulkanRecorder::new(objects, cmd);
-            record_frame(&self.plan, &draws, &mut recorder);
-            (recorder.tally, recorder.pass_ends)
-        };
-        let record = FrameRecord {
-            frame: self.frames_rendered,
-            slot,
-        };
-        let starts = std::iter::once(0).chain(pass_ends.iter().copied());
-        self.slots[slot].recorded = Some(SlotFrame {
-            frame: record.frame,
-            cpu_record_ms: start.elapsed().as_secs_f64() * 1e3,
+        let slot = self.layer.next_slot();
+        let placing_ms = self.follow_instances(slot);
+        let instance_removed = self.moving.as_mut().is_some_and(|m| m.take_removed());
+        let frame = self.layer.prepare(input, instance_removed)?;
+        let cpu_cull_ms = placing_ms + self.cull(frame.slot, &frame);
+        let figures = SceneFigures {
             cpu_cull_ms,
-            draw_calls: tally.calls,
-            triangles: tally.triangles,
-            pass_triangles: pass_ends.iter().zip(starts).map(|(e, s)| e - s).collect(),
             instances_drawn: self.instances_drawn(),
-        });
-        self.frames_rendered += 1;
-        self.next_slot = (slot + 1) % self.slots.len();
-        Ok(record)
+        };
+        let draws = FrameDraws::Scene {
+            all: self.present_draws.as_ref().unwrap_or(&self.scene.draws),
+            culled: self.culling.as_ref().map_or(&[][..], |c| &c.sets),
+        };
+        let scene = SceneSteps::Foveate(&self.scene);
+        Ok(self
+            .layer
+            .record_prepared(cmd, &frame, &draws, scene, figures))
     }
 
     /// The figures of a frame [`Renderer::record`] recorded: `Ok(None)` while its GPU queries
@@ -435,114 +275,41 @@ impl Renderer {
     /// its slot was recorded into again. A counting frame's counts are read as they lie: ask
     /// for them after the frame's fence.
     pub fn frame_stats(&mut self, record: FrameRecord) -> Result<Option<FrameStats>, GpuError> {
-        self.stats_of(record, false)
+        self.layer.frame_stats(record)
     }
 
-    fn stats_of(
-        &mut self,
-        record: FrameRecord,
-        wait: bool,
-    ) -> Result<Option<FrameStats>, GpuError> {
-        let slot = self.slots.get_mut(record.slot);
-        let current = slot.as_ref().and_then(|s| s.recorded.as_ref());
-        if current.map(|f| f.frame) != Some(record.frame) {
-            return Err(GpuError::FrameSlotReused {
-                frame: record.frame,
-                slot: record.slot,
-            });
-        }
-        let slot = slot.expect("checked above");
-        slot.stats(&self.gpu, &self.plan, wait)
-    }
-
-    /// Checks a frame's input whole, then keeps its gaze and eyes: a refused input changes
-    /// nothing.
-    fn take_input(&mut self, input: &FrameInput) -> Result<(), ConfigError> {
-        head_is_finite(input.world_from_head)?;
-        if let Some(gaze) = input.gaze {
-            crate::foveation::check_gaze(gaze)?;
-        }
-        if let Some(eyes) = &input.eyes {
-            eyes_fit(eyes, &self.planned_eyes)?;
-        }
-        if let Some(gaze) = input.gaze {
-            self.gaze = gaze;
-        }
-        if let Some(eyes) = input.eyes {
-            self.plan.eyes = eyes;
-        }
-        Ok(())
-    }
-
-    /// Works out the frame's views, writes slot `slot`'s uniforms and every executor's for a
-    /// frame of `parity` (and the instances, when they move), and culls into the slot's id
-    /// buffer; returns the culling's CPU time in ms (placing moved instances again included).
-    fn prepare(&mut self, slot: usize, world_from_head: Mat4, parity: usize) -> f64 {
-        let placing_ms = self.follow_instances(slot);
-        let instance_removed = self.moving.as_mut().is_some_and(|m| m.take_removed());
-        let plan = &self.plan;
-        let fovea = plan.foveation.map(|g| {
-            let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
-            fovea_views(&plan.eyes, g.ratio, self.gaze, screen)
-        });
-        let far = plan
-            .mffr
-            .map(|m| FarView::new(&m, &plan.eyes, world_from_head, self.frames_rendered));
-        let jitter = plan
-            .foveation
-            .and_then(|g| g.temporal)
-            .map(|t| t.jitter(self.frames_rendered));
-        let views = FrameViews::new(
-            plan,
-            world_from_head,
-            fovea.as_ref(),
-            far,
-            self.light_dir,
-            jitter,
-        );
-        let context = FrameContext {
-            plan,
-            fovea: fovea.as_ref(),
-            views: &views,
-            jitter,
-            hidden_area: self.hidden_area.as_ref(),
-            instance_removed,
-            parity,
+    /// Culls the frame's draw sets into slot `slot`'s id buffer, with the views the layer
+    /// placed; returns the CPU time it took, in ms.
+    fn cull(&mut self, slot: usize, frame: &PreparedFrame) -> f64 {
+        let ids = self.layer.slots[slot].instance_ids.as_mut();
+        let (Some(culling), Some(ids)) = (&mut self.culling, ids) else {
+            return 0.0;
         };
-        for executor in &mut self.executors {
-            executor.update(slot, &context);
-        }
-        let frame = &mut self.slots[slot];
-        let mut cpu_cull_ms = 0.0;
-        if let (Some(culling), Some(ids)) = (&mut self.culling, &mut frame.instance_ids) {
-            let start = Instant::now();
-            culling.cull(
-                plan,
-                world_from_head,
-                self.frames_rendered,
-                views.far.as_ref().map(FarView::frustum),
-                fovea.as_ref(),
-            );
-            ids.write(&culling.ids);
-            cpu_cull_ms = start.elapsed().as_secs_f64() * 1e3;
-        }
-        frame.views_block.write(&[views.block]);
-        cpu_cull_ms + placing_ms
+        let start = std::time::Instant::now();
+        culling.cull(
+            &self.layer.plan,
+            frame.world_from_head,
+            self.layer.frames_rendered,
+            frame.views.far.as_ref().map(FarView::frustum),
+            frame.fovea.as_ref(),
+        );
+        ids.write(&culling.ids);
+        start.elapsed().as_secs_f64() * 1e3
     }
 
     /// The number of frame slots: how many frames may be in flight at once.
     pub fn frame_slots(&self) -> usize {
-        self.slots.len()
+        self.layer.frame_slots()
     }
 
     /// The frame slot the next [`Renderer::record`] records into (slots are taken in turn).
     pub fn next_slot(&self) -> usize {
-        self.next_slot
+        self.layer.next_slot()
     }
 
     /// Instances each scene step drew this frame, in plan order.
     fn instances_drawn(&self) -> Vec<u64> {
-        let scene_steps = self.plan.passes.iter().flat_map(|p| &p.steps);
+        let scene_steps = self.plan().passes.iter().flat_map(|p| &p.steps);
         scene_steps
             .filter_map(|s| match *s {
                 Step::Scene { cull_slot, .. } => Some(
@@ -566,7 +333,7 @@ impl Renderer {
 
     /// How many transient attachments got lazily allocated memory (tile GPUs; 0 on lavapipe).
     pub fn lazy_attachments(&self) -> usize {
-        self.images.iter().filter(|i| i.lazy).count()
+        self.layer.lazy_attachments()
     }
 }
 
@@ -586,7 +353,7 @@ pub fn counting_frame(
     renderer.render_frame(world_from_head)
 }
 
-// A renderer can move to a render thread (its executors are `Send`, its `Gpu` is shared):
+// A renderer can move to a render thread (its layer and buffers are `Send`):
 // checked at compile time, so a field that is not fails the build.
 const _: () = {
     const fn send<T: Send>() {}

@@ -245,8 +245,14 @@ pub(super) fn compile_passes<'s>(
                 let of = |slot: usize, parity| sets(step, slot, parity).unwrap_or(bindings[slot]);
                 let d = of(0, 0);
                 let (layout, description) = (&d.layout, &d.layout_description);
+                // An engine's scene step is drawn with the engine's own pipelines.
+                let engine = plan.engine_draws && matches!(step, Step::Scene { .. });
                 Ok(BoundStep {
-                    pipeline: compile_pipeline(gpu, desc, samples, &compiled, layout, description)?,
+                    pipeline: (!engine)
+                        .then(|| {
+                            compile_pipeline(gpu, desc, samples, &compiled, layout, description)
+                        })
+                        .transpose()?,
                     layout: layout.raw,
                     sets: (0..bindings.len())
                         .map(|s| [of(s, 0).set, of(s, 1).set])

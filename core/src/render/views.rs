@@ -40,8 +40,14 @@ fn ray_steps(world_from_view: Mat4, fov: FovTangents, pixels: (u32, u32)) -> (Ve
 pub(super) struct FrameViews {
     /// Each view's pose and field.
     pub views: Vec<(Mat4, FovTangents)>,
+    /// Each view's projection: reverse-Z, with the frame's jitter (the guard band is the
+    /// pass's, applied by its shaders).
+    pub projections: Vec<Mat4>,
     /// The MFFR far view, when planned.
     pub far: Option<FarView>,
+    /// The periphery views' sub-pixel offset (periphery pixels, x right, y down), when
+    /// temporal accumulation jitters them.
+    pub jitter: Option<Vec2>,
     pub block: ViewsBlock,
 }
 
@@ -90,6 +96,7 @@ impl FrameViews {
             block.eye_pos[i] = world_from_view.w_axis;
             (block.ray_dx[i], block.ray_dy[i]) = ray_steps(world_from_view, fov, pixels);
         };
+        let mut projections = Vec::with_capacity(views.len());
         for (i, &(world_from_view, fov)) in views.iter().enumerate() {
             let pixels = (view_pixels(i).width, view_pixels(i).height);
             let texels = (texture_pixels(i).width, texture_pixels(i).height);
@@ -106,12 +113,19 @@ impl FrameViews {
             };
             let view_proj = projection * world_from_view.inverse();
             set(i, world_from_view, view_proj, fov, texels);
+            projections.push(projection);
         }
         if let Some(f) = &far {
             let pixels = (f.resolution.width, f.resolution.height);
             let at = FAR_VIEW_INDEX as usize;
             set(at, f.world_from_far, f.view_proj, f.fov, pixels);
         }
-        FrameViews { views, far, block }
+        FrameViews {
+            views,
+            projections,
+            far,
+            jitter,
+            block,
+        }
     }
 }

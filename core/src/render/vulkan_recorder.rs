@@ -13,16 +13,17 @@ use crate::gpu::{memory_barrier, Pipeline};
 use crate::plan::{Barrier, ClearValue};
 
 /// A step as recorded: its pipeline, and the layout and descriptor sets it binds (the scene's
-/// bindings, or its technique's sampled set): one set per frame slot.
+/// bindings, or its technique's sampled set): one set per frame slot. An engine's scene step
+/// has no pipeline of foveate's: the engine binds its own.
 pub(super) struct BoundStep {
-    pub pipeline: Arc<Pipeline>,
+    pub pipeline: Option<Arc<Pipeline>>,
     pub layout: vk::PipelineLayout,
     /// Per frame slot, the set even and odd frames bind.
     pub sets: Vec<[vk::DescriptorSet; 2]>,
 }
 
 /// Everything a frame's commands use, borrowed from the renderer that owns it.
-pub(super) struct FrameObjects<'r> {
+pub(super) struct FrameObjects<'r, 's> {
     pub device: &'r ash::Device,
     pub passes: &'r [CompiledPass],
     /// Passes replacing the plan's: those compiled for this frame's output image (an OpenXR
@@ -38,12 +39,32 @@ pub(super) struct FrameObjects<'r> {
     pub timestamps: Option<vk::QueryPool>,
     pub statistics: Option<vk::QueryPool>,
     pub counter: Option<vk::Buffer>,
-    pub scene: &'r SceneBuffers,
+    pub scene: SceneSteps<'s>,
+}
+
+/// Who draws the frame's scene steps.
+pub(super) enum SceneSteps<'r> {
+    /// foveate's scene, from its buffers.
+    Foveate(&'r SceneBuffers),
+    /// The engine, called with the command buffer and the pass's index at each scene step,
+    /// inside the pass.
+    Engine(&'r mut dyn FnMut(vk::CommandBuffer, usize)),
+}
+
+impl SceneSteps<'_> {
+    fn buffers(&self) -> &SceneBuffers {
+        match self {
+            SceneSteps::Foveate(buffers) => buffers,
+            SceneSteps::Engine(_) => {
+                unreachable!("record_frame draws no mesh of an engine's frame")
+            }
+        }
+    }
 }
 
 /// Records into a Vulkan command buffer with a renderer's objects, tallying what it draws.
-pub(super) struct VulkanRecorder<'r> {
-    pub objects: FrameObjects<'r>,
+pub(super) struct VulkanRecorder<'r, 's> {
+    pub objects: FrameObjects<'r, 's>,
     pub cmd: vk::CommandBuffer,
     pub tally: DrawTally,
     /// The running triangle tally at the end of each pass.
@@ -52,8 +73,8 @@ pub(super) struct VulkanRecorder<'r> {
     layout: vk::PipelineLayout,
 }
 
-impl<'r> VulkanRecorder<'r> {
-    pub fn new(objects: FrameObjects<'r>, cmd: vk::CommandBuffer) -> Self {
+impl<'r, 's> VulkanRecorder<'r, 's> {
+    pub fn new(objects: FrameObjects<'r, 's>, cmd: vk::CommandBuffer) -> Self {
         Self {
             objects,
             cmd,
@@ -84,7 +105,7 @@ impl<'r> VulkanRecorder<'r> {
 
 // SAFETY (every method): the handles recorded belong to the renderer, which waits for the
 // frame's fence before anything it owns can be dropped or touched again.
-impl Recorder for VulkanRecorder<'_> {
+impl Recorder for VulkanRecorder<'_, '_> {
     fn reset_queries(&mut self, count: u32) {
         if let Some(q) = self.objects.timestamps {
             unsafe { self.device().cmd_reset_query_pool(self.cmd, q, 0, count) };
@@ -207,13 +228,12 @@ impl Recorder for VulkanRecorder<'_> {
     fn bind_step(&mut self, pass: usize, step: usize) {
         let bound = &self.objects.steps[pass][step];
         self.layout = bound.layout;
+        let Some(pipeline) = &bound.pipeline else {
+            return; // the engine's step: it binds its own
+        };
         unsafe {
             let device = self.device();
-            device.cmd_bind_pipeline(
-                self.cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                bound.pipeline.raw,
-            );
+            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
             device.cmd_bind_descriptor_sets(
                 self.cmd,
                 vk::PipelineBindPoint::GRAPHICS,
@@ -226,7 +246,7 @@ impl Recorder for VulkanRecorder<'_> {
     }
 
     fn bind_geometry(&mut self) {
-        let scene = self.objects.scene;
+        let scene = self.objects.scene.buffers();
         unsafe {
             let device = self.device();
             device.cmd_bind_vertex_buffers(self.cmd, 0, &[scene.vertices.raw], &[0]);
@@ -302,7 +322,7 @@ impl Recorder for VulkanRecorder<'_> {
     }
 
     fn draw_indexed(&mut self, mesh: usize, instance_count: u32, first_instance: u32) {
-        let m = self.objects.scene.meshes[mesh];
+        let m = self.objects.scene.buffers().meshes[mesh];
         unsafe {
             self.device().cmd_draw_indexed(
                 self.cmd,
@@ -314,5 +334,11 @@ impl Recorder for VulkanRecorder<'_> {
             )
         };
         self.count(m.index_count as u64 / 3 * instance_count as u64);
+    }
+
+    fn engine_draws(&mut self, pass: usize, _step: usize) {
+        if let SceneSteps::Engine(draw) = &mut self.objects.scene {
+            draw(self.cmd, pass);
+        }
     }
 }

@@ -1,0 +1,152 @@
+//! A [`FoveationLayer`] for an engine's draws: made from a configuration and the device, it
+//! tells the engine the passes it draws into and each frame's views, and records whole frames —
+//! per pass the stencil masks, then the engine's draws, then the output stage — into the
+//! engine's command buffer.
+
+use std::borrow::Cow;
+
+use ash::vk;
+
+use super::engine_views::{
+    draw_passes, engine_views, superfrustum_of, DrawContext, DrawPass, FrameViewSet,
+};
+use super::frame_input::{eyes_fit, head_is_finite, FrameInput, FrameRecord};
+use super::frame_slot::SharedBindings;
+use super::layer::{FoveationLayer, SceneFigures};
+use super::recorder::FrameDraws;
+use super::stats::FrameStats;
+use super::vulkan_recorder::SceneSteps;
+use crate::gpu::{Gpu, GpuError};
+use crate::plan::{ConfigError, FramePlan, RenderConfig};
+
+impl FoveationLayer {
+    /// The layer for an engine's draws: `config` planned for the engine
+    /// ([`crate::plan::plan_for_engine`]: what needs foveate's own scene is refused by name)
+    /// and built on `gpu` (foveate's device, or the engine's: [`Gpu::from_engine`]).
+    pub fn new(gpu: &Gpu, config: &RenderConfig) -> Result<Self, GpuError> {
+        let plan = crate::plan::plan_for_engine(config, gpu.caps())?;
+        Self::for_plan(gpu, &plan, &[])
+    }
+
+    /// The layer for an engine's draws from a plan made by
+    /// [`crate::plan::plan_for_engine`], its frames ending in one of `output_images` when
+    /// some are handed in (an OpenXR runtime's swapchain images, each made as
+    /// [`super::output_image_desc`] says; the plan must have
+    /// [`RenderConfig::external_output`]).
+    pub fn for_plan(
+        gpu: &Gpu,
+        plan: &FramePlan,
+        output_images: &[vk::Image],
+    ) -> Result<Self, GpuError> {
+        if !plan.engine_draws {
+            return Err(ConfigError::new(
+                "plan",
+                "planned for foveate's scene",
+                "a plan for an engine's draws (plan::plan_for_engine); foveate's scene is a Renderer's",
+            )
+            .into());
+        }
+        Self::build(gpu, plan, SharedBindings::default(), output_images)
+    }
+
+    /// The passes the engine draws into, in the order a frame records them, with what its
+    /// pipelines must match in each (render pass, samples, formats, the stencil test).
+    pub fn draw_passes(&self) -> Vec<DrawPass> {
+        draw_passes(&self.plan, &self.passes)
+    }
+
+    /// The views of the frame `input` describes, for the engine's per-frame uniforms, without
+    /// recording anything or keeping anything of `input`: the frame [`FoveationLayer::record`]
+    /// records next, given the same input, has these views. A bad input is an error naming it.
+    pub fn views(&self, input: &FrameInput) -> Result<FrameViewSet, ConfigError> {
+        self.check_input(input)?;
+        let plan = match input.eyes {
+            Some(eyes) => Cow::Owned(FramePlan {
+                eyes,
+                ..self.plan.clone()
+            }),
+            None => Cow::Borrowed(&self.plan),
+        };
+        let gaze = input.gaze.unwrap_or(self.gaze());
+        let (_, views) = self.place_views_for(&plan, gaze, input.world_from_head);
+        Ok(FrameViewSet {
+            slot: self.next_slot(),
+            frame: self.frames_rendered,
+            views: engine_views(&plan, &views, &self.draw_passes()),
+        })
+    }
+
+    /// Records the frame `input` describes into `cmd`, using only the resources of the next
+    /// frame slot: every pass of the plan, in each pass the engine draws into the stencil
+    /// masks first, then `draw` with the pass's [`DrawContext`] (the engine's draws, inside
+    /// the pass), then the output stage. The caller submits `cmd` and reads the frame's
+    /// figures with [`FoveationLayer::frame_stats`] once it has run.
+    ///
+    /// A bad input is an error naming it; nothing is recorded and nothing changes.
+    ///
+    /// # Safety
+    /// `cmd` is a primary command buffer of this layer's device, recording (outside a render
+    /// pass), to be submitted to a queue of the layer's queue family. The frame this slot held
+    /// [`FramePlan::frame_slots`] frames ago has finished on the GPU, and no frame of this
+    /// layer is running when it is dropped. `draw` records only what a subpass allows, with
+    /// pipelines made for the pass's render pass, and leaves the pass open.
+    pub unsafe fn record(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        input: &FrameInput,
+        draw: &mut dyn FnMut(&DrawContext),
+    ) -> Result<FrameRecord, GpuError> {
+        let frame = self.prepare(input, false)?;
+        let passes = self.draw_passes();
+        let views = engine_views(&self.plan, &frame.views, &passes);
+        let (eyes, head, slot) = (self.plan.eyes, frame.world_from_head, frame.slot);
+        let mut at_pass = |cmd: vk::CommandBuffer, index: usize| {
+            let Some(pass) = passes.iter().find(|p| p.index == index) else {
+                return;
+            };
+            let views = &views[pass.views.clone()];
+            draw(&DrawContext {
+                cmd,
+                pass,
+                views,
+                superfrustum: superfrustum_of(views, &eyes, head),
+                slot,
+            });
+        };
+        let scene = SceneSteps::Engine(&mut at_pass);
+        Ok(self.record_prepared(
+            cmd,
+            &frame,
+            &FrameDraws::Engine,
+            scene,
+            SceneFigures::default(),
+        ))
+    }
+
+    /// Renders one frame from `input` with the engine's `draw` into the next frame slot's own
+    /// command buffer, submits it and waits for it: the convenience over
+    /// [`FoveationLayer::record`] for programs that do not overlap frames.
+    pub fn render(
+        &mut self,
+        input: &FrameInput,
+        draw: &mut dyn FnMut(&DrawContext),
+    ) -> Result<FrameStats, GpuError> {
+        let own = self.begin_own_buffer()?;
+        // SAFETY: the buffer is the slot's own, recording; its previous frame was waited on.
+        let frame = unsafe { self.record(own.cmd, input, draw)? };
+        self.submit_own_buffer(own, frame)
+    }
+
+    /// Whether `input` could be recorded: a finite head, a gaze within −1…1, eyes that fit
+    /// the plan.
+    pub(super) fn check_input(&self, input: &FrameInput) -> Result<(), ConfigError> {
+        head_is_finite(input.world_from_head)?;
+        if let Some(gaze) = input.gaze {
+            crate::foveation::check_gaze(gaze)?;
+        }
+        if let Some(eyes) = &input.eyes {
+            eyes_fit(eyes, &self.planned_eyes())?;
+        }
+        Ok(())
+    }
+}
