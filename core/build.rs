@@ -81,37 +81,67 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
     ),
 ];
 
+/// The `bring_your_own_draws` example's engine's own shaders (its vertex layout, its
+/// uniforms): not foveate's, compiled here only because the example cannot build anything
+/// itself. Each is (source under `examples/bring_your_own_draws/`, output name).
+const EXAMPLE_SHADERS: &[(&str, &str)] = &[
+    ("engine.vert", "byod_engine.vert.spv"),
+    ("engine.frag", "byod_engine.frag.spv"),
+];
+
 fn main() {
-    let src_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let src_dir = manifest.join("shaders");
+    let example_dir = manifest.join("examples").join("bring_your_own_draws");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     println!("cargo:rerun-if-changed={}", src_dir.display());
     println!("cargo:rerun-if-env-changed=GLSLC");
     let glslc = std::env::var("GLSLC").unwrap_or_else(|_| "glslc".to_string());
-
     for (source, output, defines) in SHADERS {
-        let src = src_dir.join(source);
-        println!("cargo:rerun-if-changed={}", src.display());
-        let mut cmd = Command::new(&glslc);
-        cmd.arg("--target-env=vulkan1.1").arg("-O").arg("-Werror");
-        for d in *defines {
-            cmd.arg(format!("-D{d}"));
+        compile(
+            &glslc,
+            &src_dir.join(source),
+            &out_dir.join(output),
+            defines,
+        );
+    }
+    // A package that leaves the examples out builds without them.
+    if example_dir.is_dir() {
+        for (source, output) in EXAMPLE_SHADERS {
+            compile(
+                &glslc,
+                &example_dir.join(source),
+                &out_dir.join(output),
+                &[],
+            );
         }
-        cmd.arg(&src).arg("-o").arg(out_dir.join(output));
-        let status = match cmd.status() {
-            Ok(s) => s,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                eprintln!(
-                    "error: `{glslc}` was not found, and foveate compiles its shaders with it.\n\
-                     Install it: `sudo apt-get install glslc` (Debian/Ubuntu), or use the \
-                     Vulkan SDK / Android NDK copy and point GLSLC at it."
-                );
-                std::process::exit(1);
-            }
-            Err(e) => panic!("could not run {glslc}: {e}"),
-        };
-        if !status.success() {
-            eprintln!("error: glslc failed on {}", src.display());
+    }
+}
+
+/// Compiles `src` to `out` with `glslc`, with `defines`; exits with what to install when
+/// `glslc` is missing.
+fn compile(glslc: &str, src: &Path, out: &Path, defines: &[&str]) {
+    println!("cargo:rerun-if-changed={}", src.display());
+    let mut cmd = Command::new(glslc);
+    cmd.arg("--target-env=vulkan1.1").arg("-O").arg("-Werror");
+    for d in defines {
+        cmd.arg(format!("-D{d}"));
+    }
+    cmd.arg(src).arg("-o").arg(out);
+    let status = match cmd.status() {
+        Ok(s) => s,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            eprintln!(
+                "error: `{glslc}` was not found, and foveate compiles its shaders with it.\n\
+                 Install it: `sudo apt-get install glslc` (Debian/Ubuntu), or use the \
+                 Vulkan SDK / Android NDK copy and point GLSLC at it."
+            );
             std::process::exit(1);
         }
+        Err(e) => panic!("could not run {glslc}: {e}"),
+    };
+    if !status.success() {
+        eprintln!("error: glslc failed on {}", src.display());
+        std::process::exit(1);
     }
 }

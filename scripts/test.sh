@@ -37,7 +37,7 @@ done
 # The library's examples (core/examples), each run as a user would run it.
 echo "=== the examples"
 ran=() broke=()
-for example in headless own_images engine_loop judge; do
+for example in headless own_images engine_loop judge bring_your_own_draws; do
     if cargo run -q -p foveate --example "$example" >"$log" 2>&1; then
         ran+=("$example")
     else

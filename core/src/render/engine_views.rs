@@ -5,7 +5,7 @@
 use std::ops::Range;
 
 use ash::vk;
-use glam::{Mat4, Vec2};
+use glam::{Mat4, Vec2, Vec3};
 
 use super::targets::{vk_format, CompiledPass};
 use super::views::FrameViews;
@@ -162,56 +162,66 @@ pub(super) fn draw_passes(plan: &FramePlan, compiled: &[CompiledPass]) -> Vec<Dr
 
 /// Each view of `frame` as the engine draws it, in the passes `passes` say.
 pub(super) fn engine_views(plan: &FramePlan, frame: &FrameViews, passes: &[DrawPass]) -> Vec<View> {
-    let far = frame.far.as_ref().map_or(plan.far, |f| f.split_m);
-    (frame.views.iter().enumerate())
-        .filter_map(|(index, &(world_from_view, fov))| {
-            let pass = passes.iter().find(|p| p.views.contains(&index))?;
-            let guard_band = plan.passes[pass.index].guard_band as f32;
-            let shrink = Mat4::from_scale(glam::Vec3::new(1.0 / guard_band, 1.0 / guard_band, 1.0));
-            let projection = shrink * frame.projections[index];
-            let (kind, density) = match (plan.foveation, index) {
-                (Some(_), 0 | 1) => (
-                    ViewKind::Eye,
-                    plan.periphery_density().unwrap_or(1.0) as f32,
-                ),
-                (Some(f), _) => (
-                    ViewKind::Fovea,
-                    f.fovea_view.width as f32 / f.fovea_screen_px,
-                ),
-                (None, _) => (ViewKind::Eye, 1.0),
-            };
-            let extent = pass.extent;
-            Some(View {
-                index,
-                eye: Eye::BOTH[index % 2],
-                kind,
-                pass: pass.index,
-                layer: (index - pass.views.start) as u32,
-                world_from_view,
-                projection,
-                clip_from_world: projection * world_from_view.inverse(),
-                fov,
-                near: plan.near,
-                far,
-                extent,
-                viewport: viewport(extent, guard_band),
-                scissor: vk::Rect2D {
-                    offset: vk::Offset2D::default(),
-                    extent: vk::Extent2D {
-                        width: extent.width,
-                        height: extent.height,
-                    },
-                },
-                density,
-                jitter: if index < 2 {
-                    frame.jitter.unwrap_or(Vec2::ZERO)
-                } else {
-                    Vec2::ZERO
-                },
-                frustum: Frustum::from_eye(world_from_view, fov, plan.near, far),
-            })
-        })
+    (0..frame.views.len())
+        .filter_map(|index| engine_view(plan, frame, passes, index))
         .collect()
+}
+
+/// View `index` of `frame`, when a pass of `passes` draws it.
+fn engine_view(
+    plan: &FramePlan,
+    frame: &FrameViews,
+    passes: &[DrawPass],
+    index: usize,
+) -> Option<View> {
+    let (world_from_view, fov) = frame.views[index];
+    let far = frame.far.as_ref().map_or(plan.far, |f| f.split_m);
+    let pass = passes.iter().find(|p| p.views.contains(&index))?;
+    // The guard band's viewport is `guard_band` times the image: x and y shrink to match.
+    let guard_band = plan.passes[pass.index].guard_band as f32;
+    let shrink = Mat4::from_scale(Vec3::new(1.0 / guard_band, 1.0 / guard_band, 1.0));
+    let projection = shrink * frame.projections[index];
+    let (kind, density) = match (plan.foveation, index) {
+        (Some(_), 0 | 1) => (
+            ViewKind::Eye,
+            plan.periphery_density().unwrap_or(1.0) as f32,
+        ),
+        (Some(f), _) => (
+            ViewKind::Fovea,
+            f.fovea_view.width as f32 / f.fovea_screen_px,
+        ),
+        (None, _) => (ViewKind::Eye, 1.0),
+    };
+    let extent = pass.extent;
+    let jitter = match index {
+        0 | 1 => frame.jitter.unwrap_or(Vec2::ZERO),
+        _ => Vec2::ZERO,
+    };
+    Some(View {
+        index,
+        eye: Eye::BOTH[index % 2],
+        kind,
+        pass: pass.index,
+        layer: (index - pass.views.start) as u32,
+        world_from_view,
+        projection,
+        clip_from_world: projection * world_from_view.inverse(),
+        fov,
+        near: plan.near,
+        far,
+        extent,
+        viewport: viewport(extent, guard_band),
+        scissor: vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: vk::Extent2D {
+                width: extent.width,
+                height: extent.height,
+            },
+        },
+        density,
+        jitter,
+        frustum: Frustum::from_eye(world_from_view, fov, plan.near, far),
+    })
 }
 
 /// The viewport of an image of `extent` grown `guard_band` times around it.

@@ -150,3 +150,57 @@ impl FoveationLayer {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::command_log::{Command, CommandLog};
+    use crate::foveation::FoveationConfig;
+    use crate::plan::{DeviceCaps, FoveaLayout, OutputStage, RenderConfig, Resolution};
+
+    /// An engine's frame records in each pass it draws into the masks, then the engine's
+    /// draws (nothing of foveate's scene), and the output stage after. Mutation: the scene
+    /// steps recorded as foveate's meshes for an engine's plan, or the engine called in the
+    /// output pass, fails it.
+    #[test]
+    fn an_engines_frame_records_the_masks_then_its_draws_then_the_output() {
+        let config = RenderConfig {
+            resolution: Some(Resolution::square(64)),
+            foveation: Some(FoveationConfig::default()),
+            hmd_mask: true,
+            fovea_layout: FoveaLayout::TwoPass,
+            output: OutputStage::Lens,
+            timestamps: false,
+            ..RenderConfig::default()
+        };
+        let plan = crate::plan::plan_for_engine(&config, &DeviceCaps::generic()).unwrap();
+        let log = CommandLog::record_engine(&plan).commands;
+        let outline: Vec<String> = (log.iter())
+            .filter_map(|c| match c {
+                Command::BeginPass { pass, .. } => Some(format!("begin {pass}")),
+                Command::BindStep { step, .. } => {
+                    Some(step.to_string().split(" [").next().unwrap().to_string())
+                }
+                Command::EngineDraws { pass } => Some(format!("engine draws {pass}")),
+                Command::BindGeometry | Command::DrawIndexed { .. } => {
+                    Some("foveate's mesh".into())
+                }
+                _ => None,
+            })
+            .collect();
+        assert_eq!(
+            outline,
+            [
+                "begin 0",
+                "mask fans",
+                "scene",
+                "engine draws 0",
+                "begin 1",
+                "mask fans",
+                "scene",
+                "engine draws 1",
+                "begin 2",
+                "output (fovea over periphery, lens-distorted)",
+            ]
+        );
+    }
+}

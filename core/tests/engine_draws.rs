@@ -1,0 +1,340 @@
+//! An engine's own draws through a `FoveationLayer` (the `bring_your_own_draws` example's
+//! engine: its own vertex layout, shaders and pipelines) against foveate's own renderer of the
+//! same glTF scene, flat shaded: the frames are equal, and each thing an engine can get wrong
+//! shows. Validation is on; any message fails the test.
+
+#[path = "../examples/bring_your_own_draws/engine.rs"]
+#[allow(dead_code)]
+mod engine;
+
+use std::path::Path;
+
+use engine::{Engine, World};
+use foveate::ash::vk;
+use foveate::foveation::{FoveationConfig, TemporalConfig};
+use foveate::glam::{Mat4, Vec2, Vec3};
+use foveate::gpu::{Gpu, GpuOptions};
+use foveate::plan::{OutputStage, RenderConfig, Resolution};
+use foveate::render::{DrawPass, FoveationLayer, FrameInput, Renderer, StereoImage, View};
+use foveate::scene::Shading;
+
+const MODEL: &str =
+    "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+
+fn gpu() -> Gpu {
+    let options = GpuOptions {
+        validation: true,
+        device: std::env::var("FOVEATE_DEVICE").ok(),
+        pipeline_cache: None,
+        display: None,
+    };
+    Gpu::new(&options).expect("a Vulkan device with VK_LAYER_KHRONOS_validation (see README)")
+}
+
+fn world() -> World {
+    assert!(
+        Path::new(MODEL).exists(),
+        "{MODEL} is missing: install Debian's assimp-testmodels (scripts/setup.sh does)"
+    );
+    World::from_gltf(Path::new(MODEL)).expect("the model loads")
+}
+
+/// A foveated frame through the lens at 160² per eye, far enough for the model.
+fn config(world: &World, temporal: Option<TemporalConfig>) -> RenderConfig {
+    RenderConfig {
+        hmd: "quest-pro".into(),
+        resolution: Some(Resolution::square(160)),
+        foveation: Some(FoveationConfig {
+            periphery_temporal: temporal,
+            ..FoveationConfig::default()
+        }),
+        output: OutputStage::Lens,
+        far: world.reach.max(RenderConfig::default().far),
+        ..RenderConfig::default()
+    }
+}
+
+/// The frames of a moving gaze, and a head turning a little.
+fn inputs(head: Mat4, frames: usize) -> Vec<FrameInput> {
+    (0..frames)
+        .map(|i| {
+            let t = i as f32;
+            let turn = Mat4::from_rotation_y(0.01 * t) * Mat4::from_translation(Vec3::X * 0.0);
+            FrameInput::new(head * turn).with_gaze([Vec2::new(-0.2 + 0.1 * t, 0.1); 2])
+        })
+        .collect()
+}
+
+/// foveate's own renderer's last frame of `inputs`.
+fn renderer_frames(gpu: &Gpu, config: &RenderConfig, inputs: &[FrameInput]) -> StereoImage {
+    let scene = foveate::scene::load_gltf(Path::new(MODEL))
+        .unwrap()
+        .with_shading(Shading::Flat);
+    let plan = foveate::plan(&scene, config, gpu.caps()).unwrap();
+    let mut renderer = Renderer::new(gpu, &plan, &scene).unwrap();
+    for input in inputs {
+        renderer.render(input).unwrap();
+    }
+    renderer.readback().unwrap()
+}
+
+/// What the engine's frames gave: the last image, and the last frame's samples that passed
+/// the depth and stencil tests in each pass the engine drew (an occlusion query around its
+/// draws, the test's own).
+struct EngineRun {
+    image: StereoImage,
+    samples_passed: Vec<u64>,
+}
+
+/// The engine's last frame of `inputs`, its pipelines made for `passes` (the layer's, unless
+/// a test changes them) and each frame's views through `views` before they are written.
+fn engine_frames(
+    gpu: &Gpu,
+    config: &RenderConfig,
+    inputs: &[FrameInput],
+    passes: &dyn Fn(Vec<DrawPass>) -> Vec<DrawPass>,
+    views: &dyn Fn(&mut Vec<View>),
+) -> EngineRun {
+    let mut layer = FoveationLayer::new(gpu, config).unwrap();
+    let draw_passes = layer.draw_passes();
+    let mut engine = Engine::new(gpu, world(), &passes(draw_passes.clone()), 2).unwrap();
+    let occlusion = Occlusion::new(gpu, &draw_passes);
+    let mut samples_passed = Vec::new();
+    for input in inputs {
+        let mut set = layer.views(input).unwrap();
+        views(&mut set.views);
+        engine.write_views(set.slot, &set.views);
+        samples_passed = occlusion.frame(&mut layer, input, &mut engine);
+    }
+    let image = layer.readback().unwrap();
+    drop(engine);
+    drop(layer);
+    drop(occlusion);
+    gpu.check_validation().unwrap();
+    EngineRun {
+        image,
+        samples_passed,
+    }
+}
+
+/// The test's own frame loop (raw Vulkan, as an engine's): a command buffer of its own, and an
+/// occlusion query around the engine's draws in each pass (a multiview pass takes one query
+/// per view; their sum is the pass's).
+struct Occlusion {
+    device: foveate::ash::Device,
+    queue: vk::Queue,
+    pool: vk::QueryPool,
+    commands: vk::CommandPool,
+    cmd: vk::CommandBuffer,
+    fence: vk::Fence,
+    /// Each pass's index, first query and views (one query each).
+    queries: Vec<(usize, u32, u32)>,
+    count: u32,
+}
+
+impl Occlusion {
+    fn new(gpu: &Gpu, passes: &[DrawPass]) -> Self {
+        let mut queries = Vec::new();
+        let mut count = 0;
+        for p in passes {
+            let views = p.view_mask.count_ones();
+            queries.push((p.index, count, views));
+            count += views;
+        }
+        let device = gpu.device().clone();
+        let raw = gpu.raw_handles();
+        unsafe {
+            let info = vk::QueryPoolCreateInfo::default()
+                .query_type(vk::QueryType::OCCLUSION)
+                .query_count(count);
+            let pool = device.create_query_pool(&info, None).unwrap();
+            let info = vk::CommandPoolCreateInfo::default()
+                .queue_family_index(raw.queue_family)
+                .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+            let commands = device.create_command_pool(&info, None).unwrap();
+            let info = vk::CommandBufferAllocateInfo::default()
+                .command_pool(commands)
+                .command_buffer_count(1);
+            let cmd = device.allocate_command_buffers(&info).unwrap()[0];
+            let fence = device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+                .unwrap();
+            Occlusion {
+                queue: device.get_device_queue(raw.queue_family, raw.queue_index),
+                device,
+                pool,
+                commands,
+                cmd,
+                fence,
+                queries,
+                count,
+            }
+        }
+    }
+
+    /// Records, submits and waits for one frame; each pass's samples passed.
+    fn frame(
+        &self,
+        layer: &mut FoveationLayer,
+        input: &FrameInput,
+        engine: &mut Engine,
+    ) -> Vec<u64> {
+        let d = &self.device;
+        unsafe {
+            let begin = vk::CommandBufferBeginInfo::default();
+            d.begin_command_buffer(self.cmd, &begin).unwrap();
+            d.cmd_reset_query_pool(self.cmd, self.pool, 0, self.count);
+            let mut draw = |ctx: &foveate::render::DrawContext| {
+                let q = self.queries.iter().find(|q| q.0 == ctx.pass.index).unwrap();
+                d.cmd_begin_query(ctx.cmd, self.pool, q.1, vk::QueryControlFlags::empty());
+                engine.draw(ctx);
+                d.cmd_end_query(ctx.cmd, self.pool, q.1);
+            };
+            layer.record(self.cmd, input, &mut draw).unwrap();
+            d.end_command_buffer(self.cmd).unwrap();
+            let cmds = [self.cmd];
+            let submit = vk::SubmitInfo::default().command_buffers(&cmds);
+            d.queue_submit(self.queue, &[submit], self.fence).unwrap();
+            d.wait_for_fences(&[self.fence], true, u64::MAX).unwrap();
+            d.reset_fences(&[self.fence]).unwrap();
+        }
+        // The first query of each pass: view 0's samples (lavapipe sums every view's there;
+        // which query holds the others is the driver's choice), and what the masks cut they
+        // cut in every view. Not precise (foveate enables no `occlusionQueryPrecise`): lavapipe
+        // counts exactly anyway; a driver that only says "some" fails the test, never passes
+        // it falsely.
+        let flags = vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT;
+        (self.queries.iter())
+            .map(|&(_, first, _)| {
+                let mut samples = [0u64];
+                unsafe { d.get_query_pool_results(self.pool, first, &mut samples, flags) }.unwrap();
+                samples[0]
+            })
+            .collect()
+    }
+}
+
+impl Drop for Occlusion {
+    fn drop(&mut self) {
+        unsafe {
+            let d = &self.device;
+            d.device_wait_idle().unwrap();
+            d.destroy_fence(self.fence, None);
+            d.destroy_command_pool(self.commands, None);
+            d.destroy_query_pool(self.pool, None);
+        }
+    }
+}
+
+/// Pixels of `a` and `b` (both eyes) that differ in any channel.
+fn differing(a: &StereoImage, b: &StereoImage) -> usize {
+    let eyes = a.eyes().into_iter().zip(b.eyes());
+    eyes.map(|(x, y)| {
+        x.data
+            .chunks(4)
+            .zip(y.data.chunks(4))
+            .filter(|(p, q)| p != q)
+            .count()
+    })
+    .sum()
+}
+
+fn unchanged(views: Vec<DrawPass>) -> Vec<DrawPass> {
+    views
+}
+
+fn as_they_are(_: &mut Vec<View>) {}
+
+/// The engine's frame is foveate's renderer's to the pixel: the same views placed, the same
+/// masks, the same composition and lens, its own shaders computing what foveate's flat shading
+/// computes. Negative control: a fovea view's projection one texel off (next test).
+#[test]
+fn an_engines_frames_are_foveates_own() {
+    let gpu = gpu();
+    let config = config(&world(), None);
+    let inputs = inputs(world().head, 3);
+    let own = renderer_frames(&gpu, &config, &inputs);
+    let theirs = engine_frames(&gpu, &config, &inputs, &unchanged, &as_they_are);
+    let pixels = 2 * 160 * 160;
+    assert_eq!(
+        differing(&own, &theirs.image),
+        0,
+        "of {pixels} pixels, these differ from foveate's own frame"
+    );
+    gpu.check_validation().unwrap();
+}
+
+/// Each mistake an engine can make shows: a view's projection a texel off changes the image;
+/// the masks' stencil test left out of its pipelines leaves the image as it was but shades
+/// more fragments.
+#[test]
+fn what_an_engine_gets_wrong_shows() {
+    let gpu = gpu();
+    let world = world();
+    let inputs = inputs(world.head, 2);
+    let config = config(&world, None);
+    let own = renderer_frames(&gpu, &config, &inputs);
+    let texel_off = |views: &mut Vec<View>| {
+        let v = &mut views[2];
+        let ndc = 2.0 / v.extent.width as f32;
+        v.clip_from_world = Mat4::from_translation(Vec3::new(ndc, 0.0, 0.0)) * v.clip_from_world;
+    };
+    let shifted = engine_frames(&gpu, &config, &inputs, &unchanged, &texel_off);
+    assert!(
+        differing(&own, &shifted.image) > 20,
+        "a fovea view one texel off changed {} pixels",
+        differing(&own, &shifted.image)
+    );
+    let masked = engine_frames(&gpu, &config, &inputs, &unchanged, &as_they_are);
+    let no_stencil = |passes: Vec<DrawPass>| {
+        (passes.into_iter())
+            .map(|p| DrawPass { stencil: None, ..p })
+            .collect()
+    };
+    let unmasked = engine_frames(&gpu, &config, &inputs, &no_stencil, &as_they_are);
+    assert_eq!(
+        differing(&masked.image, &unmasked.image),
+        0,
+        "what the masks cut is never shown"
+    );
+    let (with, without) = (&masked.samples_passed, &unmasked.samples_passed);
+    assert_eq!(with.len(), 2, "the periphery's pass and the fovea's");
+    for pass in 0..with.len() {
+        assert!(
+            without[pass] > with[pass],
+            "pass {pass}: {} samples shaded without the stencil test, {} with",
+            without[pass],
+            with[pass]
+        );
+    }
+}
+
+/// With the periphery accumulated over frames, the engine's frames stay foveate's own, and one
+/// view drawn without its jitter does not.
+#[test]
+fn the_jitter_an_engine_leaves_out_shows() {
+    let gpu = gpu();
+    let world = world();
+    let inputs = inputs(world.head, 4);
+    let config = config(&world, Some(TemporalConfig::default()));
+    let own = renderer_frames(&gpu, &config, &inputs);
+    let theirs = engine_frames(&gpu, &config, &inputs, &unchanged, &as_they_are);
+    assert_eq!(
+        differing(&own, &theirs.image),
+        0,
+        "accumulated, still equal"
+    );
+    let unjittered = |views: &mut Vec<View>| {
+        let v = &mut views[0];
+        let guard_band = v.viewport.width / v.extent.width as f32;
+        let ndc = 2.0 * v.jitter / Vec2::new(v.extent.width as f32, v.extent.height as f32);
+        let back = Mat4::from_translation((-ndc / guard_band).extend(0.0));
+        v.clip_from_world = back * v.clip_from_world;
+    };
+    let wrong = engine_frames(&gpu, &config, &inputs, &unchanged, &unjittered);
+    assert!(
+        differing(&own, &wrong.image) > 20,
+        "the left periphery without its jitter changed {} pixels",
+        differing(&own, &wrong.image)
+    );
+}
