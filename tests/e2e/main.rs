@@ -15,6 +15,7 @@ mod golden;
 mod gpu_flicker;
 mod history_outcomes;
 mod judge;
+mod judge_engine_images;
 mod latency;
 mod lod;
 mod mffr;

@@ -4,6 +4,7 @@
 
 use ash::vk;
 
+use super::images::JudgedImage;
 use super::outputs::{copied, frames_buffer, image_params};
 use super::reduce::Reduction;
 use super::vulkan::{compute_pipeline, SharedSet};
@@ -11,7 +12,7 @@ use crate::gpu::{Buffer, Gpu, GpuError, MemoryLocation, Pipeline};
 use crate::metrics::temporal::FlickerSummary;
 use crate::metrics::{ErrorHistogram, EyePixels, JudgeError, Region, HISTOGRAM_BINS};
 use crate::plan::ConfigError;
-use crate::render::{OutputTexels, Renderer};
+use crate::render::OutputTexels;
 use crate::shaders::FLICKER_COMP;
 
 /// Pixels per workgroup side (`shaders/flicker.comp`'s `local_size_x`, `local_size_y`).
@@ -66,16 +67,21 @@ impl GpuFlicker {
         })
     }
 
-    /// Adds the frame both renderers rendered last: `approximation`'s output against
-    /// `reference`'s, pixels as `pixels` maps them (the regions at this frame's gaze). Both
-    /// outputs must be of one size, every frame the first's.
-    pub fn push(
+    /// Adds the frame both rendered last: `approximation`'s output against `reference`'s
+    /// (two layers' or renderers' last frames, or images the engine owns:
+    /// [`super::EyeLayers`]), pixels as `pixels` maps them (the regions at this frame's gaze).
+    /// Both must be of one size, every frame the first's.
+    pub fn push<'a>(
         &mut self,
-        reference: &Renderer,
-        approximation: &Renderer,
+        reference: impl Into<JudgedImage<'a>>,
+        approximation: impl Into<JudgedImage<'a>>,
         pixels: &[EyePixels; 2],
     ) -> Result<(), JudgeError> {
-        let texels = [reference, approximation].map(|r| r.output_texels());
+        let (reference, approximation) = (reference.into(), approximation.into());
+        let texels = [
+            reference.texels("reference's output")?,
+            approximation.texels("approximation's output")?,
+        ];
         let size = |t: &OutputTexels| (t.width, t.height);
         let describe = |(w, h): (u32, u32)| format!("{w}x{h}");
         if size(&texels[1]) != size(&texels[0]) {
@@ -107,8 +113,8 @@ impl GpuFlicker {
         let sized = self.sized.as_ref().expect("sized above");
         self.gpu.one_shot(|cmd| {
             sized.reduction.record_clear(device, cmd);
-            reference.record_output_copy(cmd, frames, 0);
-            approximation.record_output_copy(cmd, frames, texels[0].bytes);
+            reference.record_copy(device, cmd, frames, 0);
+            approximation.record_copy(device, cmd, frames, texels[0].bytes);
             copied(device, cmd);
             let groups = [
                 params.size[0].unsigned_abs().div_ceil(GROUP),

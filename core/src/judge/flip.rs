@@ -14,13 +14,14 @@ use super::geometry::{
     add_to, level_region, merge, origin, pyramid_depth, pyramid_levels, LevelRegions, PyramidLevel,
     Region,
 };
+use super::images::JudgedImage;
 use super::reduce::Reduction;
 use super::vulkan::{compute_pipeline, SharedSet};
 use crate::gpu::{Buffer, Gpu, GpuError, MemoryLocation, Pipeline};
 use crate::metrics::acuity::LEVELS;
 use crate::metrics::{Acuity, EyeFlipErrors, EyePixels, FlipMaps, RgbaImage, HISTOGRAM_BINS};
 use crate::plan::ConfigError;
-use crate::render::Renderer;
+use crate::render::OutputTexels;
 use crate::shaders::{
     FLIP_COMBINE_COMP, FLIP_GATHER_COMP, FLIP_HISTOGRAM_COMP, FLIP_HORIZONTAL_COMP,
     FLIP_PREPARE_COMP, FLIP_REDUCE_COMP, FLIP_RESAMPLE_COMP, FLIP_VERTICAL_COMP,
@@ -86,9 +87,13 @@ pub struct FlipJudge {
     pipelines: [Pipeline; 8],
     shared: SharedSet,
     inputs: Buffer,
-    /// Two renderers' outputs as copied, when a judgement reads them in place (see
-    /// `judge::outputs`); a token buffer until then.
+    /// Two frames as copied, when a judgement reads them in place (see `judge::outputs`); a
+    /// token buffer until then.
     pub(super) frames: Buffer,
+    /// The capture `frames` holds (`GpuFlip::record_capture`), until something else is
+    /// copied there; and how many captures there were.
+    pub(super) capture: Option<u64>,
+    pub(super) captures: u64,
     positions: Buffer,
     maps: Buffer,
     /// The labels up, the histograms and the maps back.
@@ -145,6 +150,8 @@ impl FlipJudge {
             shared,
             inputs,
             frames,
+            capture: None,
+            captures: 0,
             positions,
             maps,
             reduction,
@@ -257,20 +264,20 @@ impl FlipJudge {
                 None
             }
             Source::Outputs {
-                reference,
-                test,
+                images,
+                texels,
                 eye,
             } => {
-                let images = self.outputs_to_gather(reference, test, eye)?;
-                (params.reference, params.test) = (images[0], images[1]);
-                Some((reference, test))
+                let params_of = self.outputs_to_gather(texels, eye)?;
+                (params.reference, params.test) = (params_of[0], params_of[1]);
+                Some((images, texels))
             }
         };
         let used = self.upload_positions(acuity, eccentricity);
         let work = self.filters(ppd as f32, &used)?;
         self.gpu.one_shot(|cmd| {
-            if let Some((reference, test)) = gather {
-                self.record_gather(cmd, params, reference, test);
+            if let Some((images, texels)) = gather {
+                self.record_gather(cmd, params, images, texels);
             }
             self.record(cmd, params, &work, bring)
         })
@@ -567,11 +574,11 @@ impl FlipJudge {
 pub(super) enum Source<'a> {
     /// Images on the host, uploaded.
     Images(&'a RgbaImage, &'a RgbaImage),
-    /// Eye `eye` of two renderers' last frames, copied and gathered on the device
-    /// (`judge::outputs`).
+    /// Eye `eye` of two frames on the device, gathered from the frames buffer: copied there
+    /// first (`images`), or captured there before (`None`) (`judge::outputs`).
     Outputs {
-        reference: &'a Renderer,
-        test: &'a Renderer,
+        images: Option<[JudgedImage<'a>; 2]>,
+        texels: [OutputTexels; 2],
         eye: usize,
     },
 }

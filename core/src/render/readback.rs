@@ -245,23 +245,6 @@ impl Renderer {
         self.layer.readback()
     }
 
-    /// Where the last frame's eyes lie once [`Renderer::record_output_copy`] has copied its
-    /// outputs into a buffer.
-    pub(crate) fn output_texels(&self) -> OutputTexels {
-        self.layer.output_texels()
-    }
-
-    /// Records copying the last frame's outputs into `buffer` from byte `start` (see
-    /// [`FoveationLayer::record_output_copy`]).
-    pub(crate) fn record_output_copy(
-        &self,
-        cmd: vk::CommandBuffer,
-        buffer: vk::Buffer,
-        start: u64,
-    ) {
-        self.layer.record_output_copy(cmd, buffer, start)
-    }
-
     /// The last frame's eye images where they lie (left, right) for a swapchain to show
     /// ([`crate::gpu::Swapchain::present`]); the outputs stay in `TRANSFER_SRC_OPTIMAL`.
     pub fn present_sources(&self) -> Result<[BlitSource; 2], GpuError> {
