@@ -13,9 +13,11 @@ use engine::{Engine, World};
 use foveate::ash::vk;
 use foveate::foveation::{FoveationConfig, TemporalConfig};
 use foveate::glam::{Mat4, Vec2, Vec3};
-use foveate::gpu::{Gpu, GpuOptions};
+use foveate::gpu::{Gpu, GpuOptions, Image};
 use foveate::plan::{OutputStage, RenderConfig, Resolution};
-use foveate::render::{DrawPass, FoveationLayer, FrameInput, Renderer, StereoImage, View};
+use foveate::render::{
+    view_images, DrawPass, FoveationLayer, FrameInput, HandedImage, Renderer, StereoImage, View,
+};
 use foveate::scene::Shading;
 
 const MODEL: &str =
@@ -86,16 +88,16 @@ struct EngineRun {
     samples_passed: Vec<u64>,
 }
 
-/// The engine's last frame of `inputs`, its pipelines made for `passes` (the layer's, unless
-/// a test changes them) and each frame's views through `views` before they are written.
+/// The engine's last frame of `inputs` through `layer`, its pipelines made for `passes` (the
+/// layer's, unless a test changes them) and each frame's views through `views` before they are
+/// written.
 fn engine_frames(
     gpu: &Gpu,
-    config: &RenderConfig,
+    mut layer: FoveationLayer,
     inputs: &[FrameInput],
     passes: &dyn Fn(Vec<DrawPass>) -> Vec<DrawPass>,
     views: &dyn Fn(&mut Vec<View>),
 ) -> EngineRun {
-    let mut layer = FoveationLayer::new(gpu, config).unwrap();
     let draw_passes = layer.draw_passes();
     let mut engine = Engine::new(gpu, world(), &passes(draw_passes.clone()), 2).unwrap();
     let occlusion = Occlusion::new(gpu, &draw_passes);
@@ -239,6 +241,16 @@ fn differing(a: &StereoImage, b: &StereoImage) -> usize {
     .sum()
 }
 
+/// The engine's frames as it should draw them, through a layer with images of its own.
+fn plain_engine_frames(gpu: &Gpu, config: &RenderConfig, inputs: &[FrameInput]) -> EngineRun {
+    engine_frames(gpu, layer(gpu, config), inputs, &unchanged, &as_they_are)
+}
+
+/// The layer for `config`, its images its own.
+fn layer(gpu: &Gpu, config: &RenderConfig) -> FoveationLayer {
+    FoveationLayer::new(gpu, config).unwrap()
+}
+
 fn unchanged(views: Vec<DrawPass>) -> Vec<DrawPass> {
     views
 }
@@ -254,7 +266,7 @@ fn an_engines_frames_are_foveates_own() {
     let config = config(&world(), None);
     let inputs = inputs(world().head, 3);
     let own = renderer_frames(&gpu, &config, &inputs);
-    let theirs = engine_frames(&gpu, &config, &inputs, &unchanged, &as_they_are);
+    let theirs = plain_engine_frames(&gpu, &config, &inputs);
     let pixels = 2 * 160 * 160;
     assert_eq!(
         differing(&own, &theirs.image),
@@ -279,19 +291,25 @@ fn what_an_engine_gets_wrong_shows() {
         let ndc = 2.0 / v.extent.width as f32;
         v.clip_from_world = Mat4::from_translation(Vec3::new(ndc, 0.0, 0.0)) * v.clip_from_world;
     };
-    let shifted = engine_frames(&gpu, &config, &inputs, &unchanged, &texel_off);
+    let shifted = engine_frames(&gpu, layer(&gpu, &config), &inputs, &unchanged, &texel_off);
     assert!(
         differing(&own, &shifted.image) > 20,
         "a fovea view one texel off changed {} pixels",
         differing(&own, &shifted.image)
     );
-    let masked = engine_frames(&gpu, &config, &inputs, &unchanged, &as_they_are);
+    let masked = plain_engine_frames(&gpu, &config, &inputs);
     let no_stencil = |passes: Vec<DrawPass>| {
         (passes.into_iter())
             .map(|p| DrawPass { stencil: None, ..p })
             .collect()
     };
-    let unmasked = engine_frames(&gpu, &config, &inputs, &no_stencil, &as_they_are);
+    let unmasked = engine_frames(
+        &gpu,
+        layer(&gpu, &config),
+        &inputs,
+        &no_stencil,
+        &as_they_are,
+    );
     assert_eq!(
         differing(&masked.image, &unmasked.image),
         0,
@@ -318,7 +336,7 @@ fn the_jitter_an_engine_leaves_out_shows() {
     let inputs = inputs(world.head, 4);
     let config = config(&world, Some(TemporalConfig::default()));
     let own = renderer_frames(&gpu, &config, &inputs);
-    let theirs = engine_frames(&gpu, &config, &inputs, &unchanged, &as_they_are);
+    let theirs = plain_engine_frames(&gpu, &config, &inputs);
     assert_eq!(
         differing(&own, &theirs.image),
         0,
@@ -331,10 +349,144 @@ fn the_jitter_an_engine_leaves_out_shows() {
         let back = Mat4::from_translation((-ndc / guard_band).extend(0.0));
         v.clip_from_world = back * v.clip_from_world;
     };
-    let wrong = engine_frames(&gpu, &config, &inputs, &unchanged, &unjittered);
+    let wrong = engine_frames(&gpu, layer(&gpu, &config), &inputs, &unchanged, &unjittered);
     assert!(
         differing(&own, &wrong.image) > 20,
         "the left periphery without its jitter changed {} pixels",
         differing(&own, &wrong.image)
     );
+}
+
+/// The engine's frames into images it made itself (each as `view_images` describes; with the
+/// periphery accumulated, both images of its depth) are the frames into foveate's own.
+#[test]
+fn an_engines_own_images_take_the_frames() {
+    let gpu = gpu();
+    let world = world();
+    let inputs = inputs(world.head, 3);
+    let config = config(&world, Some(TemporalConfig::default()));
+    let plan = foveate::plan::plan_for_engine(&config, gpu.caps()).unwrap();
+    let needed = view_images(&plan);
+    assert!(
+        needed.len() >= 5,
+        "colour, depth, resolve, a depth pair: {needed:?}"
+    );
+    let images: Vec<Image> = (needed.iter())
+        .map(|v| Image::new(&gpu, &v.desc).unwrap())
+        .collect();
+    let handed: Vec<HandedImage> = (needed.iter().zip(&images))
+        .map(|(v, image)| HandedImage {
+            attachment: v.attachment,
+            image: image.raw(),
+            desc: v.desc,
+        })
+        .collect();
+    // SAFETY: each image made as described, alive past the layer.
+    let theirs = unsafe { FoveationLayer::with_images(&gpu, &plan, &[], &handed) }.unwrap();
+    let own = plain_engine_frames(&gpu, &config, &inputs);
+    let handed_in = engine_frames(&gpu, theirs, &inputs, &unchanged, &as_they_are);
+    assert_eq!(differing(&own.image, &handed_in.image), 0);
+    drop(images);
+    gpu.check_validation().unwrap();
+}
+
+/// An image made otherwise than the plan needs, one missing, one for another attachment or
+/// one handed twice is refused, naming what is wrong, before anything is made. Mutation:
+/// dropping the usage check lets an image without `SAMPLED` through.
+#[test]
+fn images_an_engine_makes_wrong_are_refused_by_name() {
+    let gpu = gpu();
+    let config = config(&world(), None);
+    let plan = foveate::plan::plan_for_engine(&config, gpu.caps()).unwrap();
+    let needed = view_images(&plan);
+    // Real images made as the plan needs: a check that failed to refuse would build on them
+    // and fail the test by succeeding, not by touching an image that is not there.
+    let images: Vec<Image> = (needed.iter())
+        .map(|v| Image::new(&gpu, &v.desc).unwrap())
+        .collect();
+    let all = |change: &dyn Fn(usize, &mut HandedImage)| -> Vec<HandedImage<'static>> {
+        (needed.iter().enumerate())
+            .map(|(i, v)| {
+                let mut h = HandedImage {
+                    attachment: v.attachment,
+                    image: images[i].raw(),
+                    desc: v.desc,
+                };
+                change(i, &mut h);
+                h
+            })
+            .collect()
+    };
+    let depth = needed
+        .iter()
+        .position(|v| v.desc.format != vk::Format::R8G8B8A8_SRGB && v.desc.samples > 1)
+        .unwrap();
+    let sampled = needed
+        .iter()
+        .position(|v| v.desc.usage.contains(vk::ImageUsageFlags::SAMPLED))
+        .unwrap();
+    let cases: Vec<(Vec<HandedImage>, &str)> = vec![
+        (
+            all(&|i, h| {
+                if i == 0 {
+                    h.desc.format = vk::Format::B8G8R8A8_UNORM
+                }
+            }),
+            "view image format = B8G8R8A8_UNORM",
+        ),
+        (
+            all(&|i, h| {
+                if i == 0 {
+                    h.desc.width += 1
+                }
+            }),
+            "view image extent",
+        ),
+        (
+            all(&|i, h| {
+                if i == depth {
+                    h.desc.samples = 1
+                }
+            }),
+            "view image samples = 1",
+        ),
+        (
+            all(&|i, h| {
+                if i == 0 {
+                    h.desc.layers = 1
+                }
+            }),
+            "view image layers = 1",
+        ),
+        (
+            all(&|i, h| {
+                if i == sampled {
+                    h.desc.usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
+                }
+            }),
+            "view image usage",
+        ),
+        (
+            all(&|_, _| {}).into_iter().skip(1).collect(),
+            "view images = none for",
+        ),
+        (
+            all(&|i, h| {
+                if i == 0 {
+                    h.attachment = 1000
+                }
+            }),
+            "view image attachment = 1000",
+        ),
+    ];
+    for (handed, want) in cases {
+        // SAFETY: the images are alive past the layer, were it made.
+        let err = unsafe { FoveationLayer::with_images(&gpu, &plan, &[], &handed) }
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(err.contains(want), "{want}: {err}");
+    }
+    drop(images);
+    gpu.check_validation().unwrap();
 }

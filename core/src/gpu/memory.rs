@@ -135,6 +135,7 @@ pub struct Image {
 }
 
 /// What to create an image with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ImageDesc<'a> {
     /// Its debug label.
     pub name: &'a str,
@@ -192,15 +193,7 @@ impl Image {
             .initial_layout(vk::ImageLayout::UNDEFINED);
         // SAFETY: valid create info; the image is owned by the returned value.
         let raw = unsafe { dev.device.create_image(&info, None) }.vk("vkCreateImage")?;
-        let aspect = if is_depth_format(desc.format) {
-            let mut a = vk::ImageAspectFlags::DEPTH;
-            if desc.format == vk::Format::D32_SFLOAT_S8_UINT {
-                a |= vk::ImageAspectFlags::STENCIL;
-            }
-            a
-        } else {
-            vk::ImageAspectFlags::COLOR
-        };
+        let aspect = aspect_of(desc.format);
         dev.created("Image");
         let mut image = Image::described(gpu, raw, desc, aspect, false);
         let requirements = unsafe { dev.device.get_image_memory_requirements(raw) };
@@ -236,13 +229,13 @@ impl Image {
         Ok(image)
     }
 
-    /// Someone else's colour image (an OpenXR runtime's swapchain image) described by `desc`,
-    /// to view and render to; dropping it destroys nothing.
+    /// Someone else's image (an OpenXR runtime's swapchain image, an engine's render target)
+    /// described by `desc`, to view and render to; dropping it destroys nothing.
     ///
     /// # Safety
     /// `raw` must be an image of `gpu`'s device made as `desc` says, alive while this value is.
     pub unsafe fn borrowed(gpu: &Gpu, raw: vk::Image, desc: &ImageDesc<'_>) -> Self {
-        Image::described(gpu, raw, desc, vk::ImageAspectFlags::COLOR, true)
+        Image::described(gpu, raw, desc, aspect_of(desc.format), true)
     }
 
     /// `raw` as `desc` describes it, with no memory bound yet.
@@ -367,4 +360,17 @@ fn lazy_memory_type(gpu: &Gpu, type_bits: u32) -> Option<u32> {
                 .property_flags
                 .contains(vk::MemoryPropertyFlags::LAZILY_ALLOCATED)
     })
+}
+
+/// The aspects of an image of `format`: depth (and stencil), or colour.
+fn aspect_of(format: vk::Format) -> vk::ImageAspectFlags {
+    if !is_depth_format(format) {
+        return vk::ImageAspectFlags::COLOR;
+    }
+    match format {
+        vk::Format::D32_SFLOAT_S8_UINT => {
+            vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
+        }
+        _ => vk::ImageAspectFlags::DEPTH,
+    }
 }

@@ -24,7 +24,7 @@ use super::views::FrameViews;
 use super::vulkan_recorder::{BoundStep, FrameObjects, SceneSteps, VulkanRecorder};
 use crate::foveation::fovea_views;
 use crate::gpu::{Buffer, Gpu, GpuError, Image, VkResultExt};
-use crate::plan::{ConfigError, FramePlan, PassPlan, Step};
+use crate::plan::{AttachmentId, ConfigError, FramePlan, PassPlan, Step};
 use crate::view::{EyeParams, FovTangents, HiddenArea};
 
 /// A [`FramePlan`] compiled into the Vulkan objects of everything a frame does around its scene
@@ -96,12 +96,14 @@ pub(super) struct SceneFigures {
 impl FoveationLayer {
     /// Builds everything `plan` calls for around its scene steps, and nothing else, with the
     /// frame slots' descriptor sets binding `shared` (foveate's scene's, or nothing of an
-    /// engine's); its frames end in one of `output_images` when handed in.
+    /// engine's); its frames end in one of `output_images` when handed in, and the attachments
+    /// `view_images` names are an engine's images.
     pub(super) fn build(
         gpu: &Gpu,
         plan: &FramePlan,
         shared: SharedBindings,
         output_images: &[vk::Image],
+        view_images: &[(AttachmentId, vk::Image)],
     ) -> Result<Self, GpuError> {
         let slot_count = plan.frame_slots.max(1) as usize;
         let masks = plan
@@ -116,7 +118,7 @@ impl FoveationLayer {
                 FrameSlot::new(gpu, plan, &shared, masks)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let images = create_images(gpu, plan, output_images)?;
+        let images = create_images(gpu, plan, output_images, view_images)?;
         let output_targets = plan
             .external_output
             .then(|| OutputTargets::new(gpu, plan, output_images, &images))

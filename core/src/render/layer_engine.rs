@@ -15,6 +15,7 @@ use super::frame_slot::SharedBindings;
 use super::layer::{FoveationLayer, SceneFigures};
 use super::recorder::FrameDraws;
 use super::stats::FrameStats;
+use super::view_images::{check_handed, HandedImage};
 use super::vulkan_recorder::SceneSteps;
 use crate::gpu::{Gpu, GpuError};
 use crate::plan::{ConfigError, FramePlan, RenderConfig};
@@ -38,6 +39,25 @@ impl FoveationLayer {
         plan: &FramePlan,
         output_images: &[vk::Image],
     ) -> Result<Self, GpuError> {
+        // SAFETY: no image of the engine's is handed in.
+        unsafe { Self::with_images(gpu, plan, output_images, &[]) }
+    }
+
+    /// The layer for an engine's draws into images the engine made itself, each as one of
+    /// [`view_images`](super::view_images) describes (all of them, or none: foveate's own);
+    /// otherwise as [`FoveationLayer::for_plan`]. An image made otherwise than the plan needs
+    /// (format, extent, samples, layers, usage), one missing, or one for another attachment
+    /// is an error naming it.
+    ///
+    /// # Safety
+    /// Each handed image is of `gpu`'s device, made as its description says, and alive as
+    /// long as the layer; nothing else uses it while the layer's frames run.
+    pub unsafe fn with_images(
+        gpu: &Gpu,
+        plan: &FramePlan,
+        output_images: &[vk::Image],
+        view_images: &[HandedImage],
+    ) -> Result<Self, GpuError> {
         if !plan.engine_draws {
             return Err(ConfigError::new(
                 "plan",
@@ -46,7 +66,8 @@ impl FoveationLayer {
             )
             .into());
         }
-        Self::build(gpu, plan, SharedBindings::default(), output_images)
+        let handed = check_handed(plan, view_images)?;
+        Self::build(gpu, plan, SharedBindings::default(), output_images, &handed)
     }
 
     /// The passes the engine draws into, in the order a frame records them, with what its

@@ -39,6 +39,7 @@ mod stats;
 mod stereo_scene;
 mod targets;
 mod temporal;
+mod view_images;
 mod views;
 mod vulkan_recorder;
 
@@ -55,6 +56,7 @@ internal_use!(record::record_frame);
 internal_use!(recorder::{FrameDraws, Recorder, Rect});
 pub use renderer::{counting_frame, Renderer};
 pub use stats::{FrameStats, PassStatistics, StepFragments};
+pub use view_images::{view_images, HandedImage, ViewImage};
 
 /// How the image a plan's frames end in is made; an output handed in per frame (an OpenXR
 /// swapchain's, [`crate::plan::RenderConfig::external_output`]) must be made the same way.

@@ -97,7 +97,7 @@ impl Renderer {
             scene: Some(&scene_buffers),
             materials: materials.as_ref(),
         };
-        let mut layer = FoveationLayer::build(gpu, plan, shared, output_images)?;
+        let mut layer = FoveationLayer::build(gpu, plan, shared, output_images, &[])?;
         layer.light_dir = scene.light_dir;
         log::debug!(
             "renderer: {} passes, {} attachments, {} instances in {} draws, {} shading, {} frame slots",

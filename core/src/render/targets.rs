@@ -63,17 +63,23 @@ pub(crate) fn image_desc(plan: &FramePlan, id: AttachmentId) -> ImageDesc<'stati
     }
 }
 
-/// One image per planned attachment; an external output borrows `external[0]` (which must be
-/// made as [`image_desc`] says).
+/// One image per planned attachment; an external output borrows `external[0]`, and the
+/// attachments `handed` names borrow an engine's images (each made as [`image_desc`] says).
 pub(crate) fn create_images(
     gpu: &Gpu,
     plan: &FramePlan,
     external: &[vk::Image],
+    handed: &[(AttachmentId, vk::Image)],
 ) -> Result<Vec<Image>, GpuError> {
     let outputs = plan.outputs();
     (0..plan.attachments.len())
         .map(|id| {
             let desc = image_desc(plan, id);
+            if let Some(&(_, raw)) = handed.iter().find(|(a, _)| *a == id) {
+                // SAFETY: the engine made `raw` as `desc` says (checked against its own
+                // description), for this device.
+                return Ok(unsafe { Image::borrowed(gpu, raw, &desc) });
+            }
             // An output handed in stands in for the renderer's own; without one the renderer
             // makes its own, which frames render into when none is handed in.
             if let (true, true, Some(&raw)) = (
