@@ -23,6 +23,12 @@
 //!    caller to submit (with [`render::FramesInFlight`], or the engine's own loop). Each returns
 //!    its [`render::FrameStats`].
 //!
+//! An engine that draws its own world takes foveation alone: a [`render::FoveationLayer`]
+//! (made from a configuration, no scene) tells it the passes to draw into and each frame's
+//! views, records the stencil masks before its draws and the output stage (composition,
+//! accumulation, lens) after them, in the engine's command buffer; `Renderer` is foveate's own
+//! scene drawn through the same layer. The `bring_your_own_draws` example is such an engine.
+//!
 //! The device is foveate's own ([`gpu::Gpu::new`]: the best Vulkan 1.1 device with multiview;
 //! Mesa's lavapipe will do) or the engine's ([`gpu::Gpu::from_engine`]). The API speaks
 //! [`ash`] and [`glam`] types; use the re-exported crates so the versions match.
@@ -59,7 +65,8 @@
 //! # }
 //! ```
 //!
-//! More in the crate's `examples/`: `headless` (the above, saved as a PNG), `own_images`
+//! More in the crate's `examples/`: `bring_your_own_draws` (an engine's own pipeline drawing a
+//! glTF file into a layer's views), `headless` (the above, saved as a PNG), `own_images`
 //! (frames into images the program owns), `engine_loop` (the engine's command buffers, frames
 //! in flight) and `judge` (a frame judged against its full-quality reference);
 //! `docs/embedding.md` in the repository walks through them.

@@ -31,7 +31,7 @@ enum Command {
     /// Render the default scene, write a side-by-side PNG, print plan, frame times and pixel counts.
     Render(RenderArgs),
     /// Print the frame plan: passes, attachments, load/store ops, transient images, bytes.
-    Plan(ConfigArgs),
+    Plan(PlanArgs),
     /// The frame in a window: eyes side by side, the mouse as the gaze, keys toggle foveation
     /// and the other effects, frame and GPU times and fragments in the title once a second.
     View(crate::commands::view::ViewArgs),
@@ -81,12 +81,19 @@ impl Cli {
         crate::metric::choose(self.metric);
         match &self.command {
             Command::Devices => devices(),
-            Command::Plan(args) => {
+            Command::Plan(PlanArgs {
+                config: args,
+                engine,
+            }) => {
                 // The scene first: a bad file is refused before the device starts.
                 let scene = args.scene()?;
                 let gpu = Gpu::new(&self.gpu_options())?;
                 for mode in args.stereo_modes()? {
-                    let plan = foveate::plan(&scene, &args.config(mode)?, gpu.caps())?;
+                    let config = args.config(mode)?;
+                    let plan = match engine {
+                        true => foveate::plan::plan_for_engine(&config, gpu.caps())?,
+                        false => foveate::plan(&scene, &config, gpu.caps())?,
+                    };
                     println!("{plan}\n");
                 }
                 let tracked: Vec<&str> = foveate::view::HMD_PROFILES
@@ -173,4 +180,15 @@ fn pipeline_cache_path() -> Option<std::path::PathBuf> {
             .or_else(|| std::env::var_os("HOME").map(|h| std::path::Path::new(&h).join(".cache")))
             .map(|dir| dir.join("foveate").join("pipelines.bin")),
     }
+}
+
+/// `foveate plan`: the frame's configuration, and whose draws its scene steps are.
+#[derive(clap::Args)]
+pub struct PlanArgs {
+    #[command(flatten)]
+    config: ConfigArgs,
+    /// Plan the frame a `FoveationLayer` records around an engine's own draws (the scene steps
+    /// the engine's, nothing of `--scene` drawn): what foveate does in the engine's frame.
+    #[arg(long)]
+    engine: bool,
 }

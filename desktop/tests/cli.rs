@@ -138,6 +138,29 @@ fn plan_prints_passes_and_derived_ops() {
     }
 }
 
+/// `plan --engine`: the frame a `FoveationLayer` records around an engine's draws, its scene
+/// steps the engine's pipelines; what needs foveate's scene refused by name.
+#[test]
+fn plan_for_an_engine_says_whose_draws() {
+    let o = foveate(&["plan", "--engine", "--foveate", "0.35", "--res", "128"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for needle in [
+        "frame plan around an engine's draws",
+        "scene pipeline: the engine's own",
+        "mask fans",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in\n{text}");
+    }
+    assert!(!text.contains("scene.vert"), "{text}");
+    let o = foveate(&["plan", "--engine", "--mffr", "near-first", "--res", "128"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("mffr = near-first"),
+        "{}",
+        stderr(&o)
+    );
+}
+
 #[test]
 fn devices_lists_multiview_and_sample_counts() {
     let o = foveate(&["devices"]);

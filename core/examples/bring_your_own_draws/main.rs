@@ -50,13 +50,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let passes = layer.draw_passes();
     for pass in &passes {
         println!(
-            "the engine draws pass {} \"{}\": views {:?}, {}x{}, {:?}, stencil test {}",
+            "the engine draws pass {} \"{}\": views {:?}, {}x{}, {}x MSAA, stencil test {}",
             pass.index,
             pass.name,
             pass.views,
             pass.extent.width,
             pass.extent.height,
-            pass.samples,
+            pass.samples.as_raw(),
             if pass.stencil.is_some() { "on" } else { "off" }
         );
     }
@@ -70,7 +70,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         engine.write_views(views.slot, &views.views);
         let stats = layer.render(&input, &mut |pass| engine.draw(pass))?;
         println!(
-            "frame {frame}, gaze ({:.1}, {:.1}): {} objects drawn; GPU {:.2} ms ({})",
+            "frame {frame}, gaze ({:.1}, {:.1}): {} draws in all passes; GPU {:.2} ms ({})",
             gaze.x,
             gaze.y,
             engine.drawn,

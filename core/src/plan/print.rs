@@ -29,7 +29,12 @@ impl FramePlan {
         let fov = self.eyes.left_fov;
         writeln!(
             f,
-            "frame plan: {} ({}), {} per eye, stereo {}, {} views, MSAA {}x",
+            "frame plan{}: {} ({}), {} per eye, stereo {}, {} views, MSAA {}x",
+            if self.engine_draws {
+                " around an engine's draws"
+            } else {
+                ""
+            },
             self.hmd.display_name,
             self.hmd.name,
             self.eye_resolution,
@@ -275,7 +280,15 @@ impl FramePlan {
         let steps: Vec<String> = p.steps.iter().map(ToString::to_string).collect();
         writeln!(f, "    steps: {}", steps.join(" → "))?;
         for (step, pipeline) in p.steps.iter().zip(&p.pipelines) {
-            writeln!(f, "    {} pipeline: {pipeline}", step.counted().name())?;
+            let name = step.counted().name();
+            match step {
+                Step::Scene { stencil, .. } if self.engine_draws => writeln!(
+                    f,
+                    "    {name} pipeline: the engine's own, made for this pass's render pass; {}; depth reverse-Z, tested (greater) and written",
+                    stencil.map_or("no stencil test".to_string(), |s| s.to_string())
+                )?,
+                _ => writeln!(f, "    {name} pipeline: {pipeline}")?,
+            }
         }
         Ok(())
     }
@@ -298,6 +311,10 @@ impl FramePlan {
                     }
                     writeln!(f, "    stencil masks first: {}", masks.join("; "))?;
                 }
+                Step::Scene { .. } if self.engine_draws => writeln!(
+                    f,
+                    "    the engine draws its world into the pass's views (culled against the pass's superfrustum)"
+                )?,
                 Step::Scene { draw_set, .. } => match draw_set {
                     DrawSet::All => {}
                     DrawSet::Visible => writeln!(
