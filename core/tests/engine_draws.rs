@@ -16,7 +16,8 @@ use foveate::glam::{Mat4, Vec2, Vec3};
 use foveate::gpu::{Gpu, GpuOptions, Image};
 use foveate::plan::{OutputStage, RenderConfig, Resolution};
 use foveate::render::{
-    view_images, DrawPass, FoveationLayer, FrameInput, HandedImage, Renderer, StereoImage, View,
+    output_image_desc, view_images, DrawPass, FoveationLayer, FrameInput, HandedImage, Renderer,
+    StereoImage, View,
 };
 use foveate::scene::Shading;
 
@@ -357,15 +358,20 @@ fn the_jitter_an_engine_leaves_out_shows() {
     );
 }
 
-/// The engine's frames into images it made itself (each as `view_images` describes; with the
-/// periphery accumulated, both images of its depth) are the frames into foveate's own.
+/// The engine's frames into images it made itself — each view image as `view_images`
+/// describes (with the periphery accumulated, both images of its depth), and the output the
+/// display takes as `output_image_desc` does — are the frames into foveate's own.
 #[test]
 fn an_engines_own_images_take_the_frames() {
     let gpu = gpu();
     let world = world();
     let inputs = inputs(world.head, 3);
     let config = config(&world, Some(TemporalConfig::default()));
-    let plan = foveate::plan::plan_for_engine(&config, gpu.caps()).unwrap();
+    let handed_out = RenderConfig {
+        external_output: true,
+        ..config.clone()
+    };
+    let plan = foveate::plan::plan_for_engine(&handed_out, gpu.caps()).unwrap();
     let needed = view_images(&plan);
     assert!(
         needed.len() >= 5,
@@ -381,12 +387,16 @@ fn an_engines_own_images_take_the_frames() {
             desc: v.desc,
         })
         .collect();
+    let output = Image::new(&gpu, &output_image_desc(&plan)).unwrap();
+    let into_output: Vec<FrameInput> = (inputs.iter())
+        .map(|i| i.with_output(output.raw()))
+        .collect();
     // SAFETY: each image made as described, alive past the layer.
     let theirs = unsafe { FoveationLayer::with_images(&gpu, &plan, &[], &handed) }.unwrap();
     let own = plain_engine_frames(&gpu, &config, &inputs);
-    let handed_in = engine_frames(&gpu, theirs, &inputs, &unchanged, &as_they_are);
+    let handed_in = engine_frames(&gpu, theirs, &into_output, &unchanged, &as_they_are);
     assert_eq!(differing(&own.image, &handed_in.image), 0);
-    drop(images);
+    drop((images, output));
     gpu.check_validation().unwrap();
 }
 

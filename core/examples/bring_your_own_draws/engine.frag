@@ -14,8 +14,8 @@ layout(std140, set = 0, binding = 0) uniform Frame {
 layout(location = 0) in vec3 in_normal;
 layout(location = 1) in vec3 in_colour;
 
-// Alpha 1: an opaque surface that moves only with the head (foveate's accumulation reads
-// alpha 0 as a surface moving on its own).
+// Alpha 1: a surface that moves only with the head (nothing in this world moves on its own;
+// foveate's accumulation reads alpha 0 as a surface that did).
 layout(location = 0) out vec4 out_colour;
 
 void main() {

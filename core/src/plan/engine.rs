@@ -98,6 +98,29 @@ mod tests {
         }
     }
 
+    /// An engine's frame with the periphery accumulated reads alpha 0 as a surface that moved
+    /// on its own (the engine marks its own), as foveate's moving instances are read; foveate's
+    /// plan of a still scene does not. Mutation: `marks_moving` without the engine's case
+    /// fails it.
+    #[test]
+    fn an_engines_moving_surfaces_are_read_from_alpha() {
+        let caps = DeviceCaps::generic();
+        let config = RenderConfig {
+            foveation: Some(FoveationConfig {
+                periphery_temporal: Some(Default::default()),
+                ..FoveationConfig::default()
+            }),
+            ..foveated()
+        };
+        let marks = |plan: &FramePlan| {
+            let output = plan.passes.last().unwrap();
+            (output.pipelines[0].constants).contains(&(crate::plan::Constant::MarkMoving, 1))
+        };
+        assert!(marks(&plan_for_engine(&config, &caps).unwrap()));
+        let scene = crate::scene::default_scene();
+        assert!(!marks(&crate::plan(&scene, &config, &caps).unwrap()));
+    }
+
     /// Each of foveate's own scene features is refused by name. Mutation: dropping a check
     /// lets its configuration plan.
     #[test]

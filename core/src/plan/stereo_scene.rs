@@ -432,12 +432,13 @@ pub(super) fn scene_pipeline(
     .flag(Constant::MarkMoving, marks_moving(plan))
 }
 
-/// Whether the scene passes mark the pixels of instances that move: only where the periphery's
-/// accumulation clips by them (`HistoryClip::Moved`) and instances can move. The output
-/// stage looks for them by the same constant.
+/// Whether the scene passes mark the pixels of instances that move (alpha 0): only where the
+/// periphery's accumulation clips by them (`HistoryClip::Moved`) and instances can move —
+/// foveate's moving instances, or an engine's draws, whose moving surfaces it marks itself. The
+/// output stage looks for them by the same constant.
 pub(super) fn marks_moving(plan: &FramePlan) -> bool {
     let temporal = plan.foveation.and_then(|g| g.temporal);
-    plan.moving_instances().is_some()
+    (plan.moving_instances().is_some() || plan.engine_draws)
         && temporal.is_some_and(|t| t.clip == crate::foveation::HistoryClip::Moved)
 }
 

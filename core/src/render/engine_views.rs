@@ -89,7 +89,9 @@ pub struct DrawPass {
     pub views: Range<usize>,
     /// Its images' pixels.
     pub extent: Resolution,
-    /// The colour attachment's format (location 0; alpha: write 1).
+    /// The colour attachment's format (location 0). Alpha: 1, or 0 where a surface moved on
+    /// its own since the last frame (not with the head): an accumulated periphery takes no
+    /// history there.
     pub color_format: vk::Format,
     /// The depth attachment's format: reverse-Z, cleared to 0, tested `GREATER` (or
     /// `GREATER_OR_EQUAL`) and written by the engine; an accumulated periphery reprojects
