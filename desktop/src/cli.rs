@@ -37,6 +37,10 @@ enum Command {
     View(crate::commands::view::ViewArgs),
     /// List Vulkan devices with what foveate cares about.
     Devices,
+    /// Write docs/results.md and the README's verdict table from the committed run files
+    /// (docs/results/index.csv); `--check` compares instead (scripts/results.sh, CI).
+    #[command(hide = true)]
+    Results(crate::commands::results::ResultsArgs),
     /// Culling benchmarks: Hale's intersection tables, and stereo strategies on the thesis scene.
     CullBench(crate::commands::cull::CullBenchArgs),
     /// Arm's foveation pixel tables 2-4, every cell measured on the GPU beside the formula.
@@ -81,6 +85,7 @@ impl Cli {
         crate::metric::choose(self.metric);
         match &self.command {
             Command::Devices => devices(),
+            Command::Results(args) => crate::commands::results::results(args),
             Command::Plan(PlanArgs {
                 config: args,
                 engine,

@@ -57,7 +57,7 @@ pub enum NewSample {
     /// screen's density; at the fovea layout's own density (texels over two pixels apart) the
     /// same figures for 2–5 %. At the panel itself, at 0.6: the walk's p99 and flicker 2–3 %
     /// lower at both gazes, the still frame and the saccade trace unchanged, the walk's frame
-    /// 2–6 % slower (BENCHMARKS.md, "Every neighbour as a new sample").
+    /// 2–6 % slower (docs/notebook/2026-11-28-every-neighbour-as-a-new-sample.md).
     Weighted,
 }
 
@@ -92,8 +92,8 @@ pub enum ClipNeighbourhood {
     /// The texel and its four edge neighbours: five reads. Measured at the Quest Pro's panel
     /// (lavapipe): 5–6 % off the frame; along a walk the same eFLIP p99 and 4 % more flicker
     /// (its box, from fewer colours, is narrower and clips more); with the head still the same
-    /// figures, since the `Moved` clip uses no box where nothing moved (BENCHMARKS.md, "A
-    /// neighbourhood of five reads instead of nine").
+    /// figures, since the `Moved` clip uses no box where nothing moved
+    /// (docs/notebook/2026-11-28-h100-density-and-samples.md, "A neighbourhood of five reads").
     Cross,
 }
 
@@ -261,19 +261,20 @@ impl Default for TemporalConfig {
             // A history resampled every frame blurs with each resample it keeps. Along the walk
             // at the Quest Pro's panel 0.35 had the least flicker of ⅛, ¼, 0.35, ½ and 1
             // (0.00241 against ⅛'s 0.00262) and an eFLIP p99 within 3 % of the best (0.0534
-            // against ⅛'s 0.0604) (BENCHMARKS.md, "A faster blend where the point moved").
+            // against ⅛'s 0.0604) (docs/notebook/2026-11-26-accumulation-in-the-output-pass.md, "A faster blend").
             blend: 0.35,
             // Keeps the jitter's shimmer with the head still within the ≤ 0.0003 asked at the
             // Quest Pro's panel, at both gazes and the periphery at 0.5 and 0.6 (0.00022–0.00028;
             // ⅟16 let 0.6 reach 0.00034), for under 2 % of that frame's eFLIP p99
-            // (BENCHMARKS.md, "The density the walk needs").
+            // (docs/notebook/2026-11-26-accumulation-in-the-output-pass.md, "The density the
+            // walk needs").
             still_blend: 0.05,
             jitter_cycle: 8,
             // A head moves ≈ 2 m/s and turns ≈ 300°/s at most: 90 Hz frames stay well inside.
             cut_distance_m: 0.5,
             cut_angle_deg: 30.0,
-            // The most accurate in every motion measured, and no slower (BENCHMARKS.md,
-            // "Accumulation in the output pass").
+            // The most accurate in every motion measured, and no slower
+            // (docs/notebook/2026-11-26-accumulation-in-the-output-pass.md).
             clip: HistoryClip::Moved,
             filter: HistoryFilter::Bilinear,
             // The cross is faster but flickers more along a walk, and no GPU has timed it yet.
@@ -281,8 +282,8 @@ impl Default for TemporalConfig {
             // The weighted sample's gain at the recommended density 0.6 holds at the panel
             // (2–3 % in the walk's p99 and flicker, both gazes), but it costs 2–6 % of the
             // walk's frame there in four runs, two of them side by side within 1 %, and the
-            // default was to cost no measurable time (BENCHMARKS.md, "Every neighbour
-            // as a new sample").
+            // default was to cost no measurable time
+            // (docs/notebook/2026-11-28-every-neighbour-as-a-new-sample.md).
             new_sample: NewSample::Nearest,
         }
     }

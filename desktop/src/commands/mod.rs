@@ -11,6 +11,7 @@ pub mod mffr;
 mod motion_frontier;
 pub mod pixels;
 pub mod render;
+pub mod results;
 pub mod view;
 pub mod xr;
 
