@@ -37,8 +37,12 @@ done
 # The library's examples (core/examples), each run as a user would run it.
 echo "=== the examples"
 ran=() broke=()
-for example in headless own_images engine_loop judge bring_your_own_draws; do
-    if cargo run -q -p foveate --example "$example" >"$log" 2>&1; then
+# Each with its arguments (the eccentricity rings at a small size: their run is the notebook's).
+for run in headless own_images engine_loop judge bring_your_own_draws \
+    "eflip_by_eccentricity --res 256 0.6 0.6:accumulated"; do
+    read -r example args <<<"$run"
+    # shellcheck disable=SC2086 # the arguments split on purpose
+    if cargo run -q -p foveate --example "$example" -- $args >"$log" 2>&1; then
         ran+=("$example")
     else
         cat "$log"
