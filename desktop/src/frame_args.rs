@@ -4,8 +4,8 @@
 use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{
-    ClipNeighbourhood, FoveationConfig, HistoryClip, HistoryFilter, NewSample, PeripheryFilter,
-    TemporalConfig,
+    ClipNeighbourhood, FoveationConfig, HistoryAt, HistoryClip, HistoryFilter, NewSample,
+    PeripheryFilter, TemporalConfig,
 };
 use foveate::mffr::MffrConfig;
 use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
@@ -108,6 +108,12 @@ pub struct ConfigArgs {
     /// Default: the library's.
     #[arg(long)]
     pub temporal_new_sample: Option<NewSample>,
+    /// With --temporal: where the history's pixels lie: `output` (the output's pixels, in the
+    /// output pass: detail beyond the periphery's density) or `periphery` (the periphery's own
+    /// texels, in a pass of its own: the periphery anti-aliased, a history density² the size).
+    /// Default: the library's.
+    #[arg(long)]
+    pub temporal_history: Option<HistoryAt>,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -417,6 +423,7 @@ impl ConfigArgs {
                     filter: self.temporal_filter.unwrap_or(default.filter),
                     neighbourhood: self.temporal_neighbourhood.unwrap_or(default.neighbourhood),
                     new_sample: self.temporal_new_sample.unwrap_or(default.new_sample),
+                    history_at: self.temporal_history.unwrap_or(default.history_at),
                     ..default
                 }
             }),
@@ -505,6 +512,7 @@ impl ConfigArgs {
                     given("--temporal-filter", &self.temporal_filter),
                     given("--temporal-neighbourhood", &self.temporal_neighbourhood),
                     given("--temporal-new-sample", &self.temporal_new_sample),
+                    given("--temporal-history", &self.temporal_history),
                 ],
             ),
             (

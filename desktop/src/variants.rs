@@ -2,8 +2,8 @@
 //! periphery at its own density and sample count, and accumulated over frames.
 
 use foveate::foveation::{
-    ClipNeighbourhood, FoveationConfig, HistoryClip, HistoryFilter, NewSample, PeripheryFilter,
-    TemporalConfig,
+    ClipNeighbourhood, FoveationConfig, HistoryAt, HistoryClip, HistoryFilter, NewSample,
+    PeripheryFilter, TemporalConfig,
 };
 
 /// Each foveated variant as it is, then with the periphery at each of `densities` and at each
@@ -64,6 +64,11 @@ pub struct Accumulation {
     /// (default: the library's).
     #[arg(long, value_delimiter = ',')]
     pub new_samples: Vec<NewSample>,
+    /// With --temporal: one accumulated row per place the history keeps its pixels: `output`
+    /// (the output's pixels), `periphery` (the periphery's own texels) (default: the
+    /// library's).
+    #[arg(long, value_delimiter = ',')]
+    pub histories: Vec<HistoryAt>,
     /// With --temporal: a settled pixel's weight for a new sample (0 < w ≤ 1; default: the
     /// library's).
     #[arg(long)]
@@ -117,17 +122,24 @@ pub fn with_temporal(
         [] => &[default.new_sample][..],
         given => given,
     };
+    let histories = match &accumulation.histories[..] {
+        [] => &[default.history_at][..],
+        given => given,
+    };
     let mut ways = Vec::new();
     for &clip in clips {
         for &filter in filters {
             for &neighbourhood in neighbourhoods {
-                ways.extend(new_samples.iter().map(|&new_sample| TemporalConfig {
-                    clip,
-                    filter,
-                    neighbourhood,
-                    new_sample,
-                    ..default
-                }));
+                for &new_sample in new_samples {
+                    ways.extend(histories.iter().map(|&history_at| TemporalConfig {
+                        clip,
+                        filter,
+                        neighbourhood,
+                        new_sample,
+                        history_at,
+                        ..default
+                    }));
+                }
             }
         }
     }
@@ -179,6 +191,9 @@ fn way_words(way: TemporalConfig, default: TemporalConfig) -> String {
     }
     if way.new_sample != default.new_sample {
         words.push(format!("{} sample", way.new_sample));
+    }
+    if way.history_at != default.history_at {
+        words.push(format!("history at the {}'s pixels", way.history_at));
     }
     match words.is_empty() {
         true => String::new(),

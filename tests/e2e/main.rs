@@ -28,6 +28,7 @@ mod robustness;
 mod shaders;
 mod stereo;
 mod temporal;
+mod temporal_history_at;
 mod temporal_lens;
 mod temporal_motion;
 mod temporal_msaa;

@@ -3,7 +3,8 @@
 //! covered the periphery before a gaze jump; everywhere after a teleport).
 
 use foveate::foveation::{
-    fovea_centre_px, fovea_views, ClipNeighbourhood, FoveationConfig, HistoryFilter, TemporalConfig,
+    fovea_centre_px, fovea_views, ClipNeighbourhood, FoveationConfig, HistoryAt, HistoryFilter,
+    TemporalConfig,
 };
 use foveate::metrics::RgbaImage;
 use foveate::plan::{FoveaLayout, FramePlan, OutputStage, RenderConfig, Resolution, StereoMode};
@@ -196,7 +197,7 @@ fn differing(a: &StereoImage, b: &StereoImage, region: &[Vec<bool>; 2]) -> (usiz
 }
 
 /// Pixels more than `levels` 8-bit levels apart in some channel, over `region` (both eyes).
-fn differing_by(
+pub(crate) fn differing_by(
     a: &StereoImage,
     b: &StereoImage,
     region: &[Vec<bool>; 2],
@@ -229,12 +230,25 @@ fn differing_by(
 /// old hole a fresh frame's, and fails it.
 #[test]
 fn a_gaze_jump_starts_the_old_fovea_from_what_it_showed() {
+    let (fovea, jumped, fresh) = gaze_jump(HistoryAt::Output);
+    assert!(
+        jumped < 0.5 * (fovea + fresh),
+        "after the jump the old hole's error is {jumped}: the fovea's was {fovea}, a fresh \
+         frame's is {fresh}"
+    );
+}
+
+/// Over the old hole, the old fovea's error (the frame before a gaze jump), the error after
+/// the jump, and a fresh renderer's there, the history kept `history_at`; asserts the negative
+/// control (the fovea was closer to the reference there than a fresh periphery).
+pub(crate) fn gaze_jump(history_at: HistoryAt) -> (f64, f64, f64) {
     let gpu = gpu();
     let scene = atrium_scene();
     let config = config(
         SCREEN,
         Some(TemporalConfig {
             jitter_cycle: 1,
+            history_at,
             ..Default::default()
         }),
     );
@@ -274,11 +288,7 @@ fn a_gaze_jump_starts_the_old_fovea_from_what_it_showed() {
         fovea < fresh,
         "negative control: the fovea ({fovea}) is no closer than the periphery ({fresh})"
     );
-    assert!(
-        jumped < 0.5 * (fovea + fresh),
-        "after the jump the old hole's error is {jumped}: the fovea's was {fovea}, a fresh \
-         frame's is {fresh}"
-    );
+    (fovea, jumped, fresh)
 }
 
 /// A teleport is a cut: the frame after it is exactly a fresh renderer's first frame there.

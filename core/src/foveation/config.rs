@@ -1,4 +1,4 @@
-use super::temporal::TemporalConfig;
+use super::temporal::{HistoryAt, TemporalConfig};
 use crate::vocab::{named_enum, ConfigError, Resolution};
 
 /// How the output stage upscales the periphery to the screen.
@@ -56,8 +56,9 @@ pub struct FoveationConfig {
     /// (its jitter antialiases it: 4× was measured no better along the walk at the Quest Pro's
     /// panel, and slower on lavapipe). The fovea views always use the frame's.
     pub periphery_msaa: Option<u32>,
-    /// Temporal accumulation of the periphery in the output pass (jittered views, a history at
-    /// the output's pixels); `None`: each frame's periphery alone, upscaled by
+    /// Temporal accumulation of the periphery (jittered views, a history at the output's pixels
+    /// in the output pass or at the periphery's own texels in a pass before it:
+    /// [`TemporalConfig::history_at`]); `None`: each frame's periphery alone, upscaled by
     /// `periphery_filter`.
     pub periphery_temporal: Option<TemporalConfig>,
 }
@@ -100,7 +101,8 @@ pub const PERIPHERY_REACH_TEXELS: f32 = 3.5;
 pub const FOVEA_REACH_TEXELS: f32 = 1.5;
 
 /// How far past the point it samples, in screen pixels, the output stage's filters reach into
-/// the accumulated periphery (it is at the screen's density).
+/// the accumulated periphery at the screen's density (in its texels where it is accumulated at
+/// the periphery's own, `HistoryAt::Periphery`).
 pub const ACCUMULATED_REACH_PX: f32 = 3.0;
 
 /// Foveation as the planner resolved it for a screen resolution.
@@ -229,10 +231,13 @@ impl FoveationConfig {
         // into the periphery). Cut up to the edge, a band of 0 showed the cleared hole as a
         // ring around the fovea.
         let margin = |reach: f32| if self.mask_margins { reach } else { 0.0 };
-        let accumulated_reach = if self.periphery_temporal.is_some() {
-            margin(ACCUMULATED_REACH_PX)
-        } else {
-            0.0
+        // Accumulated at the periphery's own texels, the filters' reach is in its texels.
+        let accumulated_reach = match self.periphery_temporal {
+            None => 0.0,
+            Some(t) if t.history_at == HistoryAt::Periphery => {
+                margin(ACCUMULATED_REACH_PX) / periphery_scale
+            }
+            Some(_) => margin(ACCUMULATED_REACH_PX),
         };
         let accumulated_hole_px = fovea_screen_px - 2.0 * (band + accumulated_reach);
         let periphery_hole_px =
@@ -375,6 +380,35 @@ mod tests {
         ] {
             assert_eq!(config.geometry(screen).unwrap_err().field, field);
         }
+    }
+
+    /// The output pass's filters reach 3 texels into the accumulated periphery: screen pixels
+    /// where it is at the output's pixels, the periphery's texels (1 / density of a pixel
+    /// each) where it is at its own. The hole keeps clear of that reach. Mutation: the reach
+    /// left in screen pixels for both fails it.
+    #[test]
+    fn the_hole_keeps_clear_of_the_accumulated_periphery_in_its_own_texels() {
+        let screen = Resolution::square(1024);
+        let hole = |history_at| {
+            FoveationConfig {
+                ratio: 0.5,
+                periphery_density: Some(0.25),
+                blend_band_px: 0.0,
+                periphery_temporal: Some(TemporalConfig {
+                    history_at,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            }
+            .geometry(screen)
+            .unwrap()
+            .accumulated_hole_px
+        };
+        assert_eq!(hole(HistoryAt::Output), 512.0 - 2.0 * ACCUMULATED_REACH_PX);
+        assert_eq!(
+            hole(HistoryAt::Periphery),
+            512.0 - 2.0 * ACCUMULATED_REACH_PX / 0.25
+        );
     }
 
     #[test]

@@ -27,6 +27,6 @@ pub use latency::{
     detect_saccades, DelayedGaze, GazeLatency, Prediction, MAX_LATENCY_MS, SACCADE_THRESHOLD_DEG_S,
 };
 pub use temporal::{
-    halton, ClipNeighbourhood, HistoryClip, HistoryFilter, NewSample, TemporalConfig,
+    halton, ClipNeighbourhood, HistoryAt, HistoryClip, HistoryFilter, NewSample, TemporalConfig,
 };
 pub use views::{fovea_centre_px, fovea_views, gaze_tangent, mask_shapes};

@@ -37,6 +37,44 @@ pub struct TemporalConfig {
     pub neighbourhood: ClipNeighbourhood,
     /// What of this frame's periphery is blended into the history at a pixel.
     pub new_sample: NewSample,
+    /// Where the history's pixels lie: the output's or the periphery's own texels.
+    pub history_at: HistoryAt,
+}
+
+/// Where the accumulated periphery's history keeps its pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HistoryAt {
+    /// The output's pixels, in the output pass: the jittered samples land all over each output
+    /// pixel, so the history holds detail beyond the periphery's density (supersampled over
+    /// time), at the price of a full-view history read and written every frame.
+    Output,
+    /// The periphery's own texels, in a pass of its own at the periphery's size before the
+    /// output pass, which then upscales the accumulated periphery as it would a single frame:
+    /// the periphery anti-aliased over time but no sharper than its density, for a history
+    /// the density² of the output's pixels.
+    Periphery,
+}
+
+impl std::fmt::Display for HistoryAt {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            HistoryAt::Output => "output",
+            HistoryAt::Periphery => "periphery",
+        })
+    }
+}
+
+impl std::str::FromStr for HistoryAt {
+    type Err = ConfigError;
+
+    /// `output` or `periphery`.
+    fn from_str(s: &str) -> Result<Self, ConfigError> {
+        match s {
+            "output" => Ok(HistoryAt::Output),
+            "periphery" => Ok(HistoryAt::Periphery),
+            _ => Err(ConfigError::new("history at", s, "output or periphery")),
+        }
+    }
 }
 
 /// What of this frame's periphery enters the history at a pixel, each periphery texel weighted
@@ -285,6 +323,7 @@ impl Default for TemporalConfig {
             // default was to cost no measurable time
             // (docs/notebook/2026-11-28-every-neighbour-as-a-new-sample.md).
             new_sample: NewSample::Nearest,
+            history_at: HistoryAt::Output,
         }
     }
 }

@@ -10,19 +10,22 @@ use super::masks::{add_mask_fans, mask_pipeline};
 use super::mffr::{add_far_composite, far_composite_pipeline, far_pass};
 use super::model::*;
 use super::ops::AttachmentId;
-use super::output::{apply_output_format, check_external_output, output_pass, output_pipeline};
+use super::output::{
+    apply_output_format, check_external_output, output_pass, output_pipeline,
+    periphery_accumulation_pass,
+};
 use super::pipeline::{PipelineDesc, StepContext};
 use super::probe::{add_probe, probe_pipeline};
 use super::radial_density::{add_radial_density, radial_mask_pipeline, reconstruct_pipeline};
 use super::scene_sizes::{lod_plan, plan_instance_buffers, spare_total};
 use super::steps::{DrawSet, OutputSource, Step};
 use super::stereo_scene::{scene_passes, scene_pipeline, FoveaPasses, ViewSet};
-use super::temporal::add_accumulation;
+use super::temporal::{add_accumulation, periphery_image};
 use super::validate::*;
 use super::{
     ConfigError, DeviceCaps, FoveaLayout, OutputStage, RenderConfig, Resolution, StereoMode,
 };
-use crate::foveation::FoveationGeometry;
+use crate::foveation::{FoveationGeometry, HistoryAt};
 use crate::mffr::MffrGeometry;
 use crate::scene::{Scene, Shading, MAX_POINT_LIGHTS};
 use crate::view::{Eye, EyeParams, HmdProfile, LensRegion};
@@ -343,23 +346,33 @@ fn add_technique_steps(
     let mut images: Vec<AttachmentId> = (0..attachments.len())
         .filter(|&i| attachments[i].read_after_frame)
         .collect();
-    // The output stage accumulates the periphery: it samples the history and the periphery's
-    // depth after its sources, and writes the next history beside the output.
-    let accumulation = foveation
-        .and_then(|f| f.temporal)
-        .and_then(|_| add_accumulation(passes, attachments, eye_resolution));
-    if let Some(a) = &accumulation {
+    // The periphery accumulated over frames: in the output pass, which samples the history and
+    // the periphery's depth after its sources and writes the next history beside the output;
+    // or at the periphery's own texels, in a pass of its own whose image the output pass then
+    // composes as it would a single frame's periphery.
+    let temporal = foveation.and_then(|f| f.temporal);
+    let periphery = temporal
+        .filter(|t| t.history_at == HistoryAt::Periphery)
+        .and_then(|_| periphery_image(passes, attachments));
+    let history_size = periphery.map_or(eye_resolution, |(_, size, _)| size);
+    let accumulation = temporal.and_then(|_| add_accumulation(passes, attachments, history_size));
+    let mut in_output = accumulation.is_some();
+    if let (Some(a), Some((_, size, format))) = (&accumulation, periphery) {
+        let mut sources = images.clone();
+        sources.extend(a.samples());
+        let mut pass = periphery_accumulation_pass(sources, source, size, format, attachments);
+        pass.history = Some(a.written());
+        images = vec![pass.color.attachment, *images.last()?];
+        passes.push(pass);
+        in_output = false;
+    } else if let Some(a) = &accumulation {
         images.extend(a.samples());
     }
-    let mut output = output_pass(
-        images,
-        source,
-        lens,
-        accumulation.is_some(),
-        eye_resolution,
-        attachments,
-    );
-    output.history = accumulation.as_ref().map(|a| a.written());
+    let mut output = output_pass(images, source, lens, in_output, eye_resolution, attachments);
+    output.history = accumulation
+        .as_ref()
+        .filter(|_| in_output)
+        .map(|a| a.written());
     passes.push(output);
     accumulation.map(|a| (a.pair, a.depth))
 }

@@ -55,6 +55,8 @@ mod depth_resolve_tests;
 #[cfg(test)]
 mod effect_tests;
 #[cfg(test)]
+mod history_at_tests;
+#[cfg(test)]
 mod pipeline_tests;
 #[cfg(test)]
 mod robustness_tests;

@@ -38,12 +38,18 @@ pub enum PassKind {
     FarField,
     /// Radial density masking: the skipped quads filled from their neighbours.
     Reconstruct,
+    /// The periphery accumulated over frames at its own texels, before the output pass
+    /// composes it ([`HistoryAt::Periphery`](crate::foveation::HistoryAt::Periphery)).
+    Accumulate,
 }
 
 impl PassKind {
     /// A pass of one full-view draw per eye sampling earlier images (not the scene).
     pub fn is_full_view(self) -> bool {
-        matches!(self, PassKind::Output | PassKind::Reconstruct)
+        matches!(
+            self,
+            PassKind::Output | PassKind::Reconstruct | PassKind::Accumulate
+        )
     }
 }
 

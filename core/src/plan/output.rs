@@ -49,6 +49,47 @@ pub(super) fn output_pass(
             lens,
             source,
             temporal,
+            periphery_only: false,
+        }),
+    )
+}
+
+/// The pass that accumulates the periphery at its own texels (`size`, in `format`) before the
+/// output pass composes it ([`HistoryAt::Periphery`](crate::foveation::HistoryAt::Periphery)):
+/// the output stage's accumulation with no fovea over it and no lens, sampling `sources` as a
+/// temporal output pass does. Its target holds each eye's accumulated periphery, which the
+/// output pass samples in place of the periphery's own image.
+pub(super) fn periphery_accumulation_pass(
+    sources: Vec<AttachmentId>,
+    source: OutputSource,
+    size: Resolution,
+    format: Format,
+    attachments: &mut Vec<AttachmentPlan>,
+) -> PassPlan {
+    attachments.push(AttachmentPlan {
+        name: "periphery, accumulated",
+        role: AttachmentRole::Color,
+        format,
+        samples: 1,
+        width: size.width,
+        height: size.height,
+        layers: 2,
+        read_after_frame: true,
+        sampled: false,
+        transient: false,
+    });
+    let target = attachments.len() - 1;
+    full_view_pass(
+        sources,
+        target,
+        attachments,
+        "periphery accumulated at its own texels",
+        PassKind::Accumulate,
+        Step::Output(OutputStep {
+            lens: false,
+            source,
+            temporal: true,
+            periphery_only: true,
         }),
     )
 }

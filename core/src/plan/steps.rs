@@ -159,6 +159,10 @@ pub struct OutputStep {
     /// read from the pass's last two sampled images (the history, the periphery's depth), the
     /// next history written beside the output (the pass's `history`).
     pub temporal: bool,
+    /// The pass accumulates the periphery alone at its own texels
+    /// ([`HistoryAt::Periphery`](crate::foveation::HistoryAt::Periphery)): no fovea over it,
+    /// no lens; the output pass composes what it writes.
+    pub periphery_only: bool,
 }
 
 /// Where the output stage finds each eye's rendered image.
@@ -341,6 +345,9 @@ impl fmt::Display for Step {
             } => format!("scene (cull slot {slot})"),
             Step::Scene { .. } => "scene".to_string(),
             Step::Probe { .. } => "probe".to_string(),
+            Step::Output(o) if o.periphery_only => {
+                "output (the periphery alone, at its own texels, accumulated)".to_string()
+            }
             Step::Output(o) => {
                 format!(
                     "output ({}{})",

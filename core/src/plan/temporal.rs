@@ -5,6 +5,9 @@
 //! next history as a second attachment beside what the display shows. The history is a pair of
 //! images that swap roles every frame (a pass cannot sample the image it writes), so nothing
 //! copies it; at the output's pixels, in 32 bits a pixel (10-bit square roots of linear light).
+//! With [`HistoryAt::Periphery`](crate::foveation::HistoryAt::Periphery) the same accumulation
+//! runs in a pass of its own at the periphery's size (`output::periphery_accumulation_pass`),
+//! its history at the periphery's texels, and the output pass composes its image.
 
 use super::model::{AttachmentPlan, AttachmentRole, Format, HistoryPair, PassKind, PassPlan};
 use super::ops::{Access, AttachmentId};
@@ -94,4 +97,22 @@ pub(super) fn add_accumulation(
             written: depth,
         },
     })
+}
+
+/// The periphery's image (its resolve when multisampled), its size and format: what the
+/// periphery pass (the scene pass of views 0 and 1) leaves for the passes after it.
+pub(super) fn periphery_image(
+    passes: &[PassPlan],
+    attachments: &[AttachmentPlan],
+) -> Option<(AttachmentId, Resolution, Format)> {
+    let pass = passes
+        .iter()
+        .find(|p| p.kind == PassKind::Scene && p.first_view == 0)?;
+    let id = pass.resolve.unwrap_or(pass.color).attachment;
+    let a = &attachments[id];
+    let size = Resolution {
+        width: a.width,
+        height: a.height,
+    };
+    Some((id, size, a.format))
 }

@@ -2,7 +2,9 @@
 //! lens, each pixel undistorted then fetched; for a foveated frame, the periphery upscaled
 //! bilinearly (or accumulated over frames: `temporal.rs`) and the fovea blended over it with
 //! smoothstep across the band: its descriptor sets, sampler and uniforms (its pipeline is its
-//! step's, like every other).
+//! step's, like every other). A periphery accumulated at its own texels runs the same stage
+//! once more before the output pass, at the periphery's size with no fovea and no lens: one
+//! `OutputStage` per output step.
 
 use glam::Vec4;
 
@@ -13,7 +15,7 @@ use super::sampled_set::SampledSet;
 use super::temporal::{tangents, AccumulateBlock, TemporalAccumulation};
 use crate::foveation::TemporalConfig;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
-use crate::plan::{FramePlan, PassPlan, Step};
+use crate::plan::{FramePlan, OutputStep, PassPlan, Step};
 use crate::view::Eye;
 
 /// The output stage's uniform block (`Output` in `shaders/output.frag`, std140).
@@ -29,19 +31,25 @@ struct OutputBlock {
 }
 
 pub(crate) struct OutputStage {
+    /// The step it serves: the output pass's, or the periphery's accumulation at its own
+    /// texels before it.
+    step: OutputStep,
+    /// The size of each eye's image the pass writes (pixels).
+    screen: [u32; 2],
     /// One per frame parity (the images of a history pair swap roles), one per frame slot.
     sets: [Vec<SampledSet>; 2],
     temporal: Option<TemporalAccumulation>,
 }
 
 impl OutputStage {
-    /// Sets up sampling of the images the output pass reads, as even and odd frames find them
-    /// (`images`: its two sources, then with accumulation the history and the periphery's
+    /// Sets up sampling of the images the pass of `step` reads, as even and odd frames find
+    /// them (`images`: its two sources, then with accumulation the history and the periphery's
     /// depths, this frame's and the frame before's), counting into each frame slot's counter
-    /// (`counters`) in counting frames.
+    /// (`counters`) in counting frames. `screen`: the size of each eye's image it writes.
     pub fn new(
         gpu: &Gpu,
         plan: &FramePlan,
+        (step, screen): (OutputStep, [u32; 2]),
         images: [Vec<&Image>; 2],
         temporal: Option<TemporalConfig>,
         counters: &[Option<&Buffer>],
@@ -56,6 +64,8 @@ impl OutputStage {
             Vec::new()
         };
         Ok(OutputStage {
+            step,
+            screen,
             sets: [set(0)?, odd],
             temporal: temporal.map(|t| TemporalAccumulation::new(plan, t)),
         })
@@ -80,35 +90,39 @@ impl Executor for OutputStage {
         let (k1, k2) = plan
             .lens
             .map_or((0.0, 0.0), |l| (l.distortion.k1, l.distortion.k2));
+        // The periphery accumulated at its own texels has no fovea over it (a fovea of
+        // diameter 0) and its hole in the periphery's texels.
+        let texels_per_px = self.screen[0] as f32 / plan.eye_resolution.width as f32;
+        let params = match plan.foveation {
+            Some(_) if self.step.periphery_only => Vec4::ZERO,
+            Some(g) => Vec4::new(
+                g.fovea_screen_px,
+                g.blend_band_px,
+                g.debug_tint as u32 as f32,
+                g.periphery_sharpen,
+            ),
+            None => Vec4::ZERO,
+        };
         let block = OutputBlock {
             periphery,
             fovea: fovea.map_or(periphery, |f| f.map(tangents)),
             display: plan.lens.map_or(periphery, |l| l.display.map(tangents)),
-            params: plan.foveation.map_or(Vec4::ZERO, |g| {
-                Vec4::new(
-                    g.fovea_screen_px,
-                    g.blend_band_px,
-                    g.debug_tint as u32 as f32,
-                    g.periphery_sharpen,
-                )
-            }),
-            screen: Vec4::new(
-                plan.eye_resolution.width as f32,
-                plan.eye_resolution.height as f32,
-                k1,
-                k2,
-            ),
+            params,
+            screen: Vec4::new(self.screen[0] as f32, self.screen[1] as f32, k1, k2),
             accumulate: self
                 .temporal
                 .as_mut()
-                .map_or_else(AccumulateBlock::default, |t| t.next_block(frame)),
+                .map_or_else(AccumulateBlock::default, |t| {
+                    t.next_block(frame, texels_per_px)
+                }),
         };
         let parity = self.of(frame.parity);
         self.sets[parity][slot].uniforms.write(&[block]);
     }
 
     fn descriptors(&self, step: &Step, slot: usize, parity: usize) -> Option<&DescriptorSet> {
-        matches!(step, Step::Output(_)).then_some(&self.sets[self.of(parity)][slot].descriptors)
+        matches!(step, Step::Output(o) if *o == self.step)
+            .then_some(&self.sets[self.of(parity)][slot].descriptors)
     }
 }
 

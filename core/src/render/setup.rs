@@ -15,7 +15,7 @@ use super::stats::PASS_STATISTICS;
 use super::targets::{compile_pass, CompiledPass};
 use super::vulkan_recorder::BoundStep;
 use crate::gpu::{Buffer, Gpu, GpuError, Image, MemoryLocation, QueryPool, VkResultExt};
-use crate::plan::{AttachmentId, BufferPlan, FramePlan, PassKind, Step};
+use crate::plan::{AttachmentId, BufferPlan, FramePlan, Step};
 use crate::scene::{Scene, Shading};
 
 /// The executors of the steps that sample earlier passes' images, each when planned: the output
@@ -30,10 +30,18 @@ pub(super) fn sampling_executors(
     counters: &[Option<&Buffer>],
 ) -> Result<Vec<Box<dyn Executor>>, GpuError> {
     let mut executors: Vec<Box<dyn Executor>> = Vec::new();
-    if let Some(p) = plan.passes.iter().find(|p| p.kind == PassKind::Output) {
+    // The output pass, and before it the periphery's accumulation at its own texels when
+    // planned: each an output step with its own sampled sets.
+    for p in &plan.passes {
+        let Some(&Step::Output(step)) = p.steps.first() else {
+            continue;
+        };
         // With accumulation the history and the periphery's depths (this frame's, the frame
         // before's) follow the pass's sources.
-        let temporal = plan.foveation.and_then(|f| f.temporal);
+        let temporal = plan
+            .foveation
+            .and_then(|f| f.temporal)
+            .filter(|_| step.temporal);
         let sources = p.samples.len() - 3 * temporal.is_some() as usize;
         // Two images always: the shader declares both (a one-image source twice); then the
         // accumulation's, as frames of each parity find them.
@@ -43,9 +51,11 @@ pub(super) fn sampling_executors(
             ids.extend((sources..p.samples.len()).map(id));
             ids.into_iter().map(|i| &images[i]).collect::<Vec<_>>()
         };
+        let target = &plan.attachments[p.color.attachment];
         executors.push(Box::new(OutputStage::new(
             gpu,
             plan,
+            (step, [target.width, target.height]),
             [of_frame(0), of_frame(1)],
             temporal,
             counters,

@@ -50,9 +50,11 @@ impl TemporalAccumulation {
 
     /// This frame's block: the reprojection from its eyes into the previous frame's clip
     /// space, the jitter, and a reset on the first frame and at a cut. Advances the state.
-    pub fn next_block(&mut self, frame: &FrameContext) -> AccumulateBlock {
+    /// `texels_per_px`: the history's pixels per output pixel (1, or the periphery's density
+    /// where it accumulates at its own texels).
+    pub fn next_block(&mut self, frame: &FrameContext, texels_per_px: f32) -> AccumulateBlock {
         let plan = frame.plan;
-        let hole_px = plan.foveation.map_or(0.0, |g| g.accumulated_hole_px);
+        let hole_px = plan.foveation.map_or(0.0, |g| g.accumulated_hole_px) * texels_per_px;
         let world_from_eye = Eye::BOTH.map(|e| frame.views.views[e.index()].0);
         let reset = self
             .previous

@@ -1,0 +1,94 @@
+//! The periphery accumulated at its own texels (`HistoryAt::Periphery`): a pass of its own
+//! before the output pass, which composes the accumulated periphery as it would one frame's.
+
+use foveate::foveation::{HistoryAt, TemporalConfig};
+use foveate::plan::RenderConfig;
+use foveate::scene::atrium_scene;
+use foveate_tests::gpu;
+use glam::Vec2;
+
+use super::temporal::{
+    config, differing_by, periphery_error, periphery_only, render_sequence, supersampled,
+};
+
+const SCREEN: u32 = 128;
+
+fn at_periphery(jitter_cycle: u32) -> RenderConfig {
+    config(
+        SCREEN,
+        Some(TemporalConfig {
+            history_at: HistoryAt::Periphery,
+            jitter_cycle,
+            ..Default::default()
+        }),
+    )
+}
+
+/// Without jitter, the first frame accumulated at the periphery's texels (a fresh history: the
+/// periphery itself, texel for texel) composes into the single frame's output: no pixel more
+/// than one 8-bit level apart, over the whole image, fovea and band included. Mutations: the
+/// accumulation pass given the output's size as its screen (its pixels then read the wrong
+/// texels), or a fovea left in it (composed twice), fail it.
+#[test]
+fn unjittered_the_periphery_history_composes_the_single_frame() {
+    let gpu = gpu();
+    let scene = atrium_scene();
+    let pose = [(scene.head, Vec2::new(0.3, -0.2))];
+    let (plan, single) = render_sequence(&gpu, &scene, &config(SCREEN, None), &pose, |_| true);
+    let (_, accumulated) = render_sequence(&gpu, &scene, &at_periphery(1), &pose, |_| true);
+    let everywhere = [0, 1].map(|_| vec![true; (SCREEN * SCREEN) as usize]);
+    let (apart, pixels) = differing_by(&single[0], &accumulated[0], &everywhere, 1);
+    assert_eq!(
+        apart, 0,
+        "{apart} of {pixels} pixels differ by more than one level ({:?})",
+        plan.eye_resolution
+    );
+}
+
+/// On a still frame the periphery accumulated at its own texels approaches the supersampled
+/// reference as frames go by, and ends closer to it than one frame's periphery; the history at
+/// the output's pixels, which gathers detail beyond the periphery's density, ends closer still.
+/// Negative control in the test: without jitter the history gains nothing from frame to frame.
+/// Mutations: the jitter left out of the accumulation pass's block (samples credited to the
+/// wrong texels), or the history never blended, fail it.
+#[test]
+fn the_periphery_history_converges_on_a_still_frame() {
+    let gpu = gpu();
+    let scene = atrium_scene();
+    let frames = 24;
+    let still = vec![(scene.head, Vec2::ZERO); frames];
+    let reference = supersampled(&gpu, &scene, still[0]);
+    let error = |config: &RenderConfig| {
+        let (plan, images) =
+            render_sequence(&gpu, &scene, config, &still, |f| f == 0 || f == frames - 1);
+        let region = periphery_only(&plan, Vec2::ZERO);
+        images
+            .iter()
+            .map(|i| periphery_error(i, &reference, &region))
+            .collect::<Vec<f64>>()
+    };
+    let single = error(&config(SCREEN, None));
+    let at_output = error(&config(SCREEN, Some(TemporalConfig::default())));
+    let accumulated = error(&at_periphery(TemporalConfig::default().jitter_cycle));
+    let unjittered = error(&at_periphery(1));
+    eprintln!(
+        "periphery error (first, last frame): one frame {single:?}, history at the output \
+         {at_output:?}, at the periphery {accumulated:?}, unjittered {unjittered:?}"
+    );
+    assert!(
+        accumulated[1] < 0.95 * accumulated[0],
+        "the error falls with frames: {accumulated:?}"
+    );
+    assert!(
+        accumulated[1] < single[1],
+        "{accumulated:?} against one frame's {single:?}"
+    );
+    assert!(
+        at_output[1] < accumulated[1],
+        "the output's pixels hold more detail: {at_output:?} against {accumulated:?}"
+    );
+    assert!(
+        (unjittered[1] - unjittered[0]).abs() < 0.02 * unjittered[0],
+        "negative control: without jitter nothing new arrives: {unjittered:?}"
+    );
+}
