@@ -19,6 +19,10 @@ layout(constant_id = 32) const uint FOVEA_LAYER = 2;
 layout(constant_id = 33) const bool SHARPEN = false;
 // Upscale the periphery with Catmull-Rom instead of bilinearly.
 layout(constant_id = 34) const bool CATMULL_ROM = false;
+// The periphery accumulated alone at its own texels (HistoryAt::Periphery), before the output
+// pass composes it: this pass writes the accumulated periphery, and keeps in the history over
+// the periphery's hole what the fovea shows there (the fovea's place and band in its texels).
+layout(constant_id = 39) const bool PERIPHERY_ONLY = false;
 
 layout(set = 0, binding = 0) uniform sampler2DArray images;
 layout(set = 0, binding = 3) uniform sampler2DArray second;
@@ -156,7 +160,8 @@ void main() {
 #ifdef TEMPORAL
         // Accumulated wherever the periphery was rendered, shown or not (under the fovea's
         // edge it is ready when the gaze moves).
-        color += (1.0 - w) * accumulate(eye, uv, t, td, out_history);
+        vec3 accumulated = accumulate(eye, uv, t, td, out_history);
+        color += PERIPHERY_ONLY ? accumulated : (1.0 - w) * accumulated;
 #ifdef COUNT_FRAGMENTS
         count_history_outcome(w);
 #endif
@@ -166,18 +171,17 @@ void main() {
             color += (1.0 - w) * periphery(eye, uv);
         }
 #endif
-        float fovea_alpha = 1.0;
+        vec4 fovea = vec4(0.0, 0.0, 0.0, 1.0);
         if (w > 0.0) {
-            vec4 fovea = texture(second, vec3(fovea_uv, float(FOVEA_LAYER + eye)));
-            color += w * fovea.rgb;
-            fovea_alpha = fovea.a;
+            fovea = texture(second, vec3(fovea_uv, float(FOVEA_LAYER + eye)));
+            color += PERIPHERY_ONLY ? vec3(0.0) : w * fovea.rgb;
         }
 #ifdef TEMPORAL
         // Over the periphery's hole the history keeps what the fovea shows: when the gaze moves
         // on, those pixels start from it rather than from the bilinear periphery. Not where an
         // instance that moves shows (alpha below 1): no depth test would catch its trail.
-        if (w >= 1.0 && out_history.a == 0.0 && fovea_alpha >= MOVER_ALPHA) {
-            out_history = to_history(color, FROM_FOVEA);
+        if (w >= 1.0 && out_history.a == 0.0 && fovea.a >= MOVER_ALPHA) {
+            out_history = to_history(fovea.rgb, FROM_FOVEA);
         }
 #endif
         if (c.params.z > 0.5) {

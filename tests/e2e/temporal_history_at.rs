@@ -8,7 +8,7 @@ use foveate_tests::gpu;
 use glam::Vec2;
 
 use super::temporal::{
-    config, differing_by, periphery_error, periphery_only, render_sequence, supersampled,
+    config, differing_by, gaze_jump, periphery_error, periphery_only, render_sequence, supersampled,
 };
 
 const SCREEN: u32 = 128;
@@ -90,5 +90,23 @@ fn the_periphery_history_converges_on_a_still_frame() {
     assert!(
         (unjittered[1] - unjittered[0]).abs() < 0.02 * unjittered[0],
         "negative control: without jitter nothing new arrives: {unjittered:?}"
+    );
+}
+
+/// After a gaze jump, the periphery accumulated at its own texels starts the old fovea's place
+/// from what the fovea showed there (kept in the history over the periphery's hole, at the
+/// periphery's texels), not from a fresh frame: its error there lies below a fresh renderer's.
+/// No jitter, so only the history differs. Mutation run: the pass keeping nothing over the hole
+/// (the fovea's place left out of its block) makes the old hole a fresh frame's, and fails it.
+#[test]
+fn a_gaze_jump_starts_the_old_fovea_from_what_it_showed_at_the_periphery_texels() {
+    let (fovea, jumped, fresh) = gaze_jump(HistoryAt::Periphery);
+    eprintln!(
+        "at the periphery's texels: the fovea's {fovea}, after the jump {jumped}, fresh {fresh}"
+    );
+    assert!(
+        jumped < fresh - 0.25 * (fresh - fovea),
+        "after the jump the old hole's error is {jumped}: the fovea's was {fovea}, a fresh \
+         frame's is {fresh}"
     );
 }

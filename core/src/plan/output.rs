@@ -231,6 +231,7 @@ pub(super) fn output_pipeline(
         .flag(Constant::HistoryCatmullRom, history_catmull_rom)
         .flag(Constant::CrossNeighbourhood, cross)
         .flag(Constant::WeightedNewSample, weighted)
+        .flag(Constant::PeripheryOnly, step.periphery_only)
         .flag(Constant::MarkMoving, step.temporal && marks_moving(plan))
         .constant(
             Constant::HistoryOutcomeBase,

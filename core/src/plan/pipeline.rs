@@ -75,6 +75,10 @@ pub enum Constant {
     /// weighted by its distance, rather than the nearest alone, where the point moved
     /// (`NewSample::Weighted`).
     WeightedNewSample,
+    /// The output stage accumulating the periphery alone at its own texels
+    /// (`HistoryAt::Periphery`): it writes the accumulated periphery, and the history over the
+    /// periphery's hole what the fovea shows.
+    PeripheryOnly,
 }
 
 /// How a constant's 32 bits read.
@@ -90,7 +94,7 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 29] = {
+    pub const ALL: [Constant; 30] = {
         use Constant::*;
         [
             ViewSource,
@@ -122,6 +126,7 @@ impl Constant {
             HistoryCatmullRom,
             CrossNeighbourhood,
             WeightedNewSample,
+            PeripheryOnly,
         ]
     };
 
@@ -159,6 +164,7 @@ impl Constant {
             HistoryCatmullRom => (36, "HISTORY_CATMULL_ROM", Bool),
             CrossNeighbourhood => (37, "CROSS_NEIGHBOURHOOD", Bool),
             WeightedNewSample => (38, "WEIGHTED_NEW_SAMPLE", Bool),
+            PeripheryOnly => (39, "PERIPHERY_ONLY", Bool),
         }
     }
 

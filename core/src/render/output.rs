@@ -90,11 +90,17 @@ impl Executor for OutputStage {
         let (k1, k2) = plan
             .lens
             .map_or((0.0, 0.0), |l| (l.distortion.k1, l.distortion.k2));
-        // The periphery accumulated at its own texels has no fovea over it (a fovea of
-        // diameter 0) and its hole in the periphery's texels.
+        // The periphery accumulated at its own texels measures the fovea, the band and the
+        // hole in its texels.
         let texels_per_px = self.screen[0] as f32 / plan.eye_resolution.width as f32;
         let params = match plan.foveation {
-            Some(_) if self.step.periphery_only => Vec4::ZERO,
+            // The fovea's place and band in the periphery's texels; no tint, no sharpening.
+            Some(g) if self.step.periphery_only => Vec4::new(
+                g.fovea_screen_px * texels_per_px,
+                g.blend_band_px * texels_per_px,
+                0.0,
+                0.0,
+            ),
             Some(g) => Vec4::new(
                 g.fovea_screen_px,
                 g.blend_band_px,
