@@ -46,10 +46,7 @@ pub enum PassKind {
 impl PassKind {
     /// A pass of one full-view draw per eye sampling earlier images (not the scene).
     pub fn is_full_view(self) -> bool {
-        matches!(
-            self,
-            PassKind::Output | PassKind::Reconstruct | PassKind::Accumulate
-        )
+        !matches!(self, PassKind::Scene | PassKind::FarField)
     }
 }
 

@@ -253,6 +253,7 @@ fn the_fovea_layouts_plan_their_passes_and_draw_sets() {
                 sharpen: false
             },
             temporal: false,
+            periphery_only: false,
         })
     );
     let one = planned(&foveated(true));
