@@ -171,8 +171,9 @@ void main() {
             color += (1.0 - w) * periphery(eye, uv);
         }
 #endif
+        // Accumulating the periphery alone, the fovea is read only where the history keeps it.
         vec4 fovea = vec4(0.0, 0.0, 0.0, 1.0);
-        if (w > 0.0) {
+        if (w > 0.0 && (!PERIPHERY_ONLY || w >= 1.0)) {
             fovea = texture(second, vec3(fovea_uv, float(FOVEA_LAYER + eye)));
             color += PERIPHERY_ONLY ? vec3(0.0) : w * fovea.rgb;
         }

@@ -7,7 +7,7 @@
 
 use glam::{Mat4, Vec2};
 
-use crate::vocab::ConfigError;
+use crate::vocab::{named_enum, ConfigError};
 
 /// What a user chooses about the periphery's temporal accumulation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,27 +55,10 @@ pub enum HistoryAt {
     Periphery,
 }
 
-impl std::fmt::Display for HistoryAt {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            HistoryAt::Output => "output",
-            HistoryAt::Periphery => "periphery",
-        })
-    }
-}
-
-impl std::str::FromStr for HistoryAt {
-    type Err = ConfigError;
-
-    /// `output` or `periphery`.
-    fn from_str(s: &str) -> Result<Self, ConfigError> {
-        match s {
-            "output" => Ok(HistoryAt::Output),
-            "periphery" => Ok(HistoryAt::Periphery),
-            _ => Err(ConfigError::new("history at", s, "output or periphery")),
-        }
-    }
-}
+named_enum!(HistoryAt, "history at", [
+    HistoryAt::Output => "output",
+    HistoryAt::Periphery => "periphery",
+]);
 
 /// What of this frame's periphery enters the history at a pixel, each periphery texel weighted
 /// by `exp(−2d²)`, `d` its distance from the pixel's centre in screen pixels (Yang, Nehab &

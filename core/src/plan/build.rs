@@ -356,17 +356,18 @@ fn add_technique_steps(
         .and_then(|_| periphery_image(passes, attachments));
     let history_size = periphery.map_or(eye_resolution, |(_, size, _)| size);
     let accumulation = temporal.and_then(|_| add_accumulation(passes, attachments, history_size));
-    let mut in_output = accumulation.is_some();
-    if let (Some(a), Some((_, size, format))) = (&accumulation, periphery) {
-        let mut sources = images.clone();
-        sources.extend(a.samples());
-        let mut pass = periphery_accumulation_pass(sources, source, size, format, attachments);
-        pass.history = Some(a.written());
-        images = vec![pass.color.attachment, *images.last()?];
-        passes.push(pass);
-        in_output = false;
-    } else if let Some(a) = &accumulation {
-        images.extend(a.samples());
+    let in_output = accumulation.is_some() && periphery.is_none();
+    match (&accumulation, periphery) {
+        (Some(a), Some((_, size, format))) => {
+            let mut sources = images.clone();
+            sources.extend(a.samples());
+            let mut pass = periphery_accumulation_pass(sources, source, size, format, attachments);
+            pass.history = Some(a.written());
+            images = vec![pass.color.attachment, *images.last()?];
+            passes.push(pass);
+        }
+        (Some(a), None) => images.extend(a.samples()),
+        (None, _) => {}
     }
     let mut output = output_pass(images, source, lens, in_output, eye_resolution, attachments);
     output.history = accumulation
