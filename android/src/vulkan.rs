@@ -16,7 +16,8 @@ use raw_window_handle::{HasWindowHandle, RawDisplayHandle};
 
 use crate::app::{Backend, DemoError, Drawn};
 
-/// The frame the demo shows: foveation 0.35 with its default blend band, MSAA 4, the HMD mask,
+/// The frame the demo shows: the library's default foveation (a 0.35 fovea, the periphery at 0.6
+/// accumulated over frames) with its default blend band, MSAA 4, the HMD mask,
 /// through the lens output stage (what a phone in a headset shows), 1024² per eye.
 pub fn demo_config() -> RenderConfig {
     RenderConfig {

@@ -131,7 +131,7 @@ fn main() -> Result<(), Error> {
             ratio: o.ratio,
             periphery_density: Some(density),
             periphery_temporal: accumulated.then(TemporalConfig::default),
-            ..FoveationConfig::default()
+            ..FoveationConfig::single_frame()
         }),
         ..reference.clone()
     };

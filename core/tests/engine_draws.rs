@@ -49,7 +49,7 @@ fn config(world: &World, temporal: Option<TemporalConfig>) -> RenderConfig {
         resolution: Some(Resolution::square(160)),
         foveation: Some(FoveationConfig {
             periphery_temporal: temporal,
-            ..FoveationConfig::default()
+            ..FoveationConfig::single_frame()
         }),
         output: OutputStage::Lens,
         far: world.reach.max(RenderConfig::default().far),

@@ -57,7 +57,7 @@ fn row_config(base: &RenderConfig, foveated: Option<(f32, FoveaLayout)>) -> Rend
         Some((ratio, layout)) => RenderConfig {
             foveation: Some(FoveationConfig {
                 ratio,
-                ..FoveationConfig::default()
+                ..FoveationConfig::single_frame()
             }),
             fovea_layout: layout,
             ..base.clone()

@@ -38,9 +38,16 @@ pub struct ConfigArgs {
     /// Outward cant of each eye in degrees (default: the headset's).
     #[arg(long)]
     pub cant: Option<f32>,
-    /// Foveated rendering at this ratio (e.g. 0.35): four views, composed per eye.
+    /// Foveated rendering at this ratio (e.g. 0.35): four views, composed per eye. Without
+    /// further flags, the library's default: the periphery at 0.6 of the screen's density,
+    /// accumulated over jittered frames (the cheapest configuration measured at least as
+    /// accurate as stereo without MSAA in every motion).
     #[arg(long)]
     pub foveate: Option<f32>,
+    /// With --foveate: single frames instead of the accumulated periphery: the periphery at the
+    /// ratio's density (or --periphery-density), upscaled, nothing kept between frames.
+    #[arg(long)]
+    pub single_frame: bool,
     /// Pixels per side of the four foveated views (default: resolution × ratio).
     #[arg(long)]
     pub view_res: Option<u32>,
@@ -59,18 +66,19 @@ pub struct ConfigArgs {
     /// (sixteen texels, sharper).
     #[arg(long)]
     pub periphery_filter: Option<String>,
-    /// The periphery views' pixels per side as a fraction of the screen's (default: the
-    /// foveation ratio); another density renders the periphery and fovea pairs into images of
-    /// their own (the two-pass layout).
+    /// The periphery views' pixels per side as a fraction of the screen's (default: 0.6, or
+    /// with --single-frame the foveation ratio); another density than the ratio renders the
+    /// periphery and fovea pairs into images of their own (the two-pass layout).
     #[arg(long)]
     pub periphery_density: Option<f32>,
     /// MSAA samples of the periphery views (default: --msaa), e.g. 1 with a 4x fovea.
     #[arg(long)]
     pub periphery_msaa: Option<u32>,
-    /// Accumulate the periphery over frames in the output pass: its views jittered (Halton), a
-    /// history at the output's pixels (32 bits each, two images swapping roles) reprojected by
-    /// depth. The periphery is then 1x unless --periphery-msaa asks for more (its depth is
-    /// resolved to one sample in its pass, on devices with VK_KHR_depth_stencil_resolve).
+    /// Accumulate the periphery over frames in the output pass (the default with --foveate;
+    /// the flag says so explicitly): its views jittered (Halton), a history at the output's
+    /// pixels (32 bits each, two images swapping roles) reprojected by depth. The periphery is
+    /// then 1x unless --periphery-msaa asks for more (its depth is resolved to one sample in its
+    /// pass, on devices with VK_KHR_depth_stencil_resolve).
     #[arg(long)]
     pub temporal: bool,
     /// With --temporal: a new sample's weight against the history where the point moved
@@ -400,7 +408,11 @@ impl ConfigArgs {
             Some(name) => name.parse::<PeripheryFilter>()?,
             None => PeripheryFilter::default(),
         };
-        let defaults = FoveationConfig::default();
+        let defaults = if self.single_frame {
+            FoveationConfig::single_frame()
+        } else {
+            FoveationConfig::default()
+        };
         let foveation = self.foveate.map(|ratio| FoveationConfig {
             ratio,
             view_resolution: self.view_res,
@@ -411,21 +423,18 @@ impl ConfigArgs {
             cull_fovea: !self.no_fovea_cull,
             periphery_sharpen: self.sharpen.unwrap_or(defaults.periphery_sharpen),
             periphery_filter,
-            periphery_density: self.periphery_density,
+            periphery_density: self.periphery_density.or(defaults.periphery_density),
             periphery_msaa: self.periphery_msaa,
-            periphery_temporal: self.temporal.then(|| {
-                let default = TemporalConfig::default();
-                TemporalConfig {
-                    blend: self.temporal_blend.unwrap_or(default.blend),
-                    still_blend: self.temporal_still_blend.unwrap_or(default.still_blend),
-                    jitter_cycle: self.jitter_cycle.unwrap_or(default.jitter_cycle),
-                    clip: self.temporal_clip.unwrap_or(default.clip),
-                    filter: self.temporal_filter.unwrap_or(default.filter),
-                    neighbourhood: self.temporal_neighbourhood.unwrap_or(default.neighbourhood),
-                    new_sample: self.temporal_new_sample.unwrap_or(default.new_sample),
-                    history_at: self.temporal_history.unwrap_or(default.history_at),
-                    ..default
-                }
+            periphery_temporal: defaults.periphery_temporal.map(|default| TemporalConfig {
+                blend: self.temporal_blend.unwrap_or(default.blend),
+                still_blend: self.temporal_still_blend.unwrap_or(default.still_blend),
+                jitter_cycle: self.jitter_cycle.unwrap_or(default.jitter_cycle),
+                clip: self.temporal_clip.unwrap_or(default.clip),
+                filter: self.temporal_filter.unwrap_or(default.filter),
+                neighbourhood: self.temporal_neighbourhood.unwrap_or(default.neighbourhood),
+                new_sample: self.temporal_new_sample.unwrap_or(default.new_sample),
+                history_at: self.temporal_history.unwrap_or(default.history_at),
+                ..default
             }),
             ..defaults
         });
@@ -483,10 +492,16 @@ impl ConfigArgs {
         fn flag(name: &'static str, on: bool) -> Option<(&'static str, String)> {
             on.then(|| (name, "true".to_string()))
         }
+        let foveate = self.foveate.is_some();
+        // The periphery accumulates with --foveate unless --single-frame says otherwise.
+        let accumulation = match (foveate, self.single_frame) {
+            (_, true) => ("accumulation", "drop --single-frame"),
+            _ => ("accumulation (--foveate)", "add --foveate"),
+        };
         let modes = [
             (
-                "--foveate",
-                self.foveate.is_some(),
+                ("--foveate", "add --foveate"),
+                foveate,
                 vec![
                     given("--view-res", &self.view_res),
                     given("--fovea-size", &self.fovea_size),
@@ -496,14 +511,15 @@ impl ConfigArgs {
                     given("--periphery-density", &self.periphery_density),
                     given("--periphery-msaa", &self.periphery_msaa),
                     flag("--temporal", self.temporal),
+                    flag("--single-frame", self.single_frame),
                     flag("--no-stencil", self.no_stencil),
                     flag("--no-fovea-cull", self.no_fovea_cull),
                     flag("--tint", self.tint),
                 ],
             ),
             (
-                "--temporal",
-                self.temporal,
+                accumulation,
+                foveate && !self.single_frame,
                 vec![
                     given("--temporal-blend", &self.temporal_blend),
                     given("--temporal-still-blend", &self.temporal_still_blend),
@@ -516,7 +532,7 @@ impl ConfigArgs {
                 ],
             ),
             (
-                "--mffr",
+                ("--mffr", "add --mffr"),
                 self.mffr.is_some(),
                 vec![
                     given("--split", &self.split),
@@ -525,7 +541,7 @@ impl ConfigArgs {
                 ],
             ),
             (
-                "--radial-density",
+                ("--radial-density", "add --radial-density"),
                 self.radial_density,
                 vec![
                     given("--radial-inner", &self.radial_inner),
@@ -533,11 +549,15 @@ impl ConfigArgs {
                 ],
             ),
         ];
-        for (mode, on, options) in modes {
+        for ((mode, remedy), on, options) in modes {
             if let Some((option, value)) = options.into_iter().flatten().find(|_| !on) {
-                anyhow::bail!("invalid {option} = {value}: it sets a parameter of {mode}, which is off (add {mode}, or leave {option} out)");
+                anyhow::bail!("invalid {option} = {value}: it sets a parameter of {mode}, which is off ({remedy}, or leave {option} out)");
             }
         }
+        anyhow::ensure!(
+            !(self.temporal && self.single_frame),
+            "invalid --temporal with --single-frame: the one accumulates the periphery, the other asks for single frames (leave one out)"
+        );
         Ok(())
     }
 

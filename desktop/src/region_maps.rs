@@ -98,7 +98,7 @@ mod tests {
             Some(FoveationConfig {
                 ratio,
                 periphery_density,
-                ..Default::default()
+                ..FoveationConfig::single_frame()
             })
         };
         let plans = [

@@ -386,10 +386,10 @@ fn render_foveated_with_gaze_tint_and_the_fill_scene() {
     for needle in [
         "fovea layout: two-pass",
         "scene (fovea views)",
-        "GPU output (fovea over periphery, lens-distorted)",
+        "GPU output (periphery accumulated, fovea over it, lens-distorted)",
         "right fovea",
         "scene (fovea views) / mask",
-        "(fovea over periphery, lens-distorted) / output: left eye 4096, right eye 4096",
+        "(periphery accumulated, fovea over it, lens-distorted) / output: left eye 4096, right eye 4096",
     ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }

@@ -104,9 +104,17 @@ fn silent_acceptance_is_an_error_naming_option_value_and_rule() {
         "invalid periphery_msaa = 2: 1 or 4",
     );
     for (option, value, mode) in [
-        ("--temporal-blend", "0.3", "--temporal"),
-        ("--temporal-neighbourhood", "cross", "--temporal"),
-        ("--temporal-new-sample", "nearest", "--temporal"),
+        ("--temporal-blend", "0.3", "accumulation (--foveate)"),
+        (
+            "--temporal-neighbourhood",
+            "cross",
+            "accumulation (--foveate)",
+        ),
+        (
+            "--temporal-new-sample",
+            "nearest",
+            "accumulation (--foveate)",
+        ),
         ("--split", "2px", "--mffr"),
         ("--periphery-density", "0.5", "--foveate"),
         ("--radial-outer", "0.9", "--radial-density"),
@@ -115,6 +123,17 @@ fn silent_acceptance_is_an_error_naming_option_value_and_rule() {
             format!("invalid {option} = {value}: it sets a parameter of {mode}, which is off");
         refused(&dir, &with(&[option, value]), &needle);
     }
+    // Single frames turn accumulation off: its options are refused, and so is asking for both.
+    refused(
+        &dir,
+        &with(&["--foveate", "0.5", "--single-frame", "--temporal-blend", "0.3"]),
+        "invalid --temporal-blend = 0.3: it sets a parameter of accumulation, which is off (drop --single-frame",
+    );
+    refused(
+        &dir,
+        &with(&["--foveate", "0.5", "--single-frame", "--temporal"]),
+        "invalid --temporal with --single-frame",
+    );
     for (option, value, needle) in [
         (
             "--temporal-neighbourhood",

@@ -78,7 +78,16 @@ fn render_offscreen(path: &Path, extra: &[&str]) -> RgbaImage {
     image::open(path).unwrap().into_rgba8()
 }
 
-const FRAME: &[&str] = &["--res", "64", "--foveate", "0.35", "--tint", "--msaa", "1"];
+const FRAME: &[&str] = &[
+    "--res",
+    "64",
+    "--foveate",
+    "0.35",
+    "--single-frame",
+    "--tint",
+    "--msaa",
+    "1",
+];
 
 /// The viewer, resized and with the mouse moved, shows exactly what it says it presented, and
 /// that is the offscreen render of the same configuration at the gaze under the mouse.

@@ -17,7 +17,7 @@ fn a_second_renderer_for_the_same_plan_creates_no_render_pass_or_pipeline() {
     let scene = default_scene();
     let config = RenderConfig {
         resolution: Some(Resolution::square(64)),
-        foveation: Some(FoveationConfig::default()),
+        foveation: Some(FoveationConfig::single_frame()),
         hmd_mask: true,
         ..RenderConfig::default()
     };

@@ -39,7 +39,7 @@ fn foveated(layout: FoveaLayout) -> RenderConfig {
     RenderConfig {
         foveation: Some(FoveationConfig {
             ratio: 0.35,
-            ..FoveationConfig::default()
+            ..FoveationConfig::single_frame()
         }),
         fovea_layout: layout,
         ..base()

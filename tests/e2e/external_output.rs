@@ -41,7 +41,7 @@ fn each_frame_lands_in_the_image_selected_for_it() {
     let configs = [
         RenderConfig::default(),
         RenderConfig {
-            foveation: Some(FoveationConfig::default()),
+            foveation: Some(FoveationConfig::single_frame()),
             hmd_mask: true,
             ..RenderConfig::default()
         },
@@ -97,7 +97,7 @@ fn accumulation_carries_its_history_across_handed_in_images() {
         foveation: Some(FoveationConfig {
             periphery_density: Some(0.5),
             periphery_temporal: Some(TemporalConfig::default()),
-            ..FoveationConfig::default()
+            ..FoveationConfig::single_frame()
         }),
         ..RenderConfig::default()
     });

@@ -35,18 +35,18 @@ fn measured_pixels_match_the_analytic_budget() {
         FoveationConfig {
             ratio: 0.5,
             stencil: false,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         },
         FoveationConfig {
             ratio: 0.5,
             stencil: true,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         },
         FoveationConfig {
             ratio: 0.35,
             stencil: true,
             view_resolution: Some(100),
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         },
         FoveationConfig {
             ratio: 0.7,
@@ -54,14 +54,14 @@ fn measured_pixels_match_the_analytic_budget() {
             // Large enough that counting pixel centres stays within 0.2 % of the circle (a
             // 64 px circle misses by ~0.25 %: the Gauss circle problem).
             fovea_size: Some(128),
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         },
         // The periphery at its own density: views of two sizes, two passes.
         FoveationConfig {
             ratio: 0.5,
             periphery_density: Some(0.7),
             stencil: true,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         },
     ];
     for f in cases {
@@ -95,7 +95,7 @@ fn stencil_masks_cut_pixels_in_every_view() {
         let f = FoveationConfig {
             ratio: 0.5,
             stencil,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         };
         let plan = foveate::plan(&scene, &foveated(192, f, 1), gpu.caps()).unwrap();
         render_plan(&gpu, &scene, &plan, 1)
@@ -124,7 +124,7 @@ fn default_scene_renders_foveated_with_a_moving_gaze() {
     let scene = default_scene();
     let config = RenderConfig {
         coverage_probe: false,
-        ..foveated(128, FoveationConfig::default(), 4)
+        ..foveated(128, FoveationConfig::single_frame(), 4)
     };
     let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
     let mut renderer = foveate::render::Renderer::new(&gpu, &plan, &scene).unwrap();
@@ -268,7 +268,7 @@ fn foveated_frame(screen: u32, ratio: f32, band: f32) -> RenderConfig {
             FoveationConfig {
                 ratio,
                 blend_band_px: band,
-                ..Default::default()
+                ..FoveationConfig::single_frame()
             },
             4,
         )
@@ -638,7 +638,7 @@ fn fovea_culling_changes_no_pixel_in_either_layout() {
             foveation: Some(FoveationConfig {
                 ratio: 0.35,
                 cull_fovea,
-                ..Default::default()
+                ..FoveationConfig::single_frame()
             }),
             ..foveated_frame(128, 0.35, 4.0)
         };
@@ -878,16 +878,16 @@ fn stencil_masks_change_no_pixel_of_the_output() {
     let scene = default_scene();
     let hard_edge = FoveationConfig {
         blend_band_px: 0.0,
-        ..Default::default()
+        ..FoveationConfig::single_frame()
     };
     let configs = [
         (hard_edge, 1, OutputStage::Undistorted),
-        (FoveationConfig::default(), 4, OutputStage::Lens),
+        (FoveationConfig::single_frame(), 4, OutputStage::Lens),
         (
             FoveationConfig {
                 periphery_filter: PeripheryFilter::CatmullRom,
                 periphery_sharpen: 0.5,
-                ..Default::default()
+                ..FoveationConfig::single_frame()
             },
             4,
             OutputStage::Undistorted,
@@ -896,7 +896,7 @@ fn stencil_masks_change_no_pixel_of_the_output() {
             FoveationConfig {
                 periphery_density: Some(0.5),
                 periphery_temporal: Some(Default::default()),
-                ..Default::default()
+                ..FoveationConfig::single_frame()
             },
             1,
             OutputStage::Undistorted,

@@ -63,7 +63,7 @@ fn configs() -> [RenderConfig; 3] {
             foveation: Some(FoveationConfig {
                 periphery_density: Some(0.5),
                 periphery_temporal: Some(TemporalConfig::default()),
-                ..FoveationConfig::default()
+                ..FoveationConfig::single_frame()
             }),
             msaa: 1,
             hmd_mask: true,

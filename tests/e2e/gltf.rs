@@ -267,7 +267,7 @@ fn assimp_test_models_render_or_are_refused_clearly() {
         resolution: Some(Resolution::square(48)),
         foveation: Some(FoveationConfig {
             ratio: 0.5,
-            ..FoveationConfig::default()
+            ..FoveationConfig::single_frame()
         }),
         output: foveate::plan::OutputStage::Lens,
         ..RenderConfig::default()

@@ -90,7 +90,7 @@ fn gpu_flicker_matches_the_cpu_measure() {
         ..RenderConfig::default()
     };
     let foveated = |format| RenderConfig {
-        foveation: Some(FoveationConfig::default()),
+        foveation: Some(FoveationConfig::single_frame()),
         output_format: format,
         ..reference.clone()
     };

@@ -85,7 +85,7 @@ fn frames(res: u32, gaze: Vec2) -> (RgbaImage, RgbaImage) {
         ..RenderConfig::default()
     };
     let foveated = RenderConfig {
-        foveation: Some(FoveationConfig::default()),
+        foveation: Some(FoveationConfig::single_frame()),
         msaa: 1,
         ..reference.clone()
     };
@@ -287,7 +287,7 @@ fn the_live_judge_judges_the_renderers_last_frame() {
     let scene = default_scene();
     let foveated = RenderConfig {
         resolution: Some(Resolution::square(128)),
-        foveation: Some(FoveationConfig::default()),
+        foveation: Some(FoveationConfig::single_frame()),
         output: OutputStage::Lens,
         msaa: 1,
         ..RenderConfig::default()
@@ -330,7 +330,7 @@ fn the_gpus_histograms_count_the_maps_they_reduce() {
     let (want, got) = frames(96, gaze);
     let config = RenderConfig {
         resolution: Some(Resolution::square(96)),
-        foveation: Some(FoveationConfig::default()),
+        foveation: Some(FoveationConfig::single_frame()),
         ..RenderConfig::default()
     };
     let plan = foveate::plan(&default_scene(), &config, gpu.caps()).unwrap();
@@ -382,7 +382,7 @@ fn judging_outputs_where_they_lie_equals_judging_read_back_frames() {
     let gaze = Vec2::new(0.3, -0.2);
     let base = RenderConfig {
         resolution: Some(Resolution::square(96)),
-        foveation: Some(FoveationConfig::default()),
+        foveation: Some(FoveationConfig::single_frame()),
         ..RenderConfig::default()
     };
     let half_floats = RenderConfig {

@@ -50,7 +50,7 @@ fn the_judge_reads_images_an_engine_owns() {
     let size = 96;
     let config = RenderConfig {
         resolution: Some(Resolution::square(size)),
-        foveation: Some(FoveationConfig::default()),
+        foveation: Some(FoveationConfig::single_frame()),
         ..RenderConfig::default()
     };
     let gaze = Vec2::new(0.3, -0.2);

@@ -30,7 +30,7 @@ fn foveated() -> RenderConfig {
         foveation: Some(FoveationConfig {
             ratio: 0.5,
             blend_band_px: 4.0,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }),
         ..RenderConfig::default()
     }

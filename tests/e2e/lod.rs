@@ -150,7 +150,7 @@ fn the_periphery_takes_coarser_levels() {
     let foveated = RenderConfig {
         foveation: Some(FoveationConfig {
             ratio: 0.35,
-            ..FoveationConfig::default()
+            ..FoveationConfig::single_frame()
         }),
         fovea_layout: FoveaLayout::TwoPass,
         ..stereo(lod(1.0))

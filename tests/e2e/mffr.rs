@@ -296,7 +296,7 @@ fn mffr_composes_with_foveation() {
     let foveated = RenderConfig {
         foveation: Some(foveate::foveation::FoveationConfig {
             ratio: 0.5,
-            ..Default::default()
+            ..foveate::foveation::FoveationConfig::single_frame()
         }),
         ..config(None, StereoMode::Multiview)
     };

@@ -20,7 +20,7 @@ fn small(config: RenderConfig) -> RenderConfig {
 
 fn foveated() -> RenderConfig {
     small(RenderConfig {
-        foveation: Some(FoveationConfig::default()),
+        foveation: Some(FoveationConfig::single_frame()),
         ..RenderConfig::default()
     })
 }

@@ -18,7 +18,7 @@ fn foveated(res: u32, sharpen: f32) -> RenderConfig {
             ratio: 0.5,
             blend_band_px: 4.0,
             periphery_sharpen: sharpen,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }),
         ..RenderConfig::default()
     }

@@ -31,7 +31,7 @@ fn foveated(hmd: &str, res: Resolution, ratio: f32) -> RenderConfig {
         msaa: 1,
         foveation: Some(FoveationConfig {
             ratio,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }),
         ..RenderConfig::default()
     }

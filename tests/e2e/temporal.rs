@@ -27,7 +27,7 @@ pub(crate) fn config(screen: u32, temporal: Option<TemporalConfig>) -> RenderCon
             ratio: 0.35,
             periphery_density: Some(0.5),
             periphery_temporal: temporal,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }),
         ..RenderConfig::default()
     }

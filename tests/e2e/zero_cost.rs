@@ -142,7 +142,7 @@ fn switched_on_effects_add_what_they_need() {
         (
             "foveation".into(),
             on(&|c| {
-                c.foveation = Some(FoveationConfig::default());
+                c.foveation = Some(FoveationConfig::single_frame());
             }),
         ),
         (

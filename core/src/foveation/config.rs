@@ -50,7 +50,8 @@ pub struct FoveationConfig {
     /// How the output pass upscales the periphery.
     pub periphery_filter: PeripheryFilter,
     /// The periphery views' pixels per side as a fraction of the screen's, independent of the
-    /// fovea's size; default: the ratio (Arm's coupling: all four views one size).
+    /// fovea's size; `None`: the ratio (Arm's coupling: all four views one size). Default:
+    /// [`RECOMMENDED_PERIPHERY_DENSITY`].
     pub periphery_density: Option<f32>,
     /// The periphery views' MSAA sample count; default: the frame's, or 1 when accumulated
     /// (its jitter antialiases it: 4× was measured no better along the walk at the Quest Pro's
@@ -59,19 +60,41 @@ pub struct FoveationConfig {
     /// Temporal accumulation of the periphery (jittered views, a history at the output's pixels
     /// in the output pass or at the periphery's own texels in a pass before it:
     /// [`TemporalConfig::history_at`]); `None`: each frame's periphery alone, upscaled by
-    /// `periphery_filter`.
+    /// `periphery_filter`. Default: accumulated, [`TemporalConfig::default`].
     pub periphery_temporal: Option<TemporalConfig>,
 }
 
-/// Single frames: the periphery at the fovea's ratio, upscaled, nothing kept between frames.
-/// That is the cheapest foveated frame, it reads and writes no history, and nothing in it
-/// changes while the head is still. Accumulating the periphery (`periphery_temporal`, with
-/// `periphery_density` near 0.6) is what measured at least as accurate as stereo without MSAA
-/// on the lit atrium at the Quest Pro's panel, but at more time than stereo on lavapipe and
-/// more bytes than the stereo frame, so it is asked for, not assumed (BENCHMARKS.md, "Where the
-/// targets stand"). `foveate plan` prints the same reasons.
+/// The periphery accumulated over jittered frames at [`RECOMMENDED_PERIPHERY_DENSITY`] of the
+/// screen's density, its history at the output's pixels, beside a fovea at ratio 0.35 and the
+/// frame's MSAA: the cheapest configuration measured at least as accurate as stereo without MSAA
+/// (eFLIP p99, every frame judged) with the head still, walking and through both saccade traces,
+/// at both gazes, on the lit atrium at the Quest Pro's panel. It costs more than that stereo
+/// frame in time on lavapipe and in bytes (the history), and it flickers more while the head
+/// moves. The cheaper configurations measured lose in some motion: single frames
+/// ([`FoveationConfig::single_frame`]) in every one, the history at the periphery's own texels
+/// along one walk (BENCHMARKS.md, "Where the targets stand"). `foveate plan` prints the same
+/// reasons.
 impl Default for FoveationConfig {
     fn default() -> Self {
+        FoveationConfig {
+            periphery_density: Some(RECOMMENDED_PERIPHERY_DENSITY),
+            periphery_temporal: Some(TemporalConfig::default()),
+            ..FoveationConfig::single_frame()
+        }
+    }
+}
+
+/// The accumulated periphery's density (a fraction of the screen's pixels per side) that the
+/// measurements recommend: the lowest at which the periphery accumulated at the output's pixels
+/// held against stereo without MSAA in every motion measured at the Quest Pro's panel.
+pub const RECOMMENDED_PERIPHERY_DENSITY: f32 = 0.6;
+
+impl FoveationConfig {
+    /// Single frames: the periphery at the fovea's ratio (Arm's four views of one size),
+    /// upscaled, nothing kept between frames. The cheapest foveated frame: it reads and writes
+    /// no history and nothing in it changes while the head is still, but it measured visibly
+    /// less accurate than stereo without MSAA in every motion (the default accumulates instead).
+    pub fn single_frame() -> Self {
         FoveationConfig {
             ratio: 0.35,
             view_resolution: None,
@@ -292,7 +315,7 @@ mod tests {
             ratio: 0.35,
             view_resolution: Some(366),
             blend_band_px: 0.0,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(screen)
         .unwrap();
@@ -315,7 +338,7 @@ mod tests {
             ratio: 0.5,
             fovea_size: Some(256),
             blend_band_px: 0.0,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(screen)
         .unwrap();
@@ -339,7 +362,7 @@ mod tests {
             ratio: 0.25,
             periphery_density: Some(0.5),
             blend_band_px: 0.0,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(screen)
         .unwrap();
@@ -353,11 +376,11 @@ mod tests {
             )
         );
         assert!(g.views_differ(4));
-        let same = FoveationConfig::default().geometry(screen).unwrap();
+        let same = FoveationConfig::single_frame().geometry(screen).unwrap();
         assert!(!same.views_differ(4));
         let msaa = FoveationConfig {
             periphery_msaa: Some(1),
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(screen)
         .unwrap();
@@ -366,14 +389,14 @@ mod tests {
             (
                 FoveationConfig {
                     periphery_density: Some(1.5),
-                    ..Default::default()
+                    ..FoveationConfig::single_frame()
                 },
                 "periphery_density",
             ),
             (
                 FoveationConfig {
                     periphery_msaa: Some(2),
-                    ..Default::default()
+                    ..FoveationConfig::single_frame()
                 },
                 "periphery_msaa",
             ),
@@ -398,7 +421,7 @@ mod tests {
                     history_at,
                     ..Default::default()
                 }),
-                ..Default::default()
+                ..FoveationConfig::single_frame()
             }
             .geometry(screen)
             .unwrap()
@@ -416,28 +439,28 @@ mod tests {
         let screen = Resolution::square(1024);
         let e = FoveationConfig {
             ratio: 0.0,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(screen)
         .unwrap_err();
         assert_eq!((e.field, e.value.as_str()), ("ratio", "0"));
         let e = FoveationConfig {
             ratio: f32::NAN,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(screen)
         .unwrap_err();
         assert_eq!(e.field, "ratio");
         let e = FoveationConfig {
             fovea_size: Some(900),
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(screen)
         .unwrap_err();
         assert_eq!((e.field, e.value.as_str()), ("fovea_size", "900"));
         let e = FoveationConfig {
             blend_band_px: 500.0,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(screen)
         .unwrap_err();
@@ -450,14 +473,14 @@ mod tests {
         let auto = FoveationConfig {
             ratio: 0.5,
             blend_band_px: -1.0,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(screen)
         .unwrap();
         assert_eq!(auto.blend_band_px, 64.0, "an eighth of the 512 px fovea");
         let e = FoveationConfig {
             blend_band_px: f32::NAN,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(screen)
         .unwrap_err();

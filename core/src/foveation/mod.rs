@@ -15,7 +15,7 @@ pub use budget::PixelBudget;
 internal_use!(budget::{arm_table, ArmRow, ARM_PI, ARM_TABLE4_FOVEA});
 pub use config::{
     FoveationConfig, FoveationGeometry, PeripheryFilter, ACCUMULATED_REACH_PX, FOVEA_REACH_TEXELS,
-    PERIPHERY_REACH_TEXELS,
+    PERIPHERY_REACH_TEXELS, RECOMMENDED_PERIPHERY_DENSITY,
 };
 pub use eye_movement::{
     amplitude_for_peak_velocity, large_saccade_trace, saccade_duration_s, saccade_peak_velocity,

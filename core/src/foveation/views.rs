@@ -107,7 +107,7 @@ mod tests {
         let g = FoveationConfig {
             ratio: 0.5,
             blend_band_px: 0.0,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(Resolution::square(256))
         .unwrap();
@@ -190,7 +190,7 @@ mod tests {
         };
         let g = FoveationConfig {
             ratio: 0.35,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
         .geometry(Resolution::square(512))
         .unwrap();

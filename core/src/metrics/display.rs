@@ -217,7 +217,7 @@ mod tests {
         let foveation = FoveationConfig {
             ratio: 0.5,
             blend_band_px: 4.0,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         };
         let config = RenderConfig {
             resolution: Some(screen),

@@ -113,7 +113,7 @@ fn foveation_needs_four_views_and_multiview() {
     let bad_ratio = RenderConfig {
         foveation: Some(crate::foveation::FoveationConfig {
             ratio: 1.5,
-            ..Default::default()
+            ..crate::foveation::FoveationConfig::single_frame()
         }),
         ..foveated(true)
     };
@@ -535,42 +535,6 @@ fn temporal_accumulation_folds_into_the_output_stage_only_when_asked() {
         ..on
     };
     assert_eq!(plan_err(&cubic).field, "periphery_filter");
-}
-
-/// The plan says how the periphery is made and why: one frame (the library's default, and
-/// why it is) or accumulated, at its own density, not the fovea views'. Mutations: the two
-/// arms swapped, or the density read off the fovea views (0.5 here), fail it.
-#[test]
-fn the_plan_says_why_the_periphery_is_made_as_it_is() {
-    let with = |temporal: Option<crate::foveation::TemporalConfig>| RenderConfig {
-        foveation: foveated(true)
-            .foveation
-            .map(|f| crate::foveation::FoveationConfig {
-                periphery_density: Some(0.25),
-                periphery_temporal: temporal,
-                ..f
-            }),
-        fovea_layout: FoveaLayout::Auto,
-        ..foveated(true)
-    };
-    let one = planned(&with(None)).to_string();
-    assert!(
-        one.contains("  periphery: one frame at 0.25 of the screen's density"),
-        "{one}"
-    );
-    assert!(
-        one.contains("single frames are the library's default"),
-        "{one}"
-    );
-    let accumulated = planned(&with(Some(Default::default()))).to_string();
-    let line = "  periphery: accumulated over jittered frames at 0.25 of the screen's density";
-    assert!(accumulated.contains(line), "{accumulated}");
-    assert!(
-        !accumulated.contains("the library's default"),
-        "{accumulated}"
-    );
-    let stereo = planned(&config(StereoMode::Multiview, 4)).to_string();
-    assert!(!stereo.contains("  periphery:"), "{stereo}");
 }
 
 /// A device without D32_SFLOAT_S8_UINT depth-stencil attachments (a tile GPU offering

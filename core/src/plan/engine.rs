@@ -66,7 +66,7 @@ mod tests {
     fn foveated() -> RenderConfig {
         RenderConfig {
             resolution: Some(Resolution::square(256)),
-            foveation: Some(FoveationConfig::default()),
+            foveation: Some(FoveationConfig::single_frame()),
             ..RenderConfig::default()
         }
     }
@@ -108,7 +108,7 @@ mod tests {
         let config = RenderConfig {
             foveation: Some(FoveationConfig {
                 periphery_temporal: Some(Default::default()),
-                ..FoveationConfig::default()
+                ..FoveationConfig::single_frame()
             }),
             ..foveated()
         };

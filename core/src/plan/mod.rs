@@ -51,6 +51,8 @@ pub use steps::{
 };
 
 #[cfg(test)]
+mod default_tests;
+#[cfg(test)]
 mod depth_resolve_tests;
 #[cfg(test)]
 mod effect_tests;

@@ -26,7 +26,7 @@ fn configurations() -> Vec<(Scene, RenderConfig)> {
             ratio: 0.5,
             stencil: true,
             periphery_sharpen: 0.5,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }),
         fovea_layout: layout,
         culling: Some(CullConfig {
@@ -177,7 +177,7 @@ fn pipelines_that_differ_in_a_constant_are_not_the_same_value() {
     let config = RenderConfig {
         foveation: Some(FoveationConfig {
             ratio: 0.5,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }),
         fovea_layout: FoveaLayout::TwoPass,
         ..base(StereoMode::Multiview)
@@ -241,7 +241,7 @@ fn the_history_filter_is_a_constant_of_the_output_stage() {
                 periphery_density: Some(0.5),
                 periphery_msaa: Some(1),
                 periphery_temporal: Some(temporal),
-                ..Default::default()
+                ..FoveationConfig::single_frame()
             }),
             ..base(StereoMode::Multiview)
         };
@@ -311,7 +311,7 @@ fn the_output_stage_looks_for_moving_instances_where_the_scene_marks_them() {
                     clip,
                     ..Default::default()
                 }),
-                ..Default::default()
+                ..FoveationConfig::single_frame()
             }),
             ..base(StereoMode::Multiview)
         };

@@ -104,7 +104,8 @@ impl FramePlan {
                 if g.stencil { "on" } else { "off" }
             )?;
             if let Some(density) = self.periphery_density() {
-                writeln!(f, "  periphery: {}", periphery_reason(g, density))?;
+                let screen = self.eye_resolution.width;
+                writeln!(f, "  periphery: {}", periphery_reason(g, density, screen))?;
             }
         }
         if let Some(c) = &self.fovea_layout {
@@ -560,13 +561,29 @@ fn clip_words(clip: crate::foveation::HistoryClip) -> String {
 /// Why the periphery is made the way it is: what each choice trades, in words. The figures
 /// behind them are measurements on one scene and panel (BENCHMARKS.md), so a plan names no
 /// measured figure, and says "measured" where a verdict is one.
-fn periphery_reason(g: &crate::foveation::FoveationGeometry, density: f64) -> String {
+fn periphery_reason(g: &crate::foveation::FoveationGeometry, density: f64, screen: u32) -> String {
+    use crate::foveation::{HistoryAt, RECOMMENDED_PERIPHERY_DENSITY};
     match g.temporal {
         None => format!(
-            "one frame at {density:.2} of the screen's density, upscaled, nothing kept between frames (single frames are the library's default: the cheapest foveated frame, no history to read or write, nothing that changes while the head is still); accumulating it over jittered frames is what buys accuracy back: near 0.6 of the screen's density it measured at least as accurate as stereo without MSAA over the frame (eFLIP p99) in every motion on the lit atrium at the Quest Pro's panel, for more time and a history's bytes (BENCHMARKS.md)"
+            "one frame at {density:.2} of the screen's density, upscaled, nothing kept between frames: the cheapest foveated frame, no history to read or write, nothing that changes while the head is still, but it measured less accurate than stereo without MSAA over the frame (eFLIP p99) in every motion on the lit atrium at the Quest Pro's panel; the library's default accumulates it instead, at {RECOMMENDED_PERIPHERY_DENSITY} of the screen's density, for more time and a history's bytes (BENCHMARKS.md)"
         ),
-        Some(_) => format!(
-            "accumulated over jittered frames at {density:.2} of the screen's density: sharper than one frame at that density, for a history at the output's pixels read and written every frame (its bytes below) and a faint shimmer with the head still; while the head moves it measured to flicker more than stereo without MSAA at every density tried (BENCHMARKS.md)"
-        ),
+        Some(t) => {
+            let history = match t.history_at {
+                HistoryAt::Output => "a history at the output's pixels",
+                HistoryAt::Periphery => "a history at the periphery's own texels",
+            };
+            // The recommended density, up to the rounding of the views to whole pixels.
+            let off_px = (density - f64::from(RECOMMENDED_PERIPHERY_DENSITY)).abs() * f64::from(screen);
+            let recommended = off_px <= 0.5 + 1e-3
+                && t.history_at == HistoryAt::Output;
+            let verdict = if recommended {
+                "; this is the library's default: the cheapest configuration measured at least as accurate as stereo without MSAA over the frame (eFLIP p99) with the head still, walking and through both saccade traces, at both gazes, on the lit atrium at the Quest Pro's panel (single frames at the fovea's ratio lost in every motion and those as accurate cost more, the history at the periphery's texels lost one walk)"
+            } else {
+                ""
+            };
+            format!(
+                "accumulated over jittered frames at {density:.2} of the screen's density: sharper than one frame at that density, for {history} read and written every frame (its bytes below) and a faint shimmer with the head still; while the head moves it measured to flicker more than stereo without MSAA at every density tried{verdict} (BENCHMARKS.md)"
+            )
+        }
     }
 }

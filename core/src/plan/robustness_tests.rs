@@ -25,7 +25,7 @@ fn foveated(hmd: &str, resolution: Option<Resolution>, ratio: f32) -> RenderConf
         resolution,
         foveation: Some(FoveationConfig {
             ratio,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }),
         ..RenderConfig::default()
     }
@@ -149,7 +149,7 @@ prop_compose! {
                 cut_angle_deg: cut_distance_m * 10.0,
                 ..TemporalConfig::default()
             }),
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         }
     }
 }

@@ -29,7 +29,7 @@ pub(super) fn foveated(stencil: bool) -> RenderConfig {
         foveation: Some(crate::foveation::FoveationConfig {
             ratio: 0.5,
             stencil,
-            ..Default::default()
+            ..crate::foveation::FoveationConfig::single_frame()
         }),
         fovea_layout: FoveaLayout::OnePass,
         ..config(StereoMode::Multiview, 4)
@@ -228,7 +228,7 @@ fn query_pools_get_spare_slots_where_queries_span_views() {
     let mut quirky = caps();
     quirky.quirks.queries_after_multiview_span_views = true;
     let foveated = RenderConfig {
-        foveation: Some(crate::foveation::FoveationConfig::default()),
+        foveation: Some(crate::foveation::FoveationConfig::single_frame()),
         fovea_layout: FoveaLayout::OnePass,
         ..config(StereoMode::Multiview, 1)
     };

@@ -229,7 +229,7 @@ mod tests {
             ]
         );
         let foveated = |fovea_layout| RenderConfig {
-            foveation: Some(FoveationConfig::default()),
+            foveation: Some(FoveationConfig::single_frame()),
             hmd_mask: true,
             fovea_layout,
             ..base()
@@ -336,7 +336,7 @@ mod tests {
     fn counting_frames_fence_their_counters() {
         let (_, log) = log_of(
             &RenderConfig {
-                foveation: Some(FoveationConfig::default()),
+                foveation: Some(FoveationConfig::single_frame()),
                 fovea_layout: FoveaLayout::OnePass,
                 ..base()
             }
@@ -366,7 +366,7 @@ mod tests {
     #[test]
     fn passes_begin_with_the_plans_clears() {
         let (_, log) = log_of(&RenderConfig {
-            foveation: Some(FoveationConfig::default()),
+            foveation: Some(FoveationConfig::single_frame()),
             fovea_layout: FoveaLayout::OnePass,
             msaa: 1,
             ..base()
@@ -486,7 +486,7 @@ mod tests {
         use crate::plan::Touch::*;
         let (plan, commands) = log_of(&RenderConfig {
             msaa: 4,
-            foveation: Some(FoveationConfig::default()),
+            foveation: Some(FoveationConfig::single_frame()),
             fovea_layout: FoveaLayout::OnePass,
             output: OutputStage::Lens,
             ..base()

@@ -330,7 +330,7 @@ mod tests {
                 foveation: Some(FoveationConfig {
                     ratio: 0.35,
                     cull_fovea,
-                    ..FoveationConfig::default()
+                    ..FoveationConfig::single_frame()
                 }),
                 fovea_layout: layout,
                 lod: Some(LodSettings::default()),

@@ -186,7 +186,7 @@ mod tests {
     fn an_engines_frame_records_the_masks_then_its_draws_then_the_output() {
         let config = RenderConfig {
             resolution: Some(Resolution::square(64)),
-            foveation: Some(FoveationConfig::default()),
+            foveation: Some(FoveationConfig::single_frame()),
             hmd_mask: true,
             fovea_layout: FoveaLayout::TwoPass,
             output: OutputStage::Lens,

@@ -127,7 +127,7 @@ pub fn pixels(options: &GpuOptions, args: &PixelsArgs) -> Result<()> {
                 mask_margins: false,
                 fovea_size,
                 blend_band_px: args.blend_band,
-                ..Default::default()
+                ..FoveationConfig::single_frame()
             };
             let config = RenderConfig {
                 foveation: Some(foveation),

@@ -125,7 +125,7 @@ pub fn bench(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         draw_distance: args.draw_distance,
         foveation: FoveationConfig {
             ratio: args.ratio,
-            ..FoveationConfig::default()
+            ..FoveationConfig::single_frame()
         },
         mffr: MffrConfig::named(&args.mffr, split)?,
     };

@@ -277,14 +277,14 @@ fn foveated_variants(
     let ratios = args.ratios.clone().unwrap_or(vec![0.7, 0.5, 0.35]);
     let default_band = args
         .blend_band
-        .unwrap_or(FoveationConfig::default().blend_band_px);
+        .unwrap_or(FoveationConfig::single_frame().blend_band_px);
     let mut variants = Vec::new();
     for &ratio in &ratios {
         let with = |blend_band_px, periphery_sharpen| FoveationConfig {
             ratio,
             blend_band_px,
             periphery_sharpen,
-            ..Default::default()
+            ..FoveationConfig::single_frame()
         };
         variants.push((format!("foveated {ratio}"), with(default_band, 0.0)));
         for &band in &args.bands {

@@ -35,7 +35,7 @@ pub(super) fn latency(options: &GpuOptions, args: &CompareArgs, acuity: Acuity) 
             let foveation = FoveationConfig {
                 ratio,
                 blend_band_px: band,
-                ..Default::default()
+                ..FoveationConfig::single_frame()
             };
             foveation.geometry(screen)?;
             let name = match i {

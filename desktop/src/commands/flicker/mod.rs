@@ -279,7 +279,7 @@ fn flicker_configs(
             let foveation = FoveationConfig {
                 ratio,
                 periphery_sharpen: sharpen,
-                ..Default::default()
+                ..FoveationConfig::single_frame()
             };
             variants.push((name, foveation));
         }

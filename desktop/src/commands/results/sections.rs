@@ -8,14 +8,15 @@ use super::runs::{num, Run, Runs};
 
 pub(super) use super::sections_more::{table, yes};
 
-/// The rows of the foveation verdict: aliased stereo, the library's default, the periphery at
-/// 0.6 single-frame and accumulated at the output's pixels (the demo's, and with a 1× fovea),
-/// then accumulated at the periphery's own texels at 0.35 and 0.6.
+/// The rows of the foveation verdict: aliased stereo, single frames at the ratio's density, the
+/// periphery at 0.6 single-frame and accumulated at the output's pixels (the library's default
+/// and the demo's, and with a 1× fovea), then accumulated at the periphery's own texels at 0.35
+/// and 0.6.
 const FOVEATION_ROWS: [(&str, &str); 7] = [
     ("stereo, MSAA 1", "stereo, no MSAA (aliased): the yardstick"),
     (
         "foveated 0.35, MSAA 4",
-        "foveated 0.35, 4×, one periphery frame (the library's default)",
+        "foveated 0.35, 4×, one periphery frame (single frames)",
     ),
     (
         "foveated 0.35, periphery 0.6, MSAA 4",
@@ -23,7 +24,7 @@ const FOVEATION_ROWS: [(&str, &str); 7] = [
     ),
     (
         "foveated 0.35, periphery 0.6, temporal, MSAA 4",
-        "foveated 0.35, periphery 0.6 accumulated at the output's pixels, fovea 4× (the demo's)",
+        "foveated 0.35, periphery 0.6 accumulated at the output's pixels, fovea 4× (the default, the demo's)",
     ),
     (
         "foveated 0.35, periphery 0.6, temporal, MSAA 1",
