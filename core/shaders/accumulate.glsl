@@ -32,6 +32,9 @@ layout(constant_id = 37) const bool CROSS_NEIGHBOURHOOD = false;
 // The new sample from the 3×3 periphery texels around the pixel, each weighted by its distance
 // (NewSample::Weighted): nine reads where the nearest texel alone takes one.
 layout(constant_id = 38) const bool WEIGHTED_NEW_SAMPLE = false;
+// The periphery accumulates only within a reach of the gaze (TemporalConfig::within_deg); without
+// it none of the reach's work is compiled in (lavapipe would run it under a mask everywhere).
+layout(constant_id = 40) const bool REACH = false;
 // The scene passes mark instances that move (alpha below 1; scene.frag): only then are they
 // looked for in the neighbourhood, and only then is the box needed where nothing moved.
 layout(constant_id = 7) const bool MARK_MOVING = false;
@@ -397,5 +400,41 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
         }
     }
     next = to_history(result, mover ? MOVER : 1.0);
+    return result;
+}
+
+// How much of the accumulated periphery the pixel in direction `t` shows: 1 within the reach
+// (TemporalConfig::within_deg), 0 beyond it, smooth across its edge. The cosine of its angle
+// from the fovea's centre `gaze` (both tangents of the eye looking down −z) against c.still.y
+// (the reach's) and c.still.z (where the fade starts); accumulating everywhere, both lie below −1.
+float reach_weight(vec2 t, vec2 gaze) {
+    float cos_angle = (dot(t, gaze) + 1.0) * inversesqrt((dot(t, t) + 1.0) * (dot(gaze, gaze) + 1.0));
+    return smoothstep(c.still.y, c.still.z, cos_angle);
+}
+
+// The periphery accumulated out to the reach and each frame's own beyond it (the jitter undone):
+// a pixel beyond reads no history, does none of the accumulation's work and keeps nothing, so
+// one the reach later covers starts from its frame's periphery, as one the frame before did not
+// see. A GPU skips the work where a whole group of pixels lies beyond the reach; lavapipe runs
+// it under a mask all the same (as it does in a loop of one pass, or after a `discard`: measured,
+// the pass costs as much as accumulating everywhere; docs/notebook/2026-12-03-accumulation-only-near-the-gaze.md).
+vec3 accumulate_within_reach(uint eye, vec2 uv, vec2 t, vec2 display, vec2 gaze, out vec4 next) {
+    if (!REACH) {
+        return accumulate(eye, uv, t, display, next);
+    }
+    float reach = reach_weight(t, gaze);
+    vec3 result = vec3(0.0);
+    next = NOTHING;
+    if (reach > 0.0) {
+        result = accumulate(eye, uv, t, display, next);
+    }
+    if (reach < 1.0) {
+        if (reach <= 0.0) {
+            NOTE_OUTCOME(OUTCOME_BEYOND);
+        }
+        vec2 size = vec2(textureSize(images, 0).xy);
+        vec3 single = texture(images, vec3((uv * size + c.jitter.xy) / size, float(eye))).rgb;
+        result = mix(single, result, reach);
+    }
     return result;
 }

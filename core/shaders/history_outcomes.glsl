@@ -13,6 +13,7 @@ const uint OUTCOME_OFF_SCREEN = 4u;  // the frame before did not see this direct
 const uint OUTCOME_DISOCCLUDED = 5u; // the frame before saw another surface there
 const uint OUTCOME_EMPTY = 6u;       // the history there holds nothing (lens-hidden, hole)
 const uint OUTCOME_HOLE = 7u;        // in the periphery's hole: nothing to accumulate
+const uint OUTCOME_BEYOND = 8u;      // beyond the reach: this frame's periphery, no history
 
 uint history_outcome = OUTCOME_KEPT;
 

@@ -50,7 +50,9 @@ layout(std140, set = 0, binding = 1) uniform Output {
                                 // y: 1 tests the history against the frame before's depth,
                                 // 2 too and clips only where the point moved;
                                 // zw: the frame before's jitter
-    vec4 still;                 // x: a new sample's weight where nothing moved
+    vec4 still;                 // x: a new sample's weight where nothing moved; y, z: the
+                                // cosines of the eccentricities where the accumulation ends
+                                // and where it starts to fade (reach_weight)
 } c;
 
 layout(location = 0) in vec2 in_uv;
@@ -159,8 +161,8 @@ void main() {
         float w = band > 0.0 ? 1.0 - smoothstep(radius - band, radius, dist) : float(dist < radius);
 #ifdef TEMPORAL
         // Accumulated wherever the periphery was rendered, shown or not (under the fovea's
-        // edge it is ready when the gaze moves).
-        vec3 accumulated = accumulate(eye, uv, t, td, out_history);
+        // edge it is ready when the gaze moves), out to the reach.
+        vec3 accumulated = accumulate_within_reach(eye, uv, t, td, fovea_centre, out_history);
         color += PERIPHERY_ONLY ? accumulated : (1.0 - w) * accumulated;
 #ifdef COUNT_FRAGMENTS
         count_history_outcome(w);

@@ -122,6 +122,11 @@ pub struct ConfigArgs {
     /// Default: the library's.
     #[arg(long)]
     pub temporal_history: Option<HistoryAt>,
+    /// With --temporal: accumulate only within this eccentricity of the gaze (degrees); beyond
+    /// it each frame's periphery is shown as it is and does none of the accumulation's work
+    /// (the two blend over the last 5°). Default: everywhere.
+    #[arg(long)]
+    pub temporal_within: Option<f32>,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -434,6 +439,7 @@ impl ConfigArgs {
                 neighbourhood: self.temporal_neighbourhood.unwrap_or(default.neighbourhood),
                 new_sample: self.temporal_new_sample.unwrap_or(default.new_sample),
                 history_at: self.temporal_history.unwrap_or(default.history_at),
+                within_deg: self.temporal_within.or(default.within_deg),
                 ..default
             }),
             ..defaults
@@ -529,6 +535,7 @@ impl ConfigArgs {
                     given("--temporal-neighbourhood", &self.temporal_neighbourhood),
                     given("--temporal-new-sample", &self.temporal_new_sample),
                     given("--temporal-history", &self.temporal_history),
+                    given("--temporal-within", &self.temporal_within),
                 ],
             ),
             (

@@ -69,6 +69,10 @@ pub struct Accumulation {
     /// library's).
     #[arg(long, value_delimiter = ',')]
     pub histories: Vec<HistoryAt>,
+    /// With --temporal: one accumulated row per reach: the eccentricity (degrees) within which
+    /// the periphery accumulates, each frame's periphery shown beyond it (default: everywhere).
+    #[arg(long, value_delimiter = ',')]
+    pub withins: Vec<f32>,
     /// With --temporal: a settled pixel's weight for a new sample (0 < w ≤ 1; default: the
     /// library's).
     #[arg(long)]
@@ -126,22 +130,32 @@ pub fn with_temporal(
         [] => &[default.history_at][..],
         given => given,
     };
+    let withins: Vec<Option<f32>> = match &accumulation.withins[..] {
+        [] => vec![default.within_deg],
+        given => given.iter().map(|&w| Some(w)).collect(),
+    };
     let mut ways = Vec::new();
     for &clip in clips {
         for &filter in filters {
             for &neighbourhood in neighbourhoods {
                 for &new_sample in new_samples {
-                    ways.extend(histories.iter().map(|&history_at| TemporalConfig {
-                        clip,
-                        filter,
-                        neighbourhood,
-                        new_sample,
-                        history_at,
-                        ..default
-                    }));
+                    for &history_at in histories {
+                        ways.extend(withins.iter().map(|&within_deg| TemporalConfig {
+                            clip,
+                            filter,
+                            neighbourhood,
+                            new_sample,
+                            history_at,
+                            within_deg,
+                            ..default
+                        }));
+                    }
                 }
             }
         }
+    }
+    for way in &ways {
+        way.validate()?;
     }
     let samples = match &accumulation.temporal_msaa[..] {
         [] => &[1][..],
@@ -194,6 +208,12 @@ fn way_words(way: TemporalConfig, default: TemporalConfig) -> String {
     }
     if way.history_at != default.history_at {
         words.push(format!("history at the {}'s pixels", way.history_at));
+    }
+    if let Some(within) = way
+        .within_deg
+        .filter(|_| way.within_deg != default.within_deg)
+    {
+        words.push(format!("within {within}°"));
     }
     match words.is_empty() {
         true => String::new(),

@@ -1092,9 +1092,9 @@ fn flicker_counts_history_outcomes_and_plots_frontiers_in_motion() {
         out.contains("not timed, counting frames: foveated 0.5, temporal, MSAA 4"),
         "{out}"
     );
-    // Two motions × one accumulated row × four frames × eight outcomes.
+    // Two motions × one accumulated row × four frames × nine outcomes.
     let rows = read_csv(&history, 7);
-    assert_eq!(rows.len(), 64, "{rows:?}");
+    assert_eq!(rows.len(), 72, "{rows:?}");
     for r in &rows {
         assert_numeric(r, &["motion", "config", "outcome"]);
     }

@@ -16,13 +16,13 @@ const RATE_HZ: f32 = 90.0;
 /// The gaze, off centre: the fovea's hole and band away from the view's middle.
 const GAZE: Vec2 = Vec2::new(0.6, 0.0);
 
-fn config(temporal: TemporalConfig) -> RenderConfig {
+pub(crate) fn config(temporal: TemporalConfig) -> RenderConfig {
     super::temporal::config(SCREEN, Some(temporal))
 }
 
 /// Counting frames of `config` at `poses` in order: each frame's history outcomes and its
 /// output step's fragments, and the last frame.
-fn counted(
+pub(crate) fn counted(
     gpu: &foveate::gpu::Gpu,
     scene: &Scene,
     config: &RenderConfig,

@@ -33,4 +33,5 @@ mod temporal_lens;
 mod temporal_motion;
 mod temporal_msaa;
 mod temporal_new_sample;
+mod temporal_reach;
 mod zero_cost;

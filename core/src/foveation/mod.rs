@@ -28,5 +28,6 @@ pub use latency::{
 };
 pub use temporal::{
     halton, ClipNeighbourhood, HistoryAt, HistoryClip, HistoryFilter, NewSample, TemporalConfig,
+    REACH_EDGE_DEG,
 };
 pub use views::{fovea_centre_px, fovea_views, gaze_tangent, mask_shapes};

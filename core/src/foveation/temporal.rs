@@ -39,7 +39,16 @@ pub struct TemporalConfig {
     pub new_sample: NewSample,
     /// Where the history's pixels lie: the output's or the periphery's own texels.
     pub history_at: HistoryAt,
+    /// How far from the gaze the periphery accumulates: within this eccentricity (degrees,
+    /// from the fovea's centre) it accumulates, beyond it each frame's periphery is shown as it
+    /// is (the jitter undone) and its pixels read no history and do none of the accumulation's
+    /// work; across the last [`REACH_EDGE_DEG`] the two blend. `None`: everywhere.
+    pub within_deg: Option<f32>,
 }
+
+/// The band at the edge of [`TemporalConfig::within_deg`] over which the accumulated
+/// periphery blends into the single frame (degrees, smoothstep), so no seam shows.
+pub const REACH_EDGE_DEG: f32 = 5.0;
 
 /// Where the accumulated periphery's history keeps its pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -307,6 +316,7 @@ impl Default for TemporalConfig {
             // (docs/notebook/2026-11-28-every-neighbour-as-a-new-sample.md).
             new_sample: NewSample::Nearest,
             history_at: HistoryAt::Output,
+            within_deg: None,
         }
     }
 }
@@ -338,6 +348,15 @@ impl TemporalConfig {
                 ));
             }
         }
+        if let Some(within) = self.within_deg {
+            if !(within > 0.0 && within <= 180.0) {
+                return Err(ConfigError::new(
+                    "temporal_within_deg",
+                    within,
+                    "0 < degrees ≤ 180 (None: everywhere)",
+                ));
+            }
+        }
         // Infinity is allowed: it turns cut detection off.
         for (field, value) in [
             ("cut_distance_m", self.cut_distance_m),
@@ -359,6 +378,19 @@ impl TemporalConfig {
         // Index 0 of Halton is (0, 0): start at 1 so every point of the cycle is interior.
         let i = frame % self.jitter_cycle as u64 + 1;
         Vec2::new(halton(i, 2) - 0.5, halton(i, 3) - 0.5)
+    }
+
+    /// The cosines of the eccentricities where the accumulation ends and where it starts to
+    /// fade (`accumulate.glsl`'s `c.still.yz`): below the first a pixel does none of its work.
+    /// Accumulating everywhere, values no direction reaches (< −1).
+    pub(crate) fn reach_cosines(&self) -> (f32, f32) {
+        match self.within_deg {
+            None => (-3.0, -2.0),
+            Some(within) => (
+                within.to_radians().cos(),
+                (within - REACH_EDGE_DEG).max(0.0).to_radians().cos(),
+            ),
+        }
     }
 
     /// Whether the head's move from `previous` to `current` (world from eye) is a cut.
@@ -463,6 +495,28 @@ mod tests {
 
     /// Every clip reads back from the name it prints, and tells the shader whether to clip and
     /// whether to test depth. Mutation: `depth` parsed as `off` fails the round trip.
+    /// The shader's reach: accumulating everywhere, cosines no direction reaches; a reach, the
+    /// cosine of its angle and, inside it, of its fade's start (clamped at the gaze). Out of
+    /// range, an error naming the field.
+    #[test]
+    fn the_reach_encodes_as_cosines_and_is_checked() {
+        let (end, fade) = TemporalConfig::default().reach_cosines();
+        assert!(end < fade && fade < -1.0, "{end} {fade}");
+        let at = |deg| TemporalConfig {
+            within_deg: Some(deg),
+            ..Default::default()
+        };
+        let (end, fade) = at(30.0).reach_cosines();
+        assert!((end - 30f32.to_radians().cos()).abs() < 1e-6);
+        assert!((fade - (30.0 - REACH_EDGE_DEG).to_radians().cos()).abs() < 1e-6);
+        assert_eq!(at(2.0).reach_cosines().1, 1.0);
+        for bad in [0.0, -5.0, 181.0, f32::NAN] {
+            let e = at(bad).validate().unwrap_err();
+            assert_eq!(e.field, "temporal_within_deg", "{bad}");
+        }
+        assert!(at(180.0).validate().is_ok());
+    }
+
     #[test]
     fn clips_round_trip_and_encode() {
         for clip in [

@@ -212,9 +212,9 @@ pub struct CountedSlot {
 /// Counter slots per counted step: four views and the MFFR far view.
 pub const COUNTER_SLOTS_PER_STEP: u32 = MAX_VIEWS + 1;
 
-/// Counter slots of an accumulating counting frame's history outcomes: eight outcomes
+/// Counter slots of an accumulating counting frame's history outcomes: nine outcomes
 /// (`render::HistoryOutcome`) by three regions (fovea, band, periphery).
-pub const HISTORY_OUTCOME_SLOTS: u32 = 8 * 3;
+pub const HISTORY_OUTCOME_SLOTS: u32 = 9 * 3;
 
 /// A buffer that exists only because an effect asked for it.
 #[derive(Clone, Debug, PartialEq)]

@@ -209,6 +209,7 @@ pub(super) fn output_pipeline(
     let history_catmull_rom = temporal.is_some_and(|t| t.filter == HistoryFilter::CatmullRom);
     let cross = temporal.is_some_and(|t| t.neighbourhood == ClipNeighbourhood::Cross);
     let weighted = temporal.is_some_and(|t| t.new_sample == NewSample::Weighted);
+    let reach = temporal.is_some_and(|t| t.within_deg.is_some());
     let (fovea_layer, sharpen) = match step.source {
         OutputSource::Foveated {
             fovea_layer,
@@ -232,6 +233,7 @@ pub(super) fn output_pipeline(
         .flag(Constant::CrossNeighbourhood, cross)
         .flag(Constant::WeightedNewSample, weighted)
         .flag(Constant::PeripheryOnly, step.periphery_only)
+        .flag(Constant::Reach, reach)
         .flag(Constant::MarkMoving, step.temporal && marks_moving(plan))
         .constant(
             Constant::HistoryOutcomeBase,

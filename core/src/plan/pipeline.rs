@@ -79,6 +79,9 @@ pub enum Constant {
     /// (`HistoryAt::Periphery`): it writes the accumulated periphery, and the history over the
     /// periphery's hole what the fovea shows.
     PeripheryOnly,
+    /// The accumulating output stage accumulates only within a reach of the gaze
+    /// (`TemporalConfig::within_deg`): without it, the reach's test is compiled out.
+    Reach,
 }
 
 /// How a constant's 32 bits read.
@@ -94,7 +97,7 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 30] = {
+    pub const ALL: [Constant; 31] = {
         use Constant::*;
         [
             ViewSource,
@@ -127,6 +130,7 @@ impl Constant {
             CrossNeighbourhood,
             WeightedNewSample,
             PeripheryOnly,
+            Reach,
         ]
     };
 
@@ -165,6 +169,7 @@ impl Constant {
             CrossNeighbourhood => (37, "CROSS_NEIGHBOURHOOD", Bool),
             WeightedNewSample => (38, "WEIGHTED_NEW_SAMPLE", Bool),
             PeripheryOnly => (39, "PERIPHERY_ONLY", Bool),
+            Reach => (40, "REACH", Bool),
         }
     }
 

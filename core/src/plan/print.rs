@@ -366,8 +366,9 @@ impl FramePlan {
                     if let Some(t) = self.foveation.and_then(|f| f.temporal) {
                         writeln!(
                             f,
-                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth and read {} where the point moved (dropped where the frame before's periphery depth differs by over 10 %: in the texel it lay in where it moved, in any of the 2x2 around it where it did not), clipped to the periphery's {} in YCoCg ({}), {} blended in (weight {}; {} where nothing moved); over the periphery's hole what the fovea showed, reset at cuts (> {} m, > {}°)",
-                            t.jitter_cycle, filter_words(t.filter), neighbourhood_words(t.neighbourhood), clip_words(t.clip), new_sample_words(t.new_sample), t.blend, t.still_blend, t.cut_distance_m, t.cut_angle_deg
+                            "    periphery jittered over a {}-frame Halton cycle, accumulated here: the history reprojected by depth and read {} where the point moved (dropped where the frame before's periphery depth differs by over 10 %: in the texel it lay in where it moved, in any of the 2x2 around it where it did not), clipped to the periphery's {} in YCoCg ({}), {} blended in (weight {}; {} where nothing moved); over the periphery's hole what the fovea showed, reset at cuts (> {} m, > {}°){}",
+                            t.jitter_cycle, filter_words(t.filter), neighbourhood_words(t.neighbourhood), clip_words(t.clip), new_sample_words(t.new_sample), t.blend, t.still_blend, t.cut_distance_m, t.cut_angle_deg,
+                            t.within_deg.map_or(String::new(), |d| format!("; only within {d}° of the fovea's centre, each frame's periphery beyond (no history read there)"))
                         )?;
                     }
                     if let (Some(h), Some(d)) = (self.history, self.depth_history) {

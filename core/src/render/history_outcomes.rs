@@ -25,11 +25,14 @@ pub enum HistoryOutcome {
     Empty,
     /// In the periphery's hole: nothing rendered to accumulate; the fovea is shown.
     Hole,
+    /// Beyond the accumulation's reach ([`TemporalConfig::within_deg`](crate::foveation::TemporalConfig::within_deg)):
+    /// the frame's periphery shown as it is, no history read or kept.
+    Beyond,
 }
 
 impl HistoryOutcome {
     /// Every outcome, in slot order.
-    pub const ALL: [HistoryOutcome; 8] = [
+    pub const ALL: [HistoryOutcome; 9] = [
         HistoryOutcome::Kept,
         HistoryOutcome::Clipped,
         HistoryOutcome::FromFovea,
@@ -38,6 +41,7 @@ impl HistoryOutcome {
         HistoryOutcome::Disoccluded,
         HistoryOutcome::Empty,
         HistoryOutcome::Hole,
+        HistoryOutcome::Beyond,
     ];
 
     /// Its name in tables.
@@ -51,6 +55,7 @@ impl HistoryOutcome {
             HistoryOutcome::Disoccluded => "disoccluded",
             HistoryOutcome::Empty => "empty",
             HistoryOutcome::Hole => "hole",
+            HistoryOutcome::Beyond => "beyond reach",
         }
     }
 
@@ -74,7 +79,7 @@ const _: () =
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct HistoryOutcomes {
     /// Indexed by outcome ([`HistoryOutcome::ALL`]'s order), then region ([`Region::ALL`]'s).
-    pub pixels: [[u64; 3]; 8],
+    pub pixels: [[u64; 3]; 9],
 }
 
 impl HistoryOutcomes {
@@ -88,7 +93,8 @@ impl HistoryOutcomes {
         self.pixels[outcome as usize].iter().sum()
     }
 
-    /// Pixels that accumulated (every outcome but the hole) in `region`.
+    /// Pixels the accumulation covered (every outcome but the hole: those beyond its reach
+    /// too) in `region`.
     pub fn accumulated(&self, region: Region) -> u64 {
         HistoryOutcome::ALL
             .iter()

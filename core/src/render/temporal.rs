@@ -85,7 +85,10 @@ impl TemporalAccumulation {
                 self.previous_jitter.x,
                 self.previous_jitter.y,
             ),
-            still: Vec4::new(self.config.still_blend, 0.0, 0.0, 0.0),
+            still: {
+                let (end, fade) = self.config.reach_cosines();
+                Vec4::new(self.config.still_blend, end, fade, 0.0)
+            },
         };
         self.previous_jitter = jitter;
         self.previous = Some((
