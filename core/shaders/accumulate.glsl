@@ -328,6 +328,13 @@ vec3 new_sample(uint eye, ivec2 texel, ivec2 size, vec2 centre, Neighbourhood n,
     return texelFetch(images, ivec3(texel, eye), 0).rgb;
 }
 
+// This frame's periphery of eye `eye` at `uv`, bilinearly at the pixel's centre (the jitter
+// undone).
+vec3 unjittered_periphery(uint eye, vec2 uv) {
+    vec2 size = vec2(textureSize(images, 0).xy);
+    return texture(images, vec3((uv * size + c.jitter.xy) / size, float(eye))).rgb;
+}
+
 // The accumulated periphery of eye `eye` at `uv` (the rendered field's) in direction `t`,
 // shown at `display` (display tangents, LENS); `next` is what the history keeps of this pixel.
 vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
@@ -338,8 +345,7 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
     ivec2 size = textureSize(images, 0).xy;
     vec2 q = uv * vec2(size);
     vec2 j = c.jitter.xy;
-    // The bilinear periphery at this pixel's centre (the jitter undone).
-    vec3 bilinear = texture(images, vec3((q + j) / vec2(size), float(eye))).rgb;
+    vec3 bilinear = unjittered_periphery(eye, uv);
     // Inside the periphery's hole nothing was rendered: the output keeps what the fovea shows.
     if (length((t - fovea_centre) * px_per_tangent) < c.depth.z) {
         NOTE_OUTCOME(OUTCOME_HOLE);
@@ -432,9 +438,7 @@ vec3 accumulate_within_reach(uint eye, vec2 uv, vec2 t, vec2 display, vec2 gaze,
         if (reach <= 0.0) {
             NOTE_OUTCOME(OUTCOME_BEYOND);
         }
-        vec2 size = vec2(textureSize(images, 0).xy);
-        vec3 single = texture(images, vec3((uv * size + c.jitter.xy) / size, float(eye))).rgb;
-        result = mix(single, result, reach);
+        result = mix(unjittered_periphery(eye, uv), result, reach);
     }
     return result;
 }

@@ -109,51 +109,28 @@ pub fn with_temporal(
         jitter_cycle: accumulation.jitter_cycle.unwrap_or(library.jitter_cycle),
         ..library
     };
-    default.validate()?;
-    let clips = match &accumulation.clips[..] {
-        [] => &[default.clip][..],
-        given => given,
-    };
-    let filters = match &accumulation.history_filters[..] {
-        [] => &[default.filter][..],
-        given => given,
-    };
-    let neighbourhoods = match &accumulation.neighbourhoods[..] {
-        [] => &[default.neighbourhood][..],
-        given => given,
-    };
-    let new_samples = match &accumulation.new_samples[..] {
-        [] => &[default.new_sample][..],
-        given => given,
-    };
-    let histories = match &accumulation.histories[..] {
-        [] => &[default.history_at][..],
-        given => given,
-    };
-    let withins: Vec<Option<f32>> = match &accumulation.withins[..] {
-        [] => vec![default.within_deg],
-        given => given.iter().map(|&w| Some(w)).collect(),
-    };
-    let mut ways = Vec::new();
-    for &clip in clips {
-        for &filter in filters {
-            for &neighbourhood in neighbourhoods {
-                for &new_sample in new_samples {
-                    for &history_at in histories {
-                        ways.extend(withins.iter().map(|&within_deg| TemporalConfig {
-                            clip,
-                            filter,
-                            neighbourhood,
-                            new_sample,
-                            history_at,
-                            within_deg,
-                            ..default
-                        }));
-                    }
-                }
-            }
-        }
-    }
+    // One way per combination, the clip varying slowest and the reach fastest.
+    let mut ways = vec![default];
+    ways = vary(ways, &accumulation.clips, |w, clip| TemporalConfig {
+        clip,
+        ..w
+    });
+    ways = vary(ways, &accumulation.history_filters, |w, filter| {
+        TemporalConfig { filter, ..w }
+    });
+    ways = vary(ways, &accumulation.neighbourhoods, |w, neighbourhood| {
+        TemporalConfig { neighbourhood, ..w }
+    });
+    ways = vary(ways, &accumulation.new_samples, |w, new_sample| {
+        TemporalConfig { new_sample, ..w }
+    });
+    ways = vary(ways, &accumulation.histories, |w, history_at| {
+        TemporalConfig { history_at, ..w }
+    });
+    ways = vary(ways, &accumulation.withins, |w, within| TemporalConfig {
+        within_deg: Some(within),
+        ..w
+    });
     for way in &ways {
         way.validate()?;
     }
@@ -188,6 +165,22 @@ pub fn with_temporal(
         })
         .collect();
     Ok(variants.into_iter().chain(temporal).collect())
+}
+
+/// Each of `ways` once per value in `values` (set by `set`), or `ways` as they are where no
+/// value was given (the library's default stands).
+fn vary<T: Copy>(
+    ways: Vec<TemporalConfig>,
+    values: &[T],
+    set: impl Fn(TemporalConfig, T) -> TemporalConfig,
+) -> Vec<TemporalConfig> {
+    if values.is_empty() {
+        return ways;
+    }
+    ways.into_iter()
+        .flat_map(|w| values.iter().map(move |&v| (w, v)))
+        .map(|(w, v)| set(w, v))
+        .collect()
 }
 
 /// What sets `way` apart from the default accumulation in a row's name: "" or " (clip range,

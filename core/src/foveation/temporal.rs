@@ -493,8 +493,6 @@ mod tests {
         assert!(never.validate().is_ok());
     }
 
-    /// Every clip reads back from the name it prints, and tells the shader whether to clip and
-    /// whether to test depth. Mutation: `depth` parsed as `off` fails the round trip.
     /// The shader's reach: accumulating everywhere, cosines no direction reaches; a reach, the
     /// cosine of its angle and, inside it, of its fade's start (clamped at the gaze). Out of
     /// range, an error naming the field.
@@ -517,6 +515,8 @@ mod tests {
         assert!(at(180.0).validate().is_ok());
     }
 
+    /// Every clip reads back from the name it prints, and tells the shader whether to clip and
+    /// whether to test depth. Mutation: `depth` parsed as `off` fails the round trip.
     #[test]
     fn clips_round_trip_and_encode() {
         for clip in [
