@@ -7,17 +7,25 @@
 //!
 //! ```text
 //! cargo run --release -p foveate --example eflip_by_eccentricity -- [--scene NAME] \
-//!     [--hmd NAME] [--res N] [--ratio R] [--gaze X,Y] [DENSITY[:accumulated] ...]
+//!     [--hmd NAME] [--res N] [--ratio R] [--gaze X,Y] [--prefilter] [--supersampled] \
+//!     [DENSITY[:accumulated] ...]
 //! ```
 //!
 //! By default the lit atrium at the Quest Pro's panel, the fovea at 0.35 with 4× MSAA, the gaze
 //! ahead, and the periphery at 0.35 and 0.85 in one frame and at 0.6 accumulated.
+//!
+//! `--prefilter` measures every one-frame row beside its twin with the periphery's highlights
+//! prefiltered (`FoveationConfig::periphery_prefilter`). The usual reference shades each pixel
+//! once, so `--supersampled` judges every row, the usual reference among them, against a truth
+//! shaded 4 times as densely instead: the reference rendered at twice the
+//! resolution per axis, its 2×2 pixels averaged in linear light; every row then undistorted
+//! (the lens's resampling of an image twice the size is not the same resampling).
 
 use foveate::foveation::{FoveationConfig, TemporalConfig};
 use foveate::glam::Vec2;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::judge::FlipJudge;
-use foveate::metrics::{Acuity, ErrorSummary, EyePixels};
+use foveate::metrics::{Acuity, ErrorSummary, EyePixels, RgbaImage};
 use foveate::plan::{OutputStage, RenderConfig, Resolution};
 use foveate::render::{FrameInput, Renderer, StereoImage};
 use foveate::scene::{named_scene, Scene};
@@ -42,6 +50,8 @@ struct Options {
     ratio: f32,
     gaze: Vec2,
     rows: Vec<(f32, bool)>,
+    prefilter: bool,
+    supersampled: bool,
 }
 
 fn number<T: std::str::FromStr>(flag: &str, value: Option<String>) -> Result<T, Error> {
@@ -59,6 +69,8 @@ fn options() -> Result<Options, Error> {
         ratio: 0.35,
         gaze: Vec2::ZERO,
         rows: Vec::new(),
+        prefilter: false,
+        supersampled: false,
     };
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
@@ -67,6 +79,8 @@ fn options() -> Result<Options, Error> {
             "--hmd" => o.hmd = args.next().ok_or("--hmd needs a name")?,
             "--res" => o.resolution = Some(Resolution::square(number("--res", args.next())?)),
             "--ratio" => o.ratio = number("--ratio", args.next())?,
+            "--prefilter" => o.prefilter = true,
+            "--supersampled" => o.supersampled = true,
             "--gaze" => {
                 let value = args.next().ok_or("--gaze needs X,Y")?;
                 let (x, y) = value
@@ -115,6 +129,71 @@ fn frame(
     Ok(renderer.readback()?)
 }
 
+/// `image` at half its size per axis, each pixel the mean of its 2×2 in linear light (sRGB
+/// bytes in and out).
+fn half_size(image: &RgbaImage) -> RgbaImage {
+    let linear = |c: u8| {
+        let c = c as f64 / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let srgb = |l: f64| {
+        let c = if l <= 0.0031308 {
+            l * 12.92
+        } else {
+            1.055 * l.powf(1.0 / 2.4) - 0.055
+        };
+        (c.clamp(0.0, 1.0) * 255.0).round() as u8
+    };
+    let mut half = RgbaImage::new(image.width / 2, image.height / 2);
+    for y in 0..half.height {
+        for x in 0..half.width {
+            for c in 0..4 {
+                let at = |dx, dy| {
+                    let i = ((2 * y + dy) * image.width + 2 * x + dx) as usize * 4 + c;
+                    image.data[i]
+                };
+                let texels = [at(0, 0), at(1, 0), at(0, 1), at(1, 1)];
+                let out = (y * half.width + x) as usize * 4 + c;
+                half.data[out] = match c {
+                    3 => (texels.iter().map(|&a| a as u32).sum::<u32>() / 4) as u8,
+                    _ => srgb(texels.iter().map(|&t| linear(t)).sum::<f64>() / 4.0),
+                };
+            }
+        }
+    }
+    half
+}
+
+/// The truth rows are judged against: the reference itself, or (`supersampled`) the reference
+/// at twice the resolution per axis, averaged down.
+fn truth(
+    gpu: &Gpu,
+    scene: &Scene,
+    reference: &RenderConfig,
+    o: &Options,
+) -> Result<StereoImage, Error> {
+    if !o.supersampled {
+        return frame(gpu, scene, reference, o.gaze);
+    }
+    let eye = foveate::plan(scene, reference, gpu.caps())?.eye_resolution;
+    let dense = RenderConfig {
+        resolution: Some(Resolution {
+            width: 2 * eye.width,
+            height: 2 * eye.height,
+        }),
+        ..reference.clone()
+    };
+    let image = frame(gpu, scene, &dense, o.gaze)?;
+    Ok(StereoImage {
+        left: half_size(&image.left),
+        right: half_size(&image.right),
+    })
+}
+
 fn main() -> Result<(), Error> {
     let o = options()?;
     let gpu = Gpu::new(&GpuOptions::default())?;
@@ -123,7 +202,12 @@ fn main() -> Result<(), Error> {
         hmd: o.hmd.clone(),
         resolution: o.resolution,
         msaa: 4,
-        output: OutputStage::Lens,
+        // The lens resamples the rendered image; averaging a resampled image of twice the size
+        // is not the same resampling, so a supersampled truth is judged undistorted.
+        output: match o.supersampled {
+            true => OutputStage::Undistorted,
+            false => OutputStage::Lens,
+        },
         ..RenderConfig::default()
     };
     let foveated = |density: f32, accumulated: bool| RenderConfig {
@@ -142,6 +226,9 @@ fn main() -> Result<(), Error> {
             ..reference.clone()
         },
     )];
+    if o.supersampled {
+        rows.push(("stereo, MSAA 4 (the reference)".into(), reference.clone()));
+    }
     for &(density, accumulated) in &o.rows {
         let how = if accumulated {
             "accumulated"
@@ -151,13 +238,35 @@ fn main() -> Result<(), Error> {
         let name = format!("periphery {density}, {how}");
         rows.push((name, foveated(density, accumulated)));
     }
-    let want = frame(&gpu, &scene, &reference, o.gaze)?;
-    // Every row's rings are where the first foveated row puts the fovea (as `foveate compare`
+    if o.prefilter {
+        let mut twinned = Vec::new();
+        for (name, config) in rows {
+            let single = config.foveation.filter(|f| f.periphery_temporal.is_none());
+            let twin = single.map(|f| RenderConfig {
+                foveation: Some(FoveationConfig {
+                    periphery_prefilter: true,
+                    ..f
+                }),
+                ..config.clone()
+            });
+            twinned.push((name.clone(), config));
+            twinned.extend(twin.map(|twin| (format!("{name}, prefiltered"), twin)));
+        }
+        rows = twinned;
+    }
+    let want = truth(&gpu, &scene, &reference, &o)?;
+    // Every row's rings are where the last row (foveated) puts the fovea (as `foveate compare`
     // places aliased stereo's regions): the same pixels in every row.
-    let plan = foveate::plan(&scene, &rows[1].1, gpu.caps())?;
+    let last = &rows.last().expect("a foveated row").1;
+    let plan = foveate::plan(&scene, last, gpu.caps())?;
     let eyes = EyePixels::both(&plan, o.gaze, plan.foveation.as_ref());
     let mut judge = FlipJudge::new(&gpu, plan.eye_resolution.width, plan.eye_resolution.height)?;
-    print!("{:<34}", "eFLIP p99 by eccentricity");
+    let truth = match o.supersampled {
+        true => "shaded 4x as densely (every row undistorted)",
+        false => "stereo, MSAA 4",
+    };
+    println!("against {truth}:");
+    print!("{:<46}", "eFLIP p99 by eccentricity");
     for (a, b) in RINGS {
         print!(
             " {:>9}",
@@ -190,7 +299,7 @@ fn main() -> Result<(), Error> {
             }
             all.extend(pixels.select(&maps.eccentric, |_| true));
         }
-        print!("{name:<34}");
+        print!("{name:<46}");
         for ring in rings.iter().chain([&all]) {
             match ErrorSummary::of(ring) {
                 Some(s) => print!(" {:>9.4}", s.p99),

@@ -3,6 +3,11 @@
 // each array per material, full mip chains, trilinear or anisotropic — lit by the sun, up to
 // four point lights and a hemispherical sky. Only lit scenes' pipelines include it.
 
+// The periphery's specular prefilter: a view rendered coarser than the screen widens each
+// highlight by the spread of the normals its coarser footprint averages beyond the screen's
+// pixels' (`prefiltered_roughness`). Off, none of it is compiled.
+layout(constant_id = 41) const bool PERIPHERY_PREFILTER = false;
+
 layout(set = 0, binding = 5) uniform sampler2DArray base_color_tex;
 layout(set = 0, binding = 6) uniform sampler2DArray normal_tex;
 layout(set = 0, binding = 7) uniform sampler2DArray orm_tex;
@@ -85,6 +90,32 @@ mat3 surface_frame(vec3 n, vec4 tangent, vec3 world, vec2 mesh_uv, float repeats
     return mat3(t * scale, b * scale, n);
 }
 
+// Specular anti-aliasing (Toksvig 2005, "Mipmapping Normal Maps"): a minified normal map
+// averages normals that point apart, and one point-sampled highlight then stands for a footprint
+// whose highlights do not line up — it flickers as the footprint moves. The normal map's alpha
+// keeps the length of the mean normal under the texel (`scene::textures`); 1 − len over len is
+// the variance of the normals' slopes, and a GGX lobe of roughness α has a slope variance of
+// about α² / 2, so the two add as α² + 2σ² (Toksvig's widened Blinn-Phong exponent, 1/s' = 1/s
+// + σ², in α's terms).
+float widened_roughness(float roughness, float mean_normal_length) {
+    float len = max(mean_normal_length, 1.0 / 255.0);
+    float variance = (1.0 - len) / len;
+    float alpha2 = min(roughness * roughness * roughness * roughness + 2.0 * variance, 1.0);
+    return sqrt(sqrt(alpha2));
+}
+
+// A pixel of a view `coarser` times the screen's pixel (per axis) should show what the
+// screen's pixels under it show, averaged: the mean of highlights lit by the screen's normals,
+// not one highlight lit by their mean. The normals the screen's footprint averages are already
+// in the screen's look, so only the spread between them widens the lobe: the mean normal's
+// length at the view's footprint over its length at the screen's (each texel's children about
+// equally long). At the screen's density the two fetches agree and nothing changes.
+float prefiltered_roughness(float roughness, float view_length, vec3 uvw, vec2 gx, vec2 gy,
+                            float coarser) {
+    float screen_length = textureGrad(normal_tex, uvw, gx / coarser, gy / coarser).a;
+    return widened_roughness(roughness, min(view_length / max(screen_length, 1.0 / 255.0), 1.0));
+}
+
 // One light's contribution: radiance `light` arriving from direction `l`.
 vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 light, vec3 albedo, float metallic, float roughness) {
     float nl = max(dot(n, l), 0.0);
@@ -108,9 +139,10 @@ vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 light, vec3 albedo, float metallic, float
 }
 
 // `eye`: the view's eye; `depth`: the fragment's view depth; `ray_dx`, `ray_dy`: how the view
-// ray at unit depth moves per pixel (world space). Alpha: the base colour texture's.
+// ray at unit depth moves per pixel (world space); `coarser`: how many of the screen's pixels
+// (per axis) the view's texture footprint spans. Alpha: the base colour texture's.
 vec4 shade_lit(vec3 n, vec4 tangent, vec3 world, vec2 mesh_uv, uint material, vec3 tint,
-               vec3 eye, float depth, vec3 ray_dx, vec3 ray_dy, vec3 sun_dir) {
+               vec3 eye, float depth, vec3 ray_dx, vec3 ray_dy, float coarser, vec3 sun_dir) {
     Material m = materials[material];
     float layer = float(material);
     vec2 uv;
@@ -122,9 +154,14 @@ vec4 shade_lit(vec3 n, vec4 tangent, vec3 world, vec2 mesh_uv, uint material, ve
     vec4 base = textureGrad(base_color_tex, vec3(uv, layer), gx, gy);
     vec3 albedo = base.rgb * m.base_color.rgb * tint;
     vec3 orm = textureGrad(orm_tex, vec3(uv, layer), gx, gy).rgb;
-    vec3 bump = textureGrad(normal_tex, vec3(uv, layer), gx, gy).xyz * 2.0 - 1.0;
+    vec4 normal_texel = textureGrad(normal_tex, vec3(uv, layer), gx, gy);
+    vec3 bump = normal_texel.xyz * 2.0 - 1.0;
     vec3 normal = normalize(frame * bump);
     float roughness = clamp(orm.g * m.params.y, 0.04, 1.0);
+    if (PERIPHERY_PREFILTER && coarser > 1.0) {
+        roughness = prefiltered_roughness(roughness, normal_texel.a, vec3(uv, layer), gx, gy,
+                                          coarser);
+    }
     float metallic = clamp(orm.b * m.params.x, 0.0, 1.0);
     vec3 v = normalize(eye - world);
 

@@ -48,7 +48,8 @@ void main() {
 #ifdef LIT
     vec4 lit = shade_lit(n, in_tangent, in_world, in_uv, in_material, in_color,
                          views.eye_pos[in_view].xyz, in_depth, views.ray_dx[in_view].xyz,
-                         views.ray_dy[in_view].xyz, views.light_dir.xyz);
+                         views.ray_dy[in_view].xyz, views.ray_dx[in_view].w,
+                         views.light_dir.xyz);
 #ifdef ALPHA_MASK
     if (lit.a < materials[in_material].params.w) {
         discard;

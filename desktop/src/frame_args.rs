@@ -127,6 +127,11 @@ pub struct ConfigArgs {
     /// (the two blend over the last 5°). Default: everywhere.
     #[arg(long)]
     pub temporal_within: Option<f32>,
+    /// With --foveate --single-frame, lit scenes: prefilter the periphery's highlights, each
+    /// widened by the spread of the normals its coarser pixels average beyond the screen's
+    /// (Toksvig). Measured losing at the Quest Pro's panel; off by default.
+    #[arg(long)]
+    pub periphery_prefilter: bool,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -373,6 +378,10 @@ pub struct ComparedFrame {
     /// Fovea layout of the foveated rows: auto, one-pass or two-pass.
     #[arg(long, default_value = "auto")]
     pub fovea_layout: String,
+    /// Also measure every single-frame foveated row with its periphery's highlights
+    /// prefiltered (`--periphery-prefilter`), each beside its row: lit scenes only.
+    #[arg(long)]
+    pub prefilter: bool,
     #[command(flatten)]
     pub head: HeadArgs,
     #[command(flatten)]
@@ -430,6 +439,7 @@ impl ConfigArgs {
             periphery_filter,
             periphery_density: self.periphery_density.or(defaults.periphery_density),
             periphery_msaa: self.periphery_msaa,
+            periphery_prefilter: self.periphery_prefilter,
             periphery_temporal: defaults.periphery_temporal.map(|default| TemporalConfig {
                 blend: self.temporal_blend.unwrap_or(default.blend),
                 still_blend: self.temporal_still_blend.unwrap_or(default.still_blend),
@@ -537,6 +547,11 @@ impl ConfigArgs {
                     given("--temporal-history", &self.temporal_history),
                     given("--temporal-within", &self.temporal_within),
                 ],
+            ),
+            (
+                ("single frames", "add --foveate --single-frame"),
+                foveate && self.single_frame,
+                vec![flag("--periphery-prefilter", self.periphery_prefilter)],
             ),
             (
                 ("--mffr", "add --mffr"),

@@ -1,6 +1,7 @@
 //! The foveated variants a sweep measures beyond its plain rows (`compare`, `flicker`): the
 //! periphery at its own density and sample count, and accumulated over frames.
 
+use foveate::plan::RenderConfig;
 use foveate::foveation::{
     ClipNeighbourhood, FoveationConfig, HistoryAt, HistoryClip, HistoryFilter, NewSample,
     PeripheryFilter, TemporalConfig,
@@ -212,4 +213,30 @@ fn way_words(way: TemporalConfig, default: TemporalConfig) -> String {
         true => String::new(),
         false => format!(" ({})", words.join(", ")),
     }
+}
+
+/// `rows`, each single-frame foveated row followed by its twin with the periphery's highlights
+/// prefiltered when `on` (`--prefilter`).
+pub fn with_prefilter<T: Clone>(
+    rows: Vec<(String, T, RenderConfig)>,
+    on: bool,
+) -> Vec<(String, T, RenderConfig)> {
+    let twin = |(name, t, config): &(String, T, RenderConfig)| {
+        let foveation = config.foveation.filter(|f| on && f.periphery_temporal.is_none())?;
+        let config = RenderConfig {
+            foveation: Some(FoveationConfig {
+                periphery_prefilter: true,
+                ..foveation
+            }),
+            ..config.clone()
+        };
+        Some((format!("{name}, prefiltered"), t.clone(), config))
+    };
+    let mut twinned = Vec::with_capacity(rows.len());
+    for row in rows {
+        let with = twin(&row);
+        twinned.push(row);
+        twinned.extend(with);
+    }
+    twinned
 }

@@ -22,6 +22,7 @@ mod mffr;
 mod moving_instances;
 mod output_images;
 mod perception;
+mod prefilter;
 mod quirks;
 mod radial_density;
 mod robustness;

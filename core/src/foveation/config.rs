@@ -62,6 +62,14 @@ pub struct FoveationConfig {
     /// [`TemporalConfig::history_at`]); `None`: each frame's periphery alone, upscaled by
     /// `periphery_filter`. Default: accumulated, [`TemporalConfig::default`].
     pub periphery_temporal: Option<TemporalConfig>,
+    /// Lit scenes, single frames: prefilter the periphery's highlights. A periphery pixel
+    /// covers several of the screen's, and should show their mean: each highlight is widened
+    /// by the spread of the normals its coarser footprint averages beyond the screen's (Toksvig
+    /// 2005, relative to the screen's density), so the fovea and a stereo frame are unchanged.
+    /// Measured at the Quest Pro's panel it lost, still and walking, and did not flicker less
+    /// (docs/foveation.md); off by default. Refused with an accumulated periphery, which
+    /// samples its textures at the screen's density, and with a flat scene.
+    pub periphery_prefilter: bool,
 }
 
 /// The periphery accumulated over jittered frames at [`RECOMMENDED_PERIPHERY_DENSITY`] of the
@@ -110,6 +118,7 @@ impl FoveationConfig {
             periphery_density: None,
             periphery_msaa: None,
             periphery_temporal: None,
+            periphery_prefilter: false,
         }
     }
 }
@@ -164,6 +173,8 @@ pub struct FoveationGeometry {
     pub periphery_filter: PeripheryFilter,
     /// Temporal accumulation of the periphery, when on.
     pub temporal: Option<TemporalConfig>,
+    /// [`FoveationConfig::periphery_prefilter`].
+    pub periphery_prefilter: bool,
 }
 
 impl FoveationConfig {
@@ -245,6 +256,13 @@ impl FoveationConfig {
         }
         if let Some(t) = &self.periphery_temporal {
             t.validate()?;
+            if self.periphery_prefilter {
+                return Err(ConfigError::new(
+                    "periphery_prefilter",
+                    true,
+                    "single frames: an accumulated periphery samples its textures at the screen's density, so there is nothing to prefilter",
+                ));
+            }
         }
         // Fovea-view pixels per screen pixel, and periphery pixels per screen pixel.
         let fovea_scale = view.width as f32 / window_px;
@@ -282,6 +300,7 @@ impl FoveationConfig {
             periphery_sharpen: self.periphery_sharpen,
             periphery_filter: self.periphery_filter,
             temporal: self.periphery_temporal,
+            periphery_prefilter: self.periphery_prefilter,
         })
     }
 }

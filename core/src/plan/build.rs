@@ -251,6 +251,14 @@ fn resolve_effects(
             format!("at most {MAX_POINT_LIGHTS} point lights"),
         ));
     }
+    let prefilter = config.foveation.is_some_and(|f| f.periphery_prefilter);
+    if prefilter && scene.shading() != Shading::Lit {
+        return Err(ConfigError::new(
+            "periphery_prefilter",
+            "true",
+            "a lit scene (a flat one has no highlights to widen)",
+        ));
+    }
     let hmd_mask = config
         .hmd_mask
         .then(|| Eye::BOTH.map(|e| hmd.lens_region(eyes.fov(e))));

@@ -80,3 +80,44 @@ fn the_plan_says_why_the_periphery_is_made_as_it_is() {
     let stereo = planned(&config(StereoMode::Multiview, 4)).to_string();
     assert!(!stereo.contains("  periphery:"), "{stereo}");
 }
+
+/// The periphery's specular prefilter: a lit scene's single-frame periphery gets it, its scene
+/// pipelines carrying the constant and the plan saying so; without it no pipeline carries the
+/// constant. A flat scene, an accumulated periphery and an engine's draws refuse it, each
+/// naming the field. Mutations: the constant set regardless of the flag, or any refusal
+/// dropped, fail it.
+#[test]
+fn only_a_lit_single_frame_periphery_is_prefiltered() {
+    use crate::scene::{atrium_scene, default_scene};
+    let with = |prefilter: bool, temporal: Option<TemporalConfig>| RenderConfig {
+        foveation: foveated(true).foveation.map(|f| FoveationConfig {
+            periphery_density: Some(0.25),
+            periphery_temporal: temporal,
+            periphery_prefilter: prefilter,
+            ..f
+        }),
+        fovea_layout: FoveaLayout::Auto,
+        ..foveated(true)
+    };
+    let carries = |plan: &FramePlan| {
+        plan.passes.iter().flat_map(|p| &p.pipelines).any(|p| {
+            p.constants
+                .contains(&(super::pipeline::Constant::PeripheryPrefilter, 1))
+        })
+    };
+    let lit = atrium_scene();
+    let prefiltered = plan(&lit, &with(true, None), &caps()).expect("a lit single frame");
+    assert!(carries(&prefiltered));
+    let line = "one frame at 0.25 of the screen's density, its highlights prefiltered";
+    assert!(prefiltered.to_string().contains(line), "{prefiltered}");
+    let plain = plan(&lit, &with(false, None), &caps()).expect("valid");
+    assert!(!carries(&plain) && !plain.to_string().contains("prefiltered"));
+
+    let refused = |result: Result<FramePlan, ConfigError>| {
+        let e = result.expect_err("refused");
+        assert_eq!(e.field, "periphery_prefilter", "{e}");
+    };
+    refused(plan(&default_scene(), &with(true, None), &caps()));
+    refused(plan(&lit, &with(true, Some(Default::default())), &caps()));
+    refused(plan_for_engine(&with(true, None), &caps()));
+}

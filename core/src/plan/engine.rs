@@ -42,6 +42,9 @@ fn refuse_scene_features(config: &RenderConfig) -> Result<(), ConfigError> {
     if config.moving_instances {
         return scene_only("moving_instances", "true".into());
     }
+    if config.foveation.is_some_and(|f| f.periphery_prefilter) {
+        return scene_only("periphery_prefilter", "true".into());
+    }
     if config.spare_instances > 0 {
         return scene_only("spare_instances", config.spare_instances.to_string());
     }

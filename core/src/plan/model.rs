@@ -272,8 +272,7 @@ pub struct FramePlan {
     pub foveation: Option<FoveationGeometry>,
     /// Each eye's lens-visible region, when the HMD stencil mask is on.
     pub hmd_mask: Option<[LensRegion; 2]>,
-    /// MFFR as resolved for this frame: `None` when off, or when the scene has nothing beyond
-    /// the split.
+    /// MFFR as resolved for this frame: `None` when off, or nothing lies beyond the split.
     pub mffr: Option<MffrGeometry>,
     /// Per-frame culling, when on.
     pub culling: Option<CullConfig>,

@@ -82,6 +82,10 @@ pub enum Constant {
     /// The accumulating output stage accumulates only within a reach of the gaze
     /// (`TemporalConfig::within_deg`): without it, the reach's test is compiled out.
     Reach,
+    /// Lit scenes: the periphery views widen each highlight by the spread of the normals their
+    /// coarser pixels average
+    /// ([`FoveationConfig::periphery_prefilter`](crate::foveation::FoveationConfig::periphery_prefilter)).
+    PeripheryPrefilter,
 }
 
 /// How a constant's 32 bits read.
@@ -97,7 +101,7 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 31] = {
+    pub const ALL: [Constant; 32] = {
         use Constant::*;
         [
             ViewSource,
@@ -131,6 +135,7 @@ impl Constant {
             WeightedNewSample,
             PeripheryOnly,
             Reach,
+            PeripheryPrefilter,
         ]
     };
 
@@ -170,6 +175,7 @@ impl Constant {
             WeightedNewSample => (38, "WEIGHTED_NEW_SAMPLE", Bool),
             PeripheryOnly => (39, "PERIPHERY_ONLY", Bool),
             Reach => (40, "REACH", Bool),
+            PeripheryPrefilter => (41, "PERIPHERY_PREFILTER", Bool),
         }
     }
 

@@ -564,9 +564,13 @@ fn clip_words(clip: crate::foveation::HistoryClip) -> String {
 /// measured figure, and says "measured" where a verdict is one.
 fn periphery_reason(g: &crate::foveation::FoveationGeometry, density: f64, screen: u32) -> String {
     use crate::foveation::{HistoryAt, RECOMMENDED_PERIPHERY_DENSITY};
+    let prefiltered = match g.periphery_prefilter {
+        true => ", its highlights prefiltered to the screen's (measured to lose, still and walking)",
+        false => "",
+    };
     match g.temporal {
         None => format!(
-            "one frame at {density:.2} of the screen's density, upscaled, nothing kept between frames: the cheapest foveated frame, no history to read or write, nothing that changes while the head is still, but it measured less accurate than stereo without MSAA over the frame (eFLIP p99) in every motion on the lit atrium at the Quest Pro's panel; the library's default accumulates it instead, at {RECOMMENDED_PERIPHERY_DENSITY} of the screen's density, for more time and a history's bytes (BENCHMARKS.md)"
+            "one frame at {density:.2} of the screen's density{prefiltered}, upscaled, nothing kept between frames: the cheapest foveated frame, no history to read or write, nothing that changes while the head is still, but it measured less accurate than stereo without MSAA over the frame (eFLIP p99) in every motion on the lit atrium at the Quest Pro's panel; the library's default accumulates it instead, at {RECOMMENDED_PERIPHERY_DENSITY} of the screen's density, for more time and a history's bytes (BENCHMARKS.md)"
         ),
         Some(t) => {
             let history = match t.history_at {

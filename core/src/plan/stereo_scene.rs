@@ -430,6 +430,7 @@ pub(super) fn scene_pipeline(
     .flag(Constant::FoveaTags, draw_set == DrawSet::FoveaTagged)
     .flag(Constant::DepthInAlpha, pass.kind == PassKind::FarField)
     .flag(Constant::MarkMoving, marks_moving(plan))
+    .flag(Constant::PeripheryPrefilter, plan.lit && prefilters(plan))
 }
 
 /// Whether the scene passes mark the pixels of instances that move (alpha 0): only where the
@@ -440,6 +441,12 @@ pub(super) fn marks_moving(plan: &FramePlan) -> bool {
     let temporal = plan.foveation.and_then(|g| g.temporal);
     (plan.moving_instances().is_some() || plan.engine_draws)
         && temporal.is_some_and(|t| t.clip == crate::foveation::HistoryClip::Moved)
+}
+
+/// Whether the lit scene's periphery views prefilter their highlights
+/// ([`FoveationConfig::periphery_prefilter`](crate::foveation::FoveationConfig::periphery_prefilter)).
+fn prefilters(plan: &FramePlan) -> bool {
+    plan.foveation.is_some_and(|g| g.periphery_prefilter)
 }
 
 /// The vertex shader's `VIEW_SOURCE` for a submission (see `shaders/scene.vert`).

@@ -21,7 +21,10 @@ pub(super) struct ViewsBlock {
     /// Each view's eye in world space, the MFFR far view's at [`FAR_VIEW_INDEX`].
     eye_pos: [Vec4; SLOTS],
     /// How each view's ray at unit depth moves per pixel right and down (world space): lit
-    /// shading's analytic texture gradients.
+    /// shading's analytic texture gradients. `ray_dx`'s w: how many of the screen's pixels
+    /// (per axis) one texture footprint of a periphery view spans (above 1 where it is rendered
+    /// coarser than the screen), for its specular prefilter; 1 for the fovea views, 0 for the
+    /// far view.
     ray_dx: [Vec4; SLOTS],
     ray_dy: [Vec4; SLOTS],
 }
@@ -119,6 +122,16 @@ impl FrameViews {
             let pixels = (f.resolution.width, f.resolution.height);
             let at = FAR_VIEW_INDEX as usize;
             set(at, f.world_from_far, f.view_proj, f.fov, pixels);
+        }
+        // The fovea views are at the screen's density by design: not prefiltered.
+        for (i, &(_, fov)) in views.iter().enumerate().take(2) {
+            let screen = plan.eyes.fov(Eye::BOTH[i]);
+            let screen_step = (screen.left + screen.right) / plan.eye_resolution.width as f32;
+            let texels = texture_pixels(i).width as f32;
+            block.ray_dx[i].w = (fov.left + fov.right) / texels / screen_step;
+        }
+        for dx in block.ray_dx.iter_mut().take(views.len()).skip(2) {
+            dx.w = 1.0;
         }
         FrameViews {
             views,

@@ -23,7 +23,10 @@ pub struct Texture {
 pub struct MaterialTextures {
     /// sRGB base colour.
     pub base: Texture,
-    /// Tangent-space normal, `xyz · 0.5 + 0.5` (x along u, y along v as texture rows grow).
+    /// Tangent-space normal, `xyz · 0.5 + 0.5` (x along u, y along v as texture rows grow);
+    /// alpha: the length of the mean of the level-0 normals the texel covers (1 at level 0,
+    /// shorter where the normals it averages diverge), which specular anti-aliasing widens the
+    /// highlight by (Toksvig 2005, "Mipmapping Normal Maps").
     pub normal: Texture,
     /// r occlusion, g roughness, b metallic (glTF's channel order).
     pub orm: Texture,
@@ -273,13 +276,17 @@ fn decode_srgb(v: u8) -> f32 {
 enum Channel {
     /// Averaged in linear light.
     Srgb,
-    /// Averaged as vectors, renormalised.
+    /// Averaged as vectors, renormalised; alpha keeps the mean's length (1 at level 0).
     Normal,
     Linear,
 }
 
 /// `level0` and its mip chain down to 1×1, each level the 2×2 box average of the one above.
-fn with_mips(size: u32, level0: Vec<u8>, channel: Channel) -> Texture {
+fn with_mips(size: u32, mut level0: Vec<u8>, channel: Channel) -> Texture {
+    if let Channel::Normal = channel {
+        // Each level-0 normal is a unit vector, whatever the image's own alpha said.
+        level0.iter_mut().skip(3).step_by(4).for_each(|a| *a = 255);
+    }
     let mut levels = vec![level0];
     let mut side = size;
     while side > 1 {
@@ -291,24 +298,27 @@ fn with_mips(size: u32, level0: Vec<u8>, channel: Channel) -> Texture {
                 let texel = |dx: u32, dy: u32, c: usize| {
                     above[(((2 * y + dy) * side + 2 * x + dx) * 4) as usize + c]
                 };
+                if let Channel::Normal = channel {
+                    next.extend(mean_normal([(0, 0), (1, 0), (0, 1), (1, 1)].map(
+                        |(dx, dy)| [0, 1, 2, 3].map(|c| texel(dx, dy, c)),
+                    )));
+                    continue;
+                }
                 let mut rgb = [0.0f32; 3];
                 for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
                     for (c, sum) in rgb.iter_mut().enumerate() {
                         *sum += 0.25
                             * match channel {
                                 Channel::Srgb => decode_srgb(texel(dx, dy, c)),
-                                Channel::Normal => texel(dx, dy, c) as f32 / 255.0 * 2.0 - 1.0,
-                                Channel::Linear => texel(dx, dy, c) as f32 / 255.0,
+                                Channel::Linear | Channel::Normal => {
+                                    texel(dx, dy, c) as f32 / 255.0
+                                }
                             };
                     }
                 }
                 let out = match channel {
                     Channel::Srgb => rgb.map(encode_srgb),
-                    Channel::Normal => {
-                        let n = Vec3::from(rgb).normalize_or(Vec3::Z);
-                        (n * 0.5 + 0.5).to_array().map(unorm8)
-                    }
-                    Channel::Linear => rgb.map(unorm8),
+                    Channel::Linear | Channel::Normal => rgb.map(unorm8),
                 };
                 next.extend(out);
                 // Alpha (an alpha mask's coverage) averages linearly.
@@ -323,6 +333,24 @@ fn with_mips(size: u32, level0: Vec<u8>, channel: Channel) -> Texture {
         side = half;
     }
     Texture { size, levels }
+}
+
+/// The next level's normal texel from four (RGBA8, the direction as `xyz · 0.5 + 0.5`, alpha
+/// the length of the mean it stands for): the mean of the vectors they stand for, its
+/// direction renormalised and its length kept in alpha. A length below 1 is the spread of the
+/// level-0 normals under the texel (Toksvig 2005).
+fn mean_normal(texels: [[u8; 4]; 4]) -> [u8; 4] {
+    let mean = texels
+        .iter()
+        .map(|t| {
+            let direction = Vec3::from([t[0], t[1], t[2]].map(|c| c as f32 / 255.0 * 2.0 - 1.0));
+            direction.normalize_or(Vec3::Z) * (t[3] as f32 / 255.0)
+        })
+        .sum::<Vec3>()
+        / 4.0;
+    let n = mean.normalize_or(Vec3::Z);
+    let [x, y, z] = (n * 0.5 + 0.5).to_array().map(unorm8);
+    [x, y, z, unorm8(mean.length().min(1.0))]
 }
 
 #[cfg(test)]
@@ -349,4 +377,47 @@ mod tests {
         let b = value_noise(Vec2::new(1.0, 0.3), 8, 1);
         assert!((a - b).abs() < 1e-6, "noise wraps at the tile's edge");
     }
+
+    /// The normal map's alpha is the mean normal's length: 1 where the normals agree, shorter
+    /// where they diverge, as Toksvig's measure of their spread. Checked against the mean in
+    /// `f64` of the level-0 normals each texel covers; it breaks if a level averages the
+    /// renormalised texels above it rather than the vectors they stand for.
+    #[test]
+    fn the_normal_maps_alpha_keeps_the_mean_normals_length() {
+        let tilted = |x: u32, y: u32| {
+            let (sx, sy) = (x.is_multiple_of(2), (x / 2 + y).is_multiple_of(3));
+            let n = Vec3::new(if sx { 0.6 } else { -0.6 }, if sy { 0.3 } else { 0.0 }, 0.8);
+            n.normalize()
+        };
+        let side = 8u32;
+        let mut level0 = Vec::new();
+        for y in 0..side {
+            for x in 0..side {
+                level0.extend((tilted(x, y) * 0.5 + 0.5).to_array().map(unorm8));
+                level0.push(0); // an image's own alpha is ignored
+            }
+        }
+        let t = with_mips(side, level0, Channel::Normal);
+        for (level, texels) in t.levels.iter().enumerate() {
+            let step = 1u32 << level;
+            for (i, texel) in texels.chunks_exact(4).enumerate() {
+                let (tx, ty) = (i as u32 % (side / step), i as u32 / (side / step));
+                let mut mean = glam::DVec3::ZERO;
+                for y in ty * step..(ty + 1) * step {
+                    for x in tx * step..(tx + 1) * step {
+                        mean += tilted(x, y).as_dvec3() / (step * step) as f64;
+                    }
+                }
+                let alpha = texel[3] as f64 / 255.0;
+                assert!(
+                    (alpha - mean.length()).abs() < 0.02,
+                    "level {level} texel {i}: {alpha} against {}",
+                    mean.length()
+                );
+            }
+        }
+        assert_eq!(t.levels[0][3], 255, "level 0 holds unit normals");
+        assert!(t.levels.last().unwrap()[3] < 230, "diverging normals shorten the mean");
+    }
+
 }

@@ -135,6 +135,10 @@ struct Row {
 pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     crate::interrupt::install();
     let acuity = checked_acuity(args)?;
+    anyhow::ensure!(
+        !(args.frame.prefilter && (args.table || !args.latency.gaze_latency.is_empty())),
+        "--prefilter twins the compared rows: not with --table or --gaze-latency, which measure rows of their own"
+    );
     if args.table {
         return table(options, args);
     }
@@ -328,7 +332,7 @@ fn compared_rows(
         lod: None,
         ..base.clone()
     };
-    let mut named = vec![("reference".to_string(), 4, reference)];
+    let mut named = Vec::new();
     for &msaa in &args.msaa {
         named.push((format!("stereo, MSAA {msaa}"), msaa, base.clone()));
         if args.radial_density {
@@ -350,5 +354,7 @@ fn compared_rows(
             named.push((format!("{name}, MSAA {msaa}"), msaa, config));
         }
     }
+    let mut named = crate::variants::with_prefilter(named, args.frame.prefilter);
+    named.insert(0, ("reference".to_string(), 4, reference));
     named
 }

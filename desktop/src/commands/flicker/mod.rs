@@ -306,5 +306,7 @@ fn flicker_configs(
             configs.push((format!("{name}, MSAA {msaa}"), config));
         }
     }
-    Ok(configs)
+    let rows = configs.into_iter().map(|(n, c)| (n, (), c)).collect();
+    let twinned = crate::variants::with_prefilter(rows, args.frame.prefilter);
+    Ok(twinned.into_iter().map(|(n, (), c)| (n, c)).collect())
 }
