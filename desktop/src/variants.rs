@@ -1,11 +1,11 @@
 //! The foveated variants a sweep measures beyond its plain rows (`compare`, `flicker`): the
 //! periphery at its own density and sample count, and accumulated over frames.
 
-use foveate::plan::RenderConfig;
 use foveate::foveation::{
     ClipNeighbourhood, FoveationConfig, HistoryAt, HistoryClip, HistoryFilter, NewSample,
     PeripheryFilter, TemporalConfig,
 };
+use foveate::plan::RenderConfig;
 
 /// Each foveated variant as it is, then with the periphery at each of `densities` and at each
 /// of `periphery_msaa`'s sample counts (every combination), named after what changed.
@@ -222,7 +222,9 @@ pub fn with_prefilter<T: Clone>(
     on: bool,
 ) -> Vec<(String, T, RenderConfig)> {
     let twin = |(name, t, config): &(String, T, RenderConfig)| {
-        let foveation = config.foveation.filter(|f| on && f.periphery_temporal.is_none())?;
+        let foveation = config
+            .foveation
+            .filter(|f| on && f.periphery_temporal.is_none())?;
         let config = RenderConfig {
             foveation: Some(FoveationConfig {
                 periphery_prefilter: true,

@@ -58,7 +58,8 @@ fn the_prefilter_changes_only_a_periphery_coarser_than_the_screen() {
     let gpu = gpu();
     let scene = atrium_scene();
     let gaze = Vec2::new(0.3, -0.2);
-    let frame = |density, prefilter| render_at(&gpu, &scene, &single_frame(density, prefilter), gaze);
+    let frame =
+        |density, prefilter| render_at(&gpu, &scene, &single_frame(density, prefilter), gaze);
     let plan = foveate::plan(&scene, &single_frame(0.5, false), gpu.caps()).unwrap();
     let eyes = EyePixels::both(&plan, gaze, plan.foveation.as_ref());
 

@@ -565,7 +565,9 @@ fn clip_words(clip: crate::foveation::HistoryClip) -> String {
 fn periphery_reason(g: &crate::foveation::FoveationGeometry, density: f64, screen: u32) -> String {
     use crate::foveation::{HistoryAt, RECOMMENDED_PERIPHERY_DENSITY};
     let prefiltered = match g.periphery_prefilter {
-        true => ", its highlights prefiltered to the screen's (measured to lose, still and walking)",
+        true => {
+            ", its highlights prefiltered to the screen's (measured to lose, still and walking)"
+        }
         false => "",
     };
     match g.temporal {

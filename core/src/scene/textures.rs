@@ -299,9 +299,10 @@ fn with_mips(size: u32, mut level0: Vec<u8>, channel: Channel) -> Texture {
                     above[(((2 * y + dy) * side + 2 * x + dx) * 4) as usize + c]
                 };
                 if let Channel::Normal = channel {
-                    next.extend(mean_normal([(0, 0), (1, 0), (0, 1), (1, 1)].map(
-                        |(dx, dy)| [0, 1, 2, 3].map(|c| texel(dx, dy, c)),
-                    )));
+                    next.extend(mean_normal(
+                        [(0, 0), (1, 0), (0, 1), (1, 1)]
+                            .map(|(dx, dy)| [0, 1, 2, 3].map(|c| texel(dx, dy, c))),
+                    ));
                     continue;
                 }
                 let mut rgb = [0.0f32; 3];
@@ -417,7 +418,9 @@ mod tests {
             }
         }
         assert_eq!(t.levels[0][3], 255, "level 0 holds unit normals");
-        assert!(t.levels.last().unwrap()[3] < 230, "diverging normals shorten the mean");
+        assert!(
+            t.levels.last().unwrap()[3] < 230,
+            "diverging normals shorten the mean"
+        );
     }
-
 }
