@@ -251,19 +251,7 @@ impl FoveationConfig {
                 ))
             }
         };
-        if let Some(m) = self.periphery_msaa.filter(|m| !matches!(m, 1 | 4)) {
-            return Err(ConfigError::new("periphery_msaa", m, "1 or 4"));
-        }
-        if let Some(t) = &self.periphery_temporal {
-            t.validate()?;
-            if self.periphery_prefilter {
-                return Err(ConfigError::new(
-                    "periphery_prefilter",
-                    true,
-                    "single frames: an accumulated periphery samples its textures at the screen's density, so there is nothing to prefilter",
-                ));
-            }
-        }
+        self.validate_periphery_rendering()?;
         // Fovea-view pixels per screen pixel, and periphery pixels per screen pixel.
         let fovea_scale = view.width as f32 / window_px;
         let periphery_scale = periphery_view.width as f32 / screen.width as f32;
@@ -302,6 +290,26 @@ impl FoveationConfig {
             temporal: self.periphery_temporal,
             periphery_prefilter: self.periphery_prefilter,
         })
+    }
+}
+
+impl FoveationConfig {
+    /// The periphery's samples, accumulation and prefilter.
+    fn validate_periphery_rendering(&self) -> Result<(), ConfigError> {
+        if let Some(m) = self.periphery_msaa.filter(|m| !matches!(m, 1 | 4)) {
+            return Err(ConfigError::new("periphery_msaa", m, "1 or 4"));
+        }
+        if let Some(t) = &self.periphery_temporal {
+            t.validate()?;
+            if self.periphery_prefilter {
+                return Err(ConfigError::new(
+                    "periphery_prefilter",
+                    true,
+                    "single frames: an accumulated periphery samples its textures at the screen's density, so there is nothing to prefilter",
+                ));
+            }
+        }
+        Ok(())
     }
 }
 
