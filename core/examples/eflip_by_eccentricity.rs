@@ -7,7 +7,7 @@
 //!
 //! ```text
 //! cargo run --release -p foveate --example eflip_by_eccentricity -- [--scene NAME] \
-//!     [--hmd NAME] [--res N] [--ratio R] [--gaze X,Y] [--prefilter] [--supersampled] \
+//!     [--hmd NAME] [--res N] [--ratio R] [--gaze X,Y] [--prefilter] [--ring R] [--supersampled] \
 //!     [DENSITY[:accumulated] ...]
 //! ```
 //!
@@ -15,7 +15,8 @@
 //! ahead, and the periphery at 0.35 and 0.85 in one frame and at 0.6 accumulated.
 //!
 //! `--prefilter` measures every one-frame row beside its twin with the periphery's highlights
-//! prefiltered (`FoveationConfig::periphery_prefilter`). The usual reference shades each pixel
+//! prefiltered (`FoveationConfig::periphery_prefilter`), `--ring R` beside its twin with a
+//! parafoveal ring R of the field wide (`FoveationConfig::ring_ratio`). The usual reference shades each pixel
 //! once, so `--supersampled` judges every row, the usual reference among them, against a truth
 //! shaded 4 times as densely instead: the reference rendered at twice the
 //! resolution per axis, its 2×2 pixels averaged in linear light; every row then undistorted
@@ -51,6 +52,7 @@ struct Options {
     gaze: Vec2,
     rows: Vec<(f32, bool)>,
     prefilter: bool,
+    ring: Option<f32>,
     supersampled: bool,
 }
 
@@ -70,6 +72,7 @@ fn options() -> Result<Options, Error> {
         gaze: Vec2::ZERO,
         rows: Vec::new(),
         prefilter: false,
+        ring: None,
         supersampled: false,
     };
     let mut args = std::env::args().skip(1);
@@ -80,6 +83,7 @@ fn options() -> Result<Options, Error> {
             "--res" => o.resolution = Some(Resolution::square(number("--res", args.next())?)),
             "--ratio" => o.ratio = number("--ratio", args.next())?,
             "--prefilter" => o.prefilter = true,
+            "--ring" => o.ring = Some(number("--ring", args.next())?),
             "--supersampled" => o.supersampled = true,
             "--gaze" => {
                 let value = args.next().ok_or("--gaze needs X,Y")?;
@@ -194,6 +198,39 @@ fn truth(
     })
 }
 
+/// `rows`, each one-frame row followed by its prefiltered twin (`--prefilter`) and its twin
+/// with a parafoveal ring (`--ring`).
+fn twins(rows: Vec<(String, RenderConfig)>, o: &Options) -> Vec<(String, RenderConfig)> {
+    let mut twinned = Vec::new();
+    for (name, config) in rows {
+        let single = config.foveation.filter(|f| f.periphery_temporal.is_none());
+        let twin = |suffix: String, foveation| {
+            let config = RenderConfig {
+                foveation: Some(foveation),
+                ..config.clone()
+            };
+            (format!("{name}, {suffix}"), config)
+        };
+        let prefiltered = single.filter(|_| o.prefilter).map(|f| {
+            let foveation = FoveationConfig {
+                periphery_prefilter: true,
+                ..f
+            };
+            twin("prefiltered".into(), foveation)
+        });
+        let ringed = single.zip(o.ring).map(|(f, ring)| {
+            let foveation = FoveationConfig {
+                ring_ratio: Some(ring),
+                ..f
+            };
+            twin(format!("ring {ring}"), foveation)
+        });
+        twinned.push((name.clone(), config.clone()));
+        twinned.extend(prefiltered.into_iter().chain(ringed));
+    }
+    twinned
+}
+
 fn main() -> Result<(), Error> {
     let o = options()?;
     let gpu = Gpu::new(&GpuOptions::default())?;
@@ -238,22 +275,7 @@ fn main() -> Result<(), Error> {
         let name = format!("periphery {density}, {how}");
         rows.push((name, foveated(density, accumulated)));
     }
-    if o.prefilter {
-        let mut twinned = Vec::new();
-        for (name, config) in rows {
-            let single = config.foveation.filter(|f| f.periphery_temporal.is_none());
-            let twin = single.map(|f| RenderConfig {
-                foveation: Some(FoveationConfig {
-                    periphery_prefilter: true,
-                    ..f
-                }),
-                ..config.clone()
-            });
-            twinned.push((name.clone(), config));
-            twinned.extend(twin.map(|twin| (format!("{name}, prefiltered"), twin)));
-        }
-        rows = twinned;
-    }
+    let rows = twins(rows, &o);
     let want = truth(&gpu, &scene, &reference, &o)?;
     // Every row's rings are where the last row (foveated) puts the fovea (as `foveate compare`
     // places aliased stereo's regions): the same pixels in every row.

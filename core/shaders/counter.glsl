@@ -3,7 +3,7 @@
 // Neither pipeline statistics (lavapipe counts raster blocks) nor occlusion queries (one sum
 // for all views of a multiview pass) give exact per-view counts; an atomic per view does, and
 // helper invocations never write it. Every counted step of the frame (mask fans, far
-// composite, scene, probe, composition) owns five slots — views 0-3 and the MFFR far view —
+// composite, scene, probe, composition) owns seven slots — views 0-5 and the MFFR far view —
 // starting at COUNTER_BASE, which the plan assigns.
 layout(constant_id = 4) const uint COUNTER_BASE = 0;
 

@@ -4,7 +4,8 @@
 // Stencil mask geometry, written per view at the start of a foveated pass: a fan of
 // SEGMENTS triangles around an ellipse in NDC, one shape per view (gl_ViewIndex). Shape set 0
 // holds what each view keeps (written as 1), set 1 what it drops (written as 0) — the fovea
-// views keep their inset circle, the periphery views keep everything but the fovea's hole.
+// views keep their inset circle, the periphery views keep everything but the fovea's hole (the
+// ring's, with a parafoveal ring, whose views keep their circle and drop the fovea's hole).
 // Shape set 2 is a runtime's hidden-area mesh (dropped, in the eye views only): triangle
 // corners in NDC, two per vec4, MAX_HIDDEN_TRIANGLES per eye; unused ones are all zero, so
 // they cover nothing.
@@ -18,8 +19,9 @@ const uint MAX_HIDDEN_TRIANGLES = 128u;
 const uint HIDDEN_CORNERS = 3u * MAX_HIDDEN_TRIANGLES;
 
 layout(std140, set = 0, binding = 3) uniform Masks {
-    // (centre x, centre y, radius x, radius y) in NDC; [0..4) keep, [4..8) drop.
-    vec4 shapes[8];
+    // (centre x, centre y, radius x, radius y) in NDC; [0..6) keep, [6..12) drop (six views:
+    // periphery, fovea, parafoveal ring).
+    vec4 shapes[12];
     // Each eye's hidden triangles' corners in NDC, two per element: the left eye's, then the
     // right's.
     vec4 hidden[HIDDEN_CORNERS];
@@ -32,14 +34,14 @@ layout(push_constant) uniform Push {
 void main() {
     if (pc.shape_set == 2u) {
         uint view = FIRST_VIEW + gl_ViewIndex;
-        uint corner = view * HIDDEN_CORNERS + uint(gl_VertexIndex);
+        uint corner = min(view, 1u) * HIDDEN_CORNERS + uint(gl_VertexIndex);
         vec4 pair = masks.hidden[corner / 2u];
         vec2 p = (corner % 2u == 0u) ? pair.xy : pair.zw;
-        // The fovea views (2, 3) have no hidden area: every corner at one point covers nothing.
+        // The fovea and ring views (2-5) have no hidden area: every corner at one point covers nothing.
         gl_Position = vec4(view < 2u ? p * CLIP_XY_SCALE : vec2(0.0), 0.5, 1.0);
         return;
     }
-    vec4 shape = masks.shapes[pc.shape_set * 4u + FIRST_VIEW + gl_ViewIndex];
+    vec4 shape = masks.shapes[pc.shape_set * 6u + FIRST_VIEW + gl_ViewIndex];
     uint triangle = uint(gl_VertexIndex) / 3u;
     uint corner = uint(gl_VertexIndex) % 3u;
     vec2 p = shape.xy;

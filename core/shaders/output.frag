@@ -23,6 +23,9 @@ layout(constant_id = 34) const bool CATMULL_ROM = false;
 // pass composes it: this pass writes the accumulated periphery, and keeps in the history over
 // the periphery's hole what the fovea shows there (the fovea's place and band in its texels).
 layout(constant_id = 39) const bool PERIPHERY_ONLY = false;
+// A parafoveal ring between the fovea and the periphery: layers FOVEA_LAYER + 2 + eye of
+// `second`, blended over the periphery at its edge as the fovea is over the ring.
+layout(constant_id = 42) const bool RING = false;
 
 layout(set = 0, binding = 0) uniform sampler2DArray images;
 layout(set = 0, binding = 3) uniform sampler2DArray second;
@@ -53,6 +56,8 @@ layout(std140, set = 0, binding = 1) uniform Output {
     vec4 still;                 // x: a new sample's weight where nothing moved; y, z: the
                                 // cosines of the eccentricities where the accumulation ends
                                 // and where it starts to fade (reach_weight)
+    vec4 ring[2];               // RING: the parafoveal ring views' tangents
+    vec4 ring_params;           // RING: the ring's diameter, its band (screen px)
 } c;
 
 layout(location = 0) in vec2 in_uv;
@@ -123,6 +128,25 @@ vec3 periphery(uint eye, vec2 uv) {
     return clamp((centre + (n + s + w + e) * lobe) / (1.0 + 4.0 * lobe), 0.0, 1.0);
 }
 
+// Beyond the fovea with a parafoveal ring: the ring inside its circle, blended over the
+// periphery across its band, as the fovea is over the ring.
+vec3 ring_over_periphery(uint eye, vec2 uv, vec2 t, vec2 px_per_tangent) {
+    vec4 r = c.ring[eye];
+    vec2 centre = vec2((r.y - r.x) * 0.5, (r.z - r.w) * 0.5);
+    float dist = length((t - centre) * px_per_tangent);
+    float radius = c.ring_params.x * 0.5;
+    float w = 1.0 - smoothstep(radius - c.ring_params.y, radius, dist);
+    vec3 color = vec3(0.0);
+    if (w < 1.0) {
+        color += (1.0 - w) * periphery(eye, uv);
+    }
+    if (w > 0.0) {
+        vec2 ring_uv = vec2((t.x + r.x) / (r.x + r.y), (r.z - t.y) / (r.z + r.w));
+        color += w * texture(second, vec3(ring_uv, float(FOVEA_LAYER + 2u + eye))).rgb;
+    }
+    return color;
+}
+
 void main() {
     uint eye = gl_ViewIndex;
     vec4 p = c.periphery[eye];
@@ -170,7 +194,8 @@ void main() {
 #else
         // Fetch only what contributes: most pixels are periphery only, a few fovea only.
         if (w < 1.0) {
-            color += (1.0 - w) * periphery(eye, uv);
+            color += (1.0 - w) * (RING ? ring_over_periphery(eye, uv, t, px_per_tangent)
+                                       : periphery(eye, uv));
         }
 #endif
         // Accumulating the periphery alone, the fovea is read only where the history keeps it.

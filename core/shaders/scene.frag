@@ -16,11 +16,11 @@ layout(constant_id = 3) const bool DEPTH_IN_ALPHA = false;
 layout(constant_id = 7) const bool MARK_MOVING = false;
 
 layout(std140, set = 0, binding = 0) uniform Views {
-    mat4 view_proj[5];
+    mat4 view_proj[7];
     vec4 light_dir;
-    vec4 eye_pos[5];
-    vec4 ray_dx[5];    // how each view's ray at unit depth moves per pixel right (world)
-    vec4 ray_dy[5];    // ... and per pixel down
+    vec4 eye_pos[7];
+    vec4 ray_dx[7];    // how each view's ray at unit depth moves per pixel right (world)
+    vec4 ray_dy[7];    // ... and per pixel down
 } views;
 
 layout(location = 0) in vec3 in_normal;

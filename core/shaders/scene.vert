@@ -18,11 +18,11 @@ layout(constant_id = 6) const bool FOVEA_TAGS = false;
 const uint FOVEA_TAG = 0x80000000u;
 
 layout(std140, set = 0, binding = 0) uniform Views {
-    mat4 view_proj[5]; // up to 4 eye views, then the MFFR far view
+    mat4 view_proj[7]; // up to 6 eye views, then the MFFR far view
     vec4 light_dir;    // xyz: light direction; w: the far view's near plane
-    vec4 eye_pos[5];   // each view's eye in world space (lit shading's view vector)
-    vec4 ray_dx[5];    // lit shading's per-pixel ray steps (see shaders/lit.glsl)
-    vec4 ray_dy[5];
+    vec4 eye_pos[7];   // each view's eye in world space (lit shading's view vector)
+    vec4 ray_dx[7];    // lit shading's per-pixel ray steps (see shaders/lit.glsl)
+    vec4 ray_dy[7];
 } views;
 
 struct Instance {

@@ -9,11 +9,13 @@ pub fn mib(bytes: u64) -> f64 {
     bytes as f64 / (1024.0 * 1024.0)
 }
 
-const VIEW_NAMES: [&str; 5] = [
+const VIEW_NAMES: [&str; 7] = [
     "left eye",
     "right eye",
     "left fovea",
     "right fovea",
+    "left ring",
+    "right ring",
     "far view",
 ];
 

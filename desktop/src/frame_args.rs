@@ -38,10 +38,9 @@ pub struct ConfigArgs {
     /// Outward cant of each eye in degrees (default: the headset's).
     #[arg(long)]
     pub cant: Option<f32>,
-    /// Foveated rendering at this ratio (e.g. 0.35): four views, composed per eye. Without
-    /// further flags, the library's default: the periphery at 0.6 of the screen's density,
-    /// accumulated over jittered frames (the cheapest configuration measured at least as
-    /// accurate as stereo without MSAA in every motion).
+    /// Foveated rendering at this ratio (e.g. 0.35). Without further flags, the library's
+    /// default: the periphery at 0.6 density accumulated over jittered frames (the cheapest
+    /// configuration measured at least as accurate as stereo without MSAA in every motion).
     #[arg(long)]
     pub foveate: Option<f32>,
     /// With --foveate: single frames instead of the accumulated periphery: the periphery at the
@@ -127,11 +126,14 @@ pub struct ConfigArgs {
     /// (the two blend over the last 5°). Default: everywhere.
     #[arg(long)]
     pub temporal_within: Option<f32>,
-    /// With --foveate --single-frame, lit scenes: prefilter the periphery's highlights, each
-    /// widened by the spread of the normals its coarser pixels average beyond the screen's
-    /// (Toksvig). Measured losing at the Quest Pro's panel; off by default.
+    /// With --foveate --single-frame, lit scenes: prefilter the periphery's highlights by the
+    /// spread of the normals its coarser pixels average (Toksvig). Measured to lose; off.
     #[arg(long)]
     pub periphery_prefilter: bool,
+    /// With --foveate --single-frame: a third level, a parafoveal ring this fraction of the
+    /// field wide around the fovea, in views of the fovea's pixels. TODO-VERDICT
+    #[arg(long, value_name = "RATIO")]
+    pub ring: Option<f32>,
     /// Foveation without the inset/outset stencil masks.
     #[arg(long)]
     pub no_stencil: bool,
@@ -360,59 +362,6 @@ pub fn headset_line(plan: &FramePlan) -> String {
     )
 }
 
-/// The frame the comparing commands (`compare`, `flicker`) measure against and vary; the
-/// scene and resolution are each command's, with defaults of its own.
-#[derive(Args, Clone)]
-pub struct ComparedFrame {
-    /// Headset profile (`foveate plan --hmd NAME` prints its figures): its field of view, lens
-    /// and, with `--res native`, its panel.
-    #[arg(long, default_value = "index")]
-    pub hmd: String,
-    /// Shading: flat or lit (default: the scene's own).
-    #[arg(long)]
-    pub shading: Option<String>,
-    /// What the frame's last pass writes: lens (pre-distorted, the display's image) or
-    /// undistorted. Errors are measured on it.
-    #[arg(long, default_value = "lens")]
-    pub output: String,
-    /// Fovea layout of the foveated rows: auto, one-pass or two-pass.
-    #[arg(long, default_value = "auto")]
-    pub fovea_layout: String,
-    /// Also measure every single-frame foveated row with its periphery's highlights
-    /// prefiltered (`--periphery-prefilter`), each beside its row: lit scenes only.
-    #[arg(long)]
-    pub prefilter: bool,
-    #[command(flatten)]
-    pub head: HeadArgs,
-    #[command(flatten)]
-    pub clusters: ClusterArgs,
-}
-
-impl ComparedFrame {
-    /// The scene `name`, shaded, clustered and its head placed as asked.
-    pub fn scene(&self, name: &str) -> Result<Scene> {
-        scene_from(name, self.shading.as_deref(), &self.head, &self.clusters)
-    }
-
-    /// The per-eye screen of `res` (N, WxH or `native`) on this frame's headset.
-    pub fn screen(&self, res: &str) -> Result<Resolution> {
-        screen(&self.hmd, res)
-    }
-
-    /// The multiview stereo frame on the headset at `res` (N, WxH or `native`) per eye.
-    pub fn base(&self, res: &str) -> Result<RenderConfig> {
-        Ok(RenderConfig {
-            hmd: profile(&self.hmd)?.name.to_string(),
-            resolution: Some(self.screen(res)?),
-            stereo: StereoMode::Multiview,
-            output: self.output.parse()?,
-            fovea_layout: self.fovea_layout.parse()?,
-            lod: self.clusters.lod()?,
-            ..RenderConfig::default()
-        })
-    }
-}
-
 impl ConfigArgs {
     /// The config for one stereo mode (`stereo` may be `all`; the caller picks the mode).
     pub fn config(&self, stereo: StereoMode) -> Result<RenderConfig> {
@@ -440,6 +389,7 @@ impl ConfigArgs {
             periphery_density: self.periphery_density.or(defaults.periphery_density),
             periphery_msaa: self.periphery_msaa,
             periphery_prefilter: self.periphery_prefilter,
+            ring_ratio: self.ring,
             periphery_temporal: defaults.periphery_temporal.map(|default| TemporalConfig {
                 blend: self.temporal_blend.unwrap_or(default.blend),
                 still_blend: self.temporal_still_blend.unwrap_or(default.still_blend),
@@ -551,7 +501,10 @@ impl ConfigArgs {
             (
                 ("single frames", "add --foveate --single-frame"),
                 foveate && self.single_frame,
-                vec![flag("--periphery-prefilter", self.periphery_prefilter)],
+                vec![
+                    flag("--periphery-prefilter", self.periphery_prefilter),
+                    given("--ring", &self.ring),
+                ],
             ),
             (
                 ("--mffr", "add --mffr"),

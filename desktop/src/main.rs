@@ -3,6 +3,7 @@
 
 mod cli;
 mod commands;
+mod compared_frame;
 mod counts;
 mod csv_out;
 mod file_names;

@@ -215,28 +215,42 @@ fn way_words(way: TemporalConfig, default: TemporalConfig) -> String {
     }
 }
 
-/// `rows`, each single-frame foveated row followed by its twin with the periphery's highlights
-/// prefiltered when `on` (`--prefilter`).
-pub fn with_prefilter<T: Clone>(
+/// `rows`, each single-frame foveated row followed by its twins: with the periphery's
+/// highlights prefiltered when `prefilter` (`--prefilter`), and with a parafoveal ring of each
+/// of `rings` wider than its fovea (`--rings`).
+pub fn with_twins<T: Clone>(
     rows: Vec<(String, T, RenderConfig)>,
-    on: bool,
+    prefilter: bool,
+    rings: &[f32],
 ) -> Vec<(String, T, RenderConfig)> {
-    let twin = |(name, t, config): &(String, T, RenderConfig)| {
-        let foveation = config
-            .foveation
-            .filter(|f| on && f.periphery_temporal.is_none())?;
-        let config = RenderConfig {
-            foveation: Some(FoveationConfig {
-                periphery_prefilter: true,
-                ..foveation
-            }),
-            ..config.clone()
+    let twins = |(name, t, config): &(String, T, RenderConfig)| {
+        let Some(foveation) = config.foveation.filter(|f| f.periphery_temporal.is_none()) else {
+            return Vec::new();
         };
-        Some((format!("{name}, prefiltered"), t.clone(), config))
+        let twin = |suffix: String, foveation| {
+            let config = RenderConfig {
+                foveation: Some(foveation),
+                ..config.clone()
+            };
+            (format!("{name}, {suffix}"), t.clone(), config)
+        };
+        let prefiltered = FoveationConfig {
+            periphery_prefilter: true,
+            ..foveation
+        };
+        let ringed = rings.iter().filter(|&&r| r > foveation.ratio).map(|&r| {
+            let ring = FoveationConfig {
+                ring_ratio: Some(r),
+                ..foveation
+            };
+            twin(format!("ring {r}"), ring)
+        });
+        let prefiltered = prefilter.then(|| twin("prefiltered".into(), prefiltered));
+        prefiltered.into_iter().chain(ringed).collect()
     };
     let mut twinned = Vec::with_capacity(rows.len());
     for row in rows {
-        let with = twin(&row);
+        let with = twins(&row);
         twinned.push(row);
         twinned.extend(with);
     }

@@ -868,10 +868,10 @@ fn masked_frame(
 /// The stencil masks only save work: with them on, not one pixel of the output differs from
 /// the same frame with them off — with no band (a hard edge), at the default band (an eighth
 /// of the fovea), with the Catmull-Rom filter and sharpening, a half-density periphery
-/// accumulated over frames, MSAA and the lens, the gaze centred and off to the side. A hole cut
-/// up to where the periphery is still read shows as a ring of the clear colour around the
-/// fovea: the negative control, masks cut at the edges as in Arm's tables (the ring a band of
-/// 0, once the library's default, drew), differs.
+/// accumulated over frames, a parafoveal ring, MSAA and the lens, the gaze centred and off to
+/// the side. A hole cut up to where the periphery is still read shows as a ring of the clear
+/// colour around the fovea: the negative control, masks cut at the edges as in Arm's tables
+/// (the ring a band of 0, once the library's default, drew), differs.
 #[test]
 fn stencil_masks_change_no_pixel_of_the_output() {
     let gpu = gpu();
@@ -900,6 +900,24 @@ fn stencil_masks_change_no_pixel_of_the_output() {
             },
             1,
             OutputStage::Undistorted,
+        ),
+        // A parafoveal ring: the periphery's hole under it, its own under the fovea.
+        (
+            FoveationConfig {
+                ring_ratio: Some(0.6),
+                ..hard_edge
+            },
+            1,
+            OutputStage::Undistorted,
+        ),
+        (
+            FoveationConfig {
+                ring_ratio: Some(0.7),
+                periphery_density: Some(0.25),
+                ..FoveationConfig::single_frame()
+            },
+            4,
+            OutputStage::Lens,
         ),
     ];
     for (foveation, msaa, output) in configs {

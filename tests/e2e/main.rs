@@ -25,6 +25,7 @@ mod perception;
 mod prefilter;
 mod quirks;
 mod radial_density;
+mod ring;
 mod robustness;
 mod shaders;
 mod stereo;

@@ -1,3 +1,4 @@
+use super::ring::{resolve_ring, RingGeometry};
 use super::temporal::{HistoryAt, TemporalConfig};
 use crate::vocab::{named_enum, ConfigError, Resolution};
 
@@ -70,6 +71,13 @@ pub struct FoveationConfig {
     /// (docs/foveation.md); off by default. Refused with an accumulated periphery, which
     /// samples its textures at the screen's density, and with a flat scene.
     pub periphery_prefilter: bool,
+    /// A third level between the fovea and the periphery (density graded by eccentricity): a
+    /// parafoveal ring, a window `ring_ratio` times the periphery's extent around the fovea,
+    /// rendered into views of the fovea's pixels (so at `ratio / ring_ratio` of the screen's
+    /// density, with the frame's MSAA) in the fovea's pass, blended over the periphery with
+    /// smoothstep at its edge as the fovea is over it. `None`: two levels. Single frames only;
+    /// TODO-VERDICT
+    pub ring_ratio: Option<f32>,
 }
 
 /// The periphery accumulated over jittered frames at [`RECOMMENDED_PERIPHERY_DENSITY`] of the
@@ -119,6 +127,7 @@ impl FoveationConfig {
             periphery_msaa: None,
             periphery_temporal: None,
             periphery_prefilter: false,
+            ring_ratio: None,
         }
     }
 }
@@ -175,6 +184,8 @@ pub struct FoveationGeometry {
     pub temporal: Option<TemporalConfig>,
     /// [`FoveationConfig::periphery_prefilter`].
     pub periphery_prefilter: bool,
+    /// The parafoveal ring, when asked for ([`FoveationConfig::ring_ratio`]).
+    pub ring: Option<RingGeometry>,
 }
 
 impl FoveationConfig {
@@ -269,8 +280,11 @@ impl FoveationConfig {
             Some(_) => margin(ACCUMULATED_REACH_PX),
         };
         let accumulated_hole_px = fovea_screen_px - 2.0 * (band + accumulated_reach);
+        let ring = resolve_ring(self, screen, view, accumulated_hole_px, &margin)?;
+        // With a ring, the periphery's hole is under the ring's inner edge instead.
+        let covered_px = ring.map_or(accumulated_hole_px, |r| r.screen_px - 2.0 * r.band_px);
         let periphery_hole_px =
-            (accumulated_hole_px * periphery_scale - 2.0 * margin(PERIPHERY_REACH_TEXELS)).max(0.0);
+            (covered_px * periphery_scale - 2.0 * margin(PERIPHERY_REACH_TEXELS)).max(0.0);
         Ok(FoveationGeometry {
             ratio,
             fovea_view: view,
@@ -289,6 +303,7 @@ impl FoveationConfig {
             periphery_filter: self.periphery_filter,
             temporal: self.periphery_temporal,
             periphery_prefilter: self.periphery_prefilter,
+            ring,
         })
     }
 }
@@ -324,10 +339,13 @@ impl FoveationGeometry {
         self.periphery_msaa.unwrap_or(default)
     }
 
-    /// Whether the periphery and fovea views differ in size or samples, so that they need
-    /// images of their own (only the two-pass layout has them).
+    /// Whether the periphery and fovea views differ in size or samples, or a ring shares the
+    /// fovea's images, so that they need images of their own (only the two-pass layout has
+    /// them).
     pub fn views_differ(&self, frame_msaa: u32) -> bool {
-        self.periphery_view != self.fovea_view || self.periphery_samples(frame_msaa) != frame_msaa
+        self.periphery_view != self.fovea_view
+            || self.periphery_samples(frame_msaa) != frame_msaa
+            || self.ring.is_some()
     }
 }
 

@@ -8,6 +8,7 @@ mod eye_movement;
 mod gaze;
 mod inset;
 mod latency;
+mod ring;
 mod temporal;
 mod views;
 
@@ -26,8 +27,9 @@ pub use inset::{fovea_tangents, inset_fov_deg};
 pub use latency::{
     detect_saccades, DelayedGaze, GazeLatency, Prediction, MAX_LATENCY_MS, SACCADE_THRESHOLD_DEG_S,
 };
+pub use ring::RingGeometry;
 pub use temporal::{
     halton, ClipNeighbourhood, HistoryAt, HistoryClip, HistoryFilter, NewSample, TemporalConfig,
     REACH_EDGE_DEG,
 };
-pub use views::{fovea_centre_px, fovea_views, gaze_tangent, mask_shapes};
+pub use views::{fovea_centre_px, fovea_views, gaze_tangent, mask_shapes, ring_views, MASK_SHAPES};

@@ -1,5 +1,6 @@
-//! The four views of a foveated frame and their stencil mask shapes, from the eyes, the gaze and
-//! the resolved geometry. Views 0, 1: periphery left, right; views 2, 3: fovea left, right.
+//! The views of a foveated frame and their stencil mask shapes, from the eyes, the gaze and
+//! the resolved geometry. Views 0, 1: periphery left, right; views 2, 3: fovea left, right;
+//! with a parafoveal ring, views 4, 5: the ring left, right.
 
 use glam::{Vec2, Vec4};
 
@@ -64,27 +65,65 @@ pub fn fovea_centre_px(periphery: FovTangents, fovea: FovTangents, screen: (u32,
     )
 }
 
-/// The stencil shapes (centre x, y, radius x, y in NDC) the mask shader draws: [0..4) what
-/// each view keeps, [4..8) what it then drops. Periphery views keep everything (a radius of 2
-/// covers the view) and drop the fovea's hole, centred on the fovea window; fovea views keep
-/// their inset circle and drop nothing.
-pub fn mask_shapes(g: &FoveationGeometry, eyes: &EyeParams, fovea: &[FovTangents; 2]) -> [Vec4; 8] {
-    let size = |r: crate::vocab::Resolution| (r.width as f32, r.height as f32);
-    let ((pw, ph), (fw, fh)) = (size(g.periphery_view), size(g.fovea_view));
-    let mut shapes = [Vec4::ZERO; 8];
+/// The stencil shapes a frame's views can have: what each of its six views keeps, then drops.
+pub const MASK_SHAPES: usize = 12;
+
+/// Each eye's parafoveal ring window: `ratio` of the periphery around the fovea window's centre
+/// (the gaze, unless the fovea was kept inside the field), kept inside the periphery and
+/// snapped to whole pixels of a `screen`-sized image like the fovea's.
+pub fn ring_views(
+    eyes: &EyeParams,
+    ratio: f32,
+    fovea: &[FovTangents; 2],
+    screen: (u32, u32),
+) -> [FovTangents; 2] {
+    Eye::BOTH.map(|eye| {
+        let fov = eyes.fov(eye);
+        let window = fovea_tangents(fov, ratio, window_centre(fovea[eye.index()]));
+        snap_to_pixels(fov, window, screen)
+    })
+}
+
+/// A window's centre as a tangent-space point.
+fn window_centre(f: FovTangents) -> Vec2 {
+    Vec2::new((f.right - f.left) / 2.0, (f.up - f.down) / 2.0)
+}
+
+/// The stencil shapes (centre x, y, radius x, y in NDC) the mask shader draws: [0..6) what
+/// each view keeps, [6..12) what it then drops. Periphery views keep everything (a radius of 2
+/// covers the view) and drop the hole of what covers them (the ring's with a ring, else the
+/// fovea's); fovea views keep their inset circle and drop nothing; ring views (`ring`) keep
+/// their circle and drop the fovea's hole.
+pub fn mask_shapes(
+    g: &FoveationGeometry,
+    eyes: &EyeParams,
+    fovea: &[FovTangents; 2],
+    ring: Option<&[FovTangents; 2]>,
+) -> [Vec4; MASK_SHAPES] {
+    // A circle `px` pixels across around `centre` (NDC) of a view of `view`'s pixels.
+    let circle = |centre: Vec2, px: f32, view: crate::vocab::Resolution| {
+        Vec4::new(
+            centre.x,
+            centre.y,
+            px / view.width as f32,
+            px / view.height as f32,
+        )
+    };
+    let (periphery, fovea_view) = (g.periphery_view, g.fovea_view);
+    let mut shapes = [Vec4::ZERO; MASK_SHAPES];
     for eye in Eye::BOTH {
         let i = eye.index();
-        let f = fovea[i];
-        let window_centre = Vec2::new((f.right - f.left) / 2.0, (f.up - f.down) / 2.0);
-        let hole = eyes.fov(eye).ndc(window_centre);
+        let covering = ring.map_or(fovea[i], |r| r[i]);
+        let hole = eyes.fov(eye).ndc(window_centre(covering));
         shapes[i] = Vec4::new(0.0, 0.0, 2.0, 2.0);
-        shapes[2 + i] = Vec4::new(0.0, 0.0, g.fovea_circle_px / fw, g.fovea_circle_px / fh);
-        shapes[4 + i] = Vec4::new(
-            hole.x,
-            hole.y,
-            g.periphery_hole_px / pw,
-            g.periphery_hole_px / ph,
-        );
+        shapes[2 + i] = circle(Vec2::ZERO, g.fovea_circle_px, fovea_view);
+        shapes[6 + i] = circle(hole, g.periphery_hole_px, periphery);
+        if let (Some(r), Some(ring)) = (g.ring, ring) {
+            // The ring views have the fovea's pixels over the ring's window.
+            let fovea_in_ring = ring[i].ndc(window_centre(fovea[i]));
+            shapes[4 + i] = circle(Vec2::ZERO, r.circle_px, fovea_view);
+            shapes[10 + i] = circle(fovea_in_ring, r.hole_px, fovea_view);
+        }
     }
     shapes
 }
@@ -112,21 +151,21 @@ mod tests {
         .geometry(Resolution::square(256))
         .unwrap();
         let fovea = fovea_views(&eyes, 0.5, [Vec2::ZERO; 2], (256, 256));
-        let s = mask_shapes(&g, &eyes, &fovea);
+        let s = mask_shapes(&g, &eyes, &fovea, None);
         assert!(
-            s[4].truncate().truncate().length() < 1e-6,
+            s[6].truncate().truncate().length() < 1e-6,
             "hole at the centre: {:?}",
-            s[4]
+            s[6]
         );
         // The inset circle fills the fovea view and the hole is the fovea's size in periphery
         // pixels, each with the filters' margin.
         let circle = (128.0 + 2.0 * FOVEA_REACH_TEXELS) / 128.0;
         let hole = (64.0 - 2.0 * PERIPHERY_REACH_TEXELS) / 128.0;
         assert!(
-            (s[2].z - circle).abs() < 1e-6 && (s[4].z - hole).abs() < 1e-6,
+            (s[2].z - circle).abs() < 1e-6 && (s[6].z - hole).abs() < 1e-6,
             "{s:?}"
         );
-        assert_eq!(s[6], Vec4::ZERO, "fovea views drop nothing");
+        assert_eq!(s[8], Vec4::ZERO, "fovea views drop nothing");
     }
 
     #[test]
@@ -198,22 +237,24 @@ mod tests {
             &g,
             &eyes,
             &fovea_views(&eyes, 0.35, [Vec2::new(0.3, 0.3); 2], (512, 512)),
+            None,
         );
         assert!(
-            up_right[4].x > 0.29 && up_right[4].y < -0.29,
+            up_right[6].x > 0.29 && up_right[6].y < -0.29,
             "NDC y points down: {:?}",
-            up_right[4]
+            up_right[6]
         );
         let edge = mask_shapes(
             &g,
             &eyes,
             &fovea_views(&eyes, 0.35, [Vec2::new(1.0, -1.0); 2], (512, 512)),
+            None,
         );
         // Clamped: the hole's centre stays a fovea-half inside the view.
         assert!(
-            (edge[4].x - (1.0 - 0.35)).abs() < 1e-4 && (edge[4].y - (1.0 - 0.35)).abs() < 1e-4,
+            (edge[6].x - (1.0 - 0.35)).abs() < 1e-4 && (edge[6].y - (1.0 - 0.35)).abs() < 1e-4,
             "{:?}",
-            edge[4]
+            edge[6]
         );
     }
 }

@@ -4,8 +4,8 @@ use super::{MffrConfig, MffrVariant, SplitDistance, FAR_DENSITY_RANGE};
 use crate::view::{Eye, EyeParams, FovTangents};
 use crate::vocab::{ConfigError, Resolution};
 
-/// The far view's slot in the `Views` uniform block (after the up to four eye views).
-pub const FAR_VIEW_INDEX: u32 = 4;
+/// The far view's slot in the `Views` uniform block (after the up to six eye views).
+pub const FAR_VIEW_INDEX: u32 = crate::vocab::FRAME_VIEWS;
 
 /// The split distance at which the two eyes see a point `threshold_px` apart:
 /// z = IPD · focal_px / threshold.

@@ -68,18 +68,7 @@ pub(super) fn plan_with(
         fovea_layout
             .as_ref()
             .zip(e.foveation.as_ref())
-            .map(|(c, f)| FoveaPasses {
-                layout: c.layout,
-                cull: c.cull,
-                periphery: ViewSet {
-                    resolution: f.periphery_view,
-                    samples: f.periphery_samples(config.msaa),
-                },
-                fovea: ViewSet {
-                    resolution: f.fovea_view,
-                    samples: config.msaa,
-                },
-            }),
+            .map(|(c, f)| fovea_passes(c, f, config.msaa)),
         &mut attachments,
     ));
     let lens = config.output == OutputStage::Lens;
@@ -102,7 +91,8 @@ pub(super) fn plan_with(
         eyes: e.eyes,
         eye_resolution: e.eye_resolution,
         stereo: config.stereo,
-        views: config.view_count(),
+        // The parafoveal ring's two views render in the fovea's pass.
+        views: config.view_count() + 2 * e.foveation.is_some_and(|f| f.ring.is_some()) as u32,
         samples: config.msaa,
         near: config.near,
         far: scene.reach.map_or(config.far, |r| config.far.max(r)),
@@ -429,6 +419,23 @@ fn plan_queries(plan: &mut FramePlan, config: &RenderConfig, caps: &DeviceCaps) 
     }
 }
 
+/// A foveated frame's view pairs as its scene passes render them.
+fn fovea_passes(c: &FoveaLayoutChoice, f: &FoveationGeometry, msaa: u32) -> FoveaPasses {
+    FoveaPasses {
+        layout: c.layout,
+        cull: c.cull,
+        periphery: ViewSet {
+            resolution: f.periphery_view,
+            samples: f.periphery_samples(msaa),
+        },
+        fovea: ViewSet {
+            resolution: f.fovea_view,
+            samples: msaa,
+        },
+        ring: f.ring.is_some(),
+    }
+}
+
 /// A foveated frame's layout for `scene` (`None`: an engine's draws).
 fn fovea_layout_of(
     e: &Effects,
@@ -437,7 +444,8 @@ fn fovea_layout_of(
     caps: &DeviceCaps,
 ) -> Option<FoveaLayoutChoice> {
     let f = e.foveation?;
-    let cull = f.cull_fovea && e.mffr.is_none();
+    // The fovea's pass renders the ring's wider views too: it draws what the periphery draws.
+    let cull = f.cull_fovea && e.mffr.is_none() && f.ring.is_none();
     let differ = f.views_differ(config.msaa);
     let triangles = scene.map(|s| s.triangle_count() as u64);
     let choice = choose_fovea_layout(
@@ -473,8 +481,8 @@ fn choose_fovea_layout(
         FoveaLayout::OnePass | FoveaLayout::TwoPass => (asked, format!("asked for ({asked})")),
         FoveaLayout::Auto if views_differ => (
             FoveaLayout::TwoPass,
-            "the periphery and fovea views differ in size or samples, so each pair renders into \
-             images of its own"
+            "the periphery and fovea views differ in size or samples (or the fovea's pass renders \
+             the parafoveal ring too), so each pair renders into images of its own"
                 .to_string(),
         ),
         FoveaLayout::Auto if !cull => (

@@ -45,6 +45,9 @@ fn refuse_scene_features(config: &RenderConfig) -> Result<(), ConfigError> {
     if config.foveation.is_some_and(|f| f.periphery_prefilter) {
         return scene_only("periphery_prefilter", "true".into());
     }
+    if let Some(r) = config.foveation.and_then(|f| f.ring_ratio) {
+        return scene_only("ring_ratio", r.to_string());
+    }
     if config.spare_instances > 0 {
         return scene_only("spare_instances", config.spare_instances.to_string());
     }

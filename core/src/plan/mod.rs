@@ -27,7 +27,7 @@ mod temporal;
 mod validate;
 mod workload;
 
-pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution};
+pub use crate::vocab::{ConfigError, DeviceCaps, DriverQuirks, Resolution, FRAME_VIEWS};
 pub use attachments::{AttachmentPlan, AttachmentRole, Format, Use};
 pub use build::plan;
 pub use config::{
@@ -60,6 +60,8 @@ mod effect_tests;
 mod history_at_tests;
 #[cfg(test)]
 mod pipeline_tests;
+#[cfg(test)]
+mod ring_tests;
 #[cfg(test)]
 mod robustness_tests;
 #[cfg(test)]

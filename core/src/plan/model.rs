@@ -6,7 +6,7 @@ pub(super) use super::attachments::{AttachmentPlan, AttachmentRole, Format, Use}
 use super::ops::{AttachmentId, PassBarriers};
 use super::pipeline::PipelineDesc;
 use super::steps::{CountedStep, DrawSet, Step};
-use super::{CullConfig, Resolution, StereoMode, MAX_VIEWS};
+use super::{CullConfig, Resolution, StereoMode, FRAME_VIEWS};
 use crate::foveation::FoveationGeometry;
 use crate::mffr::{MffrGeometry, MffrOrder};
 use crate::view::{Eye, EyeParams, FovTangents, HmdProfile, LensRegion, RadialDistortion};
@@ -209,8 +209,8 @@ pub struct CountedSlot {
     pub step: CountedStep,
 }
 
-/// Counter slots per counted step: four views and the MFFR far view.
-pub const COUNTER_SLOTS_PER_STEP: u32 = MAX_VIEWS + 1;
+/// Counter slots per counted step: six views and the MFFR far view.
+pub const COUNTER_SLOTS_PER_STEP: u32 = FRAME_VIEWS + 1;
 
 /// Counter slots of an accumulating counting frame's history outcomes: nine outcomes
 /// (`render::HistoryOutcome`) by three regions (fovea, band, periphery).
@@ -236,7 +236,7 @@ pub struct FramePlan {
     pub eye_resolution: Resolution,
     /// How the eyes are submitted.
     pub stereo: StereoMode,
-    /// Views per pass: 2, or 4 with foveation.
+    /// Views of the frame: 2, 4 with foveation, 6 with a parafoveal ring (in the fovea's pass).
     pub views: u32,
     /// MSAA samples per pixel (1 without).
     pub samples: u32,

@@ -234,6 +234,7 @@ pub(super) fn output_pipeline(
         .flag(Constant::WeightedNewSample, weighted)
         .flag(Constant::PeripheryOnly, step.periphery_only)
         .flag(Constant::Reach, reach)
+        .flag(Constant::Ring, foveation.is_some_and(|f| f.ring.is_some()))
         .flag(Constant::MarkMoving, step.temporal && marks_moving(plan))
         .constant(
             Constant::HistoryOutcomeBase,

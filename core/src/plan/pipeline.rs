@@ -86,6 +86,9 @@ pub enum Constant {
     /// coarser pixels average
     /// ([`FoveationConfig::periphery_prefilter`](crate::foveation::FoveationConfig::periphery_prefilter)).
     PeripheryPrefilter,
+    /// The output stage composes a parafoveal ring between the fovea and the periphery
+    /// ([`FoveationConfig::ring_ratio`](crate::foveation::FoveationConfig::ring_ratio)).
+    Ring,
 }
 
 /// How a constant's 32 bits read.
@@ -101,7 +104,7 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 32] = {
+    pub const ALL: [Constant; 33] = {
         use Constant::*;
         [
             ViewSource,
@@ -136,6 +139,7 @@ impl Constant {
             PeripheryOnly,
             Reach,
             PeripheryPrefilter,
+            Ring,
         ]
     };
 
@@ -176,6 +180,7 @@ impl Constant {
             PeripheryOnly => (39, "PERIPHERY_ONLY", Bool),
             Reach => (40, "REACH", Bool),
             PeripheryPrefilter => (41, "PERIPHERY_PREFILTER", Bool),
+            Ring => (42, "RING", Bool),
         }
     }
 

@@ -107,6 +107,9 @@ impl FramePlan {
                 let screen = self.eye_resolution.width;
                 writeln!(f, "  periphery: {}", periphery_reason(g, density, screen))?;
             }
+            if let Some(r) = g.ring {
+                writeln!(f, "  parafoveal ring: {r}")?;
+            }
         }
         if let Some(c) = &self.fovea_layout {
             writeln!(

@@ -22,6 +22,9 @@ pub(super) struct FoveaPasses {
     pub cull: bool,
     pub periphery: ViewSet,
     pub fovea: ViewSet,
+    /// A parafoveal ring: the fovea's pass renders its two views too, as layers 2, 3 of the
+    /// fovea's images.
+    pub ring: bool,
 }
 
 /// The size and sample count of a pair of views.
@@ -165,7 +168,7 @@ fn scene_targets(
 /// The two-pass fovea layout's images when the periphery and the fovea differ in size or
 /// samples: each pair of views its own scratch images and its own 2-layer output.
 fn split_targets(fovea: FoveaPasses, attachments: &mut Vec<AttachmentPlan>) -> [SceneTargets; 2] {
-    let mut targets = |set: ViewSet, names: [&'static str; 3]| {
+    let mut targets = |set: ViewSet, names: [&'static str; 3], layers: u32| {
         let mut add = |name, role, format, samples, read_after_frame| {
             attachments.push(AttachmentPlan {
                 name,
@@ -174,7 +177,7 @@ fn split_targets(fovea: FoveaPasses, attachments: &mut Vec<AttachmentPlan>) -> [
                 samples,
                 width: set.resolution.width,
                 height: set.resolution.height,
-                layers: 2,
+                layers,
                 read_after_frame,
                 sampled: false,
                 transient: false,
@@ -208,8 +211,8 @@ fn split_targets(fovea: FoveaPasses, attachments: &mut Vec<AttachmentPlan>) -> [
             color,
             depth,
             outputs: vec![output],
-            layers: 2,
-            output_layers: 2,
+            layers,
+            output_layers: layers,
         }
     };
     [
@@ -220,10 +223,12 @@ fn split_targets(fovea: FoveaPasses, attachments: &mut Vec<AttachmentPlan>) -> [
                 "periphery depth",
                 "periphery views",
             ],
+            2,
         ),
         targets(
             fovea.fovea,
             ["fovea colour (MSAA)", "fovea depth", "fovea views"],
+            if fovea.ring { 4 } else { 2 },
         ),
     ]
 }
@@ -291,7 +296,8 @@ pub(super) fn scene_passes(
 ) -> Vec<PassPlan> {
     // Each pass's targets and output: one set shared by every pass, or, for a two-pass
     // foveated frame whose view pairs differ, one set per pair.
-    let split = fovea.filter(|f| f.layout == FoveaLayout::TwoPass && f.periphery != f.fovea);
+    let split =
+        fovea.filter(|f| f.layout == FoveaLayout::TwoPass && (f.periphery != f.fovea || f.ring));
     let (targets, pair_targets) = match split {
         Some(f) => {
             let [periphery, fovea] = split_targets(f, attachments);
@@ -334,16 +340,14 @@ pub(super) fn scene_passes(
                 submission: multiview,
                 draw_set: fovea_set,
             };
+            let (name, view_mask) = if f.ring {
+                ("scene (fovea and ring views)", 0b1111)
+            } else {
+                ("scene (fovea views)", 0b11)
+            };
             let fovea = PassPlan {
                 first_view: 2,
-                ..scene_pass(
-                    fovea_targets,
-                    "scene (fovea views)",
-                    0b11,
-                    outputs[1],
-                    scene,
-                    far_field,
-                )
+                ..scene_pass(fovea_targets, name, view_mask, outputs[1], scene, far_field)
             };
             vec![periphery, fovea]
         }

@@ -141,6 +141,24 @@ fn check_samples(field: &'static str, samples: u32, caps: &DeviceCaps) -> Result
     Ok(())
 }
 
+/// A parafoveal ring renders in the fovea's pass, as that pass's views 2, 3: only where that
+/// pass is its own.
+fn validate_ring(config: &RenderConfig, ratio: f32) -> Result<(), ConfigError> {
+    let refused = if config.fovea_layout == FoveaLayout::OnePass {
+        Some("the two-pass fovea layout (its fovea pass renders the ring's views too; the one-pass layout has no room for them)")
+    } else if config.mffr.is_some() {
+        Some("a frame without MFFR (its far field is composed into four views)")
+    } else if config.foveation.is_some_and(|f| f.periphery_prefilter) {
+        Some("a periphery without the prefilter (the ring is sampled at its own density)")
+    } else {
+        None
+    };
+    match refused {
+        Some(why) => Err(ConfigError::new("ring_ratio", ratio, why)),
+        None => Ok(()),
+    }
+}
+
 /// A foveated frame whose periphery and fovea views differ in size or samples: only the
 /// two-pass layout gives them images of their own, and the device must have the samples.
 pub(super) fn validate_view_sets(
@@ -156,6 +174,9 @@ pub(super) fn validate_view_sets(
                 "a sample count the device supports",
             ));
         }
+    }
+    if let Some(r) = foveation.ring {
+        validate_ring(config, r.ratio)?;
     }
     if foveation.views_differ(config.msaa) && config.fovea_layout == FoveaLayout::OnePass {
         return Err(ConfigError::new(

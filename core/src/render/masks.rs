@@ -6,7 +6,8 @@ use glam::Vec4;
 use super::descriptors::DescriptorSet;
 use super::executor::{Executor, FrameContext};
 use super::recorder::{Recorder, Rect};
-use crate::foveation::mask_shapes;
+use super::views::ring_windows;
+use crate::foveation::{mask_shapes, MASK_SHAPES};
 use crate::gpu::{Buffer, Gpu, GpuError, MemoryLocation};
 use crate::plan::{FramePlan, PassPlan, StencilState, Step};
 use crate::shaders::MASK_VERTICES;
@@ -19,7 +20,7 @@ const HIDDEN_ELEMENTS: usize = MAX_HIDDEN_TRIANGLES * 3;
 #[repr(C)]
 #[derive(Clone, Copy)]
 struct MasksBlock {
-    shapes: [Vec4; 8],
+    shapes: [Vec4; MASK_SHAPES],
     hidden: [Vec4; HIDDEN_ELEMENTS],
 }
 
@@ -100,17 +101,18 @@ fn hidden_corners(plan: &FramePlan, hidden: Option<&[HiddenArea; 2]>) -> [Vec4; 
     out
 }
 
-/// The stencil shapes of a frame (see `shaders/mask.vert`): per view, what it keeps ([0..4)) and
-/// then drops ([4..8)). The eye (periphery) views keep the lens-visible ellipse with the HMD
+/// The stencil shapes of a frame (see `shaders/mask.vert`): per view, what it keeps ([0..6)) and
+/// then drops ([6..12)). The eye (periphery) views keep the lens-visible ellipse with the HMD
 /// mask, everything without; foveation's inset and outset masks go on top.
-fn stencil_shapes(plan: &FramePlan, fovea: Option<&[FovTangents; 2]>) -> [Vec4; 8] {
+fn stencil_shapes(plan: &FramePlan, fovea: Option<&[FovTangents; 2]>) -> [Vec4; MASK_SHAPES] {
     let full = Vec4::new(0.0, 0.0, 2.0, 2.0);
-    let mut shapes = [Vec4::ZERO; 8];
+    let mut shapes = [Vec4::ZERO; MASK_SHAPES];
     if let (Some(g), Some(fovea)) = (&plan.foveation, fovea) {
         if g.stencil {
-            shapes = mask_shapes(g, &plan.eyes, fovea);
+            let ring = ring_windows(plan, fovea);
+            shapes = mask_shapes(g, &plan.eyes, fovea, ring.as_ref());
         } else {
-            shapes[2..4].fill(full);
+            shapes[2..6].fill(full);
         }
     }
     for eye in Eye::BOTH {

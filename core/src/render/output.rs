@@ -13,6 +13,7 @@ use super::executor::{Executor, FrameContext};
 use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use super::temporal::{tangents, AccumulateBlock, TemporalAccumulation};
+use super::views::ring_windows;
 use crate::foveation::TemporalConfig;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
 use crate::plan::{FramePlan, OutputStep, PassPlan, Step};
@@ -28,6 +29,10 @@ struct OutputBlock {
     params: Vec4,
     screen: Vec4,
     accumulate: AccumulateBlock,
+    /// The parafoveal ring's tangents per eye.
+    ring: [Vec4; 2],
+    /// The ring's diameter and band (screen pixels).
+    ring_params: Vec4,
 }
 
 pub(crate) struct OutputStage {
@@ -109,9 +114,16 @@ impl Executor for OutputStage {
             ),
             None => Vec4::ZERO,
         };
+        let ring = fovea.and_then(|f| ring_windows(plan, f));
+        let ring_params = plan
+            .foveation
+            .and_then(|g| g.ring)
+            .map_or(Vec4::ZERO, |r| Vec4::new(r.screen_px, r.band_px, 0.0, 0.0));
         let block = OutputBlock {
             periphery,
             fovea: fovea.map_or(periphery, |f| f.map(tangents)),
+            ring: ring.map_or(periphery, |r| r.map(tangents)),
+            ring_params,
             display: plan.lens.map_or(periphery, |l| l.display.map(tangents)),
             params,
             screen: Vec4::new(self.screen[0] as f32, self.screen[1] as f32, k1, k2),

@@ -4,11 +4,12 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::far_view::FarView;
+use crate::foveation::ring_views;
 use crate::mffr::FAR_VIEW_INDEX;
-use crate::plan::{FramePlan, MAX_VIEWS};
+use crate::plan::{FramePlan, FRAME_VIEWS};
 use crate::view::{reverse_z_projection, Eye, FovTangents};
 
-const SLOTS: usize = MAX_VIEWS as usize + 1;
+const SLOTS: usize = FRAME_VIEWS as usize + 1;
 
 /// The per-frame uniform block (`Views` in the shaders, std140).
 #[repr(C)]
@@ -39,7 +40,15 @@ fn ray_steps(world_from_view: Mat4, fov: FovTangents, pixels: (u32, u32)) -> (Ve
     )
 }
 
-/// Every view of a frame, in frame-view order: the eyes, then the fovea windows.
+/// Each eye's parafoveal ring window around its `fovea` window, when the plan has a ring.
+pub(super) fn ring_windows(plan: &FramePlan, fovea: &[FovTangents; 2]) -> Option<[FovTangents; 2]> {
+    let ring = plan.foveation?.ring?;
+    let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
+    Some(ring_views(&plan.eyes, ring.ratio, fovea, screen))
+}
+
+/// Every view of a frame, in frame-view order: the eyes, then the fovea windows, then the
+/// parafoveal ring's.
 pub(super) struct FrameViews {
     /// Each view's pose and field.
     pub views: Vec<(Mat4, FovTangents)>,
@@ -72,9 +81,13 @@ impl FrameViews {
             .collect();
         if let Some(fovea) = fovea {
             views.extend(Eye::BOTH.map(|e| (world_from_eye[e.index()], fovea[e.index()])));
+            if let Some(ring) = ring_windows(plan, fovea) {
+                views.extend(Eye::BOTH.map(|e| (world_from_eye[e.index()], ring[e.index()])));
+            }
         }
         let eye_far = far.as_ref().map_or(plan.far, |f| f.split_m);
-        // Views 0, 1 are the eyes (a foveated frame's periphery), 2, 3 the fovea windows.
+        // Views 0, 1 are the eyes (a foveated frame's periphery), 2, 3 the fovea windows, 4, 5
+        // the ring's, in views of the fovea's size.
         let view_pixels = |i: usize| match plan.foveation {
             None => plan.eye_resolution,
             Some(f) if i < 2 => f.periphery_view,
@@ -123,7 +136,8 @@ impl FrameViews {
             let at = FAR_VIEW_INDEX as usize;
             set(at, f.world_from_far, f.view_proj, f.fov, pixels);
         }
-        // The fovea views are at the screen's density by design: not prefiltered.
+        // The fovea views are at the screen's density by design, and the ring is refused with
+        // the prefilter: not prefiltered.
         for (i, &(_, fov)) in views.iter().enumerate().take(2) {
             let screen = plan.eyes.fov(Eye::BOTH[i]);
             let screen_step = (screen.left + screen.right) / plan.eye_resolution.width as f32;

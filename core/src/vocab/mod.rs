@@ -11,6 +11,10 @@ mod named_enum;
 mod resolution;
 
 pub use caps::{DeviceCaps, DriverQuirks};
+
+/// The views a frame's shaders know: the periphery, fovea and parafoveal ring pairs (the ring
+/// in the fovea's pass, so no pass has more than four). The MFFR far view comes after them.
+pub const FRAME_VIEWS: u32 = 6;
 pub use error::ConfigError;
 pub use files::{check_writable, read_bounded, write_atomic, write_atomic_with, FileError};
 pub use image::{ImageError, RgbaImage};

@@ -17,7 +17,7 @@ use foveate::metrics::Acuity;
 use foveate::plan::{RadialDensity, RenderConfig};
 
 use crate::commands::latency::LatencyArgs;
-use crate::frame_args::ComparedFrame;
+use crate::compared_frame::ComparedFrame;
 use crate::side_by_side::{sweep, Group, Measured};
 use crate::variants::{with_temporal, with_view_sets, Accumulation};
 use modes::{latency, table};
@@ -135,9 +135,11 @@ struct Row {
 pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     crate::interrupt::install();
     let acuity = checked_acuity(args)?;
+    let twins = args.frame.prefilter || !args.frame.rings.is_empty();
+    let own_rows = args.table || !args.latency.gaze_latency.is_empty();
     anyhow::ensure!(
-        !(args.frame.prefilter && (args.table || !args.latency.gaze_latency.is_empty())),
-        "--prefilter twins the compared rows: not with --table or --gaze-latency, which measure rows of their own"
+        !(twins && own_rows),
+        "--prefilter and --rings twin the compared rows: not with --table or --gaze-latency, which measure rows of their own"
     );
     if args.table {
         return table(options, args);
@@ -354,7 +356,7 @@ fn compared_rows(
             named.push((format!("{name}, MSAA {msaa}"), msaa, config));
         }
     }
-    let mut named = crate::variants::with_prefilter(named, args.frame.prefilter);
+    let mut named = crate::variants::with_twins(named, args.frame.prefilter, &args.frame.rings);
     named.insert(0, ("reference".to_string(), 4, reference));
     named
 }

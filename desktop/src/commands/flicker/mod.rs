@@ -18,7 +18,7 @@ use foveate::plan::RenderConfig;
 use foveate::scene::Walker;
 
 use crate::commands::motion_frontier::{self, plot_stem, MotionPoint};
-use crate::frame_args::ComparedFrame;
+use crate::compared_frame::ComparedFrame;
 use crate::variants::{with_temporal, with_view_sets, Accumulation};
 use measure::{MotionRun, Spent};
 use motion::{motions, Motion, MotionKind, RATE_HZ};
@@ -307,6 +307,6 @@ fn flicker_configs(
         }
     }
     let rows = configs.into_iter().map(|(n, c)| (n, (), c)).collect();
-    let twinned = crate::variants::with_prefilter(rows, args.frame.prefilter);
+    let twinned = crate::variants::with_twins(rows, args.frame.prefilter, &args.frame.rings);
     Ok(twinned.into_iter().map(|(n, (), c)| (n, c)).collect())
 }
