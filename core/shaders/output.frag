@@ -129,13 +129,13 @@ vec3 periphery(uint eye, vec2 uv) {
 }
 
 // Beyond the fovea with a parafoveal ring: the ring inside its circle, blended over the
-// periphery across its band, as the fovea is over the ring.
-vec3 ring_over_periphery(uint eye, vec2 uv, vec2 t, vec2 px_per_tangent) {
+// periphery across its band, as the fovea is over the ring; `w` the ring's weight.
+vec3 ring_over_periphery(uint eye, vec2 uv, vec2 t, vec2 px_per_tangent, out float w) {
     vec4 r = c.ring[eye];
     vec2 centre = vec2((r.y - r.x) * 0.5, (r.z - r.w) * 0.5);
     float dist = length((t - centre) * px_per_tangent);
     float radius = c.ring_params.x * 0.5;
-    float w = 1.0 - smoothstep(radius - c.ring_params.y, radius, dist);
+    w = 1.0 - smoothstep(radius - c.ring_params.y, radius, dist);
     vec3 color = vec3(0.0);
     if (w < 1.0) {
         color += (1.0 - w) * periphery(eye, uv);
@@ -183,6 +183,7 @@ void main() {
         float band = c.params.y;
         // 1 in the fovea, 0 in the periphery, smooth across the band.
         float w = band > 0.0 ? 1.0 - smoothstep(radius - band, radius, dist) : float(dist < radius);
+        float ring_w = 0.0;
 #ifdef TEMPORAL
         // Accumulated wherever the periphery was rendered, shown or not (under the fovea's
         // edge it is ready when the gaze moves), out to the reach.
@@ -194,7 +195,7 @@ void main() {
 #else
         // Fetch only what contributes: most pixels are periphery only, a few fovea only.
         if (w < 1.0) {
-            color += (1.0 - w) * (RING ? ring_over_periphery(eye, uv, t, px_per_tangent)
+            color += (1.0 - w) * (RING ? ring_over_periphery(eye, uv, t, px_per_tangent, ring_w)
                                        : periphery(eye, uv));
         }
 #endif
@@ -213,7 +214,9 @@ void main() {
         }
 #endif
         if (c.params.z > 0.5) {
+            // Fovea green, its band yellow, a parafoveal ring orange, the periphery blue.
             vec3 tint = w >= 1.0 ? vec3(0.2, 1.0, 0.2) : (w > 0.0 ? vec3(1.0, 0.9, 0.1) : vec3(0.2, 0.4, 1.0));
+            tint = w <= 0.0 && ring_w > 0.0 ? mix(tint, vec3(1.0, 0.5, 0.1), ring_w) : tint;
             color = mix(color, tint, 0.35);
         }
     }

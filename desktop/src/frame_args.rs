@@ -151,7 +151,7 @@ pub struct ConfigArgs {
     /// Gaze of both eyes, normalised: X,Y in -1..1 (x right, y up).
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub gaze: Option<Vec<f32>>,
-    /// Tint the composed image: fovea green, band yellow, periphery blue.
+    /// Tint the composed image: fovea green, band yellow, a ring orange, periphery blue.
     #[arg(long)]
     pub tint: bool,
     /// The HMD stencil mask: no fragment is shaded where the lens hides the image.

@@ -40,7 +40,7 @@ pub struct FoveationConfig {
     /// diameter. 0 is a hard edge (no seam either way: the stencil holes keep the filters'
     /// margin, [`PERIPHERY_REACH_TEXELS`]).
     pub blend_band_px: f32,
-    /// Tint the composed image: fovea green, band yellow, periphery blue.
+    /// Tint the composed image: fovea green, band yellow, a parafoveal ring orange, periphery blue.
     pub debug_tint: bool,
     /// The fovea views draw only the instances their frusta see (a superfrustum around both
     /// fovea frusta, culled per frame); off, they draw what the periphery draws.
