@@ -131,7 +131,7 @@ pub struct ConfigArgs {
     #[arg(long)]
     pub periphery_prefilter: bool,
     /// With --foveate --single-frame: a third level, a parafoveal ring this fraction of the
-    /// field wide around the fovea, in views of the fovea's pixels. TODO-VERDICT
+    /// field wide around the fovea, in views of the fovea's pixels. Measured to lose; off.
     #[arg(long, value_name = "RATIO")]
     pub ring: Option<f32>,
     /// Foveation without the inset/outset stencil masks.

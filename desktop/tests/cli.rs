@@ -235,6 +235,21 @@ fn bad_input_is_a_clear_error_not_a_panic() {
             &["plan", "--head", "0,1,0", "--look-at", "0,5,0"][..],
             "look-at = [0, 5, 0]: a point away from the head",
         ),
+        (
+            &["plan", "--foveate", "0.35", "--ring", "0.6"][..],
+            "invalid --ring = 0.6: it sets a parameter of single frames",
+        ),
+        (
+            &[
+                "plan",
+                "--foveate",
+                "0.35",
+                "--single-frame",
+                "--ring",
+                "0.3",
+            ][..],
+            "ring_ratio = 0.3: 0.35 (the fovea's ratio) < ring ratio ≤ 1",
+        ),
         (&["view", "--frames", "0"][..], "frames = 0"),
         (&["view", "--window", "0x10"][..], "window = \"0x10\""),
         (

@@ -68,7 +68,7 @@ impl fmt::Display for RingGeometry {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "a window {} of the field wide at {:.2} of the screen's density, {:.0} px on screen, blend band {} px, its views keep a {:.1} px circle and drop the fovea's {:.1} px hole TODO-VERDICT",
+            "a window {} of the field wide at {:.2} of the screen's density, {:.0} px on screen, blend band {} px, its views keep a {:.1} px circle and drop the fovea's {:.1} px hole; measured to cut the error where it lies, not beyond it (docs/foveation.md)",
             self.ratio, self.density, self.screen_px, self.band_px, self.circle_px, self.hole_px
         )
     }
