@@ -6,7 +6,6 @@ use glam::Vec4;
 use super::descriptors::DescriptorSet;
 use super::executor::{Executor, FrameContext};
 use super::recorder::{Recorder, Rect};
-use super::views::ring_windows;
 use crate::foveation::{mask_shapes, MASK_SHAPES};
 use crate::gpu::{Buffer, Gpu, GpuError, MemoryLocation};
 use crate::plan::{FramePlan, PassPlan, StencilState, Step};
@@ -45,7 +44,7 @@ impl MaskShapes {
 impl Executor for MaskShapes {
     fn update(&mut self, slot: usize, frame: &FrameContext) {
         let block = MasksBlock {
-            shapes: stencil_shapes(frame.plan, frame.fovea),
+            shapes: stencil_shapes(frame.plan, frame.fovea, frame.views.ring.as_ref()),
             hidden: hidden_corners(frame.plan, frame.hidden_area),
         };
         self.buffers[slot].write(&[block]);
@@ -104,13 +103,16 @@ fn hidden_corners(plan: &FramePlan, hidden: Option<&[HiddenArea; 2]>) -> [Vec4; 
 /// The stencil shapes of a frame (see `shaders/mask.vert`): per view, what it keeps ([0..6)) and
 /// then drops ([6..12)). The eye (periphery) views keep the lens-visible ellipse with the HMD
 /// mask, everything without; foveation's inset and outset masks go on top.
-fn stencil_shapes(plan: &FramePlan, fovea: Option<&[FovTangents; 2]>) -> [Vec4; MASK_SHAPES] {
+fn stencil_shapes(
+    plan: &FramePlan,
+    fovea: Option<&[FovTangents; 2]>,
+    ring: Option<&[FovTangents; 2]>,
+) -> [Vec4; MASK_SHAPES] {
     let full = Vec4::new(0.0, 0.0, 2.0, 2.0);
     let mut shapes = [Vec4::ZERO; MASK_SHAPES];
     if let (Some(g), Some(fovea)) = (&plan.foveation, fovea) {
         if g.stencil {
-            let ring = ring_windows(plan, fovea);
-            shapes = mask_shapes(g, &plan.eyes, fovea, ring.as_ref());
+            shapes = mask_shapes(g, &plan.eyes, fovea, ring);
         } else {
             shapes[2..6].fill(full);
         }

@@ -13,7 +13,6 @@ use super::executor::{Executor, FrameContext};
 use super::recorder::{Recorder, Rect};
 use super::sampled_set::SampledSet;
 use super::temporal::{tangents, AccumulateBlock, TemporalAccumulation};
-use super::views::ring_windows;
 use crate::foveation::TemporalConfig;
 use crate::gpu::{Buffer, Gpu, GpuError, Image};
 use crate::plan::{FramePlan, OutputStep, PassPlan, Step};
@@ -114,7 +113,6 @@ impl Executor for OutputStage {
             ),
             None => Vec4::ZERO,
         };
-        let ring = fovea.and_then(|f| ring_windows(plan, f));
         let ring_params = plan
             .foveation
             .and_then(|g| g.ring)
@@ -122,7 +120,7 @@ impl Executor for OutputStage {
         let block = OutputBlock {
             periphery,
             fovea: fovea.map_or(periphery, |f| f.map(tangents)),
-            ring: ring.map_or(periphery, |r| r.map(tangents)),
+            ring: frame.views.ring.map_or(periphery, |r| r.map(tangents)),
             ring_params,
             display: plan.lens.map_or(periphery, |l| l.display.map(tangents)),
             params,

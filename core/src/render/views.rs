@@ -41,7 +41,7 @@ fn ray_steps(world_from_view: Mat4, fov: FovTangents, pixels: (u32, u32)) -> (Ve
 }
 
 /// Each eye's parafoveal ring window around its `fovea` window, when the plan has a ring.
-pub(super) fn ring_windows(plan: &FramePlan, fovea: &[FovTangents; 2]) -> Option<[FovTangents; 2]> {
+fn ring_windows(plan: &FramePlan, fovea: &[FovTangents; 2]) -> Option<[FovTangents; 2]> {
     let ring = plan.foveation?.ring?;
     let screen = (plan.eye_resolution.width, plan.eye_resolution.height);
     Some(ring_views(&plan.eyes, ring.ratio, fovea, screen))
@@ -57,6 +57,8 @@ pub(super) struct FrameViews {
     pub projections: Vec<Mat4>,
     /// The MFFR far view, when planned.
     pub far: Option<FarView>,
+    /// Each eye's parafoveal ring window, when the plan has a ring (views 4, 5).
+    pub ring: Option<[FovTangents; 2]>,
     /// The periphery views' sub-pixel offset (periphery pixels, x right, y down), when
     /// temporal accumulation jitters them.
     pub jitter: Option<Vec2>,
@@ -79,11 +81,9 @@ impl FrameViews {
             .iter()
             .map(|&e| (world_from_eye[e.index()], plan.eyes.fov(e)))
             .collect();
-        if let Some(fovea) = fovea {
-            views.extend(Eye::BOTH.map(|e| (world_from_eye[e.index()], fovea[e.index()])));
-            if let Some(ring) = ring_windows(plan, fovea) {
-                views.extend(Eye::BOTH.map(|e| (world_from_eye[e.index()], ring[e.index()])));
-            }
+        let ring = fovea.and_then(|f| ring_windows(plan, f));
+        for windows in fovea.into_iter().chain(ring.as_ref()) {
+            views.extend(Eye::BOTH.map(|e| (world_from_eye[e.index()], windows[e.index()])));
         }
         let eye_far = far.as_ref().map_or(plan.far, |f| f.split_m);
         // Views 0, 1 are the eyes (a foveated frame's periphery), 2, 3 the fovea windows, 4, 5
@@ -151,6 +151,7 @@ impl FrameViews {
             views,
             projections,
             far,
+            ring,
             jitter,
             block,
         }
