@@ -16,7 +16,8 @@ use foveate::glam::{Mat4, Vec2, Vec3};
 use foveate::gpu::{Gpu, GpuOptions, Image};
 use foveate::plan::{OutputStage, RenderConfig, Resolution};
 use foveate::render::{
-    output_image_desc, view_images, DrawPass, FoveationLayer, FrameInput, HandedImage, Renderer,
+    output_image_desc, view_images, DrawPass, FoveationLayer, FrameInput, FrameViewSet, HandedImage,
+    Renderer,
     StereoImage, View,
 };
 use foveate::scene::Shading;
@@ -107,7 +108,7 @@ fn engine_frames(
         let mut set = layer.views(input).unwrap();
         views(&mut set.views);
         engine.write_views(set.slot, &set.views);
-        samples_passed = occlusion.frame(&mut layer, input, &mut engine);
+        samples_passed = occlusion.frame(&mut layer, &set, &mut engine);
     }
     let image = layer.readback().unwrap();
     drop(engine);
@@ -179,7 +180,7 @@ impl Occlusion {
     fn frame(
         &self,
         layer: &mut FoveationLayer,
-        input: &FrameInput,
+        views: &FrameViewSet,
         engine: &mut Engine,
     ) -> Vec<u64> {
         let d = &self.device;
@@ -193,7 +194,7 @@ impl Occlusion {
                 engine.draw(ctx);
                 d.cmd_end_query(ctx.cmd, self.pool, q.1);
             };
-            layer.record(self.cmd, input, &mut draw).unwrap();
+            layer.record(self.cmd, views, &mut draw).unwrap();
             d.end_command_buffer(self.cmd).unwrap();
             let cmds = [self.cmd];
             let submit = vk::SubmitInfo::default().command_buffers(&cmds);

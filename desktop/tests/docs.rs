@@ -179,3 +179,42 @@ fn links_are_found_as_markdown_has_them() {
         ["a-b", "a-b-1", "code-heading"]
     );
 }
+
+/// Bytes of every file under `dir`.
+fn bytes_under(dir: &Path) -> u64 {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|entry| {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                bytes_under(&path)
+            } else {
+                path.metadata().unwrap().len()
+            }
+        })
+        .sum()
+}
+
+/// The front page stays a front page and the docs stay small enough to clone: the README in
+/// 120 lines, `docs/` in 4 MiB (pictures as JPEG where they are photographs of a frame, run
+/// files trimmed to what a page cites). Mutations: a line added to the README, or a 200 KiB
+/// file dropped into a nearly full `docs/`, fails it.
+#[test]
+fn the_readme_and_the_docs_stay_within_their_limits() {
+    const README_LINES: usize = 120;
+    const DOCS_BYTES: u64 = 4 << 20;
+    let root = root();
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(
+        lines <= README_LINES,
+        "README.md is {lines} lines, over its limit of {README_LINES}: move detail to docs/"
+    );
+    let docs = bytes_under(&root.join("docs"));
+    assert!(
+        docs <= DOCS_BYTES,
+        "docs/ holds {} KiB, over its limit of {} KiB: shrink pictures and run files",
+        docs / 1024,
+        DOCS_BYTES / 1024
+    );
+}

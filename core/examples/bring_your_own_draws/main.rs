@@ -65,10 +65,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for frame in 0..4 {
         let gaze = Vec2::new(-0.3 + 0.2 * frame as f32, 0.1);
         let input = FrameInput::new(head).with_gaze([gaze; 2]);
-        // The frame's views first: the engine's uniforms for its slot come from them.
+        // The frame's views first: the engine's uniforms for its slot come from them, and the
+        // frame recorded is theirs.
         let views = layer.views(&input)?;
         engine.write_views(views.slot, &views.views);
-        let stats = layer.render(&input, &mut |pass| engine.draw(pass))?;
+        let stats = layer.render(&views, &mut |pass| engine.draw(pass))?;
         println!(
             "frame {frame}, gaze ({:.1}, {:.1}): {} draws in all passes; GPU {:.2} ms ({})",
             gaze.x,

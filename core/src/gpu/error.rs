@@ -86,6 +86,14 @@ pub enum GpuError {
         /** Its slot. */
         slot: usize,
     },
+    #[error("frame {frame} has not finished on the GPU and its frame slot {slot} is asked for again: wait for that frame's fence before recording the next frame into slot {slot} (and submit every frame recorded)")]
+    /// A frame recorded into a slot whose previous frame has not run to its end.
+    SlotInFlight {
+        /** The frame still in the slot. */
+        frame: u64,
+        /** The slot. */
+        slot: usize,
+    },
     #[error("frames in flight: {0}")]
     /// A frame loop misused (a slot begun twice, a frame from another loop).
     FramesInFlight(String),

@@ -64,6 +64,12 @@ owned_handle!(
 );
 owned_handle!(Fence, vk::Fence, destroy_fence);
 owned_handle!(Semaphore, vk::Semaphore, destroy_semaphore);
+owned_handle!(
+    /// Set by the GPU, read by the host: whether the work before it has finished.
+    Event,
+    vk::Event,
+    destroy_event
+);
 owned_handle!(QueryPool, vk::QueryPool, destroy_query_pool);
 owned_handle!(PipelineCache, vk::PipelineCache, destroy_pipeline_cache);
 owned_handle!(ImageView, vk::ImageView, destroy_image_view);

@@ -22,7 +22,7 @@ pub use context::{
 pub use error::GpuError;
 internal_use!(error::VkResultExt);
 internal_use!(handles::{
-    CommandPool, DescriptorPool, DescriptorSetLayout, Fence, Framebuffer, ImageView, Pipeline,
+    CommandPool, DescriptorPool, DescriptorSetLayout, Event, Fence, Framebuffer, ImageView, Pipeline,
     PipelineCache, PipelineLayout, QueryPool, RenderPass, Sampler, Semaphore, ShaderModule,
 });
 pub(crate) use memory::pod_bytes;

@@ -1,6 +1,6 @@
 use ash::vk;
 
-use super::{CommandPool, Fence, Gpu, GpuError, ShaderModule, VkResultExt};
+use super::{CommandPool, Event, Fence, Gpu, GpuError, ShaderModule, VkResultExt};
 use crate::shaders::ShaderBinary;
 
 impl Gpu {
@@ -64,6 +64,17 @@ impl Gpu {
         }
         .vk("vkCreateFence")?;
         Ok(Fence::from_raw(&self.dev, raw))
+    }
+
+    /// An event, unset: the GPU sets it from a command buffer, the host reads it.
+    pub(crate) fn event(&self) -> Result<Event, GpuError> {
+        // SAFETY: a plain event, owned by the result.
+        let raw = unsafe {
+            self.device()
+                .create_event(&vk::EventCreateInfo::default(), None)
+        }
+        .vk("vkCreateEvent")?;
+        Ok(Event::from_raw(&self.dev, raw))
     }
 
     /// Submits one command buffer to the graphics queue, signalling `fence` (unsignalled).

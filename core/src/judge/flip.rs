@@ -251,6 +251,7 @@ impl FlipJudge {
         if !(ppd.is_finite() && ppd > 0.0 && ppd <= 1000.0) {
             return Err(ConfigError::new("ppd", ppd, "0 < ppd ≤ 1000").into());
         }
+        acuity.check()?;
         let mut params = Params {
             full: [self.width as i32, self.height as i32],
             cmax: self.cmax,

@@ -60,6 +60,12 @@ impl JudgedImage<'_> {
     /// read (its format, or no pixel).
     pub(crate) fn texels(&self, name: &'static str) -> Result<OutputTexels, GpuError> {
         match self {
+            JudgedImage::Frame(layer) if layer.frames_recorded() == 0 => Err(ConfigError::new(
+                name,
+                "a layer that has rendered no frame",
+                "a layer or renderer whose first frame has been recorded and has run",
+            )
+            .into()),
             JudgedImage::Frame(layer) => Ok(layer.output_texels()),
             JudgedImage::Eyes(e) => {
                 let format = match e.format {

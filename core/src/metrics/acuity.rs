@@ -5,6 +5,7 @@
 use super::display::{EyePixels, Region};
 use super::{ErrorHistogram, ImageError, RgbaImage};
 use crate::gpu::GpuError;
+use crate::vocab::ConfigError;
 
 /// The eye's acuity falloff: its minimum angle of resolution `MAR(e) = mar0 + slope · e`
 /// (arcmin, eccentricity e in degrees).
@@ -36,6 +37,29 @@ impl Acuity {
             .clamp(0.0, (LEVELS.len() - 1) as f64)
     }
 
+    /// `Ok` for an acuity a judgement can use: a finite, positive `mar0_arcmin` and a finite
+    /// slope of zero or more; else an error naming the field (a `NaN` or zero acuity would
+    /// judge every frame perfect).
+    pub fn check(&self) -> Result<(), ConfigError> {
+        let mar0 = self.mar0_arcmin;
+        if !(mar0.is_finite() && mar0 > 0.0) {
+            return Err(ConfigError::new(
+                "acuity.mar0_arcmin",
+                mar0,
+                "finite and > 0 (the eye's minimum angle of resolution, 1.25′ by default)",
+            ));
+        }
+        let slope = self.slope_arcmin_per_deg;
+        if !(slope.is_finite() && slope >= 0.0) {
+            return Err(ConfigError::new(
+                "acuity.slope_arcmin_per_deg",
+                slope,
+                "finite and ≥ 0 (1.32′ a degree by default)",
+            ));
+        }
+        Ok(())
+    }
+
     /// How much coarser than at the gaze the eye resolves at `eccentricity_deg`: `MAR(e) / ω₀`.
     pub fn scale(&self, eccentricity_deg: f64) -> f64 {
         1.0 + self.slope_arcmin_per_deg * eccentricity_deg.max(0.0) / self.mar0_arcmin
@@ -64,6 +88,9 @@ pub enum JudgeError {
     /// The GPU judge failed.
     #[error("judging on the GPU: {0}")]
     Gpu(#[from] GpuError),
+    /// A value handed to the judgement was refused (an acuity, say).
+    #[error(transparent)]
+    Config(#[from] ConfigError),
 }
 
 /// One eye's FLIP figures as a judge reduces them: histograms over the pixels the lens shows,

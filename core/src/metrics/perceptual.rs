@@ -109,6 +109,7 @@ pub fn perceptual_error(
     flip: &mut dyn FlipMapper,
     maps: Maps,
 ) -> Result<PerceptualError, JudgeError> {
+    acuity.check()?;
     let mut eyes = Vec::with_capacity(2);
     for eye in 0..2 {
         let p = &pixels[eye];

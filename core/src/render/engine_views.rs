@@ -7,6 +7,7 @@ use std::ops::Range;
 use ash::vk;
 use glam::{Mat4, Vec2, Vec3};
 
+use super::frame_input::FrameInput;
 use super::targets::{vk_format, CompiledPass};
 use super::views::FrameViews;
 use crate::cull::{Frustum, Superfrustum};
@@ -119,7 +120,10 @@ pub struct DrawContext<'a> {
     pub slot: usize,
 }
 
-/// A frame's views, before it is recorded: the engine writes its uniforms from these.
+/// A frame's views, before it is recorded: the engine writes its uniforms from these, then
+/// hands the set to [`super::FoveationLayer::record`], which records the frame they are the
+/// views of (the input they were placed from): a set of another frame, slot or gaze is an
+/// error there.
 #[derive(Clone, Debug)]
 pub struct FrameViewSet {
     /// The frame slot the frame records into.
@@ -128,6 +132,18 @@ pub struct FrameViewSet {
     pub frame: u64,
     /// Every view, in [`View::index`] order.
     pub views: Vec<View>,
+    /// The input the views were placed from.
+    pub(super) input: FrameInput,
+    /// The gaze and eyes they were placed with (the input's, or the layer's then).
+    pub(super) gaze: [Vec2; 2],
+    pub(super) eyes: EyeParams,
+}
+
+impl FrameViewSet {
+    /// The input the views were placed from.
+    pub fn input(&self) -> &FrameInput {
+        &self.input
+    }
 }
 
 /// The passes an engine draws into, from the plan and its compiled passes.

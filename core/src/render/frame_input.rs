@@ -132,13 +132,27 @@ pub(super) fn eyes_fit(eyes: &EyeParams, planned: &EyeParams) -> Result<(), Conf
     Ok(())
 }
 
-/// A head pose the frame can be rendered from: every element finite.
-pub(super) fn head_is_finite(world_from_head: Mat4) -> Result<(), ConfigError> {
+/// A head pose the frame can be rendered from: every element finite, and invertible (the
+/// views' matrices are its inverse's), its determinant nonzero and its inverse finite in f32.
+pub(super) fn head_is_a_pose(world_from_head: Mat4) -> Result<(), ConfigError> {
+    const LOST: &str = "a lost head-tracking sample: keep the last good pose";
     finite_matrix(
         "world_from_head",
         world_from_head,
-        "a finite matrix (a lost head-tracking sample: keep the last good pose)",
-    )
+        &format!("a finite matrix ({LOST})"),
+    )?;
+    let determinant = world_from_head.as_dmat4().determinant();
+    if determinant == 0.0 || !world_from_head.inverse().is_finite() {
+        return Err(ConfigError::new(
+            "world_from_head",
+            format!(
+                "{:?} (determinant {determinant:e})",
+                world_from_head.to_cols_array()
+            ),
+            format!("an invertible pose, its inverse finite ({LOST})"),
+        ));
+    }
+    Ok(())
 }
 
 /// `matrix`, handed in as `field`, with every element finite; else an error naming the field,

@@ -14,7 +14,7 @@ use super::setup::{effect_buffer, query_pool};
 use super::stats::{FrameStats, PassStatistics};
 use super::views::ViewsBlock;
 use crate::gpu::{
-    Buffer, CommandPool, Fence, Gpu, GpuError, MemoryLocation, QueryPool, VkResultExt,
+    Buffer, CommandPool, Event, Fence, Gpu, GpuError, MemoryLocation, QueryPool, VkResultExt,
 };
 use crate::plan::FramePlan;
 
@@ -35,6 +35,10 @@ pub(super) struct FrameSlot {
     pub cmd: vk::CommandBuffer,
     pub pool: CommandPool,
     pub fence: Fence,
+    /// Set by the GPU when the slot's last frame has run to its end (the last command the
+    /// layer records into it): the layer's own word on whether the slot is free again, in
+    /// whoever's command buffer the frame was recorded.
+    pub finished: Event,
     /// The last frame recorded in this slot, until another is.
     pub recorded: Option<SlotFrame>,
 }
@@ -122,6 +126,7 @@ impl FrameSlot {
             cmd: gpu.allocate_command_buffer(&pool)?,
             pool,
             fence: gpu.fence()?,
+            finished: gpu.event()?,
             views_block,
             counter,
             instance_ids,
@@ -130,6 +135,40 @@ impl FrameSlot {
             statistics,
             recorded: None,
         })
+    }
+
+    /// `Ok` when the slot may take a frame: none recorded yet, or its last one has run to its
+    /// end on the GPU; else an error naming that frame.
+    pub fn check_free(&self, gpu: &Gpu, slot: usize) -> Result<(), GpuError> {
+        let Some(last) = &self.recorded else {
+            return Ok(());
+        };
+        // SAFETY: the event is this slot's, alive.
+        let done = unsafe { gpu.device().get_event_status(self.finished.raw) }
+            .vk("vkGetEventStatus")?;
+        if done {
+            return Ok(());
+        }
+        Err(GpuError::SlotInFlight {
+            frame: last.frame,
+            slot,
+        })
+    }
+
+    /// Unsets the slot's event for the frame about to be recorded (its last frame has finished:
+    /// [`FrameSlot::check_free`]).
+    pub fn unset_finished(&self, gpu: &Gpu) -> Result<(), GpuError> {
+        // SAFETY: no pending work sets or waits on the event: the slot was checked free.
+        unsafe { gpu.device().reset_event(self.finished.raw) }.vk("vkResetEvent")
+    }
+
+    /// Records, at the end of the frame recorded into `cmd`, the GPU's word that it has run:
+    /// the event set once everything before it in `cmd` has completed.
+    pub fn record_finished(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
+        // Set once every command before it has completed every stage.
+        let stage = vk::PipelineStageFlags::BOTTOM_OF_PIPE;
+        // SAFETY: `cmd` is recording, outside a render pass (the frame's passes are closed).
+        unsafe { gpu.device().cmd_set_event(cmd, self.finished.raw, stage) }
     }
 
     /// The slot's last frame's figures: `None` while its queries are not yet available (the

@@ -222,9 +222,20 @@ impl FoveationLayer {
         self.gaze
     }
 
+    /// `Ok` when the next frame slot may take a frame: its last frame (if any) has run to its
+    /// end on the GPU; else an error naming that frame ([`GpuError::SlotInFlight`]).
+    pub fn check_next_slot(&self) -> Result<(), GpuError> {
+        self.slots[self.next_slot].check_free(&self.gpu, self.next_slot)
+    }
+
     /// The number of frame slots: how many frames may be in flight at once.
     pub fn frame_slots(&self) -> usize {
         self.slots.len()
+    }
+
+    /// How many frames the layer has recorded: the number the next frame will have.
+    pub fn frames_recorded(&self) -> u64 {
+        self.frames_rendered
     }
 
     /// The frame slot the next frame records into (slots are taken in turn).
@@ -313,15 +324,17 @@ impl FoveationLayer {
         Ok(stats)
     }
 
-    /// Checks a frame's input whole, keeps its gaze and eyes (a refused input changes
-    /// nothing), picks its output image, and places its views: the frame's slot and parity,
-    /// every executor's uniforms written for it. `instance_removed`: whether the scene lost an
-    /// instance since the frame before (the accumulation clips everywhere once).
+    /// Checks that the next slot's last frame has finished and the frame's input is whole,
+    /// keeps its gaze and eyes (a refused input changes nothing), picks its output image, and
+    /// places its views: the frame's slot and parity, every executor's uniforms written for
+    /// it. `instance_removed`: whether the scene lost an instance since the frame before (the
+    /// accumulation clips everywhere once).
     pub(super) fn prepare(
         &mut self,
         input: &FrameInput,
         instance_removed: bool,
     ) -> Result<PreparedFrame, GpuError> {
+        self.check_next_slot()?;
         if let (Some(raw), None) = (input.output, &self.output_targets) {
             return Err(ConfigError::new(
                 "output",
@@ -418,7 +431,8 @@ impl FoveationLayer {
     }
 
     /// Records the prepared frame into `cmd`: every pass and step of the plan, each scene step
-    /// drawn by `scene`, the figures the scene measured kept with the slot's.
+    /// drawn by `scene`, the figures the scene measured kept with the slot's; last, the slot's
+    /// word that the frame has run.
     pub(super) fn record_prepared(
         &mut self,
         cmd: vk::CommandBuffer,
@@ -426,8 +440,9 @@ impl FoveationLayer {
         draws: &FrameDraws,
         scene: SceneSteps,
         figures: SceneFigures,
-    ) -> FrameRecord {
+    ) -> Result<FrameRecord, GpuError> {
         let (slot, parity) = (frame.slot, frame.parity);
+        self.slots[slot].unset_finished(&self.gpu)?;
         let start = Instant::now();
         let (tally, pass_ends) = {
             let output_passes = self.output_targets.as_ref().map(|t| t.passes(parity));
@@ -451,6 +466,7 @@ impl FoveationLayer {
             record_frame(&self.plan, draws, &mut recorder);
             (recorder.tally, recorder.pass_ends)
         };
+        self.slots[slot].record_finished(&self.gpu, cmd);
         let record = FrameRecord {
             frame: self.frames_rendered,
             slot,
@@ -467,7 +483,21 @@ impl FoveationLayer {
         });
         self.frames_rendered += 1;
         self.next_slot = (slot + 1) % self.slots.len();
-        record
+        Ok(record)
+    }
+}
+
+impl Drop for FoveationLayer {
+    /// Waits for the frames still running before their images, buffers and passes go: when a
+    /// slot's last frame has not run to its end, the device is waited idle (a frame recorded
+    /// but never submitted is not waited for).
+    fn drop(&mut self) {
+        let running = (self.slots.iter().enumerate()).any(|(k, s)| s.check_free(&self.gpu, k).is_err());
+        if running {
+            if let Err(e) = self.gpu.wait_idle() {
+                log::warn!("foveation layer: waiting for its frames on drop failed: {e}");
+            }
+        }
     }
 }
 

@@ -10,7 +10,7 @@ use ash::vk;
 use super::engine_views::{
     draw_passes, engine_views, superfrustum_of, DrawContext, DrawPass, FrameViewSet,
 };
-use super::frame_input::{eyes_fit, head_is_finite, FrameInput, FrameRecord};
+use super::frame_input::{eyes_fit, head_is_a_pose, FrameInput, FrameRecord};
 use super::frame_slot::SharedBindings;
 use super::layer::{FoveationLayer, SceneFigures};
 use super::recorder::FrameDraws;
@@ -77,10 +77,12 @@ impl FoveationLayer {
     }
 
     /// The views of the frame `input` describes, for the engine's per-frame uniforms, without
-    /// recording anything or keeping anything of `input`: the frame [`FoveationLayer::record`]
-    /// records next, given the same input, has these views. A bad input is an error naming it.
+    /// recording anything or keeping anything of `input`: hand the set to
+    /// [`FoveationLayer::record`], which records the frame these are the views of. A bad input
+    /// is an error naming it.
     pub fn views(&self, input: &FrameInput) -> Result<FrameViewSet, ConfigError> {
         self.check_input(input)?;
+        let eyes = input.eyes.unwrap_or(self.plan.eyes);
         let plan = match input.eyes {
             Some(eyes) => Cow::Owned(FramePlan {
                 eyes,
@@ -94,30 +96,40 @@ impl FoveationLayer {
             slot: self.next_slot(),
             frame: self.frames_rendered,
             views: engine_views(&plan, &views, &self.draw_passes()),
+            input: *input,
+            gaze,
+            eyes,
         })
     }
 
-    /// Records the frame `input` describes into `cmd`, using only the resources of the next
-    /// frame slot: every pass of the plan, in each pass the engine draws into the stencil
-    /// masks first, then `draw` with the pass's [`DrawContext`] (the engine's draws, inside
-    /// the pass), then the output stage. The caller submits `cmd` and reads the frame's
-    /// figures with [`FoveationLayer::frame_stats`] once it has run.
+    /// Records the frame whose views `frame` holds ([`FoveationLayer::views`], for this very
+    /// frame) into `cmd`, using only the resources of the next frame slot: every pass of the
+    /// plan, in each pass the engine draws into the stencil masks first, then `draw` with the
+    /// pass's [`DrawContext`] (the engine's draws, inside the pass), then the output stage.
+    /// The caller submits `cmd` and reads the frame's figures with
+    /// [`FoveationLayer::frame_stats`] once it has run.
     ///
-    /// A bad input is an error naming it; nothing is recorded and nothing changes.
+    /// An error, with nothing recorded and nothing changed: a set of views of another frame
+    /// (one recorded already, or an earlier one) or slot, or placed with another gaze or other
+    /// eyes than the layer now has (`set_gaze` or `set_eyes` since [`FoveationLayer::views`]);
+    /// a bad input; a slot whose last frame has not finished on the GPU
+    /// ([`GpuError::SlotInFlight`]).
     ///
     /// # Safety
     /// `cmd` is a primary command buffer of this layer's device, recording (outside a render
-    /// pass), to be submitted to a queue of the layer's queue family. The frame this slot held
-    /// [`FramePlan::frame_slots`] frames ago has finished on the GPU, and no frame of this
-    /// layer is running when it is dropped. `draw` records only what a subpass allows, with
-    /// pipelines made for the pass's render pass, and leaves the pass open.
+    /// pass), to be submitted to a queue of the layer's queue family: Vulkan gives the layer
+    /// no way to check that it was begun. `draw` records only what a subpass allows, with
+    /// pipelines made for the pass's render pass, and leaves the pass open. Each frame
+    /// recorded is submitted (until then its slot is in flight). Dropping the layer while
+    /// frames run waits for the device to go idle: no other thread submits to it meanwhile.
     pub unsafe fn record(
         &mut self,
         cmd: vk::CommandBuffer,
-        input: &FrameInput,
+        frame: &FrameViewSet,
         draw: &mut dyn FnMut(&DrawContext),
     ) -> Result<FrameRecord, GpuError> {
-        let frame = self.prepare(input, false)?;
+        self.check_view_set(frame)?;
+        let frame = self.prepare(&frame.input, false)?;
         let passes = self.draw_passes();
         let views = engine_views(&self.plan, &frame.views, &passes);
         let (eyes, head, slot) = (self.plan.eyes, frame.world_from_head, frame.slot);
@@ -135,33 +147,80 @@ impl FoveationLayer {
             });
         };
         let scene = SceneSteps::Engine(&mut at_pass);
-        Ok(self.record_prepared(
+        self.record_prepared(
             cmd,
             &frame,
             &FrameDraws::Engine,
             scene,
             SceneFigures::default(),
-        ))
+        )
     }
 
-    /// Renders one frame from `input` with the engine's `draw` into the next frame slot's own
-    /// command buffer, submits it and waits for it: the convenience over
-    /// [`FoveationLayer::record`] for programs that do not overlap frames.
+    /// Renders the frame whose views `frame` holds with the engine's `draw` into the next
+    /// frame slot's own command buffer, submits it and waits for it: the convenience over
+    /// [`FoveationLayer::record`] (and its errors) for programs that do not overlap frames.
     pub fn render(
         &mut self,
-        input: &FrameInput,
+        frame: &FrameViewSet,
         draw: &mut dyn FnMut(&DrawContext),
     ) -> Result<FrameStats, GpuError> {
+        self.check_view_set(frame)?;
+        self.check_next_slot()?;
         let own = self.begin_own_buffer()?;
         // SAFETY: the buffer is the slot's own, recording; its previous frame was waited on.
-        let frame = unsafe { self.record(own.cmd, input, draw)? };
-        self.submit_own_buffer(own, frame)
+        let record = unsafe { self.record(own.cmd, frame, draw)? };
+        self.submit_own_buffer(own, record)
     }
 
-    /// Whether `input` could be recorded: a finite head, a gaze within −1…1, eyes that fit
+    /// Whether `set` holds the views of the frame the layer records next: its number and slot,
+    /// and the gaze and eyes the layer will place that frame's views with.
+    fn check_view_set(&self, set: &FrameViewSet) -> Result<(), ConfigError> {
+        let next = self.frames_rendered;
+        if set.frame != next {
+            return Err(ConfigError::new(
+                "FrameViewSet::frame",
+                set.frame,
+                format!(
+                    "the layer's next frame, {next}: call views() for each frame and record its set once"
+                ),
+            ));
+        }
+        if set.slot != self.next_slot() {
+            return Err(ConfigError::new(
+                "FrameViewSet::slot",
+                set.slot,
+                format!("the next frame's slot, {}", self.next_slot()),
+            ));
+        }
+        let gaze = set.input.gaze.unwrap_or(self.gaze());
+        if gaze != set.gaze {
+            return Err(ConfigError::new(
+                "gaze",
+                format!("{gaze:?}, the layer's now"),
+                format!(
+                    "the gaze the frame's views were placed with, {:?}: set_gaze() before views(), or views() again",
+                    set.gaze
+                ),
+            ));
+        }
+        let eyes = set.input.eyes.unwrap_or(self.plan.eyes);
+        if eyes != set.eyes {
+            return Err(ConfigError::new(
+                "eyes",
+                format!("{eyes:?}, the layer's now"),
+                format!(
+                    "the eyes the frame's views were placed with, {:?}: set_eyes() before views(), or views() again",
+                    set.eyes
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Whether `input` could be recorded: a head pose that is finite and invertible, a gaze within −1…1, eyes that fit
     /// the plan.
     pub(super) fn check_input(&self, input: &FrameInput) -> Result<(), ConfigError> {
-        head_is_finite(input.world_from_head)?;
+        head_is_a_pose(input.world_from_head)?;
         if let Some(gaze) = input.gaze {
             crate::foveation::check_gaze(gaze)?;
         }

@@ -243,14 +243,17 @@ impl Renderer {
     /// # Safety
     /// `cmd` is a primary command buffer of this renderer's device, recording (begun by the
     /// caller, outside a render pass), to be submitted to a queue of the renderer's queue
-    /// family. The frame this slot held [`FramePlan::frame_slots`] frames ago has finished on
-    /// the GPU (its fence signalled), and no frame of this renderer is running when it is
-    /// dropped.
+    /// family (a command buffer not begun is not one Vulkan lets the renderer detect). The
+    /// frame this slot held [`FramePlan::frame_slots`] frames ago has finished on the GPU (its
+    /// fence signalled): if it has not, the call is an error
+    /// ([`GpuError::SlotInFlight`]).
     pub unsafe fn record(
         &mut self,
         cmd: vk::CommandBuffer,
         input: &FrameInput,
     ) -> Result<FrameRecord, GpuError> {
+        // Before the slot's buffers are written: its last frame may still read them.
+        self.layer.check_next_slot()?;
         let slot = self.layer.next_slot();
         let placing_ms = self.follow_instances(slot);
         let instance_removed = self.moving.as_mut().is_some_and(|m| m.take_removed());
@@ -265,9 +268,8 @@ impl Renderer {
             culled: self.culling.as_ref().map_or(&[][..], |c| &c.sets),
         };
         let scene = SceneSteps::Foveate(&self.scene);
-        Ok(self
-            .layer
-            .record_prepared(cmd, &frame, &draws, scene, figures))
+        self.layer
+            .record_prepared(cmd, &frame, &draws, scene, figures)
     }
 
     /// The figures of a frame [`Renderer::record`] recorded: `Ok(None)` while its GPU queries
