@@ -16,9 +16,8 @@ use foveate::glam::{Mat4, Vec2, Vec3};
 use foveate::gpu::{Gpu, GpuOptions, Image};
 use foveate::plan::{OutputStage, RenderConfig, Resolution};
 use foveate::render::{
-    output_image_desc, view_images, DrawPass, FoveationLayer, FrameInput, FrameViewSet, HandedImage,
-    Renderer,
-    StereoImage, View,
+    output_image_desc, view_images, DrawPass, FoveationLayer, FrameInput, FrameViewSet,
+    HandedImage, Renderer, StereoImage, View,
 };
 use foveate::scene::Shading;
 

@@ -96,7 +96,9 @@ impl Commands {
     fn wait(&self) {
         unsafe {
             let fences = [self.fence];
-            self.device.wait_for_fences(&fences, true, u64::MAX).unwrap();
+            self.device
+                .wait_for_fences(&fences, true, u64::MAX)
+                .unwrap();
             self.device.reset_fences(&fences).unwrap();
         }
     }
@@ -124,7 +126,7 @@ fn record(
 /// The field an error names (a refused value's).
 fn field(error: &GpuError) -> &str {
     match error {
-        GpuError::Config(c) => &c.field,
+        GpuError::Config(c) => c.field,
         other => panic!("not a refused value: {other}"),
     }
 }

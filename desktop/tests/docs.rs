@@ -218,3 +218,66 @@ fn the_readme_and_the_docs_stay_within_their_limits() {
         DOCS_BYTES / 1024
     );
 }
+
+/// The Rust blocks of a Markdown text, each with the file the comment before it names
+/// (`<!-- from PATH -->`, or `None`).
+fn rust_blocks(text: &str) -> Vec<(Option<String>, Vec<String>)> {
+    let mut blocks = Vec::new();
+    let mut last_prose = "";
+    let mut block: Option<(Option<String>, Vec<String>)> = None;
+    for line in text.lines() {
+        match (&mut block, line.starts_with("```")) {
+            (Some(_), true) => blocks.push(block.take().unwrap()),
+            (Some((_, lines)), false) => lines.push(line.to_string()),
+            (None, true) if line.starts_with("```rust") => {
+                let from = (last_prose.strip_prefix("<!-- from "))
+                    .and_then(|rest| rest.strip_suffix(" -->"))
+                    .map(str::to_string);
+                block = Some((from, Vec::new()));
+            }
+            (None, true) => {
+                // Another language's block: skip to its end.
+                block = None;
+                last_prose = "```";
+            }
+            (None, false) if !line.trim().is_empty() => last_prose = line.trim(),
+            (None, false) => {}
+        }
+    }
+    blocks
+}
+
+/// Every Rust example of `docs/embedding.md` is an excerpt of a file that is compiled (an
+/// example, a test): each line of code in it — comments set aside — stands in the file the
+/// comment before the block names, so an API change that breaks the file breaks the build, and
+/// an excerpt left behind fails here. Mutation: a call renamed in a block (as `record(cmd,
+/// &input, …)` was left behind once) fails it.
+#[test]
+fn every_rust_example_of_the_embedding_guide_is_compiled_code() {
+    let root = root();
+    let text = std::fs::read_to_string(root.join("docs/embedding.md")).unwrap();
+    let blocks = rust_blocks(&text);
+    assert!(blocks.len() >= 3, "{blocks:?}");
+    let mut stray = Vec::new();
+    for (from, lines) in &blocks {
+        let Some(from) = from else {
+            stray.push(format!(
+                "a block with no <!-- from PATH --> before it: {lines:?}"
+            ));
+            continue;
+        };
+        let source = std::fs::read_to_string(root.join(from))
+            .unwrap_or_else(|e| panic!("{from}, named by docs/embedding.md: {e}"));
+        let source: Vec<&str> = source.lines().map(str::trim).collect();
+        for line in lines {
+            let code = line.split(" // ").next().unwrap().trim();
+            if code.is_empty() || code.starts_with("//") {
+                continue;
+            }
+            if !source.iter().any(|s| s.contains(code)) {
+                stray.push(format!("{from}: no line holds `{code}`"));
+            }
+        }
+    }
+    assert!(stray.is_empty(), "{}", stray.join("\n"));
+}

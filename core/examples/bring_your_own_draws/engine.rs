@@ -169,12 +169,13 @@ impl Engine {
         passes: &[DrawPass],
         slots: usize,
     ) -> Result<Engine, Box<dyn std::error::Error>> {
-        let raw = gpu.raw_handles();
-        // SAFETY: the loader and the instance foveate opened outlive these calls.
+        // The memory types the engine allocates its buffers from: foveate's instance and
+        // physical device (an engine with a device of its own lends it: `Gpu::from_engine`).
+        let physical = gpu.raw_handles().physical;
+        // SAFETY: the physical device is the instance's.
         let memory = unsafe {
-            let entry = ash::Entry::load()?;
-            let instance = ash::Instance::load(entry.static_fn(), raw.instance);
-            instance.get_physical_device_memory_properties(raw.physical)
+            gpu.instance()
+                .get_physical_device_memory_properties(physical)
         };
         let device = gpu.device().clone();
         let vertex_data: Vec<EngineVertex> = (world.meshes.iter())

@@ -54,6 +54,32 @@ fn min_jerk(s: f64) -> f64 {
 
 /// An eye's view as the space gaze moves in: normalised gaze (as `Renderer::set_gaze` takes it)
 /// to a direction and back.
+///
+/// Each eye's gaze at a point in the world (where an eye tracker says the eyes converge, or a
+/// target of the engine's): the point in each eye's space, then its normalised gaze there. The
+/// eyes converge, so each looks a little towards the nose.
+///
+/// ```
+/// use foveate::foveation::GazeSpace;
+/// use foveate::glam::{Mat4, Vec3};
+/// use foveate::view::{Eye, EyeParams, FovTangents};
+///
+/// let eyes = EyeParams {
+///     left_fov: FovTangents::symmetric_deg(90.0, 90.0),
+///     right_fov: FovTangents::symmetric_deg(90.0, 90.0),
+///     ipd_m: 0.064,
+///     cant_rad: 0.0,
+/// };
+/// let world_from_head = Mat4::from_translation(Vec3::new(0.0, 1.6, 0.0));
+/// let target = Vec3::new(0.0, 1.6, -0.5); // half a metre ahead of the head
+/// let gaze = Eye::BOTH.map(|eye| {
+///     let in_eye = eyes.view(eye, world_from_head).transform_point3(target);
+///     GazeSpace { fov: eyes.fov(eye) }.normalised(in_eye.as_dvec3())
+/// });
+/// assert!(gaze[0].x > 0.0 && gaze[1].x < 0.0); // each eye turns in
+/// assert!((gaze[0].x + gaze[1].x).abs() < 1e-6 && gaze[0].y.abs() < 1e-6);
+/// // `renderer.set_gaze(gaze)`, `layer.set_gaze(gaze)` or `FrameInput::with_gaze(gaze)`.
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GazeSpace {
     /// The eye's field, as tangents.

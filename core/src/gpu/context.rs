@@ -509,7 +509,11 @@ impl Gpu {
         &self.dev.device
     }
 
-    pub(crate) fn instance(&self) -> &ash::Instance {
+    /// The `ash` instance: with [`RawHandles::physical`] (from [`Gpu::raw_handles`]) an engine
+    /// on foveate's own device reads the memory types (`get_physical_device_memory_properties`)
+    /// to allocate its own buffers and images, or hands both to an allocator of its own.
+    /// (An engine with a device of its own lends it instead: [`Gpu::from_engine`].)
+    pub fn instance(&self) -> &ash::Instance {
         &self.dev.instance.instance
     }
 

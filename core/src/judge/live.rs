@@ -19,7 +19,9 @@ pub const MAX_JUDGE_INTERVAL: u32 = 100_000;
 
 /// The full-quality reference a frame of `config` is judged against: the same headset, panel,
 /// eyes, lens and output stage, drawn in full (no foveation, far-field sharing, radial density,
-/// level of detail or culling) in one multiview pass with 4× MSAA, into an image of its own.
+/// level of detail or culling) in one multiview pass with 4× MSAA, into an image of its own,
+/// one frame in flight. It is not timed: timestamps and fragment counts are off, so its
+/// frames' figures carry no GPU times (turn `timestamps` back on to time the reference).
 pub fn reference_config(config: &RenderConfig) -> RenderConfig {
     RenderConfig {
         stereo: StereoMode::Multiview,

@@ -144,8 +144,8 @@ impl FrameSlot {
             return Ok(());
         };
         // SAFETY: the event is this slot's, alive.
-        let done = unsafe { gpu.device().get_event_status(self.finished.raw) }
-            .vk("vkGetEventStatus")?;
+        let done =
+            unsafe { gpu.device().get_event_status(self.finished.raw) }.vk("vkGetEventStatus")?;
         if done {
             return Ok(());
         }

@@ -492,7 +492,8 @@ impl Drop for FoveationLayer {
     /// slot's last frame has not run to its end, the device is waited idle (a frame recorded
     /// but never submitted is not waited for).
     fn drop(&mut self) {
-        let running = (self.slots.iter().enumerate()).any(|(k, s)| s.check_free(&self.gpu, k).is_err());
+        let running =
+            (self.slots.iter().enumerate()).any(|(k, s)| s.check_free(&self.gpu, k).is_err());
         if running {
             if let Err(e) = self.gpu.wait_idle() {
                 log::warn!("foveation layer: waiting for its frames on drop failed: {e}");
