@@ -2,7 +2,8 @@
 //! names it, not drawn as a wrong frame or a crash: a frame's views recorded for another gaze
 //! or twice, a slot whose frame has not finished, a layer dropped with its frame running, a head
 //! pose that is not one, the judge on a layer with no frame or with an acuity that is none.
-//! Validation is on; any message fails the test. The engine draws nothing (its draws are not
+//! A device found lost makes every later call an error naming it. Validation is on; any
+//! message fails the test. The engine draws nothing (its draws are not
 //! what is checked): the layer's masks and output stage run as ever.
 
 use foveate::ash::vk;
@@ -220,7 +221,7 @@ fn a_head_pose_that_is_not_invertible_is_refused() {
     let flat = head() * Mat4::from_scale(Vec3::new(1.0, 0.0, 1.0));
     for pose in [Mat4::ZERO, flat] {
         let refused = layer.views(&FrameInput::new(pose)).unwrap_err();
-        assert_eq!(refused.field, "world_from_head", "{refused}");
+        assert_eq!(field(&refused), "world_from_head", "{refused}");
     }
     layer.views(&FrameInput::new(head())).unwrap();
     drop(layer);
@@ -278,5 +279,41 @@ fn the_judge_refuses_a_layer_with_no_frame_and_an_acuity_that_is_none() {
     flip.frame_errors(&reference, &layer, &pixels, Acuity::default(), Maps::Drop)
         .unwrap();
     drop((layer, reference, flip));
+    gpu.check_validation().unwrap();
+}
+
+/// A device lost (through the seam, as if `vkQueueSubmit` had said so) makes each of the layer's
+/// later calls an error naming the call that found it — views, record, render, the last
+/// frame's figures, readback — with no panic, and the layer drops without waiting on it.
+/// Negative control (run): without the check in the slot's check, `record` is `Ok`.
+#[test]
+fn a_lost_device_makes_every_later_call_an_error_naming_it() {
+    let gpu = gpu();
+    let mut layer = layer(&gpu);
+    let set = layer.views(&FrameInput::new(head())).unwrap();
+    layer.render(&set, &mut |_| {}).unwrap();
+    let commands = Commands::new(&gpu);
+    let cmd = commands.begun();
+    let set = layer.views(&FrameInput::new(head())).unwrap();
+    gpu.simulate_device_lost("vkQueueSubmit");
+    let lost = |e: GpuError| match e {
+        GpuError::DeviceLost {
+            call: "vkQueueSubmit",
+        } => {}
+        other => panic!("not the lost device: {other}"),
+    };
+    lost(record(&mut layer, cmd, &set).unwrap_err());
+    lost(layer.render(&set, &mut |_| {}).unwrap_err());
+    lost(layer.views(&FrameInput::new(head())).unwrap_err());
+    let first = foveate::render::FrameRecord { frame: 0, slot: 0 };
+    lost(layer.frame_stats(first).unwrap_err());
+    lost(layer.readback().unwrap_err());
+    assert!(GpuError::DeviceLost {
+        call: "vkQueueSubmit"
+    }
+    .to_string()
+    .contains("make a new Gpu"));
+    drop(layer);
+    drop(commands);
     gpu.check_validation().unwrap();
 }

@@ -252,6 +252,8 @@ pub(crate) struct DeviceOwner {
     pub(super) live: Mutex<BTreeMap<&'static str, i64>>,
     /// Whether foveate made the device (and destroys it); an engine's is only borrowed.
     pub(super) owned: bool,
+    /// The call that found the device lost, once one has (`gpu/lost.rs`).
+    pub(super) lost: Mutex<Option<&'static str>>,
 }
 
 impl DeviceOwner {
@@ -568,9 +570,10 @@ impl Gpu {
 
     /// Waits until the device is idle.
     pub fn wait_idle(&self) -> Result<(), GpuError> {
+        self.check_alive()?;
         // vkDeviceWaitIdle synchronizes every queue of the device: no submission meanwhile.
-        self.with_queue(|_| unsafe { self.dev.device.device_wait_idle() })
-            .vk("vkDeviceWaitIdle")
+        let waited = self.with_queue(|_| unsafe { self.dev.device.device_wait_idle() });
+        self.noting_loss(waited.vk("vkDeviceWaitIdle"))
     }
 
     /// Runs `f` with the graphics queue, no other thread using it meanwhile.

@@ -94,6 +94,12 @@ pub enum GpuError {
         /** The slot. */
         slot: usize,
     },
+    #[error("the Vulkan device is lost ({call} reported VK_ERROR_DEVICE_LOST): every later call on it fails; make a new Gpu, and a new renderer or layer on it")]
+    /// The device was lost: every call after that on it is this error.
+    DeviceLost {
+        /** The call that found it lost. */
+        call: &'static str,
+    },
     #[error("frames in flight: {0}")]
     /// A frame loop misused (a slot begun twice, a frame from another loop).
     FramesInFlight(String),

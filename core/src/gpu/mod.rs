@@ -8,6 +8,7 @@ mod context;
 mod device_choice;
 mod error;
 mod handles;
+mod lost;
 mod memory;
 mod open;
 mod pipeline_cache;

@@ -238,6 +238,7 @@ impl Gpu {
             instance,
             live: Mutex::new(BTreeMap::new()),
             owned: parts.owned,
+            lost: Mutex::new(None),
         });
         let pipeline_cache = PipelineCacheFile {
             cache: create_pipeline_cache(&dev, &props, options.pipeline_cache.as_deref())?,

@@ -84,10 +84,12 @@ impl Gpu {
     /// `cmd` is a command buffer of this device in the executable state (recorded and ended),
     /// not pending elsewhere, and it and everything it uses stay alive until `fence` signals.
     pub unsafe fn submit(&self, cmd: vk::CommandBuffer, fence: &Fence) -> Result<(), GpuError> {
+        self.check_alive()?;
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
-        self.with_queue(|queue| unsafe { self.device().queue_submit(queue, &submit, fence.raw) })
-            .vk("vkQueueSubmit")
+        let submitted = self
+            .with_queue(|queue| unsafe { self.device().queue_submit(queue, &submit, fence.raw) });
+        self.noting_loss(submitted.vk("vkQueueSubmit"))
     }
 
     /// Submits one command buffer that waits for `waits` (each semaphore at its stage) and
@@ -118,19 +120,19 @@ impl Gpu {
             info = info.signal_semaphores(signals);
         }
         let submit = [info];
-        self.with_queue(|queue| unsafe { self.device().queue_submit(queue, &submit, fence.raw) })
-            .vk("vkQueueSubmit")
+        self.check_alive()?;
+        let submitted = self
+            .with_queue(|queue| unsafe { self.device().queue_submit(queue, &submit, fence.raw) });
+        self.noting_loss(submitted.vk("vkQueueSubmit"))
     }
 
     /// Waits for `fence` and resets it for the next submission.
     pub fn wait(&self, fence: &Fence) -> Result<(), GpuError> {
+        self.check_alive()?;
         let fences = [fence.raw];
-        unsafe {
-            self.device()
-                .wait_for_fences(&fences, true, u64::MAX)
-                .vk("vkWaitForFences")?;
-            self.device().reset_fences(&fences).vk("vkResetFences")
-        }
+        let waited = unsafe { self.device().wait_for_fences(&fences, true, u64::MAX) };
+        self.noting_loss(waited.vk("vkWaitForFences"))?;
+        unsafe { self.device().reset_fences(&fences).vk("vkResetFences") }
     }
 }
 

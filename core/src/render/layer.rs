@@ -225,6 +225,7 @@ impl FoveationLayer {
     /// `Ok` when the next frame slot may take a frame: its last frame (if any) has run to its
     /// end on the GPU; else an error naming that frame ([`GpuError::SlotInFlight`]).
     pub fn check_next_slot(&self) -> Result<(), GpuError> {
+        self.gpu.check_alive()?;
         self.slots[self.next_slot].check_free(&self.gpu, self.next_slot)
     }
 
@@ -261,6 +262,7 @@ impl FoveationLayer {
         record: FrameRecord,
         wait: bool,
     ) -> Result<Option<FrameStats>, GpuError> {
+        self.gpu.check_alive()?;
         let slot = self.slots.get_mut(record.slot);
         let current = slot.as_ref().and_then(|s| s.recorded.as_ref());
         if current.map(|f| f.frame) != Some(record.frame) {
@@ -492,6 +494,9 @@ impl Drop for FoveationLayer {
     /// slot's last frame has not run to its end, the device is waited idle (a frame recorded
     /// but never submitted is not waited for).
     fn drop(&mut self) {
+        if self.gpu.device_lost().is_some() {
+            return; // Nothing runs on a lost device: its objects go as they are.
+        }
         let running =
             (self.slots.iter().enumerate()).any(|(k, s)| s.check_free(&self.gpu, k).is_err());
         if running {

@@ -79,8 +79,9 @@ impl FoveationLayer {
     /// The views of the frame `input` describes, for the engine's per-frame uniforms, without
     /// recording anything or keeping anything of `input`: hand the set to
     /// [`FoveationLayer::record`], which records the frame these are the views of. A bad input
-    /// is an error naming it.
-    pub fn views(&self, input: &FrameInput) -> Result<FrameViewSet, ConfigError> {
+    /// is an error naming it, and so is a device found lost.
+    pub fn views(&self, input: &FrameInput) -> Result<FrameViewSet, GpuError> {
+        self.gpu().check_alive()?;
         self.check_input(input)?;
         let eyes = input.eyes.unwrap_or(self.plan.eyes);
         let plan = match input.eyes {

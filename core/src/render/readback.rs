@@ -59,6 +59,7 @@ pub(crate) struct OutputTexels {
 impl FoveationLayer {
     /// Copies the last frame's stereo image back to the CPU.
     pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
+        self.gpu.check_alive()?;
         if self.frames_rendered == 0 {
             return Err(GpuError::NoFrameRendered);
         }
