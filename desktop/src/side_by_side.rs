@@ -145,8 +145,9 @@ pub struct Judged {
 /// foveated, all its pixels are periphery. Every command that prices
 /// an approximation in time and error sweeps through here. After Ctrl-C or SIGTERM
 /// ([`crate::interrupt`]) it stops judging and returns the configurations judged so far, in
-/// order: fewer than the group's.
-pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity, maps: Maps) -> Result<Vec<Judged>> {
+/// order: fewer than the group's; so it does when a judgement fails (a lost device), with the
+/// failure beside them.
+pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity, maps: Maps) -> Result<Swept> {
     let measured = measure_group(gpu, group)?;
     let (gaze, label, total) = (group.gaze, group.label, measured.len());
     let reference_plan = measured[0].plan.clone();
@@ -172,7 +173,19 @@ pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity, maps: Maps) -> Result<Vec
             acuity,
             &mut *flip,
             maps,
-        )?;
+        );
+        let accuracy = match accuracy {
+            Ok(a) => a,
+            Err(e) => {
+                bar.finish_and_clear();
+                let failed = anyhow::Error::new(e)
+                    .context(format!("{label}: judging configuration {}", judged.len()));
+                return Ok(Swept {
+                    judged,
+                    failed: Some(failed),
+                });
+            }
+        };
         bar.inc(1);
         judged.push(Judged {
             measured: m,
@@ -182,5 +195,25 @@ pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity, maps: Maps) -> Result<Vec
         log::info!("{label}: judged {} of {total}", judged.len());
     }
     bar.finish_and_clear();
-    Ok(judged)
+    Ok(Swept {
+        judged,
+        failed: None,
+    })
+}
+
+/// What a sweep judged, in order, and the failure that stopped it, if one did.
+pub struct Swept {
+    pub judged: Vec<Judged>,
+    pub failed: Option<anyhow::Error>,
+}
+
+impl Swept {
+    /// The configurations judged, or the failure that stopped the sweep (for a command that
+    /// has no use for part of a sweep).
+    pub fn whole(self) -> Result<Vec<Judged>> {
+        match self.failed {
+            Some(e) => Err(e),
+            None => Ok(self.judged),
+        }
+    }
 }

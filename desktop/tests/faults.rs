@@ -447,6 +447,54 @@ fn sigint_during_flicker_plots_no_empty_frontier() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A device lost in the middle of `flicker` (`FOVEATE_LOSE_DEVICE_AFTER_SUBMITS`, the gpu
+/// module's fault seam, placed a few submissions into the second motion: the first motion's
+/// count read from a run of it alone) ends the run with an error naming the loss and the motion,
+/// no panic, and the first motion's rows printed and in the CSV, whole. Negative control (run):
+/// with the motion's failure propagated at once, no CSV is written.
+#[test]
+fn a_device_lost_during_flicker_leaves_the_motions_done_written() {
+    const SEAM: &str = "FOVEATE_LOSE_DEVICE_AFTER_SUBMITS";
+    let dir = scratch("lost");
+    let flicker = |motions: &str, lose_at: u64| {
+        Command::new(env!("CARGO_BIN_EXE_foveate"))
+            .current_dir(&dir)
+            .env(SEAM, lose_at.to_string())
+            .env("RUST_LOG", "foveate::gpu=debug")
+            .args(["flicker", "--res", "96", "--ratios", "0.5", "--frames", "4"])
+            .args(["--motions", motions, "--csv", "rows.csv"])
+            .output()
+            .unwrap()
+    };
+    let alone = flicker("still", u64::MAX);
+    let log = String::from_utf8_lossy(&alone.stderr);
+    assert!(alone.status.success(), "{log}");
+    let first_motion: u64 = (log.lines())
+        .filter_map(|l| l.split(": submission ").nth(1))
+        .filter_map(|rest| rest.split(' ').next()?.parse().ok())
+        .max()
+        .expect("the seam counts submissions");
+    std::fs::remove_file(dir.join("rows.csv")).unwrap();
+
+    let lost = flicker("still,walking", first_motion + 3);
+    let err = String::from_utf8_lossy(&lost.stderr);
+    assert!(!lost.status.success(), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains("VK_ERROR_DEVICE_LOST"), "{err}");
+    assert!(
+        err.contains("the 1 motions finished before it are in the table above and the CSV")
+            && err.contains("walking motion failed"),
+        "{err}"
+    );
+    let mut reader = csv::Reader::from_path(dir.join("rows.csv")).expect("the first motion's CSV");
+    let rows = reader.records().collect::<Result<Vec<_>, _>>().unwrap();
+    assert!(
+        !rows.is_empty() && rows.iter().all(|r| &r[0] == "still"),
+        "{rows:?}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A scene whose buffer is a sparse 4 GB file declared as 36 bytes is refused by `plan` within
 /// 100 MB of address space (`ulimit -v`), naming the buffer and both sizes: it is refused from
 /// its size, before a byte is read, and before the device starts. Negative control: a loader

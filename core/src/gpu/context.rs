@@ -253,7 +253,7 @@ pub(crate) struct DeviceOwner {
     /// Whether foveate made the device (and destroys it); an engine's is only borrowed.
     pub(super) owned: bool,
     /// The call that found the device lost, once one has (`gpu/lost.rs`).
-    pub(super) lost: Mutex<Option<&'static str>>,
+    pub(super) lost: Mutex<super::lost::Loss>,
 }
 
 impl DeviceOwner {

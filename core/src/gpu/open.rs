@@ -238,7 +238,7 @@ impl Gpu {
             instance,
             live: Mutex::new(BTreeMap::new()),
             owned: parts.owned,
-            lost: Mutex::new(None),
+            lost: Mutex::new(super::lost::Loss::from_env()),
         });
         let pipeline_cache = PipelineCacheFile {
             cache: create_pipeline_cache(&dev, &props, options.pipeline_cache.as_deref())?,

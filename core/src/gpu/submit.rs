@@ -84,7 +84,7 @@ impl Gpu {
     /// `cmd` is a command buffer of this device in the executable state (recorded and ended),
     /// not pending elsewhere, and it and everything it uses stay alive until `fence` signals.
     pub unsafe fn submit(&self, cmd: vk::CommandBuffer, fence: &Fence) -> Result<(), GpuError> {
-        self.check_alive()?;
+        self.before_submit()?;
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
         let submitted = self
@@ -120,7 +120,7 @@ impl Gpu {
             info = info.signal_semaphores(signals);
         }
         let submit = [info];
-        self.check_alive()?;
+        self.before_submit()?;
         let submitted = self
             .with_queue(|queue| unsafe { self.device().queue_submit(queue, &submit, fence.raw) });
         self.noting_loss(submitted.vk("vkQueueSubmit"))

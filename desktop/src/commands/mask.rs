@@ -94,7 +94,7 @@ pub fn mask(options: &GpuOptions, args: &MaskArgs) -> Result<()> {
             rounds: args.frames,
             label: profile.name,
         };
-        let judged = sweep(&gpu, &group, Acuity::default(), Maps::Drop)?;
+        let judged = sweep(&gpu, &group, Acuity::default(), Maps::Drop)?.whole()?;
         let (m, accuracy) = (
             [&judged[0].measured, &judged[1].measured],
             &judged[1].accuracy,

@@ -116,7 +116,7 @@ pub fn mffr(options: &GpuOptions, args: &MffrArgs) -> Result<()> {
             rounds: args.frames,
             label: &label,
         };
-        let judged = sweep(&gpu, &group, Acuity::default(), Maps::Drop)?;
+        let judged = sweep(&gpu, &group, Acuity::default(), Maps::Drop)?.whole()?;
         let reference = &judged[0].measured;
         let reference_both = reference.image.side_by_side();
         for (i, j) in judged.iter().enumerate() {

@@ -180,7 +180,7 @@ pub fn sweep(
         rounds: args.accuracy_rounds.max(2),
         label: "accuracy sweep",
     };
-    let judged = side_by_side::sweep(gpu, &group, Acuity::default(), Maps::Drop)?;
+    let judged = side_by_side::sweep(gpu, &group, Acuity::default(), Maps::Drop)?.whole()?;
     let base = &judged[0].measured;
     Ok(points
         .into_iter()

@@ -184,12 +184,15 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     } else {
         Maps::Drop
     };
-    let mut judged = sweep(&gpu, &group, acuity, maps)?;
+    let swept = sweep(&gpu, &group, acuity, maps)?;
+    let (mut judged, failed) = (swept.judged, swept.failed);
     let total = configs.len() - 1;
     if judged.is_empty() {
-        return Err(crate::interrupt::stopped(
-            "compare stopped before judging the reference: nothing written",
-        ));
+        let nothing = "compare stopped before judging the reference: nothing written";
+        return Err(match failed {
+            Some(e) => e.context(nothing),
+            None => crate::interrupt::stopped(nothing),
+        });
     }
     let reference = judged.remove(0).measured;
     if let Some(dir) = &args.heatmaps {
@@ -233,11 +236,15 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     }
     if rows.len() < total {
         csv(&rows, &measured, reference.frame_ms)?.save(args.csv.as_deref())?;
-        return Err(crate::interrupt::stopped(&format!(
+        let done = format!(
             "compare stopped after judging {} of {total} configurations; the table above{} holds them",
             rows.len(),
             if args.csv.is_some() { " and the CSV" } else { "" }
-        )));
+        );
+        return Err(match failed {
+            Some(e) => e.context(done),
+            None => crate::interrupt::stopped(&done),
+        });
     }
     report_picks(args, &rows, &measured, &reference)?;
     gpu.check_validation()?;

@@ -162,8 +162,10 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
     let bar = crate::progress::bar("flicker", (motions.len() as u32 * args.frames) as u64);
     let spent = Spent::default();
     let mut results = Vec::new();
-    // Ctrl-C or SIGTERM: the motions finished so far are printed and written.
+    // Ctrl-C or SIGTERM, or a motion that fails (a lost device): the motions finished so far
+    // are printed and written, then the run ends saying why.
     let mut interrupted = false;
+    let mut failed = None;
     for motion in &motions {
         let measured = MotionRun {
             gpu: &gpu,
@@ -175,11 +177,15 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
             bar: &bar,
             spent: &spent,
         }
-        .measure(motion)?;
+        .measure(motion);
         match measured {
-            Some(rows) => results.extend(rows),
-            None => {
+            Ok(Some(rows)) => results.extend(rows),
+            Ok(None) => {
                 interrupted = true;
+                break;
+            }
+            Err(e) => {
+                failed = Some(e.context(format!("flicker's {} motion failed", motion.name())));
                 break;
             }
         }
@@ -195,16 +201,28 @@ pub fn flicker(options: &GpuOptions, args: &FlickerArgs) -> Result<()> {
         .collect();
     crate::history_table::print(&outcomes);
     println!("{}", spent.describe());
-    gpu.check_validation()?;
+    if failed.is_none() {
+        gpu.check_validation()?;
+    }
     write_csv(&results, args.csv.as_deref())?;
     if let Some(path) = &history_csv {
         crate::history_table::write_csv(&outcomes, path)?;
     }
+    let finished = format!(
+        "the {} motions finished before it are in the table above{}",
+        results.len() / configs.len().max(1),
+        if args.csv.is_some() {
+            " and the CSV"
+        } else {
+            ""
+        }
+    );
+    if let Some(e) = failed {
+        return Err(e.context(format!("flicker stopped: {finished}")));
+    }
     if interrupted {
         return Err(crate::interrupt::stopped(&format!(
-            "flicker stopped during a motion; the {} motions finished before it are in the table above{}",
-            results.len() / configs.len().max(1),
-            if args.csv.is_some() { " and the CSV" } else { "" }
+            "flicker stopped during a motion; {finished}"
         )));
     }
     Ok(())
