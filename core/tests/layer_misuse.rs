@@ -124,6 +124,15 @@ fn record(
     unsafe { layer.record(cmd, set, &mut |_| {}) }
 }
 
+/// The views of the next frame (the head at rest), recorded into `cmd`.
+fn next_frame(
+    layer: &mut FoveationLayer,
+    cmd: vk::CommandBuffer,
+) -> Result<foveate::render::FrameRecord, GpuError> {
+    let set = layer.views(&FrameInput::new(head()))?;
+    record(layer, cmd, &set)
+}
+
 /// The field an error names (a refused value's).
 fn field(error: &GpuError) -> &str {
     match error {
@@ -169,11 +178,9 @@ fn a_slot_whose_frame_has_not_run_is_refused() {
     let mut layer = layer(&gpu);
     let commands = Commands::new(&gpu);
     let first = commands.begun();
-    let set = layer.views(&FrameInput::new(head())).unwrap();
-    record(&mut layer, first, &set).unwrap();
+    next_frame(&mut layer, first).unwrap();
     let second = commands.begun();
-    let set = layer.views(&FrameInput::new(head())).unwrap();
-    record(&mut layer, second, &set).unwrap();
+    next_frame(&mut layer, second).unwrap();
 
     let third = commands.begun();
     let set = layer.views(&FrameInput::new(head())).unwrap();
@@ -194,16 +201,15 @@ fn a_slot_whose_frame_has_not_run_is_refused() {
 }
 
 /// A layer dropped while its frame runs on the GPU waits for it: no validation message, no
-/// crash. Negative control (run): without the wait on drop, validation reports objects freed
-/// while in use.
+/// crash. Negative control (run): without the wait on drop the test process dies of SIGSEGV
+/// (the driver's worker runs the frame on freed objects).
 #[test]
 fn a_layer_dropped_with_its_frame_running_waits_for_it() {
     let gpu = gpu();
     let mut layer = layer(&gpu);
     let commands = Commands::new(&gpu);
     let cmd = commands.begun();
-    let set = layer.views(&FrameInput::new(head())).unwrap();
-    record(&mut layer, cmd, &set).unwrap();
+    next_frame(&mut layer, cmd).unwrap();
     commands.submit(cmd);
     drop(layer);
     commands.wait();
@@ -212,8 +218,8 @@ fn a_layer_dropped_with_its_frame_running_waits_for_it() {
 }
 
 /// A head pose that is not one — the zero matrix, a flattened one — is refused by `views`
-/// (before any frame records), naming `world_from_head`. Negative control (run): with the finite check alone
-/// the zero matrix is accepted.
+/// (before any frame records), naming `world_from_head`. Negative control (run): with the
+/// finite check alone the zero matrix is accepted.
 #[test]
 fn a_head_pose_that_is_not_invertible_is_refused() {
     let gpu = gpu();

@@ -204,32 +204,14 @@ impl FoveationLayer {
             ));
         }
         let gaze = set.input.gaze.unwrap_or(self.gaze());
-        if gaze != set.gaze {
-            return Err(ConfigError::new(
-                "gaze",
-                format!("{gaze:?}, the layer's now"),
-                format!(
-                    "the gaze the frame's views were placed with, {:?}: set_gaze() before views(), or views() again",
-                    set.gaze
-                ),
-            ));
-        }
+        as_placed("gaze", "set_gaze", gaze, set.gaze)?;
         let eyes = set.input.eyes.unwrap_or(self.plan.eyes);
-        if eyes != set.eyes {
-            return Err(ConfigError::new(
-                "eyes",
-                format!("{eyes:?}, the layer's now"),
-                format!(
-                    "the eyes the frame's views were placed with, {:?}: set_eyes() before views(), or views() again",
-                    set.eyes
-                ),
-            ));
-        }
+        as_placed("eyes", "set_eyes", eyes, set.eyes)?;
         Ok(())
     }
 
-    /// Whether `input` could be recorded: a head pose that is finite and invertible, a gaze within −1…1, eyes that fit
-    /// the plan.
+    /// Whether `input` could be recorded: a head pose that is finite and invertible, a gaze
+    /// within −1…1, eyes that fit the plan.
     pub(super) fn check_input(&self, input: &FrameInput) -> Result<(), ConfigError> {
         head_is_a_pose(input.world_from_head)?;
         if let Some(gaze) = input.gaze {
@@ -240,6 +222,26 @@ impl FoveationLayer {
         }
         Ok(())
     }
+}
+
+/// `Ok` when the layer's `field` now is what a frame's views were placed with; else an error
+/// naming it and `setter`, the call that moved it in between.
+fn as_placed<T: PartialEq + std::fmt::Debug>(
+    field: &'static str,
+    setter: &str,
+    now: T,
+    placed: T,
+) -> Result<(), ConfigError> {
+    if now == placed {
+        return Ok(());
+    }
+    Err(ConfigError::new(
+        field,
+        format!("{now:?}, the layer's now"),
+        format!(
+            "the {field} the frame's views were placed with, {placed:?}: {setter}() before views(), or views() again"
+        ),
+    ))
 }
 
 #[cfg(test)]
