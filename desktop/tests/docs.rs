@@ -247,17 +247,19 @@ fn rust_blocks(text: &str) -> Vec<(Option<String>, Vec<String>)> {
     blocks
 }
 
-/// Every Rust example of `docs/embedding.md` is an excerpt of a file that is compiled (an
-/// example, a test): each line of code in it — comments set aside — stands in the file the
-/// comment before the block names, so an API change that breaks the file breaks the build, and
-/// an excerpt left behind fails here. Mutation: a call renamed in a block (as `record(cmd,
-/// &input, …)` was left behind once) fails it.
+/// Every Rust example of `docs/embedding.md` and the README is an excerpt of a file that is
+/// compiled (an example, a test): each line of code in it — comments set aside — stands in the
+/// file the comment before the block names, so an API change that breaks the file breaks the
+/// build, and an excerpt left behind fails here. Mutation: a call renamed in a block (as
+/// `record(cmd, &input, …)` was left behind once) fails it.
 #[test]
-fn every_rust_example_of_the_embedding_guide_is_compiled_code() {
+fn every_rust_example_of_the_guide_and_the_readme_is_compiled_code() {
     let root = root();
-    let text = std::fs::read_to_string(root.join("docs/embedding.md")).unwrap();
-    let blocks = rust_blocks(&text);
-    assert!(blocks.len() >= 3, "{blocks:?}");
+    let blocks: Vec<_> = ["docs/embedding.md", "README.md"]
+        .iter()
+        .flat_map(|page| rust_blocks(&std::fs::read_to_string(root.join(page)).unwrap()))
+        .collect();
+    assert!(blocks.len() >= 4, "{blocks:?}");
     let mut stray = Vec::new();
     for (from, lines) in &blocks {
         let Some(from) = from else {
@@ -267,7 +269,7 @@ fn every_rust_example_of_the_embedding_guide_is_compiled_code() {
             continue;
         };
         let source = std::fs::read_to_string(root.join(from))
-            .unwrap_or_else(|e| panic!("{from}, named by docs/embedding.md: {e}"));
+            .unwrap_or_else(|e| panic!("{from}, named before a Rust block: {e}"));
         let source: Vec<&str> = source.lines().map(str::trim).collect();
         for line in lines {
             let code = line.split(" // ").next().unwrap().trim();
