@@ -18,6 +18,7 @@ mod ops;
 mod output;
 mod pipeline;
 mod print;
+mod print_attachments;
 mod probe;
 mod radial_density;
 mod scene_sizes;
@@ -49,6 +50,7 @@ pub use steps::{
     CompareOp, CountedStep, DrawSet, OutputSource, OutputStep, StencilOp, StencilState, Step,
     MASK_BIT, NEAR_BIT, SKIP_BIT,
 };
+pub use workload::AttachmentTraffic;
 
 #[cfg(test)]
 mod default_tests;

@@ -4,7 +4,7 @@ use super::model::{FramePlan, PassPlan, Submission, TargetLayout};
 use super::steps::{DrawSet, Step};
 use crate::mffr::MffrOrder;
 
-fn mib(bytes: u64) -> String {
+pub(super) fn mib(bytes: u64) -> String {
     format!("{:.2} MiB", bytes as f64 / (1024.0 * 1024.0))
 }
 
@@ -225,31 +225,6 @@ impl FramePlan {
         Ok(())
     }
 
-    fn write_attachments(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "attachments:")?;
-        writeln!(
-            f,
-            "  {:<2} {:<20} {:<8} {:<10} {:>7} {:>11} {:>6} {:>9} {:>11}",
-            "#", "name", "role", "format", "samples", "extent", "layers", "transient", "bytes"
-        )?;
-        for (i, a) in self.attachments.iter().enumerate() {
-            writeln!(
-                f,
-                "  {:<2} {:<20} {:<8} {:<10} {:>7} {:>11} {:>6} {:>9} {:>11}",
-                i,
-                a.name,
-                format!("{:?}", a.role).to_lowercase(),
-                format!("{:?}", a.format),
-                a.samples,
-                format!("{}x{}", a.width, a.height),
-                a.layers,
-                if a.transient { "yes" } else { "no" },
-                mib(a.bytes())
-            )?;
-        }
-        Ok(())
-    }
-
     /// A pass: its views and submission, what it samples, its steps and their pipelines.
     fn write_pass(&self, f: &mut fmt::Formatter<'_>, p: &PassPlan) -> fmt::Result {
         let submission = match p.submission {
@@ -451,7 +426,7 @@ impl FramePlan {
         )?;
         write!(
             f,
-            "estimated external traffic per frame (tile GPU): {} (attachment loads + stores + sampling + output readback)",
+            "estimated external traffic per frame (tile GPU): {} (attachment loads + stores + sampling + output readback: the attachments' last four columns, summed)",
             mib(self.external_traffic_bytes())
         )
     }
