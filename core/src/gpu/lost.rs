@@ -1,4 +1,5 @@
-//! A lost device (`VK_ERROR_DEVICE_LOST`): the first call that finds it lost marks the device,
+//! A lost device (`VK_ERROR_DEVICE_LOST`): the first call that finds it lost (a submission or
+//! wait of foveate's, or a layer's check of its slot or read of its queries) marks the device,
 //! and every later call through foveate on it is [`GpuError::DeviceLost`] naming that call,
 //! instead of a Vulkan call on a dead device whose result nobody checks. Tests lose the device
 //! through the seam [`Gpu::simulate_device_lost`], since no driver here loses one on demand, and

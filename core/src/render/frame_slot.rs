@@ -144,8 +144,9 @@ impl FrameSlot {
             return Ok(());
         };
         // SAFETY: the event is this slot's, alive.
-        let done =
-            unsafe { gpu.device().get_event_status(self.finished.raw) }.vk("vkGetEventStatus")?;
+        let status = unsafe { gpu.device().get_event_status(self.finished.raw) };
+        // An engine's own fence wait may have met a lost device first: this marks it here.
+        let done = gpu.noting_loss(status.vk("vkGetEventStatus"))?;
         if done {
             return Ok(());
         }
@@ -239,7 +240,7 @@ impl FrameSlot {
         };
         match read {
             Err(vk::Result::NOT_READY) => return Ok(None),
-            other => other.vk("vkGetQueryPoolResults")?,
+            other => gpu.noting_loss(other.vk("vkGetQueryPoolResults"))?,
         }
         let ms = |a: u64, b: u64| b.wrapping_sub(a) as f64 * gpu.timestamp_period_ns / 1e6;
         let passes = ticks.windows(2).map(|w| ms(w[0], w[1])).collect();
@@ -266,7 +267,7 @@ impl FrameSlot {
         };
         match read {
             Err(vk::Result::NOT_READY) => return Ok(None),
-            other => other.vk("vkGetQueryPoolResults")?,
+            other => gpu.noting_loss(other.vk("vkGetQueryPoolResults"))?,
         }
         Ok(Some(
             values
