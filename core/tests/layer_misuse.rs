@@ -200,6 +200,38 @@ fn a_slot_whose_frame_has_not_run_is_refused() {
     gpu.check_validation().unwrap();
 }
 
+/// foveate's own renderer refuses the same way, before it writes anything of the slot (its
+/// culled ids, its moving instances). Negative control (run): without `Renderer::record`'s slot
+/// check the third frame records.
+#[test]
+fn a_renderers_slot_whose_frame_has_not_run_is_refused() {
+    let gpu = gpu();
+    let scene = foveate::scene::default_scene();
+    let config = RenderConfig {
+        resolution: Some(Resolution::square(64)),
+        frames_in_flight: 2,
+        ..RenderConfig::default()
+    };
+    let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
+    let mut renderer = foveate::render::Renderer::new(&gpu, &plan, &scene).unwrap();
+    let commands = Commands::new(&gpu);
+    let input = FrameInput::new(scene.head);
+    let cmds = [commands.begun(), commands.begun(), commands.begun()];
+    for &cmd in &cmds[..2] {
+        unsafe { renderer.record(cmd, &input) }.unwrap();
+    }
+    match unsafe { renderer.record(cmds[2], &input) } {
+        Err(GpuError::SlotInFlight { frame: 0, slot: 0 }) => {}
+        other => panic!("slot 0's frame 0 has not run, yet: {other:?}"),
+    }
+    for cmd in cmds {
+        commands.submit(cmd);
+        commands.wait();
+    }
+    drop(renderer);
+    gpu.check_validation().unwrap();
+}
+
 /// A layer dropped while its frame runs on the GPU waits for it: no validation message, no
 /// crash. Negative control (run): without the wait on drop the test process dies of SIGSEGV
 /// (the driver's worker runs the frame on freed objects).

@@ -41,3 +41,12 @@ pub fn requested() -> bool {
 pub fn stopped(done: &str) -> anyhow::Error {
     anyhow::anyhow!("interrupted (Ctrl-C or SIGTERM): {done}")
 }
+
+/// The error a run ends with once it has written what it had: `failed`, the failure that
+/// stopped it, with `done` said first, or else the signal's ([`stopped`]).
+pub fn stopped_by(failed: Option<anyhow::Error>, done: &str) -> anyhow::Error {
+    match failed {
+        Some(e) => e.context(done.to_string()),
+        None => stopped(done),
+    }
+}

@@ -160,6 +160,7 @@ pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity, maps: Maps) -> Result<Swe
         .collect();
     let bar = crate::progress::bar(&format!("{label}: FLIP"), total as u64);
     let mut judged = Vec::new();
+    let mut failed = None;
     let mut flip = crate::metric::flip_mapper(gpu);
     for (m, placement) in measured.into_iter().zip(placements) {
         if crate::interrupt::requested() {
@@ -177,13 +178,9 @@ pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity, maps: Maps) -> Result<Swe
         let accuracy = match accuracy {
             Ok(a) => a,
             Err(e) => {
-                bar.finish_and_clear();
-                let failed = anyhow::Error::new(e)
-                    .context(format!("{label}: judging configuration {}", judged.len()));
-                return Ok(Swept {
-                    judged,
-                    failed: Some(failed),
-                });
+                let at = format!("{label}: judging configuration {}", judged.len());
+                failed = Some(anyhow::Error::new(e).context(at));
+                break;
             }
         };
         bar.inc(1);
@@ -195,10 +192,7 @@ pub fn sweep(gpu: &Gpu, group: &Group, acuity: Acuity, maps: Maps) -> Result<Swe
         log::info!("{label}: judged {} of {total}", judged.len());
     }
     bar.finish_and_clear();
-    Ok(Swept {
-        judged,
-        failed: None,
-    })
+    Ok(Swept { judged, failed })
 }
 
 /// What a sweep judged, in order, and the failure that stopped it, if one did.

@@ -84,12 +84,8 @@ impl Gpu {
     /// `cmd` is a command buffer of this device in the executable state (recorded and ended),
     /// not pending elsewhere, and it and everything it uses stay alive until `fence` signals.
     pub unsafe fn submit(&self, cmd: vk::CommandBuffer, fence: &Fence) -> Result<(), GpuError> {
-        self.before_submit()?;
-        let cmds = [cmd];
-        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
-        let submitted = self
-            .with_queue(|queue| unsafe { self.device().queue_submit(queue, &submit, fence.raw) });
-        self.noting_loss(submitted.vk("vkQueueSubmit"))
+        // SAFETY: as the caller promised; no semaphores.
+        unsafe { self.submit_with_semaphores(cmd, &[], &[], fence) }
     }
 
     /// Submits one command buffer that waits for `waits` (each semaphore at its stage) and

@@ -278,6 +278,7 @@ impl FoveationLayer {
     /// Begins the next slot's own command buffer, for a frame that is submitted and waited on
     /// ([`OwnBuffer`], then [`FoveationLayer::submit_own_buffer`]).
     pub(super) fn begin_own_buffer(&mut self) -> Result<OwnBuffer, GpuError> {
+        self.gpu.check_alive()?;
         let slot = self.next_slot;
         let (pool, cmd) = (self.slots[slot].pool.raw, self.slots[slot].cmd);
         let device = self.gpu.device();
@@ -326,17 +327,17 @@ impl FoveationLayer {
         Ok(stats)
     }
 
-    /// Checks that the next slot's last frame has finished and the frame's input is whole,
-    /// keeps its gaze and eyes (a refused input changes nothing), picks its output image, and
-    /// places its views: the frame's slot and parity, every executor's uniforms written for
-    /// it. `instance_removed`: whether the scene lost an instance since the frame before (the
+    /// Checks a frame's input whole, keeps its gaze and eyes (a refused input changes
+    /// nothing), picks its output image, and places its views: the frame's slot and parity,
+    /// every executor's uniforms written for it. The caller has checked the slot free
+    /// ([`FoveationLayer::check_next_slot`]) before writing anything of it.
+    /// `instance_removed`: whether the scene lost an instance since the frame before (the
     /// accumulation clips everywhere once).
     pub(super) fn prepare(
         &mut self,
         input: &FrameInput,
         instance_removed: bool,
     ) -> Result<PreparedFrame, GpuError> {
-        self.check_next_slot()?;
         if let (Some(raw), None) = (input.output, &self.output_targets) {
             return Err(ConfigError::new(
                 "output",

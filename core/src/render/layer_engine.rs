@@ -140,6 +140,7 @@ impl FoveationLayer {
         draw: &mut dyn FnMut(&DrawContext),
     ) -> Result<FrameRecord, GpuError> {
         self.check_view_set(frame)?;
+        self.check_next_slot()?;
         let frame = self.prepare(&frame.input, false)?;
         let passes = self.draw_passes();
         let views = engine_views(&self.plan, &frame.views, &passes);
@@ -175,8 +176,6 @@ impl FoveationLayer {
         frame: &FrameViewSet,
         draw: &mut dyn FnMut(&DrawContext),
     ) -> Result<FrameStats, GpuError> {
-        self.check_view_set(frame)?;
-        self.check_next_slot()?;
         let own = self.begin_own_buffer()?;
         // SAFETY: the buffer is the slot's own, recording; its previous frame was waited on.
         let record = unsafe { self.record(own.cmd, frame, draw)? };

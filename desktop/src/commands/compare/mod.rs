@@ -189,10 +189,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     let total = configs.len() - 1;
     if judged.is_empty() {
         let nothing = "compare stopped before judging the reference: nothing written";
-        return Err(match failed {
-            Some(e) => e.context(nothing),
-            None => crate::interrupt::stopped(nothing),
-        });
+        return Err(crate::interrupt::stopped_by(failed, nothing));
     }
     let reference = judged.remove(0).measured;
     if let Some(dir) = &args.heatmaps {
@@ -241,10 +238,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
             rows.len(),
             if args.csv.is_some() { " and the CSV" } else { "" }
         );
-        return Err(match failed {
-            Some(e) => e.context(done),
-            None => crate::interrupt::stopped(&done),
-        });
+        return Err(crate::interrupt::stopped_by(failed, &done));
     }
     report_picks(args, &rows, &measured, &reference)?;
     gpu.check_validation()?;
