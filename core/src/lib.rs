@@ -115,6 +115,7 @@ macro_rules! internal_mod {
 
 pub mod cull;
 pub mod foveation;
+mod foveation_layer;
 pub mod gpu;
 pub mod judge;
 pub mod metrics;
@@ -122,6 +123,7 @@ pub mod mffr;
 pub mod plan;
 pub mod render;
 pub mod scene;
+mod scene_renderer;
 pub mod view;
 pub mod xr;
 

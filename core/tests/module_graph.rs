@@ -198,12 +198,40 @@ fn file_graph(folder: &str) -> BTreeMap<String, BTreeSet<String>> {
     graph
 }
 
-/// DESIGN.md: inside `render/` and `plan/` no two files import each other, through others
-/// either. Mutation: `use super::renderer::Renderer` in `record.rs`, or a `plan/model.rs` item
-/// `derive.rs` names while `model.rs` names `derive.rs`, fails it.
+/// DESIGN.md: the foveation layer imports nothing of foveate's scene renderer, neither
+/// directly nor through `render`, the public front that re-exports both; the renderer hands
+/// the layer its scene as an engine would. Mutation: `use crate::scene_renderer::…` or
+/// `use crate::render::Renderer` in a file of `foveation_layer/` fails it.
 #[test]
-fn no_file_of_render_or_plan_imports_itself_through_others() {
-    for folder in ["plan", "render"] {
+fn the_foveation_layer_imports_nothing_of_the_scene_renderer() {
+    let graph = module_graph();
+    let layer = &graph["foveation_layer"];
+    assert!(graph.contains_key("scene_renderer"), "{graph:?}");
+    for above in ["scene_renderer", "render"] {
+        assert!(!layer.contains(above), "foveation_layer imports {layer:?}");
+    }
+    assert!(
+        graph["scene_renderer"].contains("foveation_layer"),
+        "the renderer draws through the layer: {graph:?}"
+    );
+}
+
+/// DESIGN.md: the recorder interface (what a frame's commands go through, to Vulkan or to
+/// the command log) is a leaf of the layer's folder. Mutation: `use super::stats::DrawTally`
+/// in `recorder.rs` fails it.
+#[test]
+fn the_recorder_interface_is_a_leaf() {
+    let graph = file_graph("foveation_layer");
+    assert_eq!(graph["recorder"], BTreeSet::new());
+}
+
+/// DESIGN.md: inside the layer's, the renderer's and `plan/`'s folders no two files import
+/// each other, through others either. Mutation: `use super::layer_engine::…` in `record.rs`
+/// (`layer_engine` names `record` through `layer`), or a `plan/model.rs` item `derive.rs`
+/// names while `model.rs` names `derive.rs`, fails it.
+#[test]
+fn no_file_of_the_layer_the_renderer_or_plan_imports_itself_through_others() {
+    for folder in ["plan", "foveation_layer", "scene_renderer"] {
         let graph = file_graph(folder);
         assert!(graph.len() > 5, "{folder}: {graph:?}");
         if let Some(cycle) = find_cycle(&graph) {

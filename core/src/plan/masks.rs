@@ -1,5 +1,5 @@
 //! Stencil masks (the HMD mask's lens ellipse, foveation's inset and outset circles): mask fans
-//! first in a scene pass. Shapes per frame: `render/masks.rs`; shaders: `mask.vert`, `mask.frag`.
+//! first in a scene pass. Shapes per frame: `foveation_layer/masks.rs`; shaders: `mask.vert`, `mask.frag`.
 
 use super::model::PassPlan;
 use super::pipeline::{PipelineDesc, StepContext};

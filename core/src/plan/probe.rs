@@ -1,5 +1,5 @@
 //! The coverage probe: last in a scene pass, a full-view draw counted per view under the pass's
-//! masks (`foveate pixels` measures with it). Executor: `render/probe.rs`.
+//! masks (`foveate pixels` measures with it). Executor: `foveation_layer/probe.rs`.
 
 use super::model::PassPlan;
 use super::pipeline::{PipelineDesc, StepContext};

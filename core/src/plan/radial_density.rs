@@ -2,7 +2,7 @@
 //! stencil mask skips 2×2 pixel quads in the periphery — every other quad past `inner`, three in
 //! four past `outer`, distances in units of the lens ellipse — and a reconstruction pass fills the
 //! skipped quads from their kept neighbours. Shaders: `radial_density.glsl`, `radial_mask.frag`,
-//! `reconstruct.frag`; executor: `render/radial_density.rs`.
+//! `reconstruct.frag`; executor: `foveation_layer/radial_density.rs`.
 
 use super::config::RadialDensityGeometry;
 use super::model::{AttachmentPlan, PassKind, PassPlan};

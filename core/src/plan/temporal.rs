@@ -1,5 +1,5 @@
 //! Temporal accumulation of the periphery (maths: `foveation/temporal.rs`; executor: the
-//! output stage's, `render/output.rs` with `render/temporal.rs`; shader: `output.frag`'s
+//! output stage's, `foveation_layer/output.rs` with `foveation_layer/temporal.rs`; shader: `output.frag`'s
 //! `accumulate`). It is folded into the output stage, the one full-view pass a frame has
 //! anyway: that pass reads the jittered periphery, its depth and the history, and writes the
 //! next history as a second attachment beside what the display shows. The history is a pair of

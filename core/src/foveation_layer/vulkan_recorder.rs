@@ -6,7 +6,6 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::recorder::{Recorder, Rect};
-use super::scene_buffers::SceneBuffers;
 use super::stats::DrawTally;
 use super::targets::CompiledPass;
 use crate::gpu::{memory_barrier, Pipeline};
@@ -42,19 +41,36 @@ pub(super) struct FrameObjects<'r, 's> {
     pub scene: SceneSteps<'s>,
 }
 
+/// Where one mesh lives in a scene's shared vertex and index buffers.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MeshRange {
+    pub first_index: u32,
+    pub index_count: u32,
+    pub vertex_offset: i32,
+}
+
+/// A scene's geometry as the layer draws its meshes: one vertex buffer, one `u32` index
+/// buffer, and the ranges a draw's `mesh` names.
+#[derive(Clone, Copy)]
+pub(crate) struct SceneGeometry<'r> {
+    pub vertices: vk::Buffer,
+    pub indices: vk::Buffer,
+    pub meshes: &'r [MeshRange],
+}
+
 /// Who draws the frame's scene steps.
-pub(super) enum SceneSteps<'r> {
-    /// foveate's scene, from its buffers.
-    Foveate(&'r SceneBuffers),
+pub(crate) enum SceneSteps<'r> {
+    /// foveate's scene renderer, whose draws the layer records from its geometry.
+    Foveate(SceneGeometry<'r>),
     /// The engine, called with the command buffer and the pass's index at each scene step,
     /// inside the pass.
     Engine(&'r mut dyn FnMut(vk::CommandBuffer, usize)),
 }
 
 impl SceneSteps<'_> {
-    fn buffers(&self) -> &SceneBuffers {
+    fn geometry(&self) -> &SceneGeometry<'_> {
         match self {
-            SceneSteps::Foveate(buffers) => buffers,
+            SceneSteps::Foveate(geometry) => geometry,
             SceneSteps::Engine(_) => {
                 unreachable!("record_frame draws no mesh of an engine's frame")
             }
@@ -246,11 +262,11 @@ impl Recorder for VulkanRecorder<'_, '_> {
     }
 
     fn bind_geometry(&mut self) {
-        let scene = self.objects.scene.buffers();
+        let scene = *self.objects.scene.geometry();
         unsafe {
             let device = self.device();
-            device.cmd_bind_vertex_buffers(self.cmd, 0, &[scene.vertices.raw], &[0]);
-            device.cmd_bind_index_buffer(self.cmd, scene.indices.raw, 0, vk::IndexType::UINT32);
+            device.cmd_bind_vertex_buffers(self.cmd, 0, &[scene.vertices], &[0]);
+            device.cmd_bind_index_buffer(self.cmd, scene.indices, 0, vk::IndexType::UINT32);
         }
     }
 
@@ -322,7 +338,7 @@ impl Recorder for VulkanRecorder<'_, '_> {
     }
 
     fn draw_indexed(&mut self, mesh: usize, instance_count: u32, first_instance: u32) {
-        let m = self.objects.scene.buffers().meshes[mesh];
+        let m = self.objects.scene.geometry().meshes[mesh];
         unsafe {
             self.device().cmd_draw_indexed(
                 self.cmd,

@@ -1,15 +1,9 @@
 use ash::vk;
 
+use crate::foveation_layer::vulkan_recorder::{MeshRange, SceneGeometry};
 use crate::gpu::{memory_barrier, pod_bytes, Buffer, Gpu, GpuError, MemoryLocation};
-use crate::scene::{Draw, Scene, Vertex};
-
-/// Where one mesh lives in the shared vertex and index buffers.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct MeshRange {
-    pub first_index: u32,
-    pub index_count: u32,
-    pub vertex_offset: i32,
-}
+use crate::plan::FramePlan;
+use crate::scene::{Draw, Scene, Shading, Vertex};
 
 /// The scene on the GPU: all meshes in one vertex and one index buffer, all instances in one
 /// storage buffer, and the draw list.
@@ -28,6 +22,15 @@ pub(crate) struct SceneBuffers {
 }
 
 impl SceneBuffers {
+    /// The geometry as the layer draws the scene's steps from it.
+    pub fn geometry(&self) -> SceneGeometry<'_> {
+        SceneGeometry {
+            vertices: self.vertices.raw,
+            indices: self.indices.raw,
+            meshes: &self.meshes,
+        }
+    }
+
     pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
         let mut vertices: Vec<Vertex> = Vec::new();
         let mut indices: Vec<u32> = Vec::new();
@@ -150,4 +153,49 @@ pub(super) fn upload(
         };
     })?;
     Ok(buffer)
+}
+
+/// The scene must be the one the plan was made for (its buffers are sized for it).
+pub(super) fn check_scene(plan: &FramePlan, scene: &Scene) -> Result<(), GpuError> {
+    if scene.instance_count() != plan.scene_instances {
+        return Err(crate::vocab::ConfigError::new(
+            "scene",
+            format!("{} instances", scene.instance_count()),
+            format!(
+                "the scene the plan was made for ({} instances): plan the frame for this scene",
+                plan.scene_instances
+            ),
+        )
+        .into());
+    }
+    let counts = |c: crate::plan::ClusterPlan| (c.clusters, c.meshes, c.max_triangles);
+    if !plan.cull_slots.is_empty()
+        && plan.clusters.map(counts) != crate::plan::cluster_plan(scene).map(counts)
+    {
+        return Err(crate::vocab::ConfigError::new(
+            "scene",
+            format!("{} clusters", scene.cluster_counts().0),
+            "the clusters the plan was made for: plan the frame for this scene",
+        )
+        .into());
+    }
+    let levels = |l: crate::plan::LodPlan| (l.levels, l.meshes);
+    if plan.lod.is_some() && plan.lod.map(levels) != Some(scene.lod_counts()) {
+        return Err(crate::vocab::ConfigError::new(
+            "scene",
+            format!("{} simplified levels", scene.lod_counts().0),
+            "the levels of detail the plan was made for: plan the frame for this scene",
+        )
+        .into());
+    }
+    if scene.shading() == Shading::Lit && !plan.lit || scene.shading() == Shading::Flat && plan.lit
+    {
+        return Err(crate::vocab::ConfigError::new(
+            "scene",
+            format!("{} shading", scene.shading()),
+            "the shading the plan was made for: plan the frame for this scene",
+        )
+        .into());
+    }
+    Ok(())
 }

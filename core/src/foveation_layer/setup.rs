@@ -16,7 +16,6 @@ use super::targets::{compile_pass, CompiledPass};
 use super::vulkan_recorder::BoundStep;
 use crate::gpu::{Buffer, Gpu, GpuError, Image, MemoryLocation, QueryPool, VkResultExt};
 use crate::plan::{AttachmentId, BufferPlan, FramePlan, Step};
-use crate::scene::{Scene, Shading};
 
 /// The executors of the steps that sample earlier passes' images, each when planned: the output
 /// stage (a foveated frame's composition, lens distortion), the MFFR far composite and radial
@@ -152,51 +151,6 @@ pub(super) fn make_sampleable(
             );
         }
     })
-}
-
-/// The scene must be the one the plan was made for (its buffers are sized for it).
-pub(super) fn check_scene(plan: &FramePlan, scene: &Scene) -> Result<(), GpuError> {
-    if scene.instance_count() != plan.scene_instances {
-        return Err(crate::vocab::ConfigError::new(
-            "scene",
-            format!("{} instances", scene.instance_count()),
-            format!(
-                "the scene the plan was made for ({} instances): plan the frame for this scene",
-                plan.scene_instances
-            ),
-        )
-        .into());
-    }
-    let counts = |c: crate::plan::ClusterPlan| (c.clusters, c.meshes, c.max_triangles);
-    if !plan.cull_slots.is_empty()
-        && plan.clusters.map(counts) != crate::plan::cluster_plan(scene).map(counts)
-    {
-        return Err(crate::vocab::ConfigError::new(
-            "scene",
-            format!("{} clusters", scene.cluster_counts().0),
-            "the clusters the plan was made for: plan the frame for this scene",
-        )
-        .into());
-    }
-    let levels = |l: crate::plan::LodPlan| (l.levels, l.meshes);
-    if plan.lod.is_some() && plan.lod.map(levels) != Some(scene.lod_counts()) {
-        return Err(crate::vocab::ConfigError::new(
-            "scene",
-            format!("{} simplified levels", scene.lod_counts().0),
-            "the levels of detail the plan was made for: plan the frame for this scene",
-        )
-        .into());
-    }
-    if scene.shading() == Shading::Lit && !plan.lit || scene.shading() == Shading::Flat && plan.lit
-    {
-        return Err(crate::vocab::ConfigError::new(
-            "scene",
-            format!("{} shading", scene.shading()),
-            "the shading the plan was made for: plan the frame for this scene",
-        )
-        .into());
-    }
-    Ok(())
 }
 
 /// A buffer that exists only because an effect asked for it.

@@ -6,7 +6,8 @@
 
 use ash::vk;
 
-use super::{FrameInput, FrameRecord, FrameStats, Renderer};
+use super::Renderer;
+use crate::foveation_layer::{FrameInput, FrameRecord, FrameStats};
 use crate::gpu::{CommandPool, Fence, Gpu, GpuError, VkResultExt};
 
 struct Slot {

@@ -14,7 +14,7 @@ const SLOTS: usize = FRAME_VIEWS as usize + 1;
 /// The per-frame uniform block (`Views` in the shaders, std140).
 #[repr(C)]
 #[derive(Clone, Copy)]
-pub(super) struct ViewsBlock {
+pub(crate) struct ViewsBlock {
     /// The eye views, then the MFFR far view at [`FAR_VIEW_INDEX`].
     view_proj: [Mat4; SLOTS],
     /// xyz: light direction; w: the far pass's near plane (its depth-in-alpha numerator).
@@ -49,7 +49,7 @@ fn ring_windows(plan: &FramePlan, fovea: &[FovTangents; 2]) -> Option<[FovTangen
 
 /// Every view of a frame, in frame-view order: the eyes, then the fovea windows, then the
 /// parafoveal ring's.
-pub(super) struct FrameViews {
+pub(crate) struct FrameViews {
     /// Each view's pose and field.
     pub views: Vec<(Mat4, FovTangents)>,
     /// Each view's projection: reverse-Z, with the frame's jitter (the guard band is the

@@ -10,7 +10,7 @@ use crate::view::{reverse_z_projection, EyeParams, FovTangents};
 
 /// This frame's far view: one view covering both eyes, from beyond the split (its pose moves
 /// with the frame as the MFFR variant says).
-pub(super) struct FarView {
+pub(crate) struct FarView {
     pub world_from_far: Mat4,
     pub view_proj: Mat4,
     pub fov: FovTangents,

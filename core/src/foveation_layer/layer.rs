@@ -37,8 +37,8 @@ use crate::view::{EyeParams, FovTangents, HiddenArea};
 /// own — so up to that many frames may be in flight. It holds a handle to its [`Gpu`] (no
 /// borrow) and may move to another thread.
 pub struct FoveationLayer {
-    pub(super) gpu: Gpu,
-    pub(super) plan: FramePlan,
+    pub(crate) gpu: Gpu,
+    pub(crate) plan: FramePlan,
     // Passes (framebuffers, views) go before the images they view.
     /// Each pass compiled.
     pub(super) passes: Vec<CompiledPass>,
@@ -53,24 +53,24 @@ pub struct FoveationLayer {
     /// reconstruction), in no particular order: each owns its resources and per-frame uniforms.
     executors: Vec<Box<dyn Executor>>,
     /// Each frame slot's buffers, bindings and queries.
-    pub(super) slots: Vec<FrameSlot>,
+    pub(crate) slots: Vec<FrameSlot>,
     /// The slot the next frame records into.
     next_slot: usize,
     pub(super) images: Vec<Image>,
     pub(super) readback: Option<Buffer>,
     /// The scene's light, as the views block carries it to foveate's scene shaders.
-    pub(super) light_dir: Vec3,
+    pub(crate) light_dir: Vec3,
     /// Each eye's gaze, normalised (−1…1, x right, y up); moves the fovea views.
     gaze: [Vec2; 2],
     /// The eyes the plan was made for: the bounds of [`FoveationLayer::set_eyes`].
     planned_eyes: EyeParams,
     /// Each eye's hidden-area mesh (a runtime's), when handed in.
     hidden_area: Option<[HiddenArea; 2]>,
-    pub(super) frames_rendered: u64,
+    pub(crate) frames_rendered: u64,
 }
 
 /// A frame about to be recorded: its slot and parity, and the views placed for it.
-pub(super) struct PreparedFrame {
+pub(crate) struct PreparedFrame {
     pub slot: usize,
     pub parity: usize,
     pub world_from_head: Mat4,
@@ -80,7 +80,7 @@ pub(super) struct PreparedFrame {
 }
 
 /// A slot's own command buffer, begun for a frame that is submitted and waited on.
-pub(super) struct OwnBuffer {
+pub(crate) struct OwnBuffer {
     slot: usize,
     pub cmd: vk::CommandBuffer,
     start: Instant,
@@ -88,7 +88,7 @@ pub(super) struct OwnBuffer {
 
 /// What the scene's side of a frame measured, for its figures.
 #[derive(Default)]
-pub(super) struct SceneFigures {
+pub(crate) struct SceneFigures {
     pub cpu_cull_ms: f64,
     pub instances_drawn: Vec<u64>,
 }
@@ -98,7 +98,7 @@ impl FoveationLayer {
     /// frame slots' descriptor sets binding `shared` (foveate's scene's, or nothing of an
     /// engine's); its frames end in one of `output_images` when handed in, and the attachments
     /// `view_images` names are an engine's images.
-    pub(super) fn build(
+    pub(crate) fn build(
         gpu: &Gpu,
         plan: &FramePlan,
         shared: SharedBindings,
@@ -277,7 +277,7 @@ impl FoveationLayer {
 
     /// Begins the next slot's own command buffer, for a frame that is submitted and waited on
     /// ([`OwnBuffer`], then [`FoveationLayer::submit_own_buffer`]).
-    pub(super) fn begin_own_buffer(&mut self) -> Result<OwnBuffer, GpuError> {
+    pub(crate) fn begin_own_buffer(&mut self) -> Result<OwnBuffer, GpuError> {
         self.gpu.check_alive()?;
         let slot = self.next_slot;
         let (pool, cmd) = (self.slots[slot].pool.raw, self.slots[slot].cmd);
@@ -300,7 +300,7 @@ impl FoveationLayer {
 
     /// Ends, submits and waits for `own`, into which `frame` was recorded: the frame's figures,
     /// with the CPU's times around it.
-    pub(super) fn submit_own_buffer(
+    pub(crate) fn submit_own_buffer(
         &mut self,
         own: OwnBuffer,
         frame: FrameRecord,
@@ -333,7 +333,7 @@ impl FoveationLayer {
     /// ([`FoveationLayer::check_next_slot`]) before writing anything of it.
     /// `instance_removed`: whether the scene lost an instance since the frame before (the
     /// accumulation clips everywhere once).
-    pub(super) fn prepare(
+    pub(crate) fn prepare(
         &mut self,
         input: &FrameInput,
         instance_removed: bool,
@@ -436,7 +436,7 @@ impl FoveationLayer {
     /// Records the prepared frame into `cmd`: every pass and step of the plan, each scene step
     /// drawn by `scene`, the figures the scene measured kept with the slot's; last, the slot's
     /// word that the frame has run.
-    pub(super) fn record_prepared(
+    pub(crate) fn record_prepared(
         &mut self,
         cmd: vk::CommandBuffer,
         frame: &PreparedFrame,

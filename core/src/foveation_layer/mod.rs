@@ -1,52 +1,45 @@
-//! The renderer: compiles a [`FramePlan`](crate::plan::FramePlan) into Vulkan objects and
-//! records, submits and measures frames.
+//! The foveation layer: compiles a [`FramePlan`](crate::plan::FramePlan) into Vulkan objects
+//! and records a frame around its scene steps — the views placed, the stencil masks, the output
+//! stage (composition, accumulation, lens), the frame slots and their queries — with the
+//! engine's draws, or foveate's scene renderer's, at each scene step. It imports nothing of the
+//! renderer's (`core/tests/module_graph.rs`): the renderer hands it its scene as an engine
+//! would. The `render` module re-exports its public items.
 
-mod cluster_cull;
 mod command_log;
 mod counting;
-mod cull_slots;
-mod culling;
 mod descriptors;
 mod engine_views;
 mod executor;
-mod far_view;
-mod frame_input;
-mod frame_slot;
-mod frames_in_flight;
+pub(crate) mod far_view;
+pub(crate) mod frame_input;
+pub(crate) mod frame_slot;
 mod history_outcomes;
-mod instances;
-mod layer;
+pub(crate) mod layer;
 mod layer_engine;
-mod lod_select;
 mod masks;
-mod materials;
 mod mffr;
-mod moving;
 mod output;
 mod output_pixels;
 mod output_targets;
-mod pipelines;
+pub(crate) mod pipelines;
 mod probe;
 mod radial_density;
 mod readback;
 mod record;
-mod recorder;
-mod renderer;
+pub(crate) mod recorder;
 mod sampled_set;
-mod scene_buffers;
-mod setup;
-mod stats;
+pub(crate) mod setup;
+pub(crate) mod stats;
 mod stereo_scene;
 mod targets;
 mod temporal;
 mod view_images;
-mod views;
-mod vulkan_recorder;
+pub(crate) mod views;
+pub(crate) mod vulkan_recorder;
 
 internal_use!(command_log::{Command, CommandLog});
 pub use engine_views::{DrawContext, DrawPass, FrameViewSet, View, ViewKind};
 pub use frame_input::{FrameInput, FrameRecord};
-pub use frames_in_flight::{BegunFrame, FramesInFlight};
 pub use history_outcomes::{HistoryOutcome, HistoryOutcomes};
 pub use layer::FoveationLayer;
 pub use output_targets::MAX_OUTPUT_IMAGES;
@@ -54,7 +47,6 @@ pub(crate) use readback::OutputTexels;
 pub use readback::StereoImage;
 internal_use!(record::record_frame);
 internal_use!(recorder::{FrameDraws, Recorder, Rect});
-pub use renderer::{counting_frame, Renderer};
 pub use stats::{FrameStats, PassStatistics, StepFragments};
 pub use view_images::{view_images, HandedImage, ViewImage};
 

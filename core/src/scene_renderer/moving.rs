@@ -6,7 +6,7 @@
 
 use glam::Mat4;
 
-use super::frame_input::finite_matrix;
+use crate::foveation_layer::frame_input::finite_matrix;
 use crate::gpu::Buffer;
 use crate::scene::{Draw, Instance, Scene};
 use crate::vocab::ConfigError;

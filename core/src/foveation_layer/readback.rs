@@ -3,7 +3,6 @@
 use ash::vk;
 
 use super::layer::FoveationLayer;
-use super::renderer::Renderer;
 use crate::gpu::{
     access, memory_barrier, transition_image, BlitSource, Buffer, GpuError, ImageState,
     MemoryLocation,
@@ -236,19 +235,5 @@ impl FoveationLayer {
                 source(outputs[0], 0, w / 2, w / 2),
             ],
         })
-    }
-}
-
-/// The renderer's output is its layer's.
-impl Renderer {
-    /// Copies the last frame's stereo image back to the CPU.
-    pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
-        self.layer.readback()
-    }
-
-    /// The last frame's eye images where they lie (left, right) for a swapchain to show
-    /// ([`crate::gpu::Swapchain::present`]); the outputs stay in `TRANSFER_SRC_OPTIMAL`.
-    pub fn present_sources(&self) -> Result<[BlitSource; 2], GpuError> {
-        self.layer.present_sources()
     }
 }

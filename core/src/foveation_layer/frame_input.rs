@@ -157,7 +157,7 @@ pub(super) fn head_is_a_pose(world_from_head: Mat4) -> Result<(), ConfigError> {
 
 /// `matrix`, handed in as `field`, with every element finite; else an error naming the field,
 /// the matrix and `limit`.
-pub(super) fn finite_matrix(
+pub(crate) fn finite_matrix(
     field: &'static str,
     matrix: Mat4,
     limit: &str,

@@ -8,6 +8,7 @@ use glam::Vec4;
 use rayon::prelude::*;
 
 use super::scene_buffers::upload;
+use crate::foveation_layer::pipelines::LitBindings;
 use crate::gpu::{
     pod_bytes, transition_image, Buffer, Gpu, GpuError, Image, ImageDesc, ImageState, ImageView,
     MemoryLocation, Sampler, VkResultExt,
@@ -48,6 +49,16 @@ pub(crate) struct MaterialSet {
 }
 
 impl MaterialSet {
+    /// What the scene shaders bind of the set.
+    pub fn bindings(&self) -> LitBindings<'_> {
+        LitBindings {
+            textures: &self.views,
+            sampler: self.sampler.raw,
+            materials: &self.materials,
+            lighting: &self.lighting,
+        }
+    }
+
     /// Generates the scene's procedural textures (each pattern once, in parallel) and uploads
     /// them and its decoded ones with the material factors and the scene's lights.
     pub fn new(gpu: &Gpu, plan: &FramePlan, scene: &Scene) -> Result<Self, GpuError> {

@@ -2,18 +2,18 @@ use ash::vk;
 use glam::{Mat4, Vec2};
 
 use super::culling::FrameCulling;
-use super::far_view::FarView;
-use super::frame_input::{FrameInput, FrameRecord};
-use super::frame_slot::SharedBindings;
-use super::layer::{FoveationLayer, PreparedFrame, SceneFigures};
 use super::materials::MaterialSet;
 use super::moving::MovingInstances;
-use super::recorder::FrameDraws;
-use super::scene_buffers::SceneBuffers;
-use super::setup::check_scene;
-use super::stats::FrameStats;
-use super::vulkan_recorder::SceneSteps;
-use crate::gpu::{Gpu, GpuError};
+use super::scene_buffers::{check_scene, SceneBuffers};
+use crate::foveation_layer::far_view::FarView;
+use crate::foveation_layer::frame_input::{FrameInput, FrameRecord};
+use crate::foveation_layer::frame_slot::SharedBindings;
+use crate::foveation_layer::layer::{FoveationLayer, PreparedFrame, SceneFigures};
+use crate::foveation_layer::recorder::FrameDraws;
+use crate::foveation_layer::stats::FrameStats;
+use crate::foveation_layer::vulkan_recorder::SceneSteps;
+use crate::foveation_layer::StereoImage;
+use crate::gpu::{BlitSource, Gpu, GpuError};
 use crate::plan::{ConfigError, FramePlan, RenderConfig, Step};
 use crate::scene::{Draw, Scene};
 use crate::view::{EyeParams, HiddenArea};
@@ -52,7 +52,7 @@ impl Renderer {
     }
 
     /// A renderer whose frames end in one of `output_images` (an OpenXR runtime's swapchain
-    /// images, each made as [`super::output_image_desc`] says) instead of an image of its own:
+    /// images, each made as [`output_image_desc`](crate::foveation_layer::output_image_desc) says) instead of an image of its own:
     /// `plan` must have [`RenderConfig::external_output`]; [`Renderer::select_output`] picks
     /// the image before each frame. (A renderer made with [`Renderer::new`] for such a plan
     /// takes its images frame by frame instead: [`FrameInput::output`].)
@@ -94,8 +94,8 @@ impl Renderer {
             .then(|| MaterialSet::new(gpu, plan, scene))
             .transpose()?;
         let shared = SharedBindings {
-            scene: Some(&scene_buffers),
-            materials: materials.as_ref(),
+            instances: Some(&scene_buffers.instances),
+            lit: materials.as_ref().map(MaterialSet::bindings),
         };
         let mut layer = FoveationLayer::build(gpu, plan, shared, output_images, &[])?;
         layer.light_dir = scene.light_dir;
@@ -267,7 +267,7 @@ impl Renderer {
             all: self.present_draws.as_ref().unwrap_or(&self.scene.draws),
             culled: self.culling.as_ref().map_or(&[][..], |c| &c.sets),
         };
-        let scene = SceneSteps::Foveate(&self.scene);
+        let scene = SceneSteps::Foveate(self.scene.geometry());
         self.layer
             .record_prepared(cmd, &frame, &draws, scene, figures)
     }
@@ -353,6 +353,20 @@ pub fn counting_frame(
     let mut renderer = Renderer::new(gpu, &plan, scene)?;
     renderer.set_gaze(gaze)?;
     renderer.render_frame(world_from_head)
+}
+
+/// The renderer's output is its layer's.
+impl Renderer {
+    /// Copies the last frame's stereo image back to the CPU.
+    pub fn readback(&mut self) -> Result<StereoImage, GpuError> {
+        self.layer.readback()
+    }
+
+    /// The last frame's eye images where they lie (left, right) for a swapchain to show
+    /// ([`crate::gpu::Swapchain::present`]); the outputs stay in `TRANSFER_SRC_OPTIMAL`.
+    pub fn present_sources(&self) -> Result<[BlitSource; 2], GpuError> {
+        self.layer.present_sources()
+    }
 }
 
 // A renderer can move to a render thread (its layer and buffers are `Send`):

@@ -9,14 +9,14 @@ use crate::gpu::{
 };
 
 /// What one binding holds.
-pub(super) enum Resource<'a> {
+pub(crate) enum Resource<'a> {
     Uniform(&'a Buffer),
     Storage(&'a Buffer),
     /// An image view sampled through `sampler`, in `SHADER_READ_ONLY_OPTIMAL`.
     Sampled(&'a ImageView, vk::Sampler),
 }
 
-pub(super) struct Binding<'a> {
+pub(crate) struct Binding<'a> {
     pub binding: u32,
     pub stages: vk::ShaderStageFlags,
     pub resource: Resource<'a>,

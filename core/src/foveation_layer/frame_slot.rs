@@ -7,9 +7,7 @@
 use ash::vk;
 
 use super::descriptors::DescriptorSet;
-use super::materials::MaterialSet;
-use super::pipelines::scene_bindings;
-use super::scene_buffers::SceneBuffers;
+use super::pipelines::{scene_bindings, LitBindings};
 use super::setup::{effect_buffer, query_pool};
 use super::stats::{FrameStats, PassStatistics};
 use super::views::ViewsBlock;
@@ -19,7 +17,7 @@ use crate::gpu::{
 use crate::plan::FramePlan;
 
 /// One frame slot's resources, and what its last frame recorded.
-pub(super) struct FrameSlot {
+pub(crate) struct FrameSlot {
     /// The scene's descriptor set over this slot's buffers (used through the bound steps).
     pub bindings: DescriptorSet,
     pub views_block: Buffer,
@@ -45,7 +43,7 @@ pub(super) struct FrameSlot {
 
 /// What recording a frame measured on the CPU; the GPU's figures come from the slot's queries.
 #[derive(Clone, Debug, Default)]
-pub(super) struct SlotFrame {
+pub(crate) struct SlotFrame {
     /// The frame's number (frames recorded before it).
     pub frame: u64,
     pub cpu_record_ms: f64,
@@ -56,12 +54,13 @@ pub(super) struct SlotFrame {
     pub instances_drawn: Vec<u64>,
 }
 
-/// The scene's resources a slot's descriptor set binds beside the slot's own buffers: foveate's
-/// scene's instances and a lit scene's materials; none when an engine draws the scene.
+/// The scene's resources a slot's descriptor set binds beside the slot's own buffers, handed in
+/// by whoever draws the scene steps: foveate's scene renderer's instances and a lit scene's
+/// materials; none when an engine draws the scene.
 #[derive(Clone, Copy, Default)]
-pub(super) struct SharedBindings<'a> {
-    pub scene: Option<&'a SceneBuffers>,
-    pub materials: Option<&'a MaterialSet>,
+pub(crate) struct SharedBindings<'a> {
+    pub instances: Option<&'a Buffer>,
+    pub lit: Option<LitBindings<'a>>,
 }
 
 impl FrameSlot {
@@ -101,11 +100,11 @@ impl FrameSlot {
         let bindings = scene_bindings(
             gpu,
             &views_block,
-            instances.as_ref().or(shared.scene.map(|s| &s.instances)),
+            instances.as_ref().or(shared.instances),
             counter.as_ref(),
             masks,
             instance_ids.as_ref(),
-            shared.materials,
+            shared.lit,
         )?;
         let pool = gpu.command_pool(vk::CommandPoolCreateFlags::TRANSIENT)?;
         let queries = query_pool(gpu, vk::QueryType::TIMESTAMP, plan.timestamp_pool_slots())?;

@@ -4,14 +4,25 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::descriptors::{Binding, DescriptorSet, Resource};
-use super::materials::MaterialSet;
 use super::targets::CompiledPass;
-use crate::gpu::{Buffer, Gpu, GpuError, Pipeline, PipelineKey, PipelineLayout, VkResultExt};
+use crate::gpu::{
+    Buffer, Gpu, GpuError, ImageView, Pipeline, PipelineKey, PipelineLayout, VkResultExt,
+};
 use crate::plan::{CompareOp, PipelineDesc, StencilOp, StencilState, VertexInput};
 use crate::scene::Vertex;
 use crate::shaders::ShaderBinary;
 
 const ENTRY: &CStr = c"main";
+
+/// A lit scene's resources, as the scene shaders bind them: its three texture arrays (5–7)
+/// and their sampler, its materials (8) and its lights (9).
+#[derive(Clone, Copy)]
+pub(crate) struct LitBindings<'a> {
+    pub textures: &'a [ImageView; 3],
+    pub sampler: vk::Sampler,
+    pub materials: &'a Buffer,
+    pub lighting: &'a Buffer,
+}
 
 /// The scene shaders' resources: views (binding 0), instances (1: foveate's scene's, none when
 /// an engine draws) and, only when their effect is on, the fragment counter (2), the stencil
@@ -24,7 +35,7 @@ pub(crate) fn scene_bindings(
     counter: Option<&Buffer>,
     masks: Option<&Buffer>,
     instance_ids: Option<&Buffer>,
-    lit: Option<&MaterialSet>,
+    lit: Option<LitBindings>,
 ) -> Result<DescriptorSet, GpuError> {
     use vk::ShaderStageFlags as Stage;
     let binding = |binding, stages, resource| Binding {
@@ -42,14 +53,13 @@ pub(crate) fn scene_bindings(
     bindings.extend(masks.map(|b| binding(3, Stage::VERTEX, Resource::Uniform(b))));
     bindings.extend(instance_ids.map(|b| binding(4, Stage::VERTEX, Resource::Storage(b))));
     if let Some(m) = lit {
-        let textures = (5..).zip(&m.views);
+        let textures = (5..).zip(m.textures);
         bindings.extend(
-            textures.map(|(i, view)| {
-                binding(i, Stage::FRAGMENT, Resource::Sampled(view, m.sampler.raw))
-            }),
+            textures
+                .map(|(i, view)| binding(i, Stage::FRAGMENT, Resource::Sampled(view, m.sampler))),
         );
-        bindings.push(binding(8, Stage::FRAGMENT, Resource::Storage(&m.materials)));
-        bindings.push(binding(9, Stage::FRAGMENT, Resource::Uniform(&m.lighting)));
+        bindings.push(binding(8, Stage::FRAGMENT, Resource::Storage(m.materials)));
+        bindings.push(binding(9, Stage::FRAGMENT, Resource::Uniform(m.lighting)));
     }
     let push = vk::PushConstantRange {
         stage_flags: Stage::VERTEX,
