@@ -95,6 +95,7 @@ fn main() {
     let example_dir = manifest.join("examples").join("bring_your_own_draws");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     println!("cargo:rerun-if-changed={}", src_dir.display());
+    println!("cargo:rerun-if-changed={}", example_dir.display());
     println!("cargo:rerun-if-env-changed=GLSLC");
     let glslc = std::env::var("GLSLC").unwrap_or_else(|_| "glslc".to_string());
     for (source, output, defines) in SHADERS {
