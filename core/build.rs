@@ -58,6 +58,12 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
         "radial_mask_counting.frag.spv",
         &["COUNT_FRAGMENTS"],
     ),
+    ("layer_copy.frag", "layer_copy.frag.spv", &[]),
+    (
+        "layer_copy.frag",
+        "layer_copy_counting.frag.spv",
+        &["COUNT_FRAGMENTS"],
+    ),
     ("reconstruct.frag", "reconstruct.frag.spv", &[]),
     (
         "reconstruct.frag",

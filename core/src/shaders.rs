@@ -106,6 +106,9 @@ pub const RADIAL_MASK_FRAG: ShaderBinary = spirv!("radial_mask.frag.spv");
 pub const RADIAL_MASK_FRAG_COUNTING: ShaderBinary = spirv!("radial_mask_counting.frag.spv");
 pub const RECONSTRUCT_FRAG: ShaderBinary = spirv!("reconstruct.frag.spv");
 pub const RECONSTRUCT_FRAG_COUNTING: ShaderBinary = spirv!("reconstruct_counting.frag.spv");
+/// A view's resolve copied into its layer, where the driver cannot resolve into one.
+pub const LAYER_COPY_FRAG: ShaderBinary = spirv!("layer_copy.frag.spv");
+pub const LAYER_COPY_FRAG_COUNTING: ShaderBinary = spirv!("layer_copy_counting.frag.spv");
 
 /// FLIP's compute passes on the GPU (`shaders/flip_common.glsl`): both images to YCxCz, a
 /// pyramid level, the separable filters' two halves, one ppd level's error per pixel, and the
@@ -151,6 +154,8 @@ pub const ALL: &[ShaderBinary] = &[
     RECONSTRUCT_FRAG_COUNTING,
     OUTPUT_TEMPORAL_FRAG,
     OUTPUT_TEMPORAL_FRAG_COUNTING,
+    LAYER_COPY_FRAG,
+    LAYER_COPY_FRAG_COUNTING,
 ];
 
 /// The judge's compute shaders (the spirv-val test walks this list too).

@@ -1,7 +1,8 @@
 //! An engine's own draws through a `FoveationLayer` (the `bring_your_own_draws` example's
 //! engine: its own vertex layout, shaders and pipelines) against foveate's own renderer of the
 //! same glTF scene, flat shaded: the frames are equal, and each thing an engine can get wrong
-//! shows. Validation is on; any message fails the test.
+//! shows; and an engine's ground plane, drawn by each eye's own views on every driver.
+//! Validation is on; any message fails the test.
 
 #[path = "../examples/bring_your_own_draws/engine.rs"]
 #[allow(dead_code)]
@@ -9,12 +10,15 @@ mod engine;
 
 use std::path::Path;
 
-use engine::{Engine, World};
+use engine::{Engine, EngineVertex, World, WorldMesh, WorldObject};
 use foveate::ash::vk;
+use foveate::cull::Sphere;
 use foveate::foveation::{FoveationConfig, TemporalConfig};
-use foveate::glam::{Mat4, Vec2, Vec3};
+use foveate::glam::{Mat4, Vec2, Vec3, Vec4};
 use foveate::gpu::{Gpu, GpuOptions, Image};
-use foveate::plan::{OutputStage, RenderConfig, Resolution};
+use foveate::plan::{
+    plan_for_engine, DeviceCaps, FramePlan, OutputStage, PassKind, RenderConfig, Resolution,
+};
 use foveate::render::{
     output_image_desc, view_images, DrawPass, FoveationLayer, FrameInput, FrameViewSet,
     HandedImage, Renderer, StereoImage, View,
@@ -317,13 +321,15 @@ fn what_an_engine_gets_wrong_shows() {
         "what the masks cut is never shown"
     );
     let (with, without) = (&masked.samples_passed, &unmasked.samples_passed);
-    assert_eq!(with.len(), 2, "the periphery's pass and the fovea's");
-    for pass in 0..with.len() {
+    // The periphery's pass and the fovea's, or each eye's of both where the driver needs
+    // a pass per view (`DriverQuirks::multiview_clipping_drops_views`).
+    assert!(with.len() == 2 || with.len() == 4, "{} passes", with.len());
+    let pair = with.len() / 2;
+    for (k, (with, without)) in with.chunks(pair).zip(without.chunks(pair)).enumerate() {
+        let (with, without) = (with.iter().sum::<u64>(), without.iter().sum::<u64>());
         assert!(
-            without[pass] > with[pass],
-            "pass {pass}: {} samples shaded without the stencil test, {} with",
-            without[pass],
-            with[pass]
+            without > with,
+            "view pair {k}: {without} samples shaded without the stencil test, {with} with"
         );
     }
 }
@@ -499,4 +505,138 @@ fn images_an_engine_makes_wrong_are_refused_by_name() {
     }
     drop(images);
     gpu.check_validation().unwrap();
+}
+
+// ---- An engine's ground plane: two large triangles under the viewer reaching behind both
+// eyes, so every view clips them. Mesa before 25 draws a primitive a multiview pass clips with
+// the first view's per-primitive data, into the wrong layer
+// (`DriverQuirks::multiview_clipping_drops_views`); the layer then plans an engine's scene
+// passes one view at a time. Each view tints what it draws (the example engine's
+// `view_tints`: the left eye's views green, the right eye's red), so a primitive drawn by the
+// wrong view shows.
+
+/// A ground 400 m across, of two triangles, the head 1.7 m above its centre.
+fn ground() -> World {
+    let half = 200.0;
+    let corner = |x: f32, z: f32| EngineVertex {
+        position: [x, 0.0, z],
+        normal: [0.0, 1.0, 0.0],
+    };
+    let mesh = WorldMesh {
+        vertices: vec![
+            corner(-half, -half),
+            corner(-half, half),
+            corner(half, half),
+            corner(half, -half),
+        ],
+        indices: vec![0, 1, 2, 0, 2, 3],
+        bounds: Sphere::new(Vec3::ZERO, half * 1.5),
+    };
+    World {
+        meshes: vec![mesh],
+        objects: vec![WorldObject {
+            mesh: 0,
+            model: Mat4::IDENTITY,
+            colour: Vec4::ONE,
+        }],
+        light_dir: Vec3::new(0.0, -1.0, 0.0),
+        head: Mat4::from_translation(Vec3::new(0.0, 1.7, 0.0)),
+        reach: 400.0,
+    }
+}
+
+/// The library's default foveation at 128² per eye, through the lens.
+fn ground_config() -> RenderConfig {
+    RenderConfig {
+        hmd: "quest-pro".into(),
+        resolution: Some(Resolution::square(128)),
+        foveation: Some(FoveationConfig::default()),
+        far: 500.0,
+        ..RenderConfig::default()
+    }
+}
+
+/// The engine's first frame of the ground through a layer for `plan`, the gaze on the ground
+/// in both eyes, each eye's views tinted: the left's green, the right's red.
+fn ground_frame(gpu: &Gpu, plan: &FramePlan) -> StereoImage {
+    let world = ground();
+    let head = world.head;
+    let mut layer = FoveationLayer::for_plan(gpu, plan, &[]).unwrap();
+    let mut engine = Engine::new(gpu, world, &layer.draw_passes(), layer.frame_slots()).unwrap();
+    let (green, red) = (Vec4::new(0.1, 0.8, 0.1, 1.0), Vec4::new(0.8, 0.1, 0.1, 1.0));
+    engine.view_tints = std::array::from_fn(|view| if view % 2 == 0 { green } else { red });
+    let input = FrameInput::new(head).with_gaze([Vec2::new(0.0, -0.3); 2]);
+    let views = layer.views(&input).unwrap();
+    engine.write_views(views.slot, &views.views);
+    layer.render(&views, &mut |ctx| engine.draw(ctx)).unwrap();
+    let image = layer.readback().unwrap();
+    drop(engine);
+    drop(layer);
+    gpu.check_validation().unwrap();
+    image
+}
+
+/// The plan for `caps` with the clipping quirk as `quirk` says; with it, the resolve quirk too,
+/// so that every driver runs the copies a driver with both needs.
+fn plan_with_quirk(caps: &DeviceCaps, quirk: bool) -> FramePlan {
+    let mut caps = caps.clone();
+    caps.quirks.multiview_clipping_drops_views = quirk;
+    caps.quirks.layered_resolve_ignores_base_layer |= quirk;
+    plan_for_engine(&ground_config(), &caps).unwrap()
+}
+
+/// Each eye's share of its pixels tinted green, and of those tinted red.
+fn tinted(image: &StereoImage) -> [[f64; 2]; 2] {
+    image.eyes().map(|eye| {
+        let share = |channel: usize| {
+            let tinted = eye.data.chunks(4).filter(|p| {
+                let others = (0..3).filter(|&c| c != channel);
+                others.map(|c| p[c]).max().unwrap() as u16 + 60 < p[channel] as u16
+            });
+            tinted.count() as f64 / (eye.width * eye.height) as f64
+        };
+        [share(1), share(0)]
+    })
+}
+
+/// The frame as the layer plans it for this driver shows the ground in each eye drawn by that
+/// eye's views alone, in the same share (the Quest Pro's eyes mirror each other), and equals
+/// the frame whose every scene pass draws one view. Negative control, where the driver has the
+/// quirk: the same frame planned multiview (the quirk ignored) draws right-eye primitives into
+/// the left eye.
+#[test]
+fn an_engines_ground_plane_is_drawn_by_each_eyes_own_views() {
+    let gpu = gpu();
+    let caps = gpu.caps();
+    let quirk = caps.quirks.multiview_clipping_drops_views;
+    let as_planned = plan_for_engine(&ground_config(), caps).unwrap();
+    let one_view_each = plan_with_quirk(caps, true);
+    let most_views = |plan: &FramePlan| {
+        let scene = plan.passes.iter().filter(|p| p.kind == PassKind::Scene);
+        scene.map(|p| p.view_mask.count_ones()).max().unwrap()
+    };
+    assert_eq!(most_views(&as_planned), if quirk { 1 } else { 2 });
+    assert_eq!(most_views(&one_view_each), 1);
+    let image = ground_frame(&gpu, &as_planned);
+    let [[left_green, left_red], [right_green, right_red]] = tinted(&image);
+    let reference = ground_frame(&gpu, &one_view_each);
+    let differ = differing(&image, &reference);
+    eprintln!(
+        "{}: ground {left_green:.3} green, {left_red:.3} red in the left eye, \
+         {right_green:.3} green, {right_red:.3} red in the right; {differ} pixels differ \
+         from the frame of one view a pass",
+        gpu.info().driver
+    );
+    assert!(left_green > 0.3 && left_red == 0.0, "left eye");
+    assert!(
+        right_green == 0.0 && (right_red - left_green).abs() < 0.01,
+        "right eye"
+    );
+    assert_eq!(differ, 0);
+    if quirk {
+        let multiview = ground_frame(&gpu, &plan_with_quirk(caps, false));
+        let [[_, left_red], _] = tinted(&multiview);
+        eprintln!("planned multiview: {left_red:.3} of the left eye drawn by the right's views");
+        assert!(left_red > 0.01, "the quirk no longer shows: drop it");
+    }
 }

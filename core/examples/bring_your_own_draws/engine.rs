@@ -19,7 +19,7 @@ const VERTEX_SHADER: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/byod_engi
 const FRAGMENT_SHADER: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/byod_engine.frag.spv"));
 
 /// The most views a frame has (two eyes, two fovea insets).
-const MAX_VIEWS: usize = 4;
+pub const MAX_VIEWS: usize = 4;
 
 /// The engine's vertex: 24 bytes.
 #[repr(C)]
@@ -35,6 +35,7 @@ pub struct EngineVertex {
 struct FrameBlock {
     clip_from_world: [Mat4; MAX_VIEWS],
     light_dir: Vec4,
+    view_tint: [Vec4; MAX_VIEWS],
 }
 
 /// `Draw`, the engine's push constants.
@@ -158,6 +159,9 @@ pub struct Engine {
     world: World,
     /// Objects drawn in the last frame, all passes together.
     pub drawn: u64,
+    /// Per frame view ([`View::index`]), a colour its surfaces are tinted with (alpha: how
+    /// much; none unless set): which view drew what, for a debugging eye or a test.
+    pub view_tints: [Vec4; MAX_VIEWS],
 }
 
 impl Engine {
@@ -237,6 +241,7 @@ impl Engine {
             ranges,
             world,
             drawn: 0,
+            view_tints: [Vec4::ZERO; MAX_VIEWS],
         };
         for pass in passes {
             let pipeline = pipeline(&engine.device, engine.layout, engine.shaders, pass)?;
@@ -250,6 +255,7 @@ impl Engine {
         let mut block = FrameBlock {
             clip_from_world: [Mat4::IDENTITY; MAX_VIEWS],
             light_dir: self.world.light_dir.extend(0.0),
+            view_tint: self.view_tints,
         };
         for v in views.iter().take(MAX_VIEWS) {
             block.clip_from_world[v.index] = v.clip_from_world;

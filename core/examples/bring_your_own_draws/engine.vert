@@ -12,6 +12,8 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     mat4 clip_from_world[4];
     // xyz: the direction the sunlight travels.
     vec4 light_dir;
+    // Per view, a colour its surfaces are tinted with (alpha: how much).
+    vec4 view_tint[4];
 } frame;
 
 layout(push_constant) uniform Draw {
@@ -23,10 +25,13 @@ layout(push_constant) uniform Draw {
 
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_colour;
+// The frame view drawn (for its tint).
+layout(location = 2) flat out uint out_view;
 
 void main() {
     vec4 world = draw.model * vec4(in_position, 1.0);
     gl_Position = frame.clip_from_world[draw.first_view + gl_ViewIndex] * world;
     out_normal = mat3(draw.model) * in_normal;
+    out_view = draw.first_view + gl_ViewIndex;
     out_colour = draw.colour.rgb;
 }

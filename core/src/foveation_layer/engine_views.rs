@@ -84,9 +84,11 @@ pub struct DrawPass {
     pub render_pass: vk::RenderPass,
     /// The pipelines' `rasterizationSamples`.
     pub samples: vk::SampleCountFlags,
-    /// Its multiview view mask: one layer per view.
+    /// Its multiview view mask: one layer per view. `0b1` on a driver that misplaces what a
+    /// multiview pass clips (lavapipe before Mesa 25), where each view has a pass of its own.
     pub view_mask: u32,
-    /// The frame's views it draws ([`View::index`]), in layer order.
+    /// The frame's views it draws ([`View::index`]), in layer order: `gl_ViewIndex` draws
+    /// view `views.start + gl_ViewIndex`.
     pub views: Range<usize>,
     /// Its images' pixels.
     pub extent: Resolution,

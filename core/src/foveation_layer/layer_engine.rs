@@ -18,7 +18,7 @@ use super::stats::FrameStats;
 use super::view_images::{check_handed, HandedImage};
 use super::vulkan_recorder::SceneSteps;
 use crate::gpu::{Gpu, GpuError};
-use crate::plan::{ConfigError, FramePlan, RenderConfig};
+use crate::plan::{ConfigError, FramePlan, PassKind, RenderConfig};
 
 impl FoveationLayer {
     /// The layer for an engine's draws: `config` planned for the engine
@@ -67,13 +67,16 @@ impl FoveationLayer {
             .into());
         }
         let handed = check_handed(plan, view_images)?;
-        let multiview = plan.passes.iter().any(|p| p.view_mask.count_ones() > 1);
-        if multiview && gpu.caps().quirks.multiview_clipping_drops_views {
-            // Not yet worked around for an engine's draws: said, not left silent.
+        let multiview_scene =
+            (plan.passes.iter()).any(|p| p.kind == PassKind::Scene && p.view_mask.count_ones() > 1);
+        if multiview_scene && gpu.caps().quirks.multiview_clipping_drops_views {
+            // A plan made for another device's caps: planned for this one, each scene pass
+            // would draw one view (`plan/split_views.rs`).
             log::warn!(
-                "this driver ({}) draws a multiview primitive it has to clip into the first view: \
-                 an engine's triangle that crosses an eye's plane (a large ground plane, say) is \
-                 drawn into the left eye's image only; split such triangles, or use Mesa 25 or later",
+                "this driver ({}) draws a primitive a multiview pass clips with the first view's \
+                 data into the first view's layer, and the plan has multiview scene passes: plan \
+                 the frame for this device (plan_for_engine with its caps), which draws an \
+                 engine's views one pass each here",
                 gpu.info().driver
             );
         }

@@ -15,6 +15,7 @@ pub(crate) mod frame_input;
 pub(crate) mod frame_slot;
 mod history_outcomes;
 pub(crate) mod layer;
+mod layer_copy;
 mod layer_engine;
 mod masks;
 mod mffr;

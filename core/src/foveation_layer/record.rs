@@ -57,6 +57,7 @@ pub fn record_frame(plan: &FramePlan, draws: &FrameDraws, rec: &mut dyn Recorder
                     super::radial_density::record_radial_mask(pass, area, rec)
                 }
                 Step::Reconstruct => super::radial_density::record_reconstruction(pass, area, rec),
+                Step::LayerCopy { .. } => super::layer_copy::record_layer_copy(pass, area, rec),
             }
         }
         rec.end_pass(index, &pass.barriers.signal);

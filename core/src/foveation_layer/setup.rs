@@ -7,6 +7,7 @@ use ash::vk;
 
 use super::descriptors::DescriptorSet;
 use super::executor::Executor;
+use super::layer_copy::LayerCopies;
 use super::mffr::FarComposite;
 use super::output::OutputStage;
 use super::pipelines::compile_pipeline;
@@ -71,6 +72,9 @@ pub(super) fn sampling_executors(
     if let Some(p) = reconstruct {
         let views = &images[p.samples[0]];
         executors.push(Box::new(Reconstruction::new(gpu, views, counters)?));
+    }
+    if let Some(copies) = LayerCopies::new(gpu, plan, images, counters)? {
+        executors.push(Box::new(copies));
     }
     Ok(executors)
 }

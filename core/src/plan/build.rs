@@ -18,6 +18,7 @@ use super::pipeline::{PipelineDesc, StepContext};
 use super::probe::{add_probe, probe_pipeline};
 use super::radial_density::{add_radial_density, radial_mask_pipeline, reconstruct_pipeline};
 use super::scene_sizes::{lod_plan, plan_instance_buffers, spare_total};
+use super::split_views::{layer_copy_pipeline, one_pass_per_view};
 use super::steps::{DrawSet, OutputSource, Step};
 use super::stereo_scene::{scene_passes, scene_pipeline, FoveaPasses, ViewSet};
 use super::temporal::{add_accumulation, periphery_image};
@@ -84,6 +85,10 @@ pub(super) fn plan_with(
     let (history, depth_history) =
         add_technique_steps(&techniques, &mut passes, &mut attachments).unzip();
     if caps.quirks.multiview_clipping_drops_views {
+        if engine {
+            let resolve_lands_in_layer_0 = caps.quirks.layered_resolve_ignores_base_layer;
+            passes = one_pass_per_view(passes, &mut attachments, resolve_lands_in_layer_0)?;
+        }
         work_around_multiview_clipping(&mut passes, &attachments, caps);
     }
     let mut plan = FramePlan {
@@ -195,6 +200,7 @@ fn step_pipelines(plan: &FramePlan, pass_index: usize) -> Vec<PipelineDesc> {
                 Step::Output(output) => output_pipeline(&ctx, output, plan),
                 Step::RadialMask { .. } => radial_mask_pipeline(&ctx, radial()),
                 Step::Reconstruct => reconstruct_pipeline(&ctx, radial()),
+                Step::LayerCopy { .. } => layer_copy_pipeline(&ctx),
             }
         })
         .collect()
@@ -383,7 +389,7 @@ fn work_around_multiview_clipping(
     attachments: &[AttachmentPlan],
     caps: &DeviceCaps,
 ) {
-    for p in passes.iter_mut().filter(|p| p.view_mask != 0) {
+    for p in passes.iter_mut().filter(|p| p.view_mask.count_ones() > 1) {
         let a = &attachments[p.color.attachment];
         p.guard_band = guard_band(
             Resolution {

@@ -22,6 +22,7 @@ mod print_attachments;
 mod probe;
 mod radial_density;
 mod scene_sizes;
+mod split_views;
 mod steps;
 mod stereo_scene;
 mod temporal;

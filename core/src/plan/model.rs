@@ -41,6 +41,8 @@ pub enum PassKind {
     /// The periphery accumulated over frames at its own texels, before the output pass
     /// composes it ([`HistoryAt::Periphery`](crate::foveation::HistoryAt::Periphery)).
     Accumulate,
+    /// A view's image, resolved alone, copied into its layer (`plan/split_views.rs`).
+    LayerCopy,
 }
 
 impl PassKind {

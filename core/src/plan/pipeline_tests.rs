@@ -138,9 +138,25 @@ fn ids(desc: &PipelineDesc) -> BTreeSet<u32> {
 #[test]
 fn every_stage_gets_exactly_the_constants_its_shader_declares() {
     let mut stages = BTreeSet::new();
-    for (scene, config) in configurations() {
-        let plan = plan(&scene, &config, &DeviceCaps::generic())
-            .unwrap_or_else(|e| panic!("{config:?}: {e}"));
+    let mut plans: Vec<FramePlan> = (configurations().into_iter())
+        .map(|(scene, config)| {
+            plan(&scene, &config, &DeviceCaps::generic())
+                .unwrap_or_else(|e| panic!("{config:?}: {e}"))
+        })
+        .collect();
+    // An engine's frame on a driver whose resolve lands in layer 0: its copy passes.
+    let mut quirky = DeviceCaps::generic();
+    quirky.quirks.multiview_clipping_drops_views = true;
+    quirky.quirks.layered_resolve_ignores_base_layer = true;
+    for count_fragments in [false, true] {
+        let config = RenderConfig {
+            foveation: Some(crate::foveation::FoveationConfig::default()),
+            count_fragments,
+            ..RenderConfig::default()
+        };
+        plans.push(crate::plan::plan_for_engine(&config, &quirky).unwrap());
+    }
+    for plan in &plans {
         for pass in &plan.passes {
             assert_eq!(pass.pipelines.len(), pass.steps.len(), "{}", pass.name);
             for (step, desc) in pass.steps.iter().zip(&pass.pipelines) {

@@ -1,6 +1,6 @@
 use std::fmt;
 
-use super::model::{FramePlan, PassPlan, Submission, TargetLayout};
+use super::model::{FramePlan, PassKind, PassPlan, Submission, TargetLayout};
 use super::steps::{DrawSet, Step};
 use crate::mffr::MffrOrder;
 
@@ -228,8 +228,15 @@ impl FramePlan {
     /// A pass: its views and submission, what it samples, its steps and their pipelines.
     fn write_pass(&self, f: &mut fmt::Formatter<'_>, p: &PassPlan) -> fmt::Result {
         let submission = match p.submission {
+            _ if p.kind == PassKind::LayerCopy => {
+                "a full-view triangle into one layer, copying the image it samples".to_string()
+            }
             _ if p.kind.is_full_view() => {
                 "a full-view triangle per eye, sampling the views".to_string()
+            }
+            Submission::Multiview if p.view_mask == 0b1 => {
+                "one view, a pass of its own: this driver draws what a multiview pass clips with the first view's data"
+                    .to_string()
             }
             Submission::Multiview => "scene once, broadcast by multiview".to_string(),
             Submission::SingleEye(eye) => format!("scene once for the {eye:?} eye").to_lowercase(),
@@ -357,7 +364,7 @@ impl FramePlan {
                         )?;
                     }
                 }
-                Step::Output(_) | Step::Reconstruct => {}
+                Step::Output(_) | Step::Reconstruct | Step::LayerCopy { .. } => {}
             }
         }
         Ok(())

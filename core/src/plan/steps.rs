@@ -44,6 +44,8 @@ pub enum CountedStep {
     RadialMask,
     /// Radial density reconstruction (a full-view draw per eye).
     Reconstruct,
+    /// A view's resolve copied into its layer (a full-view draw).
+    LayerCopy,
 }
 
 impl CountedStep {
@@ -57,6 +59,7 @@ impl CountedStep {
             CountedStep::Output => "output",
             CountedStep::RadialMask => "radial mask",
             CountedStep::Reconstruct => "reconstruct",
+            CountedStep::LayerCopy => "layer copy",
         }
     }
 }
@@ -143,6 +146,13 @@ pub enum Step {
     },
     /// Radial density reconstruction: a full-view draw per eye filling the skipped quads.
     Reconstruct,
+    /// A view's image, which its pass resolved alone, copied texel for texel into its layer
+    /// of the image the frame samples (a full-view draw), where the driver's in-pass resolve
+    /// cannot land in a layer ([`DriverQuirks`](super::DriverQuirks)`::layered_resolve_ignores_base_layer`).
+    LayerCopy {
+        /** The image copied (the pass's one sampled attachment). */
+        from: super::ops::AttachmentId,
+    },
     /// The output stage: a full-view draw per eye sampling what the frame rendered, composing a
     /// foveated frame's views and, for the lens, pre-distorting.
     Output(OutputStep),
@@ -217,6 +227,7 @@ impl Step {
             Step::Output(_) => CountedStep::Output,
             Step::RadialMask { .. } => CountedStep::RadialMask,
             Step::Reconstruct => CountedStep::Reconstruct,
+            Step::LayerCopy { .. } => CountedStep::LayerCopy,
         }
     }
 
@@ -227,7 +238,7 @@ impl Step {
             Step::FarComposite { stencil }
             | Step::Scene { stencil, .. }
             | Step::Probe { stencil } => stencil,
-            Step::Output(_) | Step::Reconstruct => None,
+            Step::Output(_) | Step::Reconstruct | Step::LayerCopy { .. } => None,
         }
     }
 }
@@ -311,7 +322,7 @@ pub(crate) fn assign_stencil_states(steps: &mut [Step]) {
                     )
                 })
             }
-            Step::Output(_) | Step::Reconstruct => {}
+            Step::Output(_) | Step::Reconstruct | Step::LayerCopy { .. } => {}
         }
     }
 }
@@ -370,6 +381,7 @@ impl fmt::Display for Step {
             }
             Step::RadialMask { .. } => "radial mask".to_string(),
             Step::Reconstruct => "reconstruct".to_string(),
+            Step::LayerCopy { from } => format!("copy #{from} into its layer"),
         };
         match self.stencil() {
             Some(s) => write!(f, "{name} [{s}]"),

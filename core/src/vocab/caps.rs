@@ -93,13 +93,18 @@ impl DeviceCaps {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct DriverQuirks {
     /// An MSAA resolve inside a render pass into an attachment view whose base array layer is
-    /// not 0 writes layer 0 (lavapipe 22.3; fixed in 25.0). The planner gives two-pass stereo
-    /// one image per eye instead of one layer per eye of a shared image.
+    /// not 0 writes layer 0, from the multisampled image's layer 0 (lavapipe 22.3; fixed in
+    /// 25.0). The planner gives two-pass stereo one image per eye instead of one layer per eye
+    /// of a shared image; an engine's views drawn one pass each (below) resolve into an image
+    /// of their own, copied into their layer by a pass after (`plan/split_views.rs`).
     pub layered_resolve_ignores_base_layer: bool,
     /// In a multiview pass, primitives the driver has to clip are rasterised into the first
     /// view's layer, whatever their view (lavapipe 22.3: every primitive crossing the viewport
-    /// edge or the eye plane; fixed in 25.0). The planner works around it with an emulated guard
-    /// band; the test `lavapipe_multiview_clipping_quirk_is_real` measures the bug itself. The
+    /// edge or the eye plane, drawn with the first view's per-primitive data; fixed in 25.0).
+    /// The planner works around it with an emulated guard band, which is enough for foveate's
+    /// own scenes (no mesh of theirs crosses an eye's plane), and draws an engine's scene passes
+    /// one view at a time; the tests `lavapipe_multiview_clipping_quirk_is_real` and
+    /// `an_engines_ground_plane_is_drawn_by_each_eyes_own_views` measure the bug itself. The
     /// same driver draws a mesh split into several draws differently from the mesh in one draw,
     /// so a multiview pass that culls keeps clustered meshes whole there.
     pub multiview_clipping_drops_views: bool,
@@ -157,12 +162,12 @@ impl DriverQuirks {
             (
                 "multiview clipping drops views",
                 multiview_clipping_drops_views,
-                "guard band on multiview passes",
+                "guard band on multiview passes; an engine's scene passes draw one view each",
             ),
             (
                 "layered resolve ignores base layer",
                 layered_resolve_ignores_base_layer,
-                "two-pass stereo renders one image per eye",
+                "two-pass stereo renders one image per eye; an engine's view passes resolve alone, then copy",
             ),
             (
                 "multiview runs views serially",
