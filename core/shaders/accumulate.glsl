@@ -279,9 +279,11 @@ Neighbourhood neighbourhood(uint eye, ivec2 texel, ivec2 size, vec2 centre, bool
     bool cross_only = CROSS_NEIGHBOURHOOD && !weigh;
     int texels = cross_only ? 5 : 9;
     for (int k = 0; k < (box || weigh ? texels : 0); k++) {
-        // The cross: the texel and its four edge neighbours; the square: row by row.
+        // The cross: the texel, then its four edge neighbours (−x, +x, −y, +y); the square: row
+        // by row. Computed, not read from a constant array: lavapipe indexes such an array
+        // through memory, which made the five-texel cross slower than the nine-texel square.
         ivec2 offset = cross_only
-            ? ivec2[5](ivec2(0), ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1))[k]
+            ? (k == 0 ? ivec2(0) : (k < 3 ? ivec2(2 * k - 3, 0) : ivec2(0, 2 * k - 7)))
             : ivec2(k % 3 - 1, k / 3 - 1);
         ivec2 at = texel + offset;
         vec4 fetched = texelFetch(images, ivec3(clamp(at, ivec2(0), size - 1), eye), 0);
