@@ -474,6 +474,8 @@ fn compare_prints_time_and_error_per_region() {
         "Pareto frontier (eFLIP p99 against frame time",
         "reference: stereo multiview, MSAA 4",
         "foveated 0.5, MSAA 4",
+        // The library's default beside the single frames (mutation: the row left out).
+        "foveated 0.5, periphery 0.6, temporal (the default), MSAA 4",
         "foveated 0.5, sharpen 1, MSAA 4",
         "foveated 0.5, band 0, MSAA 4",
         "fovea dB/SSIM",

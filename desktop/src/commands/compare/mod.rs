@@ -33,7 +33,10 @@ pub struct CompareArgs {
     scene: String,
     #[command(flatten)]
     frame: ComparedFrame,
-    /// Foveation ratios to compare (default 0.7,0.5,0.35; with --table 0.35,0.5).
+    /// Foveation ratios to compare (default 0.7,0.5,0.35; with --table 0.35,0.5): each as single
+    /// frames and, unless --temporal asks for accumulated rows of its own, as the library's
+    /// default foveation (`render --foveate R`: the periphery at 0.6 of the screen's density,
+    /// accumulated over frames).
     #[arg(long, value_delimiter = ',')]
     ratios: Option<Vec<f32>>,
     /// The foveation table instead: stereo against each ratio in both fovea layouts, on every
@@ -316,11 +319,30 @@ fn foveated_variants(
     variants = with_view_sets(variants, &args.densities, &args.periphery_msaa);
     if args.temporal {
         variants = with_temporal(variants, &args.accumulation)?;
+    } else {
+        // The library's default beside the single frames, as `render --foveate R` renders it.
+        for &ratio in &ratios {
+            let default = FoveationConfig {
+                ratio,
+                blend_band_px: default_band,
+                ..FoveationConfig::default()
+            };
+            variants.push((default_row_name(ratio), default));
+        }
     }
     for (_, f) in &variants {
         f.geometry(screen)?;
     }
     Ok(variants)
+}
+
+/// The name of the library's default foveation's row at `ratio`, in the words of the rows
+/// `--densities` and `--temporal` name (with "the default" after them).
+fn default_row_name(ratio: f32) -> String {
+    let density = FoveationConfig::default()
+        .periphery_density
+        .unwrap_or(ratio);
+    format!("foveated {ratio}, periphery {density}, temporal (the default)")
 }
 
 /// The rows measured, each named with its sample count: the reference (stereo, 4×, full
