@@ -12,8 +12,9 @@ use super::CompareArgs;
 use crate::commands::latency::{latency_sweep, Sweep};
 use crate::fovea_table::{self, TableSettings};
 
-/// `--gaze-latency`: each ratio (and band) foveated at the last of `--msaa`, swept over the
-/// tracker's latency along a gaze trace (`commands::latency`).
+/// `--gaze-latency`: each ratio (and band) foveated at the last of `--msaa` as the library's
+/// default foveates (or, with `--single-frame`, single frames), swept over the tracker's latency
+/// along a gaze trace (`commands::latency`).
 pub(super) fn latency(options: &GpuOptions, args: &CompareArgs, acuity: Acuity) -> Result<()> {
     anyhow::ensure!(
         args.frames >= 2,
@@ -32,15 +33,24 @@ pub(super) fn latency(options: &GpuOptions, args: &CompareArgs, acuity: Acuity) 
     let mut foveated = Vec::new();
     for &ratio in args.ratios.as_deref().unwrap_or(&[0.7, 0.5, 0.35]) {
         for (i, &band) in bands.iter().enumerate() {
+            let kind = if args.latency.single_frame {
+                FoveationConfig::single_frame()
+            } else {
+                FoveationConfig::default()
+            };
             let foveation = FoveationConfig {
                 ratio,
                 blend_band_px: band,
-                ..FoveationConfig::single_frame()
+                ..kind
             };
             foveation.geometry(screen)?;
+            let periphery = match foveation.periphery_density {
+                Some(d) if !args.latency.single_frame => format!(", periphery {d} accumulated"),
+                _ => String::new(),
+            };
             let name = match i {
-                0 => format!("foveated {ratio}, MSAA {msaa}"),
-                _ => format!("foveated {ratio}, band {band}, MSAA {msaa}"),
+                0 => format!("foveated {ratio}{periphery}, MSAA {msaa}"),
+                _ => format!("foveated {ratio}{periphery}, band {band}, MSAA {msaa}"),
             };
             let config = RenderConfig {
                 msaa,

@@ -5,11 +5,11 @@
 //! Per latency and prediction: the worst frame after each saccade, how long the error stays above
 //! the budget, and the smallest fovea ratio that stays within it — with what that ratio costs.
 
+mod judge;
 mod outputs;
 mod trace;
 mod windows;
 
-use std::collections::HashMap;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
@@ -20,14 +20,15 @@ use foveate::metrics::perceptual::{perceptual_error, Maps};
 use foveate::metrics::Acuity;
 use foveate::metrics::EyePixels;
 use foveate::plan::{FramePlan, RenderConfig};
-use foveate::render::{Renderer, StereoImage};
+use foveate::render::StereoImage;
 use foveate::scene::Scene;
 use foveate::view::Eye;
 use glam::Vec2;
 
 use crate::side_by_side::{measure_group, Group};
+use judge::judge_foveated;
 use outputs::SweepOutputs;
-use trace::{checked_tracker_hz, displayed, gaze_source, judged_span, trackings};
+use trace::{checked_tracker_hz, displayed, gaze_source, judged_span, sequences, trackings};
 use windows::{print_table, worst_after_landing, Summary, Windows};
 
 /// The latency sweep's own settings (the rest are `compare`'s).
@@ -52,6 +53,11 @@ pub struct LatencyArgs {
     /// eye-movement model's.
     #[arg(long)]
     pub gaze_trace: Option<PathBuf>,
+    /// Each ratio as single frames (the periphery at the fovea's ratio, nothing kept between
+    /// frames) rather than the library's default foveation (the periphery accumulated over
+    /// frames, which the sweep renders in order, every display frame).
+    #[arg(long)]
+    pub single_frame: bool,
     /// Seed of the eye-movement model's trace.
     #[arg(long, default_value_t = 1)]
     pub seed: u32,
@@ -194,7 +200,12 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
     let budget = sweep
         .budget
         .unwrap_or(worst_after_landing(&stereo, &frames, &saccades));
-    let judged = judge_foveated(gpu, sweep, &plans, &shown, &frames, &judge)?;
+    // A history needs its frames in order: every display frame a tracking showed, from a
+    // warm-up before the first judged one to the last.
+    let sequences = sequences(
+        &trace, &tracker, &trackings, &frames, lead, display_hz, space,
+    )?;
+    let judged = judge_foveated(gpu, sweep, &plans, &shown, &frames, &sequences, &judge)?;
     gpu.check_validation()?;
     let windows = Windows {
         frames: &frames,
@@ -267,57 +278,4 @@ fn frame_error(error: foveate::metrics::perceptual::PerceptualError) -> Result<F
         mean: e.mean,
         regions: error.regions.map(|r| r.map(|r| r.p99)),
     })
-}
-
-/// Every foveated configuration's error per tracking and judged frame: each distinct gaze
-/// the trackings displayed is rendered once and judged for every frame that showed it.
-fn judge_foveated(
-    gpu: &Gpu,
-    sweep: &Sweep,
-    plans: &[FramePlan],
-    shown: &[Vec<Vec2>],
-    frames: &[Frame],
-    judge: &dyn Fn(&StereoImage, &FramePlan, Vec2, Vec2) -> Result<FrameError>,
-) -> Result<Vec<Vec<Vec<FrameError>>>> {
-    // Which (tracking, frame) showed each distinct gaze: every configuration renders each once.
-    let mut by_gaze: HashMap<[u32; 2], Vec<(usize, usize)>> = HashMap::new();
-    for (k, gazes) in shown.iter().enumerate() {
-        for (i, g) in gazes.iter().enumerate() {
-            by_gaze
-                .entry(g.to_array().map(f32::to_bits))
-                .or_default()
-                .push((k, i));
-        }
-    }
-    let mut gazes: Vec<[u32; 2]> = by_gaze.keys().copied().collect();
-    gazes.sort();
-    // Per configuration, per tracking, per judged frame.
-    let mut judged: Vec<Vec<Vec<FrameError>>> = Vec::new();
-    for (c, (name, _, _)) in sweep.foveated.iter().enumerate() {
-        let plan = &plans[c + 2];
-        let mut renderer = Renderer::new(gpu, plan, sweep.scene)?;
-        let bar = crate::progress::bar(&format!("latency: {name}"), gazes.len() as u64);
-        let mut rows = vec![vec![UNJUDGED; frames.len()]; shown.len()];
-        for key in &gazes {
-            if crate::interrupt::requested() {
-                // Its tables compare every configuration at once: no partial table is a result.
-                return Err(crate::interrupt::stopped(&format!(
-                    "the latency sweep stopped in configuration {} of {}: nothing written",
-                    c + 1,
-                    sweep.foveated.len()
-                )));
-            }
-            let g = Vec2::from_array(key.map(f32::from_bits));
-            renderer.set_gaze([g; 2])?;
-            renderer.render_frame(sweep.scene.head)?;
-            let image = renderer.readback()?;
-            for &(k, i) in &by_gaze[key] {
-                rows[k][i] = judge(&image, plan, frames[i].truth, g)?;
-            }
-            bar.inc(1);
-        }
-        bar.finish_and_clear();
-        judged.push(rows);
-    }
-    Ok(judged)
 }

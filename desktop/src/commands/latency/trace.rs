@@ -164,3 +164,101 @@ pub(super) fn displayed(
         })
         .collect()
 }
+
+/// Display frames rendered before the first judged one when the frames are rendered in order
+/// (a history's): what a headset that had been running would have accumulated, about 0.18 s.
+pub(super) const WARM_UP_FRAMES: usize = 16;
+
+/// Every display frame from `WARM_UP_FRAMES` before the first judged one to the last judged,
+/// in order: per tracking, the gaze it displayed at each; `judged_at[j]`, where judged frame
+/// `j` lies among them.
+pub(super) struct Sequences {
+    pub gazes: Vec<Vec<Vec2>>,
+    pub judged_at: Vec<usize>,
+}
+
+/// The display frames a sweep renders in order (`Sequences`) for `frames`, judged from the
+/// trace's start plus `lead` at `display_hz`.
+pub(super) fn sequences(
+    trace: &EyeTrace,
+    tracker: &[GazeSample],
+    trackings: &[Tracking],
+    frames: &[Frame],
+    lead: f64,
+    display_hz: f64,
+    space: GazeSpace,
+) -> Result<Sequences> {
+    let start = trace.truth[0].t + lead;
+    // The judged frames lie on the display's clock from `start` (judged_frames).
+    let index = |t: f64| ((t - start) * display_hz).round() as i64;
+    let first = index(frames[0].t) - WARM_UP_FRAMES as i64;
+    let last = index(frames[frames.len() - 1].t);
+    let all: Vec<Frame> = (first..=last)
+        .map(|i| {
+            let t = start + i as f64 / display_hz;
+            Frame {
+                t,
+                saccade: 0,
+                truth: trace.at(t),
+            }
+        })
+        .collect();
+    let gazes = trackings
+        .iter()
+        .map(|k| {
+            let latency =
+                GazeLatency::new(k.latency_ms, k.prediction).map_err(anyhow::Error::msg)?;
+            Ok(displayed(tracker, &all, latency, space))
+        })
+        .collect::<Result<_>>()?;
+    let judged_at = frames
+        .iter()
+        .map(|f| (index(f.t) - first) as usize)
+        .collect();
+    Ok(Sequences { gazes, judged_at })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use foveate::view::FovTangents;
+
+    /// The frames rendered in order show, at each judged frame, the gaze the judged frame
+    /// itself shows, for every tracking, with the warm-up before the first. Mutation: a
+    /// sequence one frame off (or judged frames indexed from the span's start rather than the
+    /// sequence's) fails it.
+    #[test]
+    fn a_sequence_shows_each_judged_frame_its_own_gaze() {
+        let space = GazeSpace {
+            fov: FovTangents::symmetric_deg(100.0, 100.0),
+        };
+        let (lead, hz) = (0.3, 90.0);
+        let trace = EyeMovementModel::default().simulate(space, lead + 3.0, 2);
+        let tracker = trace.sampled(120.0);
+        let saccades = detect_saccades(&trace.truth, space, 1.0);
+        let start = trace.truth[0].t + lead;
+        let frames = judged_frames(&trace, &saccades, start, start + 3.0, hz, 150.0);
+        assert!(frames.len() > 10, "{} judged frames", frames.len());
+        let trackings = [
+            Tracking {
+                latency_ms: 0.0,
+                prediction: Prediction::None,
+            },
+            Tracking {
+                latency_ms: 50.0,
+                prediction: Prediction::Linear,
+            },
+        ];
+        let s = sequences(&trace, &tracker, &trackings, &frames, lead, hz, space).unwrap();
+        assert_eq!(s.judged_at[0], WARM_UP_FRAMES);
+        for (k, tracking) in trackings.iter().enumerate() {
+            let latency = GazeLatency::new(tracking.latency_ms, tracking.prediction).unwrap();
+            let judged = displayed(&tracker, &frames, latency, space);
+            for (j, &at) in s.judged_at.iter().enumerate() {
+                assert_eq!(s.gazes[k][at], judged[j], "tracking {k}, judged frame {j}");
+            }
+        }
+        // Gaps between saccades are rendered too: more frames than are judged.
+        assert!(s.gazes[0].len() > frames.len() + WARM_UP_FRAMES);
+    }
+}
