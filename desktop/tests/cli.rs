@@ -493,11 +493,18 @@ fn compare_prints_time_and_error_per_region() {
         "both eyes side by side"
     );
     let _ = std::fs::remove_dir_all(&heatmaps);
-    let rows = read_csv(&csv, 26);
+    let rows = read_csv(&csv, 27);
     let row = rows
         .iter()
         .find(|r| r["config"] == "foveated 0.5, MSAA 4")
         .expect("foveated row");
+    // Each foveated row's output pass timed on its own (with and without accumulation, rows
+    // apart); a stereo frame without the lens has none (mutation: a column from another pass
+    // kind, or left empty).
+    for r in rows.iter().filter(|r| r["config"].starts_with("foveated")) {
+        let ms: f64 = r["output_pass_ms"].parse().unwrap_or(-1.0);
+        assert!(ms > 0.0, "{r:?}");
+    }
     // FLIP beside PSNR/SSIM: 0 for the reference's own twin, above 0 for the foveated frame.
     let stereo4 = rows
         .iter()

@@ -227,7 +227,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     );
     print_rows(&rows, &measured, reference.frame_ms);
     println!(
-        "(ratio: frame time to the reference, this run, frames without counters; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); the tile-GPU workload from the plan: samples the in-pass MSAA resolves average and external traffic (attachment loads and stores, sampling, readback); on the output image ({}), both eyes, pixels the lens hides left out: PSNR in dB / SSIM per region against the reference ({}); FLIP: mean at the display's pixels per degree; eFLIP: the eccentricity-aware FLIP for the eye at the gaze (metrics::flip), mean and 99th percentile, then p99 per region)",
+        "(ratio: frame time to the reference, this run, frames without counters; output ms: the GPU time of the pass that makes what the display shows (with the periphery's accumulation where the row accumulates), median; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); the tile-GPU workload from the plan: samples the in-pass MSAA resolves average and external traffic (attachment loads and stores, sampling, readback); on the output image ({}), both eyes, pixels the lens hides left out: PSNR in dB / SSIM per region against the reference ({}); FLIP: mean at the display's pixels per degree; eFLIP: the eccentricity-aware FLIP for the eye at the gaze (metrics::flip), mean and 99th percentile, then p99 per region)",
         base.output,
         unfoveated_regions(&rows)
     );

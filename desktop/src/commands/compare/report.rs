@@ -4,7 +4,7 @@
 use anyhow::Result;
 use foveate::metrics::perceptual::{heat_map, FrameAccuracy};
 use foveate::metrics::{ErrorSummary, RgbaImage};
-use foveate::plan::RenderConfig;
+use foveate::plan::{PassKind, RenderConfig};
 
 use super::{CompareArgs, Row};
 use crate::commands::bench::accuracy::AccuracyPoint;
@@ -130,13 +130,30 @@ pub(super) fn unfoveated_regions(rows: &[Row]) -> String {
     }
 }
 
+/// The GPU time of the passes that make what the display shows from what the scene passes
+/// rendered: the output pass, and the periphery's accumulation at its own texels where it has
+/// a pass of its own (medians, side by side with the other rows). `None` without either (a
+/// stereo frame with no lens has no output pass). With and without accumulation, rows apart.
+fn output_pass_ms(run: &Measured) -> Option<f64> {
+    let times: Vec<f64> = run
+        .plan
+        .passes
+        .iter()
+        .zip(&run.gpu_pass_ms)
+        .filter(|(p, _)| matches!(p.kind, PassKind::Output | PassKind::Accumulate))
+        .map(|(_, &ms)| ms)
+        .collect();
+    (!times.is_empty()).then(|| times.iter().sum())
+}
+
 pub(super) fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
     let width = super::super::name_column_width(rows.iter().map(|r| r.name.as_str()));
     println!(
-        "\n{:<width$} {:>9} {:>6} {:>11} {:>11} {:>11} {:>9} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
+        "\n{:<width$} {:>9} {:>6} {:>9} {:>11} {:>11} {:>11} {:>9} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
         "configuration",
         "frame ms",
         "ratio",
+        "output ms",
         "scene frags",
         "total frags",
         "resolved",
@@ -164,10 +181,11 @@ pub(super) fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms:
             |s: Option<ErrorSummary>| s.map_or("-".to_string(), |s| format!("{:.4}", s.mean));
         let p99 = |s: Option<ErrorSummary>| s.map_or("-".to_string(), |s| format!("{:.3}", s.p99));
         println!(
-            "{:<width$} {:>9.2} {:>6.3} {:>11} {:>11} {:>11} {:>9.1} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
+            "{:<width$} {:>9.2} {:>6.3} {:>9} {:>11} {:>11} {:>11} {:>9.1} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
             row.name,
             row.run.frame_ms,
             row.run.frame_ms / reference_ms,
+            output_pass_ms(&row.run).map_or("-".to_string(), |ms| format!("{ms:.2}")),
             row.run.scene_fragments(),
             row.run.total_fragments,
             row.run.plan.resolved_samples(),
@@ -222,6 +240,7 @@ pub(super) fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -
         "periphery_msaa",
         "frame_ms",
         "time_ratio",
+        "output_pass_ms",
         "scene_fragments",
         "total_fragments",
         "resolved_samples",
@@ -254,6 +273,7 @@ pub(super) fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -
             &opt(f.map(|f| f.periphery_samples(row.msaa) as f64), 0),
             &format!("{:.3}", row.run.frame_ms),
             &format!("{:.4}", row.run.frame_ms / reference_ms),
+            &opt(output_pass_ms(&row.run), 3),
             &row.run.scene_fragments(),
             &row.run.total_fragments,
             &row.run.plan.resolved_samples(),
