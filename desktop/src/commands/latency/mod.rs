@@ -14,7 +14,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use foveate::foveation::{GazeLatency, GazeSpace, Prediction};
+use foveate::foveation::{GazeSpace, Prediction};
 use foveate::gpu::Gpu;
 use foveate::metrics::perceptual::{perceptual_error, Maps};
 use foveate::metrics::Acuity;
@@ -28,7 +28,9 @@ use glam::Vec2;
 use crate::side_by_side::{measure_group, Group};
 use judge::judge_foveated;
 use outputs::SweepOutputs;
-use trace::{checked_tracker_hz, displayed, gaze_source, judged_span, sequences, trackings};
+use trace::{
+    checked_tracker_hz, gaze_source, judged_span, sequences, shown_per_tracking, trackings,
+};
 use windows::{print_table, worst_after_landing, Summary, Windows};
 
 /// The latency sweep's own settings (the rest are `compare`'s).
@@ -140,14 +142,7 @@ pub fn latency_sweep(gpu: &Gpu, args: &LatencyArgs, sweep: &Sweep) -> Result<()>
     let (trace, tracker, source) = gaze_source(args, space, lead, tracker_hz)?;
     let (saccades, frames) = judged_span(args, &trace, space, lead, display_hz)?;
     // Each tracking's displayed gaze per judged frame.
-    let shown: Vec<Vec<Vec2>> = trackings
-        .iter()
-        .map(|k| {
-            let latency =
-                GazeLatency::new(k.latency_ms, k.prediction).map_err(anyhow::Error::msg)?;
-            Ok(displayed(&tracker, &frames, latency, space))
-        })
-        .collect::<Result<_>>()?;
+    let shown = shown_per_tracking(&tracker, &trackings, &frames, space)?;
     let amplitudes: Vec<String> = saccades
         .iter()
         .map(|s| format!("{:.1}°", s.amplitude_deg))

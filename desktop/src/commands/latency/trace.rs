@@ -165,6 +165,23 @@ pub(super) fn displayed(
         .collect()
 }
 
+/// Per tracking, the gaze it displayed at each of `frames`.
+pub(super) fn shown_per_tracking(
+    tracker: &[GazeSample],
+    trackings: &[Tracking],
+    frames: &[Frame],
+    space: GazeSpace,
+) -> Result<Vec<Vec<Vec2>>> {
+    trackings
+        .iter()
+        .map(|k| {
+            let latency =
+                GazeLatency::new(k.latency_ms, k.prediction).map_err(anyhow::Error::msg)?;
+            Ok(displayed(tracker, frames, latency, space))
+        })
+        .collect()
+}
+
 /// Display frames rendered before the first judged one when the frames are rendered in order
 /// (a history's): what a headset that had been running would have accumulated, about 0.18 s.
 pub(super) const WARM_UP_FRAMES: usize = 16;
@@ -203,14 +220,7 @@ pub(super) fn sequences(
             }
         })
         .collect();
-    let gazes = trackings
-        .iter()
-        .map(|k| {
-            let latency =
-                GazeLatency::new(k.latency_ms, k.prediction).map_err(anyhow::Error::msg)?;
-            Ok(displayed(tracker, &all, latency, space))
-        })
-        .collect::<Result<_>>()?;
+    let gazes = shown_per_tracking(tracker, trackings, &all, space)?;
     let judged_at = frames
         .iter()
         .map(|f| (index(f.t) - first) as usize)
