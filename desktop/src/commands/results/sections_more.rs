@@ -216,7 +216,7 @@ pub(super) fn latency(runs: &Runs) -> Result<String> {
     ]);
     let header: Vec<&str> = header.iter().map(String::as_str).collect();
     Ok(format!(
-        "\n## The eye tracker's latency\n\nThe lit atrium at a quarter of the Quest Pro's panel, the fovea placed where the tracker saw the gaze that long before (with the prediction named), judged at the eye's true gaze from each simulated saccade's onset to 150 ms after its landing. Each cell is the worst eFLIP p99 at or after a landing, ✗ over the budget: aliased stereo's worst frame, {budget:.3}.\n\n{}\n{}.\n",
+        "\n## The eye tracker's latency\n\nThe lit atrium at a quarter of the Quest Pro's panel, foveated as the library's default foveates (the periphery at 0.6 of the screen's density, accumulated over the display frames, rendered in order) at each fovea ratio, the fovea placed where the tracker saw the gaze that long before (with the prediction named), judged at the eye's true gaze from each simulated saccade's onset to 150 ms after its landing. Each cell is the worst eFLIP p99 at or after a landing, ✗ over the budget: aliased stereo's worst frame, {budget:.3}.\n\n{}\n{}.\n",
         table(&header, &rows),
         run.provenance("docs")
     ))
