@@ -78,7 +78,7 @@ fn each_gaze_once(
     gazes.sort();
     let mut renderer = Renderer::new(gpu, plan, sweep.scene)?;
     let bar = crate::progress::bar(&format!("latency: {name}"), gazes.len() as u64);
-    let mut rows = vec![vec![super::UNJUDGED; frames.len()]; shown.len()];
+    let mut rows = vec![vec![UNJUDGED; frames.len()]; shown.len()];
     for key in &gazes {
         if crate::interrupt::requested() {
             return Err(stopped());

@@ -19,7 +19,7 @@ pub(super) fn judged_span(
     lead: f64,
     display_hz: f64,
 ) -> Result<(Vec<SaccadeEvent>, Vec<Frame>)> {
-    let start = trace.truth[0].t + lead;
+    let start = span_start(trace, lead);
     let end = start + args.trace_s;
     let saccades: Vec<SaccadeEvent> = detect_saccades(&trace.truth, space, 1.0)
         .into_iter()
@@ -32,6 +32,11 @@ pub(super) fn judged_span(
         args.after_ms
     );
     Ok((saccades, frames))
+}
+
+/// Where the judged span starts: `lead` seconds into the trace.
+fn span_start(trace: &EyeTrace, lead: f64) -> f64 {
+    trace.truth[0].t + lead
 }
 
 /// The figures `latency_sweep` checks before it renders; the tracker's rate.
@@ -205,7 +210,7 @@ pub(super) fn sequences(
     display_hz: f64,
     space: GazeSpace,
 ) -> Result<Sequences> {
-    let start = trace.truth[0].t + lead;
+    let start = span_start(trace, lead);
     // The judged frames lie on the display's clock from `start` (judged_frames).
     let index = |t: f64| ((t - start) * display_hz).round() as i64;
     let first = index(frames[0].t) - WARM_UP_FRAMES as i64;
