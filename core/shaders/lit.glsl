@@ -8,6 +8,12 @@
 // pixels' (`prefiltered_roughness`). Off, none of it is compiled.
 layout(constant_id = 41) const bool PERIPHERY_PREFILTER = false;
 
+// The scene's point lights (`FramePlan::point_lights`), fixed when the pipeline is compiled. Not
+// a count in `Lighting`: a loop bounded by a uniform buffer's value makes lavapipe before Mesa 25
+// inline the value and compile the shader anew each time a descriptor set or push constant is
+// bound, and it never frees those shaders (about 2 MB a lit pass; docs/driver-notes).
+layout(constant_id = 43) const uint POINT_LIGHTS = 0;
+
 layout(set = 0, binding = 5) uniform sampler2DArray base_color_tex;
 layout(set = 0, binding = 6) uniform sampler2DArray normal_tex;
 layout(set = 0, binding = 7) uniform sampler2DArray orm_tex;
@@ -26,8 +32,7 @@ layout(std140, set = 0, binding = 9) uniform Lighting {
     vec4 sky_color;      // rgb, from above
     vec4 ground_color;   // rgb, from below
     vec4 point_pos[4];   // xyz, w: range
-    vec4 point_color[4]; // rgb
-    uvec4 counts;        // x: point lights
+    vec4 point_color[4]; // rgb; the first POINT_LIGHTS are the scene's
 } lighting;
 
 const float PI = 3.14159265359;
@@ -166,7 +171,7 @@ vec4 shade_lit(vec3 n, vec4 tangent, vec3 world, vec2 mesh_uv, uint material, ve
     vec3 v = normalize(eye - world);
 
     vec3 color = brdf(normal, v, -sun_dir, lighting.sun_color.rgb, albedo, metallic, roughness);
-    for (uint i = 0u; i < lighting.counts.x; i++) {
+    for (uint i = 0u; i < POINT_LIGHTS; i++) {
         vec3 to_light = lighting.point_pos[i].xyz - world;
         float dist2 = max(dot(to_light, to_light), 1e-4);
         float range = lighting.point_pos[i].w;

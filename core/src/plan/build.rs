@@ -122,6 +122,11 @@ pub(super) fn plan_with(
         spare_instances: config.spare_instances,
         fovea_layout,
         lit: scene.shading() == Shading::Lit,
+        point_lights: if scene.shading() == Shading::Lit {
+            scene.lights.len() as u32
+        } else {
+            0
+        },
         alpha_mask: scene.materials.iter().any(|m| m.alpha_cutoff.is_some()),
         anisotropy: (caps.max_anisotropy >= 2.0 && !caps.quirks.anisotropic_filtering_is_slow)
             .then(|| caps.max_anisotropy.min(8.0)),

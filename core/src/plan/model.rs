@@ -299,6 +299,12 @@ pub struct FramePlan {
     /// The scene has lit materials: its pipelines shade PBR with textures and lights, and its
     /// renderer makes the textures (a flat scene's makes none).
     pub lit: bool,
+    /// Point lights a lit frame shades, the scene's (at most
+    /// [`MAX_POINT_LIGHTS`](crate::scene::MAX_POINT_LIGHTS)); 0 for a flat one. The lit
+    /// pipelines take it as a specialization constant, so their loop over the lights has a bound
+    /// fixed when they are compiled, never one read from a uniform buffer (which lavapipe before
+    /// Mesa 25 recompiles the shader for, leaking it, every time the bindings change).
+    pub point_lights: u32,
     /// Some lit material is alpha-masked: the scene's fragment shader discards and tests depth
     /// late (only such a scene pays for that).
     pub alpha_mask: bool,

@@ -89,6 +89,9 @@ pub enum Constant {
     /// The output stage composes a parafoveal ring between the fovea and the periphery
     /// ([`FoveationConfig::ring_ratio`](crate::foveation::FoveationConfig::ring_ratio)).
     Ring,
+    /// Lit scenes: the point lights each fragment shades ([`FramePlan::point_lights`](super::FramePlan::point_lights)),
+    /// so the loop over them has a bound fixed when the pipeline is compiled.
+    PointLights,
 }
 
 /// How a constant's 32 bits read.
@@ -104,7 +107,7 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 33] = {
+    pub const ALL: [Constant; 34] = {
         use Constant::*;
         [
             ViewSource,
@@ -140,6 +143,7 @@ impl Constant {
             Reach,
             PeripheryPrefilter,
             Ring,
+            PointLights,
         ]
     };
 
@@ -181,6 +185,7 @@ impl Constant {
             Reach => (40, "REACH", Bool),
             PeripheryPrefilter => (41, "PERIPHERY_PREFILTER", Bool),
             Ring => (42, "RING", Bool),
+            PointLights => (43, "POINT_LIGHTS", Uint),
         }
     }
 

@@ -435,6 +435,7 @@ pub(super) fn scene_pipeline(
     .flag(Constant::DepthInAlpha, pass.kind == PassKind::FarField)
     .flag(Constant::MarkMoving, marks_moving(plan))
     .flag(Constant::PeripheryPrefilter, plan.lit && prefilters(plan))
+    .constant(Constant::PointLights, plan.point_lights)
 }
 
 /// Whether the scene passes mark the pixels of instances that move (alpha 0): only where the

@@ -33,7 +33,6 @@ struct LightingBlock {
     ground_color: Vec4,
     point_pos: [Vec4; 4],
     point_color: [Vec4; 4],
-    counts: [u32; 4],
 }
 
 /// Which of a material's textures an array holds.
@@ -152,7 +151,6 @@ impl MaterialSet {
             ground_color: Vec4::new(0.25, 0.22, 0.18, 0.0),
             point_pos: [Vec4::ZERO; 4],
             point_color: [Vec4::ZERO; 4],
-            counts: [scene.lights.len() as u32, 0, 0, 0],
         };
         for (i, l) in scene.lights.iter().enumerate() {
             block.point_pos[i] = l.position.extend(l.range);
