@@ -68,6 +68,10 @@ enum Command {
     /// The frame on an OpenXR runtime's headset (Monado's simulated one in CI): the runtime
     /// makes the Vulkan device, places the eyes each frame and takes the output stage's images.
     Xr(crate::commands::xr::XrArgs),
+    /// Renderers kept rendering for minutes or hours (lit and flat, stereo and foveated, frames
+    /// in flight, an instance moving): resident memory and frame times sampled throughout; fails
+    /// when memory grows beyond a bound after the warm-up.
+    Soak(crate::commands::soak::SoakArgs),
 }
 
 impl Cli {
@@ -129,6 +133,7 @@ impl Cli {
             Command::Bench(args) => crate::commands::bench::bench(&self.gpu_options(), args),
             Command::Xr(args) => crate::commands::xr::xr(&self.gpu_options(), args),
             Command::Judge(args) => crate::commands::judge::judge(&self.gpu_options(), args),
+            Command::Soak(args) => crate::commands::soak::soak(&self.gpu_options(), args),
         }
     }
 }

@@ -13,14 +13,14 @@ use super::accuracy::AccuracyPoint;
 use super::report::{FrameSample, Report};
 use crate::outputs::plot_file;
 
-const FONT: &str = "sans-serif";
+pub(crate) const FONT: &str = "sans-serif";
 const SERIES: [(&str, RGBColor); 4] = [
     ("frame", RGBColor(20, 20, 20)),
     ("gpu", RGBColor(31, 119, 180)),
     ("cpu", RGBColor(255, 127, 14)),
     ("cull", RGBColor(44, 160, 44)),
 ];
-const PALETTE: [RGBColor; 10] = [
+pub(crate) const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
@@ -33,7 +33,7 @@ const PALETTE: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
-fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+pub(crate) fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow::anyhow!("drawing a plot: {e:?}")
 }
 
@@ -51,9 +51,10 @@ macro_rules! plot_files {
         foveate::write_atomic($svg, svg.as_bytes())?;
     }};
 }
+pub(crate) use plot_files;
 
 /// An RGB bitmap as a PNG, atomically.
-fn write_png(rgb: &[u8], size: (u32, u32), path: &Path) -> Result<()> {
+pub(crate) fn write_png(rgb: &[u8], size: (u32, u32), path: &Path) -> Result<()> {
     let data = rgb
         .chunks_exact(3)
         .flat_map(|p| [p[0], p[1], p[2], 255])
@@ -239,7 +240,7 @@ fn rails_compare<DB: DrawingBackend>(report: &Report, root: DrawingArea<DB, Shif
 }
 
 /// The series' legend in the upper right, then the picture written out.
-fn legend_and_present<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+pub(crate) fn legend_and_present<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
     chart: &mut ChartContext<'a, DB, CT>,
     root: &DrawingArea<DB, Shift>,
 ) -> Result<()> {
