@@ -91,6 +91,7 @@ pub(super) fn plan_with(
         }
         work_around_multiview_clipping(&mut passes, &attachments, caps);
     }
+    let lit = scene.shading() == Shading::Lit;
     let mut plan = FramePlan {
         hmd: e.hmd,
         eyes: e.eyes,
@@ -121,12 +122,8 @@ pub(super) fn plan_with(
         scene_instances: scene.instance_count() + spare_total(scene, config.spare_instances),
         spare_instances: config.spare_instances,
         fovea_layout,
-        lit: scene.shading() == Shading::Lit,
-        point_lights: if scene.shading() == Shading::Lit {
-            scene.lights.len() as u32
-        } else {
-            0
-        },
+        lit,
+        point_lights: if lit { scene.lights.len() as u32 } else { 0 },
         alpha_mask: scene.materials.iter().any(|m| m.alpha_cutoff.is_some()),
         anisotropy: (caps.max_anisotropy >= 2.0 && !caps.quirks.anisotropic_filtering_is_slow)
             .then(|| caps.max_anisotropy.min(8.0)),

@@ -299,11 +299,8 @@ pub struct FramePlan {
     /// The scene has lit materials: its pipelines shade PBR with textures and lights, and its
     /// renderer makes the textures (a flat scene's makes none).
     pub lit: bool,
-    /// Point lights a lit frame shades, the scene's (at most
-    /// [`MAX_POINT_LIGHTS`](crate::scene::MAX_POINT_LIGHTS)); 0 for a flat one. The lit
-    /// pipelines take it as a specialization constant, so their loop over the lights has a bound
-    /// fixed when they are compiled, never one read from a uniform buffer (which lavapipe before
-    /// Mesa 25 recompiles the shader for, leaking it, every time the bindings change).
+    /// Point lights a lit frame shades (0 flat): a constant of its pipelines, never a uniform
+    /// (lavapipe 22.3 recompiles and leaks a shader whose loop a uniform bounds, at every bind).
     pub point_lights: u32,
     /// Some lit material is alpha-masked: the scene's fragment shader discards and tests depth
     /// late (only such a scene pays for that).
@@ -454,16 +451,6 @@ impl FramePlan {
     pub fn periphery_density(&self) -> Option<f64> {
         let g = self.foveation?;
         Some(g.periphery_view.width as f64 / self.eye_resolution.width as f64)
-    }
-
-    /// Display pixels per degree at `eye`'s lens axis: across the display's field (the lens
-    /// model's) when the output is distorted for the lens, the rendered field otherwise, over
-    /// the eye's output width.
-    pub fn pixels_per_degree(&self, eye: Eye) -> f64 {
-        let field = self
-            .lens
-            .map_or(self.eyes.fov(eye), |l| l.display[eye.index()]);
-        field.pixels_per_degree(self.eye_resolution.width)
     }
 
     /// Slots of the timestamp query pool: the timestamps read, then the spare slots (0 when

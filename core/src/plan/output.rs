@@ -14,6 +14,7 @@ use crate::shaders::{
     COMPOSITE_VERT, OUTPUT_FRAG, OUTPUT_FRAG_COUNTING, OUTPUT_TEMPORAL_FRAG,
     OUTPUT_TEMPORAL_FRAG_COUNTING,
 };
+use crate::view::Eye;
 
 /// The output pass: each eye at `eye` size, from `sources` (in eye order; the periphery, then
 /// the fovea views of a two-pass foveated frame) as `source` says.
@@ -240,4 +241,16 @@ pub(super) fn output_pipeline(
             Constant::HistoryOutcomeBase,
             plan.history_outcome_base().unwrap_or(0),
         )
+}
+
+impl FramePlan {
+    /// Display pixels per degree at `eye`'s lens axis: across the display's field (the lens
+    /// model's) when the output is distorted for the lens, the rendered field otherwise, over
+    /// the eye's output width.
+    pub fn pixels_per_degree(&self, eye: Eye) -> f64 {
+        let field = self
+            .lens
+            .map_or(self.eyes.fov(eye), |l| l.display[eye.index()]);
+        field.pixels_per_degree(self.eye_resolution.width)
+    }
 }

@@ -89,8 +89,8 @@ pub enum Constant {
     /// The output stage composes a parafoveal ring between the fovea and the periphery
     /// ([`FoveationConfig::ring_ratio`](crate::foveation::FoveationConfig::ring_ratio)).
     Ring,
-    /// Lit scenes: the point lights each fragment shades ([`FramePlan::point_lights`](super::FramePlan::point_lights)),
-    /// so the loop over them has a bound fixed when the pipeline is compiled.
+    /// Lit scenes: the point lights each fragment shades (the plan's `point_lights`), so the
+    /// loop over them has a bound fixed when the pipeline is compiled.
     PointLights,
 }
 

@@ -345,3 +345,32 @@ fn the_output_stage_looks_for_moving_instances_where_the_scene_marks_them() {
         );
     }
 }
+
+/// A lit scene's loop over its point lights is bounded by a constant: its scene pipelines state
+/// the scene's count, and a flat scene's state none. (Bounded by a uniform buffer's value, the
+/// loop made lavapipe 22.3 compile the shader anew at every bind and leak it.) Mutation: the
+/// constant left unset states nothing and shades no point light.
+#[test]
+fn lit_scene_pipelines_state_the_scenes_point_lights() {
+    let lit = atrium_scene();
+    let flat = atrium_scene().with_shading(Shading::Flat);
+    assert!(!lit.lights.is_empty());
+    for (scene, lights) in [(&lit, lit.lights.len() as u32), (&flat, 0)] {
+        let plan = plan(scene, &base(StereoMode::Multiview), &DeviceCaps::generic()).unwrap();
+        assert_eq!(plan.point_lights, lights);
+        let stated: Vec<u32> = plan
+            .passes
+            .iter()
+            .flat_map(|p| &p.pipelines)
+            .filter_map(|d| d.constants.iter().find(|c| c.0 == Constant::PointLights))
+            .map(|c| c.1)
+            .collect();
+        match lights {
+            0 => assert!(stated.is_empty(), "{stated:?}"),
+            n => assert!(
+                !stated.is_empty() && stated.iter().all(|&v| v == n),
+                "{stated:?}"
+            ),
+        }
+    }
+}

@@ -131,7 +131,9 @@ impl FramePlan {
             };
             writeln!(
                 f,
-                "  shading: lit PBR materials (base colour, normal, occlusion-roughness-metallic textures with full mips, {filter}), sun, point lights and sky"
+                "  shading: lit PBR materials (base colour, normal, occlusion-roughness-metallic textures with full mips, {filter}), sun, {} point light{} (a constant of the pipelines) and sky",
+                self.point_lights,
+                if self.point_lights == 1 { "" } else { "s" }
             )?;
             if self.alpha_mask {
                 writeln!(
