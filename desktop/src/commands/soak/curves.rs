@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use anyhow::Result;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -44,6 +45,29 @@ fn x_max(report: &SoakReport) -> f64 {
         .max(1e-3)
 }
 
+/// A chart of minutes (0 to `x_max`) against 0 to `y_max`, its axes drawn.
+fn over_minutes<'a, DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    caption: &str,
+    x_max: f64,
+    y_max: f64,
+) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FONT, 20))
+        .margin(12)
+        .x_label_area_size(36)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..x_max, 0.0..y_max)
+        .map_err(plot_error)?;
+    chart
+        .configure_mesh()
+        .x_desc("minutes")
+        .label_style((FONT, 13))
+        .draw()
+        .map_err(plot_error)?;
+    Ok(chart)
+}
+
 fn memory<DB: DrawingBackend>(report: &SoakReport, area: &DrawingArea<DB, Shift>) -> Result<()> {
     let base = report.after.first().map(|&(_, b)| b as f64 / MIB);
     let bound = base.map(|b| b * (1.0 + report.limits.max_growth));
@@ -52,22 +76,9 @@ fn memory<DB: DrawingBackend>(report: &SoakReport, area: &DrawingArea<DB, Shift>
         .iter()
         .map(|w| w.resident as f64 / MIB)
         .fold(bound.unwrap_or(0.0), f64::max);
-    let mut chart = ChartBuilder::on(area)
-        .caption(
-            "Resident memory, most per window (MiB); dashed: the bound over the warm-up's end",
-            (FONT, 20),
-        )
-        .margin(12)
-        .x_label_area_size(36)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..x_max(report), 0.0..peak * 1.1)
-        .map_err(plot_error)?;
-    chart
-        .configure_mesh()
-        .x_desc("minutes")
-        .label_style((FONT, 13))
-        .draw()
-        .map_err(plot_error)?;
+    let caption =
+        "Resident memory, most per window (MiB); dashed: the bound over the warm-up's end";
+    let mut chart = over_minutes(area, caption, x_max(report), peak * 1.1)?;
     let points = report
         .windows
         .iter()
@@ -99,22 +110,8 @@ fn frame_times<DB: DrawingBackend>(
         .filter(|w| !w.warming)
         .flat_map(|w| w.times.iter().map(|t| t.p99_ms))
         .fold(1.0, f64::max);
-    let mut chart = ChartBuilder::on(area)
-        .caption(
-            "Frame time per window after the warm-up (GPU, ms): median, p99 dashed",
-            (FONT, 20),
-        )
-        .margin(12)
-        .x_label_area_size(36)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..x_max(report), 0.0..top * 1.1)
-        .map_err(plot_error)?;
-    chart
-        .configure_mesh()
-        .x_desc("minutes")
-        .label_style((FONT, 13))
-        .draw()
-        .map_err(plot_error)?;
+    let caption = "Frame time per window after the warm-up (GPU, ms): median, p99 dashed";
+    let mut chart = over_minutes(area, caption, x_max(report), top * 1.1)?;
     for (k, name) in report.names.iter().enumerate() {
         let colour = PALETTE[k % PALETTE.len()];
         let series = |p99: bool| {
