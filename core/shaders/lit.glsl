@@ -10,8 +10,8 @@ layout(constant_id = 41) const bool PERIPHERY_PREFILTER = false;
 
 // The scene's point lights (`FramePlan::point_lights`), fixed when the pipeline is compiled. Not
 // a count in `Lighting`: a loop bounded by a uniform buffer's value makes lavapipe before Mesa 25
-// inline the value and compile the shader anew each time a descriptor set or push constant is
-// bound, and it never frees those shaders (about 2 MB a lit pass; docs/driver-notes).
+// inline the value and compile the shader anew each time a descriptor set is bound, and it
+// never frees those shaders (about 2.6 MB a lit pass; docs/driver-notes).
 layout(constant_id = 43) const uint POINT_LIGHTS = 0;
 
 layout(set = 0, binding = 5) uniform sampler2DArray base_color_tex;

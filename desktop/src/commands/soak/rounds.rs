@@ -90,7 +90,8 @@ impl Soaked {
 
     /// Records and submits frame `round` (at 90 Hz: the head sways 5 cm every 4 s, the instance
     /// slides half a metre every 3 s, the gaze sweeps every 5 s); returns the GPU time of the
-    /// frame that last held its slot (`None` while the slots fill).
+    /// frame that last held its slot (`None` while the slots fill; the plan always has
+    /// timestamps, it refuses a device without them).
     pub fn frame(&mut self, round: u64) -> Result<Option<f64>> {
         let t = round as f32 / 90.0;
         let wave = |period: f32| (TAU * t / period).sin();
@@ -105,7 +106,7 @@ impl Soaked {
             input.gaze = Some([gaze, gaze]);
         }
         let finished = self.frames.render(&mut self.renderer, &input)?;
-        Ok(finished.map(|stats| stats.gpu_ms.unwrap_or(stats.frame_ms)))
+        Ok(finished.and_then(|stats| stats.gpu_ms))
     }
 
     /// Waits for the frames still in flight.
