@@ -8,7 +8,7 @@ pub(crate) use crate::foveation_layer::OutputTexels;
 pub use crate::foveation_layer::{
     output_image_desc, view_images, DrawContext, DrawPass, FoveationLayer, FrameInput, FrameRecord,
     FrameStats, FrameViewSet, HandedImage, HistoryOutcome, HistoryOutcomes, PassStatistics,
-    StepFragments, StereoImage, View, ViewImage, ViewKind, MAX_OUTPUT_IMAGES,
+    StepFragments, StepShaders, StereoImage, View, ViewImage, ViewKind, MAX_OUTPUT_IMAGES,
 };
 internal_use!(crate::foveation_layer::{Command, CommandLog});
 internal_use!(crate::foveation_layer::record_frame);

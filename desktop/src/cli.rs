@@ -37,6 +37,11 @@ enum Command {
     View(crate::commands::view::ViewArgs),
     /// List Vulkan devices with what foveate cares about.
     Devices,
+    /// What the device's own compiler made of every pipeline of the frame, per pass and step
+    /// (instructions, registers, waves, ...), where the device reports it (Adreno's turnip
+    /// through scripts/adreno.sh, RADV, NVIDIA); compiling them all is the check that the
+    /// driver accepts them.
+    Shaders(crate::commands::shaders::ShadersArgs),
     /// Write docs/results.md and the README's verdict table from the committed run files
     /// (docs/results/index.csv); `--check` compares instead (scripts/results.sh, CI).
     #[command(hide = true)]
@@ -123,6 +128,7 @@ impl Cli {
                 Ok(())
             }
             Command::Render(args) => crate::commands::render::render(&self.gpu_options(), args),
+            Command::Shaders(args) => crate::commands::shaders::shaders(&self.gpu_options(), args),
             Command::View(args) => crate::commands::view::view(&self.gpu_options(), args),
             Command::CullBench(args) => crate::commands::cull::cull_bench(args),
             Command::Pixels(args) => crate::commands::pixels::pixels(&self.gpu_options(), args),

@@ -48,7 +48,7 @@ pub struct FoveationLayer {
     output_targets: Option<OutputTargets>,
     /// Each pass's steps as recorded: pipeline, layout and each slot's descriptor set (the sets
     /// belong to the slots and executors below). An engine's scene steps have no pipeline.
-    steps: Vec<Vec<BoundStep>>,
+    pub(super) steps: Vec<Vec<BoundStep>>,
     /// Each technique's executor the plan calls for (masks, output stage, far composite,
     /// reconstruction), in no particular order: each owns its resources and per-frame uniforms.
     executors: Vec<Box<dyn Executor>>,

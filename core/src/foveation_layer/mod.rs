@@ -30,6 +30,7 @@ mod record;
 pub(crate) mod recorder;
 mod sampled_set;
 pub(crate) mod setup;
+mod shader_report;
 pub(crate) mod stats;
 mod stereo_scene;
 mod targets;
@@ -48,6 +49,7 @@ pub(crate) use readback::OutputTexels;
 pub use readback::StereoImage;
 internal_use!(record::record_frame);
 internal_use!(recorder::{FrameDraws, Recorder, Rect});
+pub use shader_report::StepShaders;
 pub use stats::{FrameStats, PassStatistics, StepFragments};
 pub use view_images::{view_images, HandedImage, ViewImage};
 

@@ -9,6 +9,7 @@ use gpu_allocator::vulkan::Allocator;
 use super::device_choice::{candidates, choose};
 use super::open::DeviceParts;
 use super::pipeline_cache::PipelineCacheFile;
+use super::shader_statistics;
 use super::{GpuError, ObjectCache, Pipeline, PipelineKey, RenderPass, VkResultExt};
 use crate::vocab::{DeviceCaps, DriverQuirks};
 
@@ -363,6 +364,9 @@ pub struct Gpu {
     /// `vkCreateRenderPass2KHR`, where [`DeviceCaps::depth_resolve`] is on: the render passes
     /// that resolve depth are made with it.
     pub(crate) render_pass2: Option<ash::khr::create_renderpass2::Device>,
+    /// Where the device reports its compiler's statistics (a device foveate opened, with the
+    /// extension): every pipeline is created capturing them.
+    pub(crate) executable_properties: Option<ash::khr::pipeline_executable_properties::Device>,
 }
 
 /// The device extensions a pass needs to resolve its depth (`DeviceCaps::depth_resolve`),
@@ -440,6 +444,12 @@ impl Gpu {
         if depth_resolve {
             device_extensions.extend(DEPTH_RESOLVE_EXTENSIONS.iter().map(|n| n.as_ptr()));
         }
+        let statistics = shader_statistics::offered(vk_instance, physical, offers(shader_statistics::EXTENSION));
+        let mut executable_info = vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR::default()
+            .pipeline_executable_info(statistics);
+        if statistics {
+            device_extensions.push(shader_statistics::EXTENSION.as_ptr());
+        }
         if options.display.is_some() {
             if !offers(ash::khr::swapchain::NAME) {
                 return Err(GpuError::NoPresentation(format!(
@@ -453,7 +463,8 @@ impl Gpu {
             .queue_create_infos(&queues)
             .enabled_features(&features)
             .enabled_extension_names(&device_extensions)
-            .push_next(&mut multiview);
+            .push_next(&mut multiview)
+            .push_next(&mut executable_info);
         // SAFETY: the create info points at locals that outlive the call; a creator's device is
         // loaded through this instance.
         let device = match creator {
@@ -470,6 +481,7 @@ impl Gpu {
             queue_index: 0,
             enabled: features,
             depth_resolve,
+            statistics,
             owned: true,
             queue_lock: Arc::default(),
         };

@@ -42,7 +42,6 @@ macro_rules! owned_handle {
 
 owned_handle!(RenderPass, vk::RenderPass, destroy_render_pass);
 owned_handle!(Framebuffer, vk::Framebuffer, destroy_framebuffer);
-owned_handle!(Pipeline, vk::Pipeline, destroy_pipeline);
 owned_handle!(PipelineLayout, vk::PipelineLayout, destroy_pipeline_layout);
 owned_handle!(
     DescriptorSetLayout,
@@ -74,3 +73,33 @@ owned_handle!(QueryPool, vk::QueryPool, destroy_query_pool);
 owned_handle!(PipelineCache, vk::PipelineCache, destroy_pipeline_cache);
 owned_handle!(ImageView, vk::ImageView, destroy_image_view);
 owned_handle!(Sampler, vk::Sampler, destroy_sampler);
+
+/// A pipeline, with what its driver's compiler reported of it where the device reports that.
+pub struct Pipeline {
+    dev: Arc<DeviceOwner>,
+    pub raw: vk::Pipeline,
+    /// Its executables' statistics, captured as it was created: none where the device does not
+    /// report them (`VK_KHR_pipeline_executable_properties`).
+    pub statistics: Option<Vec<super::ShaderExecutable>>,
+}
+
+impl Pipeline {
+    /// Takes ownership of `raw`, which must have been created on `dev`'s device.
+    pub(crate) fn from_raw(dev: &Arc<DeviceOwner>, raw: vk::Pipeline) -> Self {
+        dev.created("Pipeline");
+        Self {
+            dev: dev.clone(),
+            raw,
+            statistics: None,
+        }
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        // SAFETY: as for every owned handle: created on this device, owned only here, kept
+        // alive until the GPU work using it has completed.
+        unsafe { self.dev.device.destroy_pipeline(self.raw, None) }
+        self.dev.destroyed("Pipeline");
+    }
+}

@@ -13,6 +13,7 @@ mod memory;
 mod open;
 mod pipeline_cache;
 mod present_copy;
+mod shader_statistics;
 mod submit;
 mod swapchain;
 
@@ -30,6 +31,8 @@ pub(crate) use memory::pod_bytes;
 pub use memory::{Image, ImageDesc};
 internal_use!(memory::{Buffer, MemoryLocation});
 pub use open::EngineDevice;
+pub(crate) use shader_statistics::capture as capture_statistics;
+pub use shader_statistics::{ShaderExecutable, ShaderStatistic, StatisticValue};
 pub use swapchain::{Acquired, Presented, Swapchain, SwapchainImage};
 
 pub(crate) use cache::{Description, ObjectCache, PipelineKey};

@@ -50,6 +50,8 @@ pub(super) struct DeviceParts {
     pub enabled: vk::PhysicalDeviceFeatures,
     /// The extensions a pass needs to resolve depth are enabled.
     pub depth_resolve: bool,
+    /// `VK_KHR_pipeline_executable_properties` and its feature are enabled.
+    pub statistics: bool,
     pub owned: bool,
     pub queue_lock: Arc<Mutex<()>>,
 }
@@ -175,6 +177,8 @@ impl Gpu {
             queue_index: engine.queue_index,
             enabled: engine.enabled_features,
             depth_resolve,
+            // An engine's device: whether it enabled the extension's feature is not told.
+            statistics: false,
             owned: false,
             queue_lock: engine.queue_lock,
         };
@@ -224,6 +228,9 @@ impl Gpu {
         let render_pass2 = parts
             .depth_resolve
             .then(|| ash::khr::create_renderpass2::Device::new(vk_instance, &device));
+        let executable_properties = parts
+            .statistics
+            .then(|| ash::khr::pipeline_executable_properties::Device::new(vk_instance, &device));
         log::info!(
             "device: {} ({:?}, driver {}{}); quirks: {:?}",
             chosen.info.name,
@@ -258,6 +265,7 @@ impl Gpu {
             pipelines: Arc::default(),
             pipeline_cache: Arc::new(pipeline_cache),
             render_pass2,
+            executable_properties,
         })
     }
 

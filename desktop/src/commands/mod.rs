@@ -12,6 +12,7 @@ mod motion_frontier;
 pub mod pixels;
 pub mod render;
 pub mod results;
+pub mod shaders;
 pub mod soak;
 pub mod view;
 pub mod xr;

@@ -1,0 +1,171 @@
+//! `foveate shaders`: what the device's own compiler made of every pipeline of the frame, per
+//! pass and step, where the device reports it (`VK_KHR_pipeline_executable_properties`: Mesa's
+//! turnip for Adreno, through `scripts/adreno.sh`; RADV; NVIDIA's driver). Creating the
+//! renderer compiles every pipeline, so the command is also the check that a driver accepts
+//! them all: any pipeline it refuses fails the run, naming the error.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use foveate::gpu::{Gpu, GpuOptions, ShaderExecutable};
+use foveate::render::{Renderer, StepShaders};
+
+use crate::csv_out::CsvTable;
+use crate::frame_args::ConfigArgs;
+
+#[derive(Args)]
+pub struct ShadersArgs {
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Print every statistic the driver reports, one line each (default: a table of the main
+    /// ones, where the driver names them as turnip or RADV does).
+    #[arg(long)]
+    pub all: bool,
+    /// Also write every statistic as CSV: a row per mode, pass, step, executable and statistic.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+}
+
+/// The table's columns: a header, and the names drivers give the statistics summed into it
+/// (turnip's, then RADV's where it has one): ALU is turnip's cat2 and cat3 instructions, SFU
+/// its special functions (cat4), tex its texture instructions (cat5), stall its estimated
+/// cycles stalled on the SS and SY sync bits.
+const COLUMNS: [(&str, &[&[&str]]); 9] = [
+    ("instr", &[&["Instruction Count"], &["Instructions"]]),
+    ("nops", &[&["NOPs Count"]]),
+    ("alu", &[&["cat2 instructions", "cat3 instructions"]]),
+    ("sfu", &[&["cat4 instructions"]]),
+    ("tex", &[&["cat5 instructions"]]),
+    ("stall", &[&["Estimated cycles stalled on SS", "Estimated cycles stalled on SY"]]),
+    ("regs", &[&["Registers used"], &["VGPRs"]]),
+    ("half", &[&["Half-registers used"]]),
+    ("waves", &[&["Max Waves Per Core"], &["Subgroups per SIMD"]]),
+];
+
+pub fn shaders(options: &GpuOptions, args: &ShadersArgs) -> Result<()> {
+    let modes = args.config.stereo_modes()?;
+    let configs = modes
+        .iter()
+        .map(|&m| Ok((m, args.config.config(m)?)))
+        .collect::<Result<Vec<_>>>()?;
+    crate::outputs::files(&[args.csv.as_deref()])?;
+    let scene = args.config.scene()?;
+    let gpu = Gpu::new(options)?;
+    println!("device: {} ({})", gpu.info().name, gpu.info().driver);
+    let mut csv = CsvTable::new(&[
+        "mode",
+        "pass_index",
+        "pass",
+        "step",
+        "pipeline",
+        "samples",
+        "views",
+        "executable",
+        "statistic",
+        "value",
+    ])?;
+    for (mode, config) in &configs {
+        let plan = foveate::plan(&scene, config, gpu.caps())?;
+        // Creating the renderer compiles every pipeline the frame uses.
+        let renderer = Renderer::new(&gpu, &plan, &scene)?;
+        let pipelines = plan.passes.iter().map(|p| p.pipelines.len()).sum::<usize>();
+        println!("\n{mode}: {pipelines} pipelines compiled");
+        let Some(steps) = renderer.layer().shader_statistics() else {
+            println!(
+                "  the device does not report its compiler's statistics (no VK_KHR_pipeline_executable_properties): nothing more to print"
+            );
+            continue;
+        };
+        if args.all {
+            print_all(&steps);
+        } else {
+            print_table(&steps);
+        }
+        for s in &steps {
+            for e in s.executables {
+                for stat in &e.statistics {
+                    csv.row(&[
+                        &mode.name(),
+                        &s.pass_index,
+                        &s.pass,
+                        &s.step.name(),
+                        &s.pipeline,
+                        &s.samples,
+                        &s.view_mask.count_ones().max(1),
+                        &e.name,
+                        &stat.name,
+                        &stat.value,
+                    ])?;
+                }
+            }
+        }
+    }
+    csv.save(args.csv.as_deref())?;
+    gpu.check_validation()?;
+    Ok(())
+}
+
+/// A column's value: the first set of names the driver reports all of, summed.
+fn column(e: &ShaderExecutable, names: &[&[&str]]) -> String {
+    names
+        .iter()
+        .find_map(|set| {
+            set.iter()
+                .map(|n| e.statistic(n).map(|v| v.as_f64()))
+                .sum::<Option<f64>>()
+        })
+        .map_or("-".into(), |v| format!("{v}"))
+}
+
+fn print_table(steps: &[StepShaders]) {
+    let headers: Vec<String> = COLUMNS.iter().map(|c| format!("{:>6}", c.0)).collect();
+    println!(
+        "  {:<13} {:>3} {:>5}  {:<11}{}",
+        "step",
+        "spp",
+        "views",
+        "executable",
+        headers.join("")
+    );
+    let mut pass = None;
+    for s in steps {
+        if pass != Some(s.pass_index) {
+            println!("  {}", s.pass);
+            pass = Some(s.pass_index);
+        }
+        for e in s.executables {
+            let values: Vec<String> = COLUMNS
+                .iter()
+                .map(|c| format!("{:>6}", column(e, c.1)))
+                .collect();
+            println!(
+                "    {:<11} {:>3} {:>5}  {:<11}{}",
+                s.step.name(),
+                s.samples,
+                s.view_mask.count_ones().max(1),
+                e.name,
+                values.join("")
+            );
+        }
+    }
+}
+
+fn print_all(steps: &[StepShaders]) {
+    for s in steps {
+        println!(
+            "  {} / {} ({} spp, {} views): {}",
+            s.pass,
+            s.step.name(),
+            s.samples,
+            s.view_mask.count_ones().max(1),
+            s.pipeline
+        );
+        for e in s.executables {
+            println!("    {} ({}):", e.name, e.description);
+            for stat in &e.statistics {
+                println!("      {}: {}", stat.name, stat.value);
+            }
+        }
+    }
+}
