@@ -186,7 +186,8 @@ fn devices() -> Result<()> {
 }
 
 /// Where the CLI keeps compiled pipelines between runs: `FOVEATE_PIPELINE_CACHE` (a path, or
-/// `off`), else `$XDG_CACHE_HOME/foveate/pipelines.bin`, else `~/.cache/foveate/pipelines.bin`.
+/// `off`), else `$XDG_CACHE_HOME/foveate/pipelines.bin`, else `~/.cache/foveate/pipelines.bin`
+/// (each device's file named after it: `GpuOptions::pipeline_cache`).
 fn pipeline_cache_path() -> Option<std::path::PathBuf> {
     match std::env::var("FOVEATE_PIPELINE_CACHE") {
         Ok(v) if v == "off" || v.is_empty() => None,

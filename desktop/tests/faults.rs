@@ -273,28 +273,41 @@ fn outputs_are_checked_first_and_written_whole() {
 }
 
 /// A pipeline cache whose path is a folder is not written, and leaves nothing beside it (a
-/// `pipelines.tmp<PID>` was left on every run).
+/// `pipelines.tmp<PID>` was left on every run). Each device keeps its own file (its identity
+/// in the name): the first run finds the name, the second finds a folder there.
 #[test]
 fn a_pipeline_cache_that_is_a_folder_leaves_nothing_behind() {
     let dir = scratch("cache");
-    std::fs::create_dir_all(dir.join("cache")).unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_foveate"))
-        .current_dir(&dir)
-        .env("FOVEATE_PIPELINE_CACHE", dir.join("cache"))
-        .args(["render", "--res", "32", "--frames", "1", "--out", "f.png"])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let names: Vec<_> = std::fs::read_dir(&dir)
+    std::fs::create_dir_all(dir.join("caches")).unwrap();
+    let render = || {
+        let o = Command::new(env!("CARGO_BIN_EXE_foveate"))
+            .current_dir(&dir)
+            .env("FOVEATE_PIPELINE_CACHE", dir.join("caches").join("pipelines.bin"))
+            .args(["render", "--res", "32", "--frames", "1", "--out", "f.png"])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    render();
+    let written: Vec<_> = std::fs::read_dir(dir.join("caches"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(written.len(), 1, "{written:?}: one file, for this device");
+    let name = written[0].file_name().unwrap().to_string_lossy().into_owned();
+    assert!(
+        name.starts_with("pipelines-") && name.ends_with(".bin") && name.len() > 16,
+        "{name}: the device's identity in the name"
+    );
+    std::fs::remove_file(&written[0]).unwrap();
+    std::fs::create_dir(&written[0]).unwrap();
+    render();
+    let names: Vec<_> = std::fs::read_dir(dir.join("caches"))
         .unwrap()
         .map(|e| e.unwrap().file_name())
         .collect();
-    assert_eq!(
-        names.len(),
-        2,
-        "{names:?}: the cache folder and f.png alone"
-    );
-    assert_eq!(std::fs::read_dir(dir.join("cache")).unwrap().count(), 0);
+    assert_eq!(names.len(), 1, "{names:?}: the cache folder alone");
+    assert_eq!(std::fs::read_dir(&written[0]).unwrap().count(), 0);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -22,8 +22,10 @@ pub struct GpuOptions {
     pub validation: bool,
     /// Pick a device by index or by (case-insensitive) part of its name instead of the best.
     pub device: Option<String>,
-    /// Where the pipeline cache persists between runs (`Gpu::save_pipeline_cache` writes it);
-    /// `None` keeps it in memory for this run only.
+    /// Where the pipeline cache persists between runs (`Gpu::save_pipeline_cache` writes it):
+    /// each device keeps its own file, this name with the device's identity before the
+    /// extension (`pipelines.bin`: `pipelines-10005-0000-1a2b3c4d.bin`); `None` keeps it in
+    /// memory for this run only.
     pub pipeline_cache: Option<std::path::PathBuf>,
     /// Present to windows of this display: the instance gets its surface extensions and the
     /// device `VK_KHR_swapchain` (see [`super::Swapchain`]). `None`: headless.

@@ -12,7 +12,7 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use super::context::InstanceOwner;
 use super::device_choice::{candidates, Candidate};
-use super::pipeline_cache::{create_pipeline_cache, PipelineCacheFile};
+use super::pipeline_cache::{create_pipeline_cache, device_cache_file, PipelineCacheFile};
 use super::{DeviceOwner, Gpu, GpuError, GpuOptions, VkResultExt, DEPTH_RESOLVE_EXTENSIONS};
 use crate::vocab::DeviceCaps;
 
@@ -247,9 +247,13 @@ impl Gpu {
             owned: parts.owned,
             lost: Mutex::new(super::lost::Loss::from_env()),
         });
+        let cache_file = options
+            .pipeline_cache
+            .as_deref()
+            .map(|p| device_cache_file(p, &props));
         let pipeline_cache = PipelineCacheFile {
-            cache: create_pipeline_cache(&dev, &props, options.pipeline_cache.as_deref())?,
-            path: options.pipeline_cache.clone(),
+            cache: create_pipeline_cache(&dev, &props, cache_file.as_deref())?,
+            path: cache_file,
         };
         Ok(Gpu {
             dev,

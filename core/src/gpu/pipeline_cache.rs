@@ -51,6 +51,30 @@ impl PipelineCacheFile {
     }
 }
 
+/// Where a device keeps its cache, given the file `GpuOptions::pipeline_cache` names: that
+/// name with the device's vendor, device and cache UUID (its first four bytes) before the
+/// extension, so each device and driver keeps its own (a run on another driver, such as
+/// turnip beside lavapipe, or Mesa 25 beside 22, leaves the others' caches as they were).
+pub(super) fn device_cache_file(
+    path: &std::path::Path,
+    props: &vk::PhysicalDeviceProperties,
+) -> std::path::PathBuf {
+    let uuid: String = props.pipeline_cache_uuid[..4]
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    let mut name = path.file_stem().unwrap_or_default().to_owned();
+    name.push(format!(
+        "-{:04x}-{:04x}-{uuid}",
+        props.vendor_id, props.device_id
+    ));
+    if let Some(extension) = path.extension() {
+        name.push(".");
+        name.push(extension);
+    }
+    path.with_file_name(name)
+}
+
 /// The pipeline cache, seeded from `path` when it holds data written for this very device
 /// (the header's vendor, device and cache UUID match); anything else starts it empty.
 pub(super) fn create_pipeline_cache(
