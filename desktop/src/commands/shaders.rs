@@ -13,6 +13,7 @@ use foveate::render::{Renderer, StepShaders};
 
 use crate::csv_out::CsvTable;
 use crate::frame_args::ConfigArgs;
+use crate::gaze_arg::gaze_from;
 
 #[derive(Args)]
 pub struct ShadersArgs {
@@ -25,6 +26,11 @@ pub struct ShadersArgs {
     /// Also write every statistic as CSV: a row per mode, pass, step, executable and statistic.
     #[arg(long)]
     pub csv: Option<PathBuf>,
+    /// Then record and submit this many whole frames of each configuration, with no timestamp
+    /// or counting query (a device that runs nothing, as turnip on the drm-shim, never writes
+    /// one): what the driver decides for each pass.
+    #[arg(long, default_value_t = 0)]
+    pub frames: u32,
 }
 
 /// The table's columns: a header, and the names drivers give the statistics summed into it
@@ -49,10 +55,11 @@ pub fn shaders(options: &GpuOptions, args: &ShadersArgs) -> Result<()> {
         .iter()
         .map(|&m| Ok((m, args.config.config(m)?)))
         .collect::<Result<Vec<_>>>()?;
+    let gaze = args.config.gaze.as_deref().map(gaze_from).transpose()?;
     crate::outputs::files(&[args.csv.as_deref()])?;
     let scene = args.config.scene()?;
-    let gpu = Gpu::new(options)?;
-    println!("device: {} ({})", gpu.info().name, gpu.info().driver);
+    // The driver's own trace of the frames, where it writes one (Mesa's u_trace).
+    let trace = (args.frames > 0).then(crate::tile_trace::request).flatten();
     let mut csv = CsvTable::new(&[
         "mode",
         "pass_index",
@@ -65,44 +72,73 @@ pub fn shaders(options: &GpuOptions, args: &ShadersArgs) -> Result<()> {
         "statistic",
         "value",
     ])?;
-    for (mode, config) in &configs {
-        let plan = foveate::plan(&scene, config, gpu.caps())?;
-        // Creating the renderer compiles every pipeline the frame uses.
-        let renderer = Renderer::new(&gpu, &plan, &scene)?;
-        let pipelines = plan.passes.iter().map(|p| p.pipelines.len()).sum::<usize>();
-        println!("\n{mode}: {pipelines} pipelines compiled");
-        let Some(steps) = renderer.layer().shader_statistics() else {
-            println!(
-                "  the device does not report its compiler's statistics (no VK_KHR_pipeline_executable_properties): nothing more to print"
-            );
-            continue;
-        };
-        if args.all {
-            print_all(&steps);
-        } else {
-            print_table(&steps);
-        }
-        for s in &steps {
-            for e in s.executables {
-                for stat in &e.statistics {
-                    csv.row(&[
-                        &mode.name(),
-                        &s.pass_index,
-                        &s.pass,
-                        &s.step.name(),
-                        &s.pipeline,
-                        &s.samples,
-                        &s.view_mask.count_ones().max(1),
-                        &e.name,
-                        &stat.name,
-                        &stat.value,
-                    ])?;
-                }
+    // Each mode's passes, in the order its frames recorded them. The device goes before the
+    // trace is read: the driver finishes writing it as the device ends.
+    let mut recorded = Vec::new();
+    {
+        let gpu = Gpu::new(options)?;
+        println!("device: {} ({})", gpu.info().name, gpu.info().driver);
+        for (mode, config) in &configs {
+            let config = foveate::plan::RenderConfig {
+                timestamps: false,
+                ..config.clone()
+            };
+            let plan = foveate::plan(&scene, &config, gpu.caps())?;
+            // Creating the renderer compiles every pipeline the frame uses.
+            let mut renderer = Renderer::new(&gpu, &plan, &scene)?;
+            let pipelines = plan.passes.iter().map(|p| p.pipelines.len()).sum::<usize>();
+            println!("\n{mode}: {pipelines} pipelines compiled");
+            if let Some(g) = gaze {
+                renderer.set_gaze([g; 2])?;
+            }
+            for _ in 0..args.frames {
+                renderer.render_frame(scene.head)?;
+            }
+            if args.frames > 0 {
+                println!(
+                    "  {} frames recorded and submitted, without queries (no time, no counts)",
+                    args.frames
+                );
+            }
+            let names: Vec<&'static str> = plan.passes.iter().map(|p| p.name).collect();
+            recorded.push((mode.name(), names));
+            match renderer.layer().shader_statistics() {
+                None => println!(
+                    "  the device does not report its compiler's statistics (no VK_KHR_pipeline_executable_properties)"
+                ),
+                Some(steps) if args.all => print_all(&steps),
+                Some(steps) => print_table(&steps),
+            }
+            for s in renderer.layer().shader_statistics().unwrap_or_default() {
+                csv_rows(&mut csv, mode.name(), &s)?;
             }
         }
+        gpu.check_validation()?;
+    }
+    if let Some(path) = trace {
+        crate::tile_trace::report(&path, &recorded, args.frames)?;
     }
     csv.save(args.csv.as_deref())?;
-    gpu.check_validation()?;
+    Ok(())
+}
+
+fn csv_rows(csv: &mut CsvTable, mode: &str, s: &StepShaders) -> Result<()> {
+    for e in s.executables {
+        for stat in &e.statistics {
+            csv.row(&[
+                &mode,
+                &s.pass_index,
+                &s.pass,
+                &s.step.name(),
+                &s.pipeline,
+                &s.samples,
+                &s.view_mask.count_ones().max(1),
+                &e.name,
+                &stat.name,
+                &stat.value,
+            ])?;
+        }
+    }
     Ok(())
 }
 
