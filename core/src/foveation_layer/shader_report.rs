@@ -26,6 +26,14 @@ pub struct StepShaders<'a> {
     pub executables: &'a [ShaderExecutable],
 }
 
+impl crate::gpu::Gpu {
+    /// Whether the device reports its compiler's statistics for the pipelines foveate
+    /// creates (`VK_KHR_pipeline_executable_properties` on a device foveate opened).
+    pub fn shader_statistics_offered(&self) -> bool {
+        self.executable_properties.is_some()
+    }
+}
+
 impl FoveationLayer {
     /// Every step's pipeline as the driver's compiler reported it, in the plan's order; `None`
     /// where the device does not report statistics (no `VK_KHR_pipeline_executable_properties`,

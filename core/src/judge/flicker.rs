@@ -53,6 +53,12 @@ pub struct GpuFlicker {
 }
 
 impl GpuFlicker {
+    /// Its compute pipeline's shader and what the driver's compiler reported of it (as
+    /// [`FlipJudge::shader_statistics`](super::FlipJudge::shader_statistics)).
+    pub fn shader_statistics(&self) -> Vec<(&'static str, &[crate::gpu::ShaderExecutable])> {
+        super::vulkan::statistics([(&self.pipeline, &FLICKER_COMP)])
+    }
+
     /// A measure with no frame yet, on `gpu` (the renderers' device).
     pub fn new(gpu: &Gpu) -> Result<Self, GpuError> {
         let shared = SharedSet::new(gpu, 4, std::mem::size_of::<Params>() as u32)?;

@@ -16,16 +16,12 @@ use super::geometry::{
 };
 use super::images::JudgedImage;
 use super::reduce::Reduction;
-use super::vulkan::{compute_pipeline, SharedSet};
+use super::vulkan::{compute_pipeline, SharedSet, FLIP_SHADERS};
 use crate::gpu::{Buffer, Gpu, GpuError, MemoryLocation, Pipeline};
 use crate::metrics::acuity::LEVELS;
 use crate::metrics::{Acuity, EyeFlipErrors, EyePixels, FlipMaps, RgbaImage, HISTOGRAM_BINS};
 use crate::plan::ConfigError;
 use crate::render::OutputTexels;
-use crate::shaders::{
-    FLIP_COMBINE_COMP, FLIP_GATHER_COMP, FLIP_HISTOGRAM_COMP, FLIP_HORIZONTAL_COMP,
-    FLIP_PREPARE_COMP, FLIP_REDUCE_COMP, FLIP_RESAMPLE_COMP, FLIP_VERTICAL_COMP,
-};
 
 /// The storage buffers the passes share, by binding (see `shaders/flip_common.glsl`).
 const BINDINGS: u32 = 10;
@@ -84,7 +80,7 @@ pub struct FlipJudge {
     /// This judgement's pyramid.
     pyramid: Vec<PyramidLevel>,
     // Declared before the layouts and buffers they use, so they are dropped first.
-    pipelines: [Pipeline; 8],
+    pub(super) pipelines: [Pipeline; 8],
     shared: SharedSet,
     inputs: Buffer,
     /// Two frames as copied, when a judgement reads them in place (see `judge::outputs`); a
@@ -126,18 +122,8 @@ impl FlipJudge {
         let reduction = Reduction::new(gpu, pixels, HISTOGRAMS)?;
         let frames = super::outputs::frames_buffer(gpu, 16)?;
         let shared = SharedSet::new(gpu, BINDINGS, std::mem::size_of::<Params>() as u32)?;
-        let shaders = [
-            FLIP_PREPARE_COMP,
-            FLIP_REDUCE_COMP,
-            FLIP_HORIZONTAL_COMP,
-            FLIP_VERTICAL_COMP,
-            FLIP_COMBINE_COMP,
-            FLIP_RESAMPLE_COMP,
-            FLIP_HISTOGRAM_COMP,
-            FLIP_GATHER_COMP,
-        ];
-        let mut pipelines = Vec::with_capacity(shaders.len());
-        for shader in &shaders {
+        let mut pipelines = Vec::with_capacity(FLIP_SHADERS.len());
+        for shader in FLIP_SHADERS {
             pipelines.push(compute_pipeline(gpu, &shared.layout, shader)?);
         }
         let judge = FlipJudge {

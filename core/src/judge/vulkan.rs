@@ -7,7 +7,10 @@ use crate::gpu::{
     access, memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Gpu, GpuError, Pipeline,
     PipelineLayout, VkResultExt,
 };
-use crate::shaders::ShaderBinary;
+use crate::shaders::{
+    ShaderBinary, FLIP_COMBINE_COMP, FLIP_GATHER_COMP, FLIP_HISTOGRAM_COMP, FLIP_HORIZONTAL_COMP,
+    FLIP_PREPARE_COMP, FLIP_REDUCE_COMP, FLIP_RESAMPLE_COMP, FLIP_VERTICAL_COMP,
+};
 
 /// One descriptor set of storage buffers and a pipeline layout with push constants, which every
 /// pass of a judge shares.
@@ -152,7 +155,13 @@ pub(super) fn compute_pipeline(
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module.raw)
         .name(c"main");
+    let capture = gpu.executable_properties.as_ref();
+    let flags = match capture {
+        Some(_) => vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR,
+        None => vk::PipelineCreateFlags::empty(),
+    };
     let info = [vk::ComputePipelineCreateInfo::default()
+        .flags(flags)
         .stage(stage)
         .layout(layout.raw)];
     // SAFETY: valid create info; the module lives until the call returns.
@@ -162,5 +171,40 @@ pub(super) fn compute_pipeline(
     }
     .map_err(|(_, e)| e)
     .vk("vkCreateComputePipelines")?;
-    Ok(Pipeline::from_raw(&gpu.dev, raw[0]))
+    let mut pipeline = Pipeline::from_raw(&gpu.dev, raw[0]);
+    if let Some(ext) = capture {
+        pipeline.statistics = Some(crate::gpu::capture_statistics(ext, pipeline.raw)?);
+    }
+    Ok(pipeline)
+}
+
+/// Each pipeline's shader and what the driver's compiler reported of it (empty where the
+/// device does not report statistics).
+pub(super) fn statistics<'p>(
+    pipelines: impl IntoIterator<Item = (&'p Pipeline, &'static ShaderBinary)>,
+) -> Vec<(&'static str, &'p [crate::gpu::ShaderExecutable])> {
+    pipelines
+        .into_iter()
+        .map(|(p, shader)| (shader.name, p.statistics.as_deref().unwrap_or(&[])))
+        .collect()
+}
+
+/// FLIP's compute shaders, one pipeline each, in the order `FlipJudge` holds them.
+pub(super) const FLIP_SHADERS: [&ShaderBinary; 8] = [
+    &FLIP_PREPARE_COMP,
+    &FLIP_REDUCE_COMP,
+    &FLIP_HORIZONTAL_COMP,
+    &FLIP_VERTICAL_COMP,
+    &FLIP_COMBINE_COMP,
+    &FLIP_RESAMPLE_COMP,
+    &FLIP_HISTOGRAM_COMP,
+    &FLIP_GATHER_COMP,
+];
+
+impl super::FlipJudge {
+    /// Each compute pipeline's shader and what the driver's compiler reported of it (empty
+    /// where the device does not report statistics: `FoveationLayer::shader_statistics`).
+    pub fn shader_statistics(&self) -> Vec<(&'static str, &[crate::gpu::ShaderExecutable])> {
+        statistics(self.pipelines.iter().zip(FLIP_SHADERS))
+    }
 }

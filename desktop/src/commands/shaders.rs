@@ -102,7 +102,16 @@ pub fn shaders(options: &GpuOptions, args: &ShadersArgs) -> Result<()> {
             }
             let names: Vec<&'static str> = plan.passes.iter().map(|p| p.name).collect();
             recorded.push((mode.name(), names));
-            match renderer.layer().shader_statistics() {
+            let statistics = renderer.layer().shader_statistics();
+            if let Some(s) = statistics.iter().flatten().find(|s| s.executables.is_empty()) {
+                anyhow::bail!(
+                    "{mode}: the driver reported no executable for pass {} ({}), step {}",
+                    s.pass_index,
+                    s.pass,
+                    s.step.name()
+                );
+            }
+            match statistics {
                 None => println!(
                     "  the device does not report its compiler's statistics (no VK_KHR_pipeline_executable_properties)"
                 ),
@@ -113,12 +122,44 @@ pub fn shaders(options: &GpuOptions, args: &ShadersArgs) -> Result<()> {
                 csv_rows(&mut csv, mode.name(), &s)?;
             }
         }
+        judges(&gpu, args.all)?;
         gpu.check_validation()?;
     }
     if let Some(path) = trace {
         crate::tile_trace::report(&path, &recorded, args.frames)?;
     }
     csv.save(args.csv.as_deref())?;
+    Ok(())
+}
+
+/// The frame judges' compute pipelines (eFLIP's and flicker's), compiled and reported too.
+fn judges(gpu: &Gpu, all: bool) -> Result<()> {
+    let flip = foveate::judge::FlipJudge::new(gpu, 64, 64)?;
+    let flicker = foveate::judge::GpuFlicker::new(gpu)?;
+    let shaders: Vec<_> = flip
+        .shader_statistics()
+        .into_iter()
+        .chain(flicker.shader_statistics())
+        .collect();
+    println!(
+        "\nthe judges (eFLIP, flicker): {} compute pipelines compiled",
+        shaders.len()
+    );
+    if gpu.shader_statistics_offered() {
+        if let Some((name, _)) = shaders.iter().find(|s| s.1.is_empty()) {
+            anyhow::bail!("the driver reported no executable for the judge's {name}");
+        }
+        println!("  {:<29}{}", "shader", header());
+        for (name, executables) in &shaders {
+            for e in *executables {
+                if all {
+                    print_executable(e);
+                } else {
+                    println!("  {:<21}{:<8}{}", name.trim_end_matches(".spv"), e.name, values(e));
+                }
+            }
+        }
+    }
     Ok(())
 }
 
@@ -154,15 +195,27 @@ fn column(e: &ShaderExecutable, names: &[&[&str]]) -> String {
         .map_or("-".into(), |v| format!("{v}"))
 }
 
+/// The table's column headers.
+fn header() -> String {
+    COLUMNS.iter().map(|c| format!("{:>6}", c.0)).collect()
+}
+
+/// An executable's row of the table.
+fn values(e: &ShaderExecutable) -> String {
+    COLUMNS
+        .iter()
+        .map(|c| format!("{:>6}", column(e, c.1)))
+        .collect()
+}
+
 fn print_table(steps: &[StepShaders]) {
-    let headers: Vec<String> = COLUMNS.iter().map(|c| format!("{:>6}", c.0)).collect();
     println!(
         "  {:<13} {:>3} {:>5}  {:<11}{}",
         "step",
         "spp",
         "views",
         "executable",
-        headers.join("")
+        header()
     );
     let mut pass = None;
     for s in steps {
@@ -171,17 +224,13 @@ fn print_table(steps: &[StepShaders]) {
             pass = Some(s.pass_index);
         }
         for e in s.executables {
-            let values: Vec<String> = COLUMNS
-                .iter()
-                .map(|c| format!("{:>6}", column(e, c.1)))
-                .collect();
             println!(
                 "    {:<11} {:>3} {:>5}  {:<11}{}",
                 s.step.name(),
                 s.samples,
                 s.view_mask.count_ones().max(1),
                 e.name,
-                values.join("")
+                values(e)
             );
         }
     }
@@ -198,10 +247,14 @@ fn print_all(steps: &[StepShaders]) {
             s.pipeline
         );
         for e in s.executables {
-            println!("    {} ({}):", e.name, e.description);
-            for stat in &e.statistics {
-                println!("      {}: {}", stat.name, stat.value);
-            }
+            print_executable(e);
         }
+    }
+}
+
+fn print_executable(e: &ShaderExecutable) {
+    println!("    {} ({}):", e.name, e.description);
+    for stat in &e.statistics {
+        println!("      {}: {}", stat.name, stat.value);
     }
 }
