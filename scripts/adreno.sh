@@ -8,7 +8,9 @@
 #   scripts/adreno.sh build              builds turnip and the shim once into the cache
 #   scripts/adreno.sh run CHIP CMD...    runs CMD on Adreno CHIP (650 or 740, or any chip the
 #                                        shim knows), e.g. scripts/adreno.sh run 650 \
-#                                        target/release/foveate plan --hmd quest-pro
+#                                        target/release/foveate shaders --hmd quest-pro
+#   scripts/adreno.sh price CHIP ARGS... `foveate price ARGS` (built for release) with turnip on
+#                                        CHIP beside lavapipe, which renders and counts
 #
 # The build: Mesa's source, pinned (MESA_VERSION below), from the Debian archive that the
 # system's apt uses (bookworm-backports' source package; no host is written here), configured
@@ -118,6 +120,23 @@ adreno_run() {
         MESA_SHADER_CACHE_DISABLE=true "$@"
 }
 
+# adreno_price CHIP ARGS...: `foveate price` with turnip on CHIP beside the lavapipe that
+# renders and counts (the system's, or the one FOVEATE_DRIVER selects: scripts/drivers.sh).
+adreno_price() {
+    local chip=$1 root lavapipe
+    shift
+    root=$(adreno_dir)
+    [ -f "$root/.foveate-ready" ] || adreno_build
+    # shellcheck source=scripts/drivers.sh
+    . "$ADRENO_SCRIPTS/drivers.sh"
+    select_driver "${FOVEATE_DRIVER:-system}"
+    lavapipe=${VK_ICD_FILENAMES:-$(ls /usr/share/vulkan/icd.d/lvp_icd.*.json | head -n 1)}
+    LD_PRELOAD="$root/libfreedreno_noop_drm_shim.so" FD_GPU_ID="$chip" \
+        VK_ICD_FILENAMES="$root/freedreno_icd.json:$lavapipe" \
+        VK_DRIVER_FILES="$root/freedreno_icd.json:$lavapipe" MESA_SHADER_CACHE_DISABLE=true \
+        "$ADRENO_SCRIPTS/../target/release/foveate" price "$@"
+}
+
 if [ "${BASH_SOURCE[0]}" = "$0" ]; then
     case "${1:-}" in
         build) adreno_build ;;
@@ -126,8 +145,14 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
             shift
             adreno_run "$@"
             ;;
+        price)
+            [ $# -ge 2 ] || { echo "usage: scripts/adreno.sh price CHIP [ARGS...]" >&2; exit 1; }
+            shift
+            (cd "$ADRENO_SCRIPTS/.." && cargo build -q --release -p foveate-desktop)
+            adreno_price "$@"
+            ;;
         *)
-            echo "usage: scripts/adreno.sh build | run CHIP CMD..." >&2
+            echo "usage: scripts/adreno.sh build | run CHIP CMD... | price CHIP [ARGS...]" >&2
             exit 1
             ;;
     esac

@@ -123,6 +123,7 @@ pub mod mffr;
 pub mod plan;
 pub mod render;
 pub mod scene;
+pub mod tile_price;
 mod scene_renderer;
 pub mod view;
 pub mod xr;

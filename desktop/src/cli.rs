@@ -42,6 +42,11 @@ enum Command {
     /// through scripts/adreno.sh, RADV, NVIDIA); compiling them all is the check that the
     /// driver accepts them.
     Shaders(crate::commands::shaders::ShadersArgs),
+    /// A frame's price on a tile GPU (a formula: counted fragments and vertices x its own
+    /// compiler's instructions, the plan's bytes at its bandwidth) beside its time on the
+    /// rendering device, with stereo 4x and aliased stereo as yardsticks; two devices in one
+    /// run (scripts/adreno.sh price).
+    Price(crate::commands::price::PriceArgs),
     /// Write docs/results.md and the README's verdict table from the committed run files
     /// (docs/results/index.csv); `--check` compares instead (scripts/results.sh, CI).
     #[command(hide = true)]
@@ -128,6 +133,7 @@ impl Cli {
                 Ok(())
             }
             Command::Render(args) => crate::commands::render::render(&self.gpu_options(), args),
+            Command::Price(args) => crate::commands::price::price(&self.gpu_options(), args),
             Command::Shaders(args) => crate::commands::shaders::shaders(&self.gpu_options(), args),
             Command::View(args) => crate::commands::view::view(&self.gpu_options(), args),
             Command::CullBench(args) => crate::commands::cull::cull_bench(args),

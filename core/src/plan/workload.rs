@@ -79,6 +79,48 @@ impl FramePlan {
     }
 }
 
+impl FramePlan {
+    /// Each pass's share of [`FramePlan::external_traffic_bytes`], in plan order: the bytes it
+    /// loads into tile memory, stores out of it and samples from earlier passes (the display's
+    /// read of the output is no pass's). A formula from the plan, as that one.
+    pub fn pass_traffic_bytes(&self) -> Vec<u64> {
+        self.passes
+            .iter()
+            .map(|p| {
+                let drawn: u64 = p
+                    .uses()
+                    .map(|u| {
+                        let a = &self.attachments[u.attachment];
+                        let bytes = a.layer_bytes() * u.layer_count as u64;
+                        let stencil = a.stencil_bytes() / a.layers as u64 * u.layer_count as u64;
+                        let loaded = if u.load == LoadOp::Load { bytes } else { 0 };
+                        loaded
+                            + match (u.store, u.stencil_store) {
+                                (StoreOp::Store, StoreOp::Store) => bytes,
+                                (StoreOp::Store, StoreOp::DontCare) => bytes - stencil,
+                                (StoreOp::DontCare, _) => 0,
+                            }
+                    })
+                    .sum();
+                let sampled: u64 = p
+                    .samples
+                    .iter()
+                    .map(|&i| self.attachments[i].bytes() - self.attachments[i].stencil_bytes())
+                    .sum();
+                drawn + sampled
+            })
+            .collect()
+    }
+
+    /// Bytes the display reads of the frame's output (by the plan's formula).
+    pub fn display_read_bytes(&self) -> u64 {
+        self.outputs()
+            .iter()
+            .map(|&i| self.attachments[i].bytes())
+            .sum()
+    }
+}
+
 /// One attachment's external memory traffic per frame on a tile GPU, in bytes: an estimate by
 /// the plan's formula ([`FramePlan::attachment_traffic`]), not a measurement.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -10,6 +10,7 @@ pub mod mask;
 pub mod mffr;
 mod motion_frontier;
 pub mod pixels;
+pub mod price;
 pub mod render;
 pub mod results;
 pub mod shaders;

@@ -1,0 +1,224 @@
+//! `foveate price`: a frame's price on a tile GPU — a formula (`foveate::tile_price`), beside
+//! its time measured on the device that runs it. Two devices in one run: the one that renders
+//! (lavapipe: timed frames, then a counting frame for the fragments and triangles) and the tile
+//! GPU's own driver, which compiles the same configuration's pipelines (Mesa's turnip on the
+//! drm-shim: `scripts/adreno.sh price`). The configuration is priced beside stereo at 4× and
+//! aliased stereo (1×), the yardsticks, each as a ratio to stereo 4×.
+
+use anyhow::{Context, Result};
+use clap::Args;
+use foveate::gpu::{Gpu, GpuOptions};
+use foveate::plan::RenderConfig;
+use foveate::render::{counting_frame, Renderer};
+use foveate::tile_price::{frame_work, FramePrice, PassWork, TILE_GPUS};
+use glam::Vec2;
+
+use crate::frame_args::ConfigArgs;
+use crate::gaze_arg::gaze_from;
+
+#[derive(Args)]
+pub struct PriceArgs {
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// The tile GPU's device: index or part of its name (its driver compiles the pipelines and
+    /// reports their statistics).
+    #[arg(long, default_value = "Adreno")]
+    pub price_device: String,
+    /// Timed frames on the rendering device (`--device`; default: the first device that is
+    /// not the tile GPU's), after a warm-up and, for an accumulated periphery, its settling.
+    #[arg(long, default_value_t = 5)]
+    pub frames: u32,
+    /// Print each row's passes: fragments, instructions, bytes, both bounds.
+    #[arg(long)]
+    pub passes: bool,
+}
+
+/// One row: its label, its lavapipe GPU time and output pass time (medians), and its price.
+struct Row {
+    label: String,
+    gpu_ms: f64,
+    price: FramePrice,
+    work: Vec<PassWork>,
+}
+
+pub fn price(options: &GpuOptions, args: &PriceArgs) -> Result<()> {
+    anyhow::ensure!(
+        (1..=1000).contains(&args.frames),
+        "invalid frames = {}: 1 to 1000",
+        args.frames
+    );
+    let modes = args.config.stereo_modes()?;
+    anyhow::ensure!(
+        modes.len() == 1,
+        "invalid stereo = all: price takes one stereo mode"
+    );
+    let asked = args.config.config(modes[0])?;
+    let gaze = args.config.gaze.as_deref().map(gaze_from).transpose()?;
+    let scene = args.config.scene()?;
+    let (runner, tile) = devices(options, &args.price_device)?;
+    let chip = TILE_GPUS
+        .iter()
+        .find(|g| tile.info().name.contains(&g.name["Adreno ".len()..]))
+        .with_context(|| {
+            format!(
+                "{} is none of the tile GPUs foveate prices ({})",
+                tile.info().name,
+                TILE_GPUS.map(|g| g.name).join(", ")
+            )
+        })?;
+    println!(
+        "rendering and counting on {}; compiling on {}; priced as the {} of the {}",
+        runner.info().name,
+        tile.info().name,
+        chip.name,
+        chip.headsets
+    );
+    println!(
+        "the price is a formula: counted fragments and vertices x the compiler's instructions over {} ALU lanes at {} MHz, and the plan's bytes at {} GB/s; per pass the larger, summed",
+        chip.alu_lanes.round(),
+        chip.clock_mhz,
+        chip.bandwidth_gb_s
+    );
+    let mut rows = Vec::new();
+    for (label, config) in rows_to_price(&asked) {
+        let gaze = [gaze.unwrap_or(Vec2::ZERO); 2];
+        let gpu_ms = timed(&runner, &scene, &config, gaze, args.frames)?;
+        let counted = counting_frame(&runner, &scene, &config, gaze, scene.head)?;
+        let plan = foveate::plan(
+            &scene,
+            &RenderConfig {
+                timestamps: false,
+                ..config.clone()
+            },
+            tile.caps(),
+        )?;
+        let renderer = Renderer::new(&tile, &plan, &scene)?;
+        let steps = renderer
+            .layer()
+            .shader_statistics()
+            .with_context(|| format!("{} reports no shader statistics", tile.info().name))?;
+        let work = frame_work(&plan, &steps, &counted)?;
+        let price = chip.price(&work, plan.display_read_bytes());
+        rows.push(Row {
+            label,
+            gpu_ms,
+            price,
+            work,
+        });
+    }
+    runner.check_validation()?;
+    tile.check_validation()?;
+    print_rows(&rows, args.passes);
+    Ok(())
+}
+
+/// The rendering device and the tile GPU's, both opened in this run.
+fn devices(options: &GpuOptions, price_device: &str) -> Result<(Gpu, Gpu)> {
+    let listed = Gpu::list_devices()?;
+    let is_tile = |d: &foveate::gpu::DeviceInfo| {
+        price_device.parse::<usize>().ok() == Some(d.index)
+            || d.name.to_lowercase().contains(&price_device.to_lowercase())
+    };
+    let tile_index = listed.iter().find(|d| is_tile(d)).with_context(|| {
+        format!(
+            "invalid price-device = {price_device}: no such device (devices: {}); run through scripts/adreno.sh price",
+            listed.iter().map(|d| d.name.as_str()).collect::<Vec<_>>().join(", ")
+        )
+    })?;
+    let runner_device = match &options.device {
+        Some(d) => d.clone(),
+        None => listed
+            .iter()
+            .find(|d| !is_tile(d) && d.unusable.is_none())
+            .map(|d| d.index.to_string())
+            .context("no device besides the tile GPU's to render and count on")?,
+    };
+    let open = |device: String| {
+        Gpu::new(&GpuOptions {
+            device: Some(device),
+            ..options.clone()
+        })
+    };
+    Ok((open(runner_device)?, open(tile_index.index.to_string())?))
+}
+
+/// The configuration asked for, after the two yardsticks (itself left out where it is one).
+fn rows_to_price(asked: &RenderConfig) -> Vec<(String, RenderConfig)> {
+    let stereo = |msaa| RenderConfig {
+        foveation: None,
+        msaa,
+        ..asked.clone()
+    };
+    let mut rows = vec![
+        ("stereo 4x".to_string(), stereo(4)),
+        ("stereo 1x (aliased)".to_string(), stereo(1)),
+    ];
+    if asked.foveation.is_some() || (asked.msaa != 4 && asked.msaa != 1) {
+        rows.push(("asked".to_string(), asked.clone()));
+    }
+    rows
+}
+
+/// The median GPU time of `frames` frames of `config` on `gpu`, after a warm-up and settling.
+fn timed(
+    gpu: &Gpu,
+    scene: &foveate::scene::Scene,
+    config: &RenderConfig,
+    gaze: [Vec2; 2],
+    frames: u32,
+) -> Result<f64> {
+    let plan = foveate::plan(scene, config, gpu.caps())?;
+    let mut renderer = Renderer::new(gpu, &plan, scene)?;
+    renderer.set_gaze(gaze)?;
+    renderer.render_frame(scene.head)?;
+    crate::side_by_side::settle(&mut renderer, scene.head)?;
+    let mut times = Vec::new();
+    for _ in 0..frames {
+        let stats = renderer.render_frame(scene.head)?;
+        times.push(stats.gpu_ms.context("the frame has no GPU time")?);
+    }
+    times.sort_by(f64::total_cmp);
+    Ok(times[times.len() / 2])
+}
+
+fn print_rows(rows: &[Row], passes: bool) {
+    let (base_gpu, base_price) = (rows[0].gpu_ms, rows[0].price.ms());
+    println!(
+        "\n{:<22} {:>12} {:>9}   {:>12} {:>9} {:>8} {:>8} {:>9}",
+        "row", "lavapipe ms", "x st 4x", "price ms", "x st 4x", "ALU ms", "mem ms", "MiB"
+    );
+    for r in rows {
+        let alu: f64 = r.price.passes.iter().map(|p| p.alu_ms).sum();
+        let memory: f64 = r.price.passes.iter().map(|p| p.memory_ms).sum();
+        let bytes: u64 = r.work.iter().map(|w| w.bytes).sum();
+        println!(
+            "{:<22} {:>12.2} {:>9.3}   {:>12.3} {:>9.3} {:>8.3} {:>8.3} {:>9.1}",
+            r.label,
+            r.gpu_ms,
+            r.gpu_ms / base_gpu,
+            r.price.ms(),
+            r.price.ms() / base_price,
+            alu,
+            memory + r.price.display_read_ms,
+            bytes as f64 / (1 << 20) as f64
+        );
+    }
+    if passes {
+        for r in rows {
+            println!("\n{}: per pass", r.label);
+            for (w, p) in r.work.iter().zip(&r.price.passes) {
+                println!(
+                    "  {:<60} {:>10} fragments {:>8.1} G instr {:>7.1} MiB  ALU {:.3} ms, memory {:.3} ms ({:?}-bound)",
+                    w.name,
+                    w.fragments(),
+                    w.instructions() / 1e9,
+                    w.bytes as f64 / (1 << 20) as f64,
+                    p.alu_ms,
+                    p.memory_ms,
+                    p.bound()
+                );
+            }
+            println!("  display read: {:.3} ms", r.price.display_read_ms);
+        }
+    }
+}
