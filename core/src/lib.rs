@@ -123,8 +123,8 @@ pub mod mffr;
 pub mod plan;
 pub mod render;
 pub mod scene;
-pub mod tile_price;
 mod scene_renderer;
+pub mod tile_price;
 pub mod view;
 pub mod xr;
 

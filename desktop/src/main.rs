@@ -18,6 +18,7 @@ mod outputs;
 mod progress;
 mod region_maps;
 mod side_by_side;
+mod tile_pricer;
 mod tile_trace;
 mod variants;
 mod view_keys;

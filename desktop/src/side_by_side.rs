@@ -29,6 +29,9 @@ pub struct Measured {
     /// Primitives rasterised over every pass (pipeline statistics, from the counting frame),
     /// when the device has them.
     pub primitives: Option<u64>,
+    /// The counting frame itself (every step's fragments, each pass's triangles): what a tile
+    /// GPU's price is made from.
+    pub counts: foveate::render::FrameStats,
     pub image: StereoImage,
 }
 
@@ -113,6 +116,7 @@ pub fn measure_group(gpu: &Gpu, group: &Group) -> Result<Vec<Measured>> {
                 primitives: (!counts.pass_statistics.is_empty())
                     .then(|| counts.pass_statistics.iter().map(|p| p.rasterised).sum()),
                 image: r.readback()?,
+                counts,
             })
         })
         .collect()

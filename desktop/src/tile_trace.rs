@@ -66,8 +66,8 @@ pub fn report(path: &Path, recorded: &[(&str, Vec<&'static str>)], frames: u32) 
     }
     println!("\nthe driver's decision for each pass (its trace, the last frame of each mode):");
     println!(
-        "  {:<8} {:>4} {:>11} {:>5} {:>8} {:>13} {:>6} {:>4}  {}",
-        "tiled", "spp", "size", "bins", "bin", "clear/load/st", "draws", "lrz", "pass"
+        "  {:<8} {:>4} {:>11} {:>5} {:>8} {:>13} {:>6} {:>4}  pass",
+        "tiled", "spp", "size", "bins", "bin", "clear/load/st", "draws", "lrz"
     );
     let mut at = 0;
     for (mode, names) in recorded {
@@ -98,7 +98,12 @@ fn row(p: &TracedPass, name: &str) -> String {
         format!("{}x{}", p.get("width"), p.get("height")),
         p.get("numberOfBins"),
         format!("{}x{}", p.get("binWidth"), p.get("binHeight")),
-        format!("{}/{}/{}", p.get("clearCPP"), p.get("loadCPP"), p.get("storeCPP")),
+        format!(
+            "{}/{}/{}",
+            p.get("clearCPP"),
+            p.get("loadCPP"),
+            p.get("storeCPP")
+        ),
         p.get("drawCount"),
         lrz
     )

@@ -282,7 +282,10 @@ fn a_pipeline_cache_that_is_a_folder_leaves_nothing_behind() {
     let render = || {
         let o = Command::new(env!("CARGO_BIN_EXE_foveate"))
             .current_dir(&dir)
-            .env("FOVEATE_PIPELINE_CACHE", dir.join("caches").join("pipelines.bin"))
+            .env(
+                "FOVEATE_PIPELINE_CACHE",
+                dir.join("caches").join("pipelines.bin"),
+            )
             .args(["render", "--res", "32", "--frames", "1", "--out", "f.png"])
             .output()
             .unwrap();
@@ -294,7 +297,11 @@ fn a_pipeline_cache_that_is_a_folder_leaves_nothing_behind() {
         .map(|e| e.unwrap().path())
         .collect();
     assert_eq!(written.len(), 1, "{written:?}: one file, for this device");
-    let name = written[0].file_name().unwrap().to_string_lossy().into_owned();
+    let name = written[0]
+        .file_name()
+        .unwrap()
+        .to_string_lossy()
+        .into_owned();
     assert!(
         name.starts_with("pipelines-") && name.ends_with(".bin") && name.len() > 16,
         "{name}: the device's identity in the name"

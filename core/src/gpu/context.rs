@@ -446,9 +446,11 @@ impl Gpu {
         if depth_resolve {
             device_extensions.extend(DEPTH_RESOLVE_EXTENSIONS.iter().map(|n| n.as_ptr()));
         }
-        let statistics = shader_statistics::offered(vk_instance, physical, offers(shader_statistics::EXTENSION));
-        let mut executable_info = vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR::default()
-            .pipeline_executable_info(statistics);
+        let statistics =
+            shader_statistics::offered(vk_instance, physical, offers(shader_statistics::EXTENSION));
+        let mut executable_info =
+            vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR::default()
+                .pipeline_executable_info(statistics);
         if statistics {
             device_extensions.push(shader_statistics::EXTENSION.as_ptr());
         }

@@ -51,7 +51,10 @@ fn a_pass_costs_its_larger_bound_computed_by_hand() {
     }];
     let price = ADRENO_650.price(&heavy, 44_000_000);
     assert_eq!(price.passes[0].bound(), Bound::Memory);
-    assert!((price.ms() - (400.0 / 44.0 + 1.0)).abs() < 1e-9, "{price:?}");
+    assert!(
+        (price.ms() - (400.0 / 44.0 + 1.0)).abs() < 1e-9,
+        "{price:?}"
+    );
     // The instruction counts the steps are priced with: the vertex and binning shaders summed.
     let executables = [
         executable("VS", vk::ShaderStageFlags::VERTEX, 100),

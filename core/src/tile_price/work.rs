@@ -47,6 +47,14 @@ impl PassWork {
             .sum()
     }
 
+    /// Instructions its fragment shaders ran.
+    pub fn fragment_instructions(&self) -> f64 {
+        self.steps
+            .iter()
+            .map(|s| s.fragments as f64 * s.fragment_instructions)
+            .sum()
+    }
+
     /// Fragments its steps shaded.
     pub fn fragments(&self) -> u64 {
         self.steps.iter().map(|s| s.fragments).sum()
@@ -78,7 +86,10 @@ pub enum WorkError {
 
 /// The driver's instruction count of the executables running `stage` (turnip's "Instruction
 /// Count", RADV's "Instructions"), summed: a vertex stage's render and binning executables.
-pub(super) fn instructions(executables: &[ShaderExecutable], stage: vk::ShaderStageFlags) -> Option<f64> {
+pub(super) fn instructions(
+    executables: &[ShaderExecutable],
+    stage: vk::ShaderStageFlags,
+) -> Option<f64> {
     let counts: Vec<f64> = executables
         .iter()
         .filter(|e| e.stages.contains(stage))

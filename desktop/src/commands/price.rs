@@ -10,11 +10,12 @@ use clap::Args;
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::plan::RenderConfig;
 use foveate::render::{counting_frame, Renderer};
-use foveate::tile_price::{frame_work, FramePrice, PassWork, TILE_GPUS};
+use foveate::tile_price::{FramePrice, PassWork};
 use glam::Vec2;
 
 use crate::frame_args::ConfigArgs;
 use crate::gaze_arg::gaze_from;
+use crate::tile_pricer::Priced;
 
 #[derive(Args)]
 pub struct PriceArgs {
@@ -55,50 +56,15 @@ pub fn price(options: &GpuOptions, args: &PriceArgs) -> Result<()> {
     let asked = args.config.config(modes[0])?;
     let gaze = args.config.gaze.as_deref().map(gaze_from).transpose()?;
     let scene = args.config.scene()?;
-    let (runner, tile) = devices(options, &args.price_device)?;
-    let chip = TILE_GPUS
-        .iter()
-        .find(|g| tile.info().name.contains(&g.name["Adreno ".len()..]))
-        .with_context(|| {
-            format!(
-                "{} is none of the tile GPUs foveate prices ({})",
-                tile.info().name,
-                TILE_GPUS.map(|g| g.name).join(", ")
-            )
-        })?;
-    println!(
-        "rendering and counting on {}; compiling on {}; priced as the {} of the {}",
-        runner.info().name,
-        tile.info().name,
-        chip.name,
-        chip.headsets
-    );
-    println!(
-        "the price is a formula: counted fragments and vertices x the compiler's instructions over {} ALU lanes at {} MHz, and the plan's bytes at {} GB/s; per pass the larger, summed",
-        chip.alu_lanes.round(),
-        chip.clock_mhz,
-        chip.bandwidth_gb_s
-    );
+    let (runner, tile) = crate::tile_pricer::open(options, &args.price_device)?;
+    println!("{}", tile.describe(&runner));
+    let gaze = [gaze.unwrap_or(Vec2::ZERO); 2];
     let mut rows = Vec::new();
     for (label, config) in rows_to_price(&asked) {
-        let gaze = [gaze.unwrap_or(Vec2::ZERO); 2];
+        let config = tile.as_planned_here(&scene, &config)?;
         let gpu_ms = timed(&runner, &scene, &config, gaze, args.frames)?;
         let counted = counting_frame(&runner, &scene, &config, gaze, scene.head)?;
-        let plan = foveate::plan(
-            &scene,
-            &RenderConfig {
-                timestamps: false,
-                ..config.clone()
-            },
-            tile.caps(),
-        )?;
-        let renderer = Renderer::new(&tile, &plan, &scene)?;
-        let steps = renderer
-            .layer()
-            .shader_statistics()
-            .with_context(|| format!("{} reports no shader statistics", tile.info().name))?;
-        let work = frame_work(&plan, &steps, &counted)?;
-        let price = chip.price(&work, plan.display_read_bytes());
+        let Priced { price, work } = tile.price(&scene, &config, &counted)?;
         rows.push(Row {
             label,
             gpu_ms,
@@ -107,39 +73,9 @@ pub fn price(options: &GpuOptions, args: &PriceArgs) -> Result<()> {
         });
     }
     runner.check_validation()?;
-    tile.check_validation()?;
+    tile.gpu.check_validation()?;
     print_rows(&rows, args.passes);
     Ok(())
-}
-
-/// The rendering device and the tile GPU's, both opened in this run.
-fn devices(options: &GpuOptions, price_device: &str) -> Result<(Gpu, Gpu)> {
-    let listed = Gpu::list_devices()?;
-    let is_tile = |d: &foveate::gpu::DeviceInfo| {
-        price_device.parse::<usize>().ok() == Some(d.index)
-            || d.name.to_lowercase().contains(&price_device.to_lowercase())
-    };
-    let tile_index = listed.iter().find(|d| is_tile(d)).with_context(|| {
-        format!(
-            "invalid price-device = {price_device}: no such device (devices: {}); run through scripts/adreno.sh price",
-            listed.iter().map(|d| d.name.as_str()).collect::<Vec<_>>().join(", ")
-        )
-    })?;
-    let runner_device = match &options.device {
-        Some(d) => d.clone(),
-        None => listed
-            .iter()
-            .find(|d| !is_tile(d) && d.unusable.is_none())
-            .map(|d| d.index.to_string())
-            .context("no device besides the tile GPU's to render and count on")?,
-    };
-    let open = |device: String| {
-        Gpu::new(&GpuOptions {
-            device: Some(device),
-            ..options.clone()
-        })
-    };
-    Ok((open(runner_device)?, open(tile_index.index.to_string())?))
 }
 
 /// The configuration asked for, after the two yardsticks (itself left out where it is one).
@@ -184,15 +120,26 @@ fn timed(
 fn print_rows(rows: &[Row], passes: bool) {
     let (base_gpu, base_price) = (rows[0].gpu_ms, rows[0].price.ms());
     println!(
-        "\n{:<22} {:>12} {:>9}   {:>12} {:>9} {:>8} {:>8} {:>9}",
-        "row", "lavapipe ms", "x st 4x", "price ms", "x st 4x", "ALU ms", "mem ms", "MiB"
+        "\n{:<22} {:>12} {:>9}   {:>10} {:>9} {:>8} {:>8} {:>8} {:>7} {:>7}",
+        "row",
+        "lavapipe ms",
+        "x st 4x",
+        "price ms",
+        "x st 4x",
+        "ALU ms",
+        "mem ms",
+        "MiB",
+        "frag G",
+        "vert G"
     );
     for r in rows {
         let alu: f64 = r.price.passes.iter().map(|p| p.alu_ms).sum();
         let memory: f64 = r.price.passes.iter().map(|p| p.memory_ms).sum();
         let bytes: u64 = r.work.iter().map(|w| w.bytes).sum();
+        let fragment: f64 = r.work.iter().map(PassWork::fragment_instructions).sum();
+        let all: f64 = r.work.iter().map(PassWork::instructions).sum();
         println!(
-            "{:<22} {:>12.2} {:>9.3}   {:>12.3} {:>9.3} {:>8.3} {:>8.3} {:>9.1}",
+            "{:<22} {:>12.2} {:>9.3}   {:>10.3} {:>9.3} {:>8.3} {:>8.3} {:>8.1} {:>7.2} {:>7.2}",
             r.label,
             r.gpu_ms,
             r.gpu_ms / base_gpu,
@@ -200,9 +147,12 @@ fn print_rows(rows: &[Row], passes: bool) {
             r.price.ms() / base_price,
             alu,
             memory + r.price.display_read_ms,
-            bytes as f64 / (1 << 20) as f64
+            bytes as f64 / (1 << 20) as f64,
+            fragment / 1e9,
+            (all - fragment) / 1e9
         );
     }
+    println!("(frag G, vert G: billions of instructions the fragment and vertex shaders ran, the binning pass's included)");
     if passes {
         for r in rows {
             println!("\n{}: per pass", r.label);

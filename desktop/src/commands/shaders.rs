@@ -43,7 +43,13 @@ const COLUMNS: [(&str, &[&[&str]]); 9] = [
     ("alu", &[&["cat2 instructions", "cat3 instructions"]]),
     ("sfu", &[&["cat4 instructions"]]),
     ("tex", &[&["cat5 instructions"]]),
-    ("stall", &[&["Estimated cycles stalled on SS", "Estimated cycles stalled on SY"]]),
+    (
+        "stall",
+        &[&[
+            "Estimated cycles stalled on SS",
+            "Estimated cycles stalled on SY",
+        ]],
+    ),
     ("regs", &[&["Registers used"], &["VGPRs"]]),
     ("half", &[&["Half-registers used"]]),
     ("waves", &[&["Max Waves Per Core"], &["Subgroups per SIMD"]]),
@@ -103,7 +109,11 @@ pub fn shaders(options: &GpuOptions, args: &ShadersArgs) -> Result<()> {
             let names: Vec<&'static str> = plan.passes.iter().map(|p| p.name).collect();
             recorded.push((mode.name(), names));
             let statistics = renderer.layer().shader_statistics();
-            if let Some(s) = statistics.iter().flatten().find(|s| s.executables.is_empty()) {
+            if let Some(s) = statistics
+                .iter()
+                .flatten()
+                .find(|s| s.executables.is_empty())
+            {
                 anyhow::bail!(
                     "{mode}: the driver reported no executable for pass {} ({}), step {}",
                     s.pass_index,
@@ -155,7 +165,12 @@ fn judges(gpu: &Gpu, all: bool) -> Result<()> {
                 if all {
                     print_executable(e);
                 } else {
-                    println!("  {:<21}{:<8}{}", name.trim_end_matches(".spv"), e.name, values(e));
+                    println!(
+                        "  {:<21}{:<8}{}",
+                        name.trim_end_matches(".spv"),
+                        e.name,
+                        values(e)
+                    );
                 }
             }
         }

@@ -4,6 +4,7 @@
 //! are its two other modes (`modes`).
 
 mod modes;
+mod priced;
 mod report;
 
 use std::path::PathBuf;
@@ -11,7 +12,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use foveate::foveation::{FoveationConfig, PeripheryFilter};
-use foveate::gpu::{Gpu, GpuOptions};
+use foveate::gpu::GpuOptions;
 use foveate::metrics::perceptual::{FrameAccuracy, Maps};
 use foveate::metrics::Acuity;
 use foveate::plan::{RadialDensity, RenderConfig};
@@ -124,6 +125,12 @@ pub struct CompareArgs {
     /// Also write the table as CSV to this file.
     #[arg(long)]
     csv: Option<PathBuf>,
+    /// Also price every row on this tile GPU's device (index or part of its name: Adreno's
+    /// turnip, through scripts/adreno.sh): a formula, printed beside lavapipe's time as a
+    /// ratio to the reference's (`foveate price` says how); the fovea's layout is the tile
+    /// GPU's choice in every row.
+    #[arg(long)]
+    price_device: Option<String>,
     #[command(flatten)]
     latency: LatencyArgs,
 }
@@ -164,17 +171,11 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     if let Some(dir) = &args.heatmaps {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
-    let gpu = Gpu::new(options)?;
+    let (gpu, pricer) = priced::devices(options, args.price_device.as_deref())?;
     // The reference first (full meshes, whatever `--lod` asks of the rows), then every row:
     // all measured side by side in one group.
     let named = compared_rows(args, &base, &variants);
-    let configs: Vec<RenderConfig> = named
-        .iter()
-        .map(|(_, msaa, c)| RenderConfig {
-            msaa: *msaa,
-            ..c.clone()
-        })
-        .collect();
+    let configs = priced::configs(&named, pricer.as_ref(), &scene)?;
     let group = Group {
         scene: &scene,
         configs: &configs,
@@ -195,6 +196,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         return Err(crate::interrupt::stopped_by(failed, nothing));
     }
     let reference = judged.remove(0).measured;
+    let prices = priced::prices(pricer.as_ref(), &scene, &reference, &judged, &configs)?;
     if let Some(dir) = &args.heatmaps {
         write_heat_maps(dir, &named, &judged)?;
     }
@@ -225,7 +227,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         reference.scene_fragments(),
         reference.total_fragments
     );
-    print_rows(&rows, &measured, reference.frame_ms);
+    print_rows(&rows, &measured, reference.frame_ms, &prices);
     println!(
         "(ratio: frame time to the reference, this run, frames without counters; output ms: the GPU time of the pass that makes what the display shows (with the periphery's accumulation where the row accumulates), median; fragments from a separate counting frame: the scene draws, and every pass (the output stage included); the tile-GPU workload from the plan: samples the in-pass MSAA resolves average and external traffic (attachment loads and stores, sampling, readback); on the output image ({}), both eyes, pixels the lens hides left out: PSNR in dB / SSIM per region against the reference ({}); FLIP: mean at the display's pixels per degree; eFLIP: the eccentricity-aware FLIP for the eye at the gaze (metrics::flip), mean and 99th percentile, then p99 per region)",
         base.output,
@@ -235,7 +237,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         println!("wrote {} heat maps into {}", rows.len(), dir.display());
     }
     if rows.len() < total {
-        csv(&rows, &measured, reference.frame_ms)?.save(args.csv.as_deref())?;
+        csv(&rows, &measured, reference.frame_ms, &prices)?.save(args.csv.as_deref())?;
         let done = format!(
             "compare stopped after judging {} of {total} configurations; the table above{} holds them",
             rows.len(),
@@ -245,7 +247,7 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     }
     report_picks(args, &rows, &measured, &reference)?;
     gpu.check_validation()?;
-    csv(&rows, &measured, reference.frame_ms)?.save(args.csv.as_deref())
+    csv(&rows, &measured, reference.frame_ms, &prices)?.save(args.csv.as_deref())
 }
 
 /// The arguments `compare` checks before anything opens; the eye's acuity they set.

@@ -146,7 +146,36 @@ fn output_pass_ms(run: &Measured) -> Option<f64> {
     (!times.is_empty()).then(|| times.iter().sum())
 }
 
-pub(super) fn print_rows(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
+/// Each row's price on the tile GPU and the reference's, ms (`compare --price-device`).
+pub(super) type Prices = [(f64, f64)];
+
+pub(super) fn print_rows(
+    rows: &[Row],
+    measured: &[FrameAccuracy],
+    reference_ms: f64,
+    prices: &Prices,
+) {
+    print_table(rows, measured, reference_ms);
+    if prices.is_empty() {
+        return;
+    }
+    let width = super::super::name_column_width(rows.iter().map(|r| r.name.as_str()));
+    println!(
+        "\nthe tile GPU's price (a formula), beside lavapipe's time:\n{:<width$} {:>9} {:>10} {:>9}",
+        "configuration", "ratio", "price ms", "x ref"
+    );
+    for (row, (ms, base)) in rows.iter().zip(prices) {
+        println!(
+            "{:<width$} {:>9.3} {:>10.3} {:>9.3}",
+            row.name,
+            row.run.frame_ms / reference_ms,
+            ms,
+            ms / base
+        );
+    }
+}
+
+fn print_table(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) {
     let width = super::super::name_column_width(rows.iter().map(|r| r.name.as_str()));
     println!(
         "\n{:<width$} {:>9} {:>6} {:>9} {:>11} {:>11} {:>11} {:>9} {:>14} {:>14} {:>14} {:>7} {:>7} {:>7} {:>21}",
@@ -229,7 +258,12 @@ fn print_frontier(rows: &[Row], points: &[Point]) {
     }
 }
 
-pub(super) fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -> Result<CsvTable> {
+pub(super) fn csv(
+    rows: &[Row],
+    measured: &[FrameAccuracy],
+    reference_ms: f64,
+    prices: &Prices,
+) -> Result<CsvTable> {
     let mut csv = CsvTable::new(&[
         "config",
         "msaa",
@@ -258,8 +292,11 @@ pub(super) fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -
         "eccentric_flip_p99_fovea",
         "eccentric_flip_p99_band",
         "eccentric_flip_p99_periphery",
+        "price_ms",
+        "price_ratio",
     ])?;
-    for (row, m) in rows.iter().zip(measured) {
+    for (i, (row, m)) in rows.iter().zip(measured).enumerate() {
+        let price = prices.get(i);
         let f = row.run.plan.foveation;
         let e = &m.perceptual;
         let p99 = |s: Option<ErrorSummary>| opt(s.map(|s| s.p99), 5);
@@ -291,6 +328,8 @@ pub(super) fn csv(rows: &[Row], measured: &[FrameAccuracy], reference_ms: f64) -
             &p99(e.regions[0]),
             &p99(e.regions[1]),
             &p99(e.regions[2]),
+            &opt(price.map(|p| p.0), 4),
+            &opt(price.map(|p| p.0 / p.1), 4),
         ])?;
     }
     Ok(csv)
