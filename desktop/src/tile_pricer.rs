@@ -6,7 +6,7 @@
 use anyhow::{Context, Result};
 use foveate::gpu::{Gpu, GpuOptions};
 use foveate::plan::RenderConfig;
-use foveate::render::{FrameStats, Renderer};
+use foveate::render::{counting_frame, FrameStats, Renderer};
 use foveate::scene::Scene;
 use foveate::tile_price::{frame_work, FramePrice, PassWork, TileGpu, TILE_GPUS};
 
@@ -65,9 +65,9 @@ pub fn open(options: &GpuOptions, price_device: &str) -> Result<(Gpu, TilePricer
 }
 
 impl TilePricer {
-    /// `config` as the rendering device should render it to be priced: with the fovea's
-    /// layout the tile GPU's plan chose, so that every step priced is a step counted
-    /// (lavapipe's quirks would choose another by its own speed).
+    /// `config` as the tile GPU plans it, the fovea's layout made explicit: the rendering
+    /// device counts this configuration, so that every step priced is a step counted
+    /// (lavapipe's quirks may choose another layout by its own speed).
     pub fn as_planned_here(&self, scene: &Scene, config: &RenderConfig) -> Result<RenderConfig> {
         let plan = foveate::plan(scene, config, self.gpu.caps())?;
         Ok(RenderConfig {
@@ -79,19 +79,30 @@ impl TilePricer {
         })
     }
 
-    /// The price of `config`'s frame, its fragments and triangles `counted` on the rendering
-    /// device.
+    /// The price of `config`'s frame: its fragments and triangles counted on `runner` with the
+    /// gaze at `gaze` — `counted` where the frame it counted (`counted_plan`) has the tile GPU's
+    /// fovea layout, else a counting frame of that layout.
     pub fn price(
         &self,
+        runner: &Gpu,
         scene: &Scene,
         config: &RenderConfig,
-        counted: &FrameStats,
+        gaze: [glam::Vec2; 2],
+        (counted, counted_plan): (&FrameStats, &foveate::plan::FramePlan),
     ) -> Result<Priced> {
         let config = RenderConfig {
             timestamps: false,
-            ..config.clone()
+            ..self.as_planned_here(scene, config)?
         };
         let plan = foveate::plan(scene, &config, self.gpu.caps())?;
+        let layout = |p: &foveate::plan::FramePlan| p.fovea_layout.as_ref().map(|c| c.layout);
+        let recounted;
+        let counted = if layout(&plan) == layout(counted_plan) {
+            counted
+        } else {
+            recounted = counting_frame(runner, scene, &config, gaze, scene.head)?;
+            &recounted
+        };
         // Creating the renderer compiles every pipeline, capturing the compiler's statistics.
         let renderer = Renderer::new(&self.gpu, &plan, scene)?;
         let steps = renderer

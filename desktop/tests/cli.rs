@@ -217,6 +217,22 @@ fn bad_input_is_a_clear_error_not_a_panic() {
             "periphery_sharpen = 2",
         ),
         (&["compare", "--recommend=-1"][..], "recommend = -1"),
+        (
+            &["compare", "--res", "32", "--price-device", "nothing"][..],
+            "invalid price-device = nothing: no such device (devices: ",
+        ),
+        (
+            &["price", "--res", "32", "--price-device", "0"][..],
+            "is none of the tile GPUs foveate prices (Adreno 650, Adreno 740)",
+        ),
+        (
+            &["price", "--frames", "0"][..],
+            "invalid frames = 0: 1 to 1000",
+        ),
+        (
+            &["price", "--stereo", "all"][..],
+            "invalid stereo = all: price takes one stereo mode",
+        ),
         (&["compare", "--mar-slope", "0"][..], "mar-slope = 0"),
         (
             &["compare", "--res", "32", "--bands", "40"][..],
@@ -493,7 +509,11 @@ fn compare_prints_time_and_error_per_region() {
         "both eyes side by side"
     );
     let _ = std::fs::remove_dir_all(&heatmaps);
-    let rows = read_csv(&csv, 27);
+    let rows = read_csv(&csv, 29);
+    // Without a tile GPU to price on, the price columns are empty, never a made-up figure.
+    assert!(rows
+        .iter()
+        .all(|r| r["price_ms"].is_empty() && r["price_ratio"].is_empty()));
     let row = rows
         .iter()
         .find(|r| r["config"] == "foveated 0.5, MSAA 4")
@@ -1295,4 +1315,53 @@ fn help_and_the_options_table_list_every_headset() {
             profile.name
         );
     }
+}
+
+/// `shaders` on a device without the compiler's statistics (lavapipe): every mode's pipelines
+/// and the judges' compiled, whole frames recorded without queries, and each absence said, not
+/// filled in: no statistics, no driver trace, a CSV with its header alone. Mutation: a frame
+/// that waits on a query it did not plan (the frames asked without timestamps) fails on a
+/// device that runs nothing, not here; the absence lines and the header-only CSV fail if the
+/// command printed or wrote a figure it did not get.
+#[test]
+fn shaders_compiles_every_mode_and_says_what_the_device_does_not_report() {
+    let csv = std::env::temp_dir().join(format!("foveate-shaders-{}.csv", std::process::id()));
+    let o = foveate(&[
+        "shaders",
+        "--res",
+        "32",
+        "--stereo",
+        "all",
+        "--frames",
+        "2",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    for mode in ["multiview", "two-pass", "per-object", "instanced"] {
+        assert!(out.contains(&format!("{mode}: ")), "{out}");
+    }
+    let modes = out
+        .lines()
+        .filter(|l| !l.contains("compute") && l.ends_with(" pipelines compiled"));
+    assert_eq!(modes.count(), 4, "{out}");
+    assert_eq!(
+        out.matches("2 frames recorded and submitted, without queries")
+            .count(),
+        4,
+        "{out}"
+    );
+    assert!(
+        out.contains("does not report its compiler's statistics"),
+        "{out}"
+    );
+    assert!(out.contains("the judges (eFLIP, flicker): 9 compute pipelines compiled"));
+    assert!(out.contains("the driver wrote no trace"), "{out}");
+    assert_eq!(
+        std::fs::read_to_string(&csv).unwrap().lines().count(),
+        1,
+        "the header alone"
+    );
+    let _ = std::fs::remove_file(&csv);
 }

@@ -61,10 +61,11 @@ pub fn price(options: &GpuOptions, args: &PriceArgs) -> Result<()> {
     let gaze = [gaze.unwrap_or(Vec2::ZERO); 2];
     let mut rows = Vec::new();
     for (label, config) in rows_to_price(&asked) {
-        let config = tile.as_planned_here(&scene, &config)?;
         let gpu_ms = timed(&runner, &scene, &config, gaze, args.frames)?;
         let counted = counting_frame(&runner, &scene, &config, gaze, scene.head)?;
-        let Priced { price, work } = tile.price(&scene, &config, &counted)?;
+        let runner_plan = foveate::plan(&scene, &config, runner.caps())?;
+        let counts = (&counted, &runner_plan);
+        let Priced { price, work } = tile.price(&runner, &scene, &config, gaze, counts)?;
         rows.push(Row {
             label,
             gpu_ms,
@@ -78,10 +79,15 @@ pub fn price(options: &GpuOptions, args: &PriceArgs) -> Result<()> {
     Ok(())
 }
 
-/// The configuration asked for, after the two yardsticks (itself left out where it is one).
+/// The configuration asked for, after the two yardsticks: plain stereo at 4x and 1x, every
+/// effect off (itself left out where it is one).
 fn rows_to_price(asked: &RenderConfig) -> Vec<(String, RenderConfig)> {
     let stereo = |msaa| RenderConfig {
         foveation: None,
+        hmd_mask: false,
+        mffr: None,
+        radial_density: None,
+        culling: None,
         msaa,
         ..asked.clone()
     };
@@ -89,7 +95,7 @@ fn rows_to_price(asked: &RenderConfig) -> Vec<(String, RenderConfig)> {
         ("stereo 4x".to_string(), stereo(4)),
         ("stereo 1x (aliased)".to_string(), stereo(1)),
     ];
-    if asked.foveation.is_some() || (asked.msaa != 4 && asked.msaa != 1) {
+    if rows.iter().all(|(_, c)| c != asked) {
         rows.push(("asked".to_string(), asked.clone()));
     }
     rows

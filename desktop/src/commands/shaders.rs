@@ -102,8 +102,9 @@ pub fn shaders(options: &GpuOptions, args: &ShadersArgs) -> Result<()> {
             }
             if args.frames > 0 {
                 println!(
-                    "  {} frames recorded and submitted, without queries (no time, no counts)",
-                    args.frames
+                    "  {} frame{} recorded and submitted, without queries (no time, no counts)",
+                    args.frames,
+                    if args.frames == 1 { "" } else { "s" }
                 );
             }
             let names: Vec<&'static str> = plan.passes.iter().map(|p| p.name).collect();
@@ -225,7 +226,7 @@ fn values(e: &ShaderExecutable) -> String {
 
 fn print_table(steps: &[StepShaders]) {
     println!(
-        "  {:<13} {:>3} {:>5}  {:<11}{}",
+        "  {:<15} {:>3} {:>5}  {:<11}{}",
         "step",
         "spp",
         "views",
@@ -240,7 +241,7 @@ fn print_table(steps: &[StepShaders]) {
         }
         for e in s.executables {
             println!(
-                "    {:<11} {:>3} {:>5}  {:<11}{}",
+                "    {:<13} {:>3} {:>5}  {:<11}{}",
                 s.step.name(),
                 s.samples,
                 s.view_mask.count_ones().max(1),

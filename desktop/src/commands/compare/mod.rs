@@ -175,7 +175,13 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
     // The reference first (full meshes, whatever `--lod` asks of the rows), then every row:
     // all measured side by side in one group.
     let named = compared_rows(args, &base, &variants);
-    let configs = priced::configs(&named, pricer.as_ref(), &scene)?;
+    let configs: Vec<RenderConfig> = named
+        .iter()
+        .map(|(_, msaa, c)| RenderConfig {
+            msaa: *msaa,
+            ..c.clone()
+        })
+        .collect();
     let group = Group {
         scene: &scene,
         configs: &configs,
@@ -196,7 +202,8 @@ pub fn compare(options: &GpuOptions, args: &CompareArgs) -> Result<()> {
         return Err(crate::interrupt::stopped_by(failed, nothing));
     }
     let reference = judged.remove(0).measured;
-    let prices = priced::prices(pricer.as_ref(), &scene, &reference, &judged, &configs)?;
+    let devices = (&gpu, pricer.as_ref());
+    let prices = priced::prices(devices, &scene, gaze, (&reference, &judged), &configs)?;
     if let Some(dir) = &args.heatmaps {
         write_heat_maps(dir, &named, &judged)?;
     }

@@ -24,41 +24,21 @@ pub(super) fn devices(
     })
 }
 
-/// Each named row's configuration at its sample count; priced, with the fovea's layout the
-/// tile GPU's plan chose.
-pub(super) fn configs(
-    named: &[(String, u32, RenderConfig)],
-    pricer: Option<&TilePricer>,
-    scene: &Scene,
-) -> Result<Vec<RenderConfig>> {
-    named
-        .iter()
-        .map(|(_, msaa, c)| {
-            let config = RenderConfig {
-                msaa: *msaa,
-                ..c.clone()
-            };
-            match pricer {
-                Some(p) => p.as_planned_here(scene, &config),
-                None => Ok(config),
-            }
-        })
-        .collect()
-}
-
-/// Each judged row's price and the reference's (ms), in row order; none unpriced.
+/// Each judged row's price and the reference's (ms), in row order; none unpriced. `configs`:
+/// the reference's and the rows', as measured; `gaze`: both eyes' gaze.
 pub(super) fn prices(
-    pricer: Option<&TilePricer>,
+    (runner, pricer): (&Gpu, Option<&TilePricer>),
     scene: &Scene,
-    reference: &Measured,
-    judged: &[Judged],
+    gaze: glam::Vec2,
+    (reference, judged): (&Measured, &[Judged]),
     configs: &[RenderConfig],
 ) -> Result<Vec<(f64, f64)>> {
     let Some(p) = pricer else {
         return Ok(Vec::new());
     };
     let price = |m: &Measured, config: &RenderConfig| -> Result<f64> {
-        Ok(p.price(scene, config, &m.counts)?.price.ms())
+        let counted = (&m.counts, &m.plan);
+        Ok(p.price(runner, scene, config, [gaze; 2], counted)?.price.ms())
     };
     let base = price(reference, &configs[0])?;
     println!("the reference's price on the {}: {base:.3} ms", p.chip.name);
