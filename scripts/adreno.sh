@@ -9,8 +9,9 @@
 #   scripts/adreno.sh run CHIP CMD...    runs CMD on Adreno CHIP (650 or 740, or any chip the
 #                                        shim knows), e.g. scripts/adreno.sh run 650 \
 #                                        target/release/foveate shaders --hmd quest-pro
-#   scripts/adreno.sh price CHIP ARGS... `foveate price ARGS` (built for release) with turnip on
-#                                        CHIP beside lavapipe, which renders and counts
+#   scripts/adreno.sh beside CHIP CMD... runs CMD with turnip on CHIP beside lavapipe, which
+#                                        renders and counts (compare --price-device adreno)
+#   scripts/adreno.sh price CHIP ARGS... `foveate price ARGS` (built for release), beside
 #
 # The build: Mesa's source, pinned (MESA_VERSION below), from the Debian archive that the
 # system's apt uses (bookworm-backports' source package; no host is written here), configured
@@ -120,9 +121,10 @@ adreno_run() {
         MESA_SHADER_CACHE_DISABLE=true "$@"
 }
 
-# adreno_price CHIP ARGS...: `foveate price` with turnip on CHIP beside the lavapipe that
-# renders and counts (the system's, or the one FOVEATE_DRIVER selects: scripts/drivers.sh).
-adreno_price() {
+# adreno_beside CHIP CMD...: CMD with turnip on CHIP beside the lavapipe that renders and
+# counts (the system's, or the one FOVEATE_DRIVER selects: scripts/drivers.sh): the Vulkan
+# loader lists both devices, so `foveate price` and `compare --price-device` use both.
+adreno_beside() {
     local chip=$1 root lavapipe
     shift
     root=$(adreno_dir)
@@ -133,8 +135,7 @@ adreno_price() {
     lavapipe=${VK_ICD_FILENAMES:-$(ls /usr/share/vulkan/icd.d/lvp_icd.*.json | head -n 1)}
     LD_PRELOAD="$root/libfreedreno_noop_drm_shim.so" FD_GPU_ID="$chip" \
         VK_ICD_FILENAMES="$root/freedreno_icd.json:$lavapipe" \
-        VK_DRIVER_FILES="$root/freedreno_icd.json:$lavapipe" MESA_SHADER_CACHE_DISABLE=true \
-        "$ADRENO_SCRIPTS/../target/release/foveate" price "$@"
+        VK_DRIVER_FILES="$root/freedreno_icd.json:$lavapipe" MESA_SHADER_CACHE_DISABLE=true "$@"
 }
 
 if [ "${BASH_SOURCE[0]}" = "$0" ]; then
@@ -145,14 +146,20 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
             shift
             adreno_run "$@"
             ;;
+        beside)
+            [ $# -ge 3 ] || { echo "usage: scripts/adreno.sh beside CHIP CMD..." >&2; exit 1; }
+            shift
+            adreno_beside "$@"
+            ;;
         price)
             [ $# -ge 2 ] || { echo "usage: scripts/adreno.sh price CHIP [ARGS...]" >&2; exit 1; }
-            shift
+            chip=$2
+            shift 2
             (cd "$ADRENO_SCRIPTS/.." && cargo build -q --release -p foveate-desktop)
-            adreno_price "$@"
+            adreno_beside "$chip" "$ADRENO_SCRIPTS/../target/release/foveate" price "$@"
             ;;
         *)
-            echo "usage: scripts/adreno.sh build | run CHIP CMD... | price CHIP [ARGS...]" >&2
+            echo "usage: scripts/adreno.sh build | run CHIP CMD... | beside CHIP CMD... | price CHIP [ARGS...]" >&2
             exit 1
             ;;
     esac

@@ -136,7 +136,7 @@ fn print_rows(rows: &[Row], passes: bool) {
         "mem ms",
         "MiB",
         "frag G",
-        "vert G"
+        "vert M"
     );
     for r in rows {
         let alu: f64 = r.price.passes.iter().map(|p| p.alu_ms).sum();
@@ -145,7 +145,7 @@ fn print_rows(rows: &[Row], passes: bool) {
         let fragment: f64 = r.work.iter().map(PassWork::fragment_instructions).sum();
         let all: f64 = r.work.iter().map(PassWork::instructions).sum();
         println!(
-            "{:<22} {:>12.2} {:>9.3}   {:>10.3} {:>9.3} {:>8.3} {:>8.3} {:>8.1} {:>7.2} {:>7.2}",
+            "{:<22} {:>12.2} {:>9.3}   {:>10.3} {:>9.3} {:>8.3} {:>8.3} {:>8.1} {:>7.2} {:>7.1}",
             r.label,
             r.gpu_ms,
             r.gpu_ms / base_gpu,
@@ -155,10 +155,10 @@ fn print_rows(rows: &[Row], passes: bool) {
             memory + r.price.display_read_ms,
             bytes as f64 / (1 << 20) as f64,
             fragment / 1e9,
-            (all - fragment) / 1e9
+            (all - fragment) / 1e6
         );
     }
-    println!("(frag G, vert G: billions of instructions the fragment and vertex shaders ran, the binning pass's included)");
+    println!("(frag G, vert M: billions and millions of instructions the fragment and vertex shaders ran, the binning pass's included)");
     if passes {
         for r in rows {
             println!("\n{}: per pass", r.label);

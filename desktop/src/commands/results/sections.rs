@@ -62,6 +62,12 @@ fn still_table(runs: &Runs, from_dir: &str) -> Result<String> {
         Ok((num(row, "time_ratio")?, num(row, "eccentric_flip_p99")?))
     };
     let yardstick = [stereo(ahead)?, stereo(gaze)?];
+    // The price on the Adreno 650 (a formula), × the stereo 4× frame's on that chip.
+    let price = |run: &Run, config: &str| num(run.row("config", config)?, "price_ratio");
+    let price_yardstick = [
+        price(ahead, FOVEATION_ROWS[0].0)?,
+        price(gaze, FOVEATION_ROWS[0].0)?,
+    ];
     // The stereo 4× frame timed against itself: a row is cheaper, or dearer, only by more
     // than the run's own noise.
     let noise = |run: &Run| -> Result<f64> {
@@ -87,9 +93,12 @@ fn still_table(runs: &Runs, from_dir: &str) -> Result<String> {
                 yes(v)
             }
         };
+        let (price_a, price_g) = (price(ahead, config)?, price(gaze, config)?);
+        let priced_cheaper = price_a < price_yardstick[0] && price_g < price_yardstick[1];
         rows.push(vec![
             label.to_string(),
             format!("{ta:.2}×, {tg:.2}×"),
+            format!("{price_a:.3}×, {price_g:.3}×"),
             format!("{pa:.3}, {pg:.3}"),
             format!("{:.1}", num(g, "resolved_samples")? / 1e6),
             format!(
@@ -101,22 +110,32 @@ fn still_table(runs: &Runs, from_dir: &str) -> Result<String> {
                 (false, false, false) => "within the noise".to_string(),
                 _ => verdict(cheaper),
             },
+            verdict(priced_cheaper),
         ]);
     }
     let header = [
         "configuration",
         "time × stereo 4× (ahead, gaze)",
+        "Adreno 650 price × stereo 4× (ahead, gaze)",
         "eFLIP p99 (ahead, gaze)",
         "M samples resolved",
         "MiB moved",
         "as accurate as aliased stereo (both gazes)?",
         "cheaper (both gazes)?",
+        "cheaper on the Adreno 650's price?",
     ];
     let mut out = table(&header, &rows);
     out += &format!(
-        "\nThe lit atrium at the Meta Quest Pro's panel (1800×1920 per eye, 19.5 px/°), through the lens, a still frame with the gaze ahead and at (0.3, −0.2); every row measured side by side with the full-quality reference (stereo, 4×) in one run; a row is cheaper only by more than that reference timed against itself strayed ({:.0} % ahead, {:.0} % at the gaze). eFLIP p99: the eccentricity-aware FLIP's 99th percentile for the eye at the gaze, lower is better. Samples resolved and MiB moved: what a tile GPU pays, by the plan's formula. Ahead: {}. At (0.3, −0.2): {}.\n",
+        "\nThe lit atrium at the Meta Quest Pro's panel (1800×1920 per eye, 19.5 px/°), through the lens, a still frame with the gaze ahead and at (0.3, −0.2); every row measured side by side with the full-quality reference (stereo, 4×) in one run; a row is cheaper only by more than that reference timed against itself strayed ({:.0} % ahead, {:.0} % at the gaze). eFLIP p99: the eccentricity-aware FLIP's 99th percentile for the eye at the gaze, lower is better. Samples resolved and MiB moved: what a tile GPU pays, by the plan's formula. The Adreno 650's price (the Quest Pro's GPU): a formula, not a measurement — the fragments and vertices each step's counting frame counted × the instructions Adreno's own compiler (Mesa's turnip) made of its shaders, the plan's bytes at the chip's bandwidth, per pass the larger ([how]({})); cheaper only below aliased stereo's at both gazes. Ahead: {}. At (0.3, −0.2): {}.\n",
         noise[0] * 100.0,
         noise[1] * 100.0,
+        // The page's link to the Adreno page: the README's from the root, the results page's
+        // from docs/.
+        if from_dir.is_empty() {
+            "docs/adreno.md"
+        } else {
+            "adreno.md"
+        },
         ahead.provenance(from_dir),
         gaze.provenance(from_dir)
     );
