@@ -63,21 +63,20 @@ adreno_build() {
     # shellcheck source=scripts/packages.sh
     . "$ADRENO_SCRIPTS/packages.sh"
     ensure_packages bison flex libdrm-dev glslang-tools ninja-build libarchive-dev python3-venv xz-utils >&2
-    local apt_dir="$root/apt" opts mirror
+    local apt_dir="$root/apt" mirror
     mirror=$(debian_mirror) || return 1
     echo "foveate adreno: building turnip (Mesa $ADRENO_MESA_VERSION) into $root, from $mirror" >&2
     rm -rf "$root"
-    mkdir -p "$apt_dir/lists/partial" "$apt_dir/cache/archives/partial" "$root/src"
-    echo "deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] $mirror bookworm-backports main" \
-        >"$apt_dir/sources.list"
-    opts=(-qq -o "Dir::Etc::sourcelist=$apt_dir/sources.list" -o Dir::Etc::sourceparts=/dev/null
-        -o "Dir::State::Lists=$apt_dir/lists" -o "Dir::Cache=$apt_dir/cache"
-        -o Dir::State::status=/var/lib/dpkg/status -o APT::Sandbox::User="$(id -un)")
-    apt-get "${opts[@]}" update >&2 || { echo "foveate adreno: apt-get update failed" >&2; return 1; }
-    # Only the upstream tarball is needed (the Debian diff is not applied): fetch it by name.
+    mkdir -p "$root/src"
+    backports_apt "$apt_dir" deb-src update >&2 || { echo "foveate adreno: apt-get update failed" >&2; return 1; }
+    # Only the upstream tarball is needed (the Debian diff is not applied, and the archive no
+    # longer held the .dsc when this was written): fetch it by name, and fail naming it.
     local tarball="mesa_$ADRENO_MESA_VERSION.orig.tar.xz"
-    (cd "$root/src" && apt-get "${opts[@]}" source --download-only "$ADRENO_MESA_PACKAGE" >&2) || true
+    # apt reports the missing .dsc and Debian diff as errors: kept in a log, shown on failure.
+    (cd "$root/src" && backports_apt "$apt_dir" deb-src source --download-only "$ADRENO_MESA_PACKAGE") \
+        >"$root/source.log" 2>&1 || true
     if [ ! -f "$root/src/$tarball" ]; then
+        cat "$root/source.log" >&2
         echo "foveate adreno: the Debian archive did not give $tarball ($ADRENO_MESA_PACKAGE in bookworm-backports, from $mirror)" >&2
         return 1
     fi

@@ -27,21 +27,16 @@ mesa25_manifest() {
         echo "foveate drivers: mesa25 is fetched from bookworm-backports, for Debian bookworm only" >&2
         return 2
     fi
-    local apt_dir="$root/apt" opts mirror
+    local apt_dir="$root/apt" mirror
     # The system's Debian archive, as apt has it (a local mirror or proxy included).
     # shellcheck source=scripts/packages.sh
     . "$(dirname "${BASH_SOURCE[0]}")/packages.sh"
     mirror=$(debian_mirror) || return 1
     echo "foveate drivers: fetching Mesa 25's lavapipe from bookworm-backports ($mirror) into $root" >&2
     rm -rf "$root"
-    mkdir -p "$apt_dir/lists/partial" "$apt_dir/cache/archives/partial" "$root/deb"
-    echo "deb [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] $mirror bookworm-backports main" \
-        >"$apt_dir/sources.list"
-    opts=(-qq -o "Dir::Etc::sourcelist=$apt_dir/sources.list" -o Dir::Etc::sourceparts=/dev/null
-        -o "Dir::State::Lists=$apt_dir/lists" -o "Dir::Cache=$apt_dir/cache"
-        -o Dir::State::status=/var/lib/dpkg/status -o APT::Sandbox::User="$(id -un)")
-    apt-get "${opts[@]}" update >&2 &&
-        (cd "$root/deb" && apt-get "${opts[@]}" download mesa-vulkan-drivers/bookworm-backports) >&2 &&
+    mkdir -p "$root/deb"
+    backports_apt "$apt_dir" deb update >&2 &&
+        (cd "$root/deb" && backports_apt "$apt_dir" deb download mesa-vulkan-drivers/bookworm-backports) >&2 &&
         # Only lavapipe is kept: the package's other drivers are for GPUs.
         dpkg-deb -x "$root"/deb/mesa-vulkan-drivers_*.deb "$root/unpacked" || {
         echo "foveate drivers: could not fetch mesa-vulkan-drivers from bookworm-backports" >&2

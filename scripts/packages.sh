@@ -43,3 +43,22 @@ debian_mirror() {
     fi
     echo "${mirror%/}"
 }
+
+# backports_apt DIR KIND ARGS...: apt-get ARGS with a private state in DIR whose one source is
+# bookworm-backports (KIND: deb or deb-src) from the archive the system's apt uses
+# (debian_mirror), so nothing of the system's apt changes. DIR's sources list is written the
+# first time.
+backports_apt() {
+    local dir=$1 kind=$2 mirror
+    shift 2
+    if [ ! -f "$dir/sources.list" ]; then
+        mirror=$(debian_mirror) || return 1
+        mkdir -p "$dir/lists/partial" "$dir/cache/archives/partial"
+        echo "$kind [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] $mirror bookworm-backports main" \
+            >"$dir/sources.list"
+    fi
+    apt-get -qq -o "Dir::Etc::sourcelist=$dir/sources.list" -o Dir::Etc::sourceparts=/dev/null \
+        -o "Dir::State::Lists=$dir/lists" -o "Dir::Cache=$dir/cache" \
+        -o Dir::State::status=/var/lib/dpkg/status -o APT::Sandbox::User="$(id -un)" "$@"
+}
+

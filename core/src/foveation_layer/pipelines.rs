@@ -227,15 +227,9 @@ pub(crate) fn compile_pipeline(
             dynamic_states.push(vk::DynamicState::STENCIL_REFERENCE);
         }
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-        // Where the device reports its compiler's statistics, they are captured for every
-        // pipeline (`foveate shaders` prints them per pass and step).
-        let capture = gpu.executable_properties.as_ref();
-        let flags = match capture {
-            Some(_) => vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR,
-            None => vk::PipelineCreateFlags::empty(),
-        };
+        // Where the device reports its compiler's statistics, every pipeline captures them.
         let info = vk::GraphicsPipelineCreateInfo::default()
-            .flags(flags)
+            .flags(gpu.statistics_flags())
             .stages(&stages)
             .vertex_input_state(&vertex_input)
             .input_assembly_state(&assembly)
@@ -255,10 +249,6 @@ pub(crate) fn compile_pipeline(
         }
         .map_err(|(_, e)| e)
         .vk("vkCreateGraphicsPipelines")?;
-        let mut pipeline = Pipeline::from_raw(&gpu.dev, pipelines[0]);
-        if let Some(ext) = capture {
-            pipeline.statistics = Some(crate::gpu::capture_statistics(ext, pipeline.raw)?);
-        }
-        Ok(pipeline)
+        gpu.pipeline_with_statistics(pipelines[0])
     })
 }

@@ -31,7 +31,6 @@ pub(crate) use memory::pod_bytes;
 pub use memory::{Image, ImageDesc};
 internal_use!(memory::{Buffer, MemoryLocation});
 pub use open::EngineDevice;
-pub(crate) use shader_statistics::capture as capture_statistics;
 pub use shader_statistics::{ShaderExecutable, ShaderStatistic, StatisticValue};
 pub use swapchain::{Acquired, Presented, Swapchain, SwapchainImage};
 

@@ -159,3 +159,27 @@ pub(crate) fn offered(
     unsafe { instance.get_physical_device_features2(physical, &mut features) };
     feature.pipeline_executable_info == vk::TRUE
 }
+
+impl super::Gpu {
+    /// The flags a pipeline is created with: capturing its statistics where the device reports
+    /// them (`VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR`), nothing else.
+    pub(crate) fn statistics_flags(&self) -> vk::PipelineCreateFlags {
+        match self.executable_properties {
+            Some(_) => vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR,
+            None => vk::PipelineCreateFlags::empty(),
+        }
+    }
+
+    /// Takes ownership of `raw`, created on this device with [`Self::statistics_flags`], with
+    /// its statistics read where the device reports them.
+    pub(crate) fn pipeline_with_statistics(
+        &self,
+        raw: vk::Pipeline,
+    ) -> Result<super::Pipeline, GpuError> {
+        let mut pipeline = super::Pipeline::from_raw(&self.dev, raw);
+        if let Some(ext) = &self.executable_properties {
+            pipeline.statistics = Some(capture(ext, pipeline.raw)?);
+        }
+        Ok(pipeline)
+    }
+}

@@ -155,13 +155,8 @@ pub(super) fn compute_pipeline(
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module.raw)
         .name(c"main");
-    let capture = gpu.executable_properties.as_ref();
-    let flags = match capture {
-        Some(_) => vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR,
-        None => vk::PipelineCreateFlags::empty(),
-    };
     let info = [vk::ComputePipelineCreateInfo::default()
-        .flags(flags)
+        .flags(gpu.statistics_flags())
         .stage(stage)
         .layout(layout.raw)];
     // SAFETY: valid create info; the module lives until the call returns.
@@ -171,11 +166,7 @@ pub(super) fn compute_pipeline(
     }
     .map_err(|(_, e)| e)
     .vk("vkCreateComputePipelines")?;
-    let mut pipeline = Pipeline::from_raw(&gpu.dev, raw[0]);
-    if let Some(ext) = capture {
-        pipeline.statistics = Some(crate::gpu::capture_statistics(ext, pipeline.raw)?);
-    }
-    Ok(pipeline)
+    gpu.pipeline_with_statistics(raw[0])
 }
 
 /// Each pipeline's shader and what the driver's compiler reported of it (empty where the

@@ -38,7 +38,9 @@ pub(super) fn prices(
     };
     let price = |m: &Measured, config: &RenderConfig| -> Result<f64> {
         let counted = (&m.counts, &m.plan);
-        Ok(p.price(runner, scene, config, [gaze; 2], counted)?.price.ms())
+        Ok(p.price(runner, scene, config, [gaze; 2], counted)?
+            .price
+            .ms())
     };
     let base = price(reference, &configs[0])?;
     println!("the reference's price on the {}: {base:.3} ms", p.chip.name);
