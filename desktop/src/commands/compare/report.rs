@@ -146,8 +146,8 @@ fn output_pass_ms(run: &Measured) -> Option<f64> {
     (!times.is_empty()).then(|| times.iter().sum())
 }
 
-/// Each row's price on the tile GPU and the reference's, ms (`compare --price-device`).
-pub(super) type Prices = [(f64, f64)];
+/// Each row's price on the tile GPU (`compare --price-device`).
+pub(super) type Prices = [super::priced::RowPrice];
 
 pub(super) fn print_rows(
     rows: &[Row],
@@ -164,13 +164,13 @@ pub(super) fn print_rows(
         "\nthe tile GPU's price (a formula), beside lavapipe's time:\n{:<width$} {:>9} {:>10} {:>9}",
         "configuration", "ratio", "price ms", "x ref"
     );
-    for (row, (ms, base)) in rows.iter().zip(prices) {
+    for (row, p) in rows.iter().zip(prices) {
         println!(
             "{:<width$} {:>9.3} {:>10.3} {:>9.3}",
             row.name,
             row.run.frame_ms / reference_ms,
-            ms,
-            ms / base
+            p.ms,
+            p.ms / p.reference_ms
         );
     }
 }
@@ -294,6 +294,9 @@ pub(super) fn csv(
         "eccentric_flip_p99_periphery",
         "price_ms",
         "price_ratio",
+        "price_alu_ms",
+        "price_memory_ms",
+        "price_instructions",
     ])?;
     for (i, (row, m)) in rows.iter().zip(measured).enumerate() {
         let price = prices.get(i);
@@ -328,8 +331,11 @@ pub(super) fn csv(
             &p99(e.regions[0]),
             &p99(e.regions[1]),
             &p99(e.regions[2]),
-            &opt(price.map(|p| p.0), 4),
-            &opt(price.map(|p| p.0 / p.1), 4),
+            &opt(price.map(|p| p.ms), 4),
+            &opt(price.map(|p| p.ms / p.reference_ms), 4),
+            &opt(price.map(|p| p.alu_ms), 4),
+            &opt(price.map(|p| p.memory_ms), 4),
+            &opt(price.map(|p| p.instructions), 0),
         ])?;
     }
     Ok(csv)
