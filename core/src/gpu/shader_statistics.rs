@@ -183,3 +183,52 @@ impl super::Gpu {
         Ok(pipeline)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn driver_statistic(
+        name: &str,
+        format: vk::PipelineExecutableStatisticFormatKHR,
+        value: vk::PipelineExecutableStatisticValueKHR,
+    ) -> vk::PipelineExecutableStatisticKHR<'static> {
+        let mut s = vk::PipelineExecutableStatisticKHR::default();
+        for (to, from) in s.name.iter_mut().zip(name.bytes()) {
+            *to = from as std::ffi::c_char;
+        }
+        s.format = format;
+        s.value = value;
+        s
+    }
+
+    /// The driver's statistics as turnip reports them for the Adreno 650's lit scene shader
+    /// (recorded: "Instruction Count" 1171 as UINT64, "Early preamble" as BOOL32), and a signed
+    /// and a float one: each read from the union member its format names, its name up to the
+    /// NUL. Mutation: a format mapped to another member (a float read as an integer) fails it.
+    #[test]
+    fn each_statistic_is_read_as_its_format_says() {
+        use vk::PipelineExecutableStatisticFormatKHR as F;
+        use vk::PipelineExecutableStatisticValueKHR as V;
+        let read = |s| statistic(&s);
+        let count = read(driver_statistic(
+            "Instruction Count",
+            F::UINT64,
+            V { u64: 1171 },
+        ));
+        assert_eq!(count.name, "Instruction Count");
+        assert_eq!(count.value, StatisticValue::Uint(1171));
+        let early = read(driver_statistic(
+            "Early preamble",
+            F::BOOL32,
+            V { b32: vk::TRUE },
+        ));
+        assert_eq!(early.value, StatisticValue::Bool(true));
+        assert_eq!(early.value.as_f64(), 1.0);
+        let signed = read(driver_statistic("Signed", F::INT64, V { i64: -3 }));
+        assert_eq!(signed.value, StatisticValue::Int(-3));
+        let float = read(driver_statistic("Occupancy", F::FLOAT64, V { f64: 0.75 }));
+        assert_eq!(float.value, StatisticValue::Float(0.75));
+        assert_eq!(float.value.to_string(), "0.75");
+    }
+}
