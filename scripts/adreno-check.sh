@@ -63,6 +63,16 @@ for chip in 650 740; do
         run "$chip" $options || failed+=("adreno $chip: foveate shaders $options")
     done
 done
+# A frame that waits on its timestamps, on a device that executes nothing, is an error saying
+# so (turnip waits 5 s for queries it never writes), not a hang or a bare Vulkan result.
+log=$(mktemp)
+if FOVEATE_PIPELINE_CACHE=off adreno_run 740 "$bin" render --res 32 --frames 1 --out "$log.png" >"$log" 2>&1 \
+    || ! grep -q "the device never wrote the frame's queries" "$log"; then
+    failed+=("render on a device that executes nothing: $(grep -v '^Unknown DRM_IOCTL' "$log" | tail -n 1)")
+else
+    echo "  render on a device that executes nothing: refused, saying why"
+fi
+rm -f "$log" "$log.png"
 # The negative control: the check's test of a run must see a failing run fail.
 if FOVEATE_LOSE_DEVICE_AFTER_SUBMITS=1 run 740 --res 64 >/dev/null 2>&1; then
     failed+=("negative control: a run whose device was lost passed the check")

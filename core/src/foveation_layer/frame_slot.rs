@@ -237,9 +237,8 @@ impl FrameSlot {
             gpu.device()
                 .get_query_pool_results(q.raw, 0, &mut ticks, flags)
         };
-        match read {
-            Err(vk::Result::NOT_READY) => return Ok(None),
-            other => gpu.noting_loss(other.vk("vkGetQueryPoolResults"))?,
+        if !queries_read(gpu, read)? {
+            return Ok(None);
         }
         let ms = |a: u64, b: u64| b.wrapping_sub(a) as f64 * gpu.timestamp_period_ns / 1e6;
         let passes = ticks.windows(2).map(|w| ms(w[0], w[1])).collect();
@@ -264,9 +263,8 @@ impl FrameSlot {
             gpu.device()
                 .get_query_pool_results(q.raw, 0, &mut values, flags)
         };
-        match read {
-            Err(vk::Result::NOT_READY) => return Ok(None),
-            other => gpu.noting_loss(other.vk("vkGetQueryPoolResults"))?,
+        if !queries_read(gpu, read)? {
+            return Ok(None);
         }
         Ok(Some(
             values
@@ -279,6 +277,21 @@ impl FrameSlot {
                 })
                 .collect(),
         ))
+    }
+}
+
+/// Whether a read of a frame's queries found them (`false`: not yet ready); a wait that gave up
+/// on queries its finished frame never wrote is an error saying so.
+fn queries_read(gpu: &Gpu, read: Result<(), vk::Result>) -> Result<bool, GpuError> {
+    match read {
+        Err(vk::Result::NOT_READY) => Ok(false),
+        Err(result @ vk::Result::TIMEOUT) => Err(GpuError::QueriesNeverWritten {
+            call: "vkGetQueryPoolResults",
+            result,
+        }),
+        other => gpu
+            .noting_loss(other.vk("vkGetQueryPoolResults"))
+            .map(|()| true),
     }
 }
 

@@ -16,6 +16,15 @@ pub enum GpuError {
         /// What it returned.
         result: vk::Result,
     },
+    #[error("the device never wrote the frame's queries ({call} waited and gave up: {result}); a device that executes nothing, such as Mesa's turnip on the drm-shim, never does: plan its frames without timestamps (RenderConfig::timestamps; `foveate shaders --frames N` records frames so)")]
+    /// A frame finished (its fence signalled) but its queries were never written: the device
+    /// executes nothing.
+    QueriesNeverWritten {
+        /// The call, as Vulkan names it.
+        call: &'static str,
+        /// What it returned.
+        result: vk::Result,
+    },
     #[error("no usable Vulkan device (Vulkan 1.1 with a graphics queue and multiview); install `mesa-vulkan-drivers` for lavapipe")]
     /// No device has what foveate needs.
     NoDevice,
