@@ -43,11 +43,12 @@ fn a_second_renderer_for_the_same_plan_creates_no_render_pass_or_pipeline() {
     assert_validation_clean(&gpu);
 }
 
-/// The pipeline cache is written where the options say when the GPU is dropped, with
-/// Vulkan's header (lavapipe stores nothing after it; a GPU driver stores its pipelines), and
-/// seeds the next GPU, which renders validation-clean from it; a file of garbage (another
-/// device's, a torn write) is ignored, not fed to the driver. Mutation: skipping the save, or
-/// passing unchecked bytes as initial data, fails it.
+/// The pipeline cache is written where the options say when the GPU is dropped, in a file of
+/// the device's own (its identity in the name, beside the name given), with Vulkan's header
+/// (lavapipe stores nothing after it; a GPU driver stores its pipelines), and seeds the next
+/// GPU, which renders validation-clean from it; a file of garbage (another device's, a torn
+/// write) is ignored, not fed to the driver. Mutation: skipping the save, or passing unchecked
+/// bytes as initial data, fails it.
 #[test]
 fn the_pipeline_cache_persists_between_runs() {
     let dir = std::env::temp_dir().join(format!("foveate-pipeline-cache-{}", std::process::id()));
@@ -63,9 +64,11 @@ fn the_pipeline_cache_persists_between_runs() {
         resolution: Some(Resolution::square(32)),
         ..RenderConfig::default()
     };
+    // The device's own file: where the first run saved it.
+    let mut written: Option<std::path::PathBuf> = None;
     for run in 0..3 {
-        if run == 2 {
-            std::fs::write(&path, [0x5au8; 256]).unwrap();
+        if let (2, Some(file)) = (run, &written) {
+            std::fs::write(file, [0x5au8; 256]).unwrap();
         }
         let gpu = Gpu::new(&options).unwrap();
         let plan = foveate::plan(&scene, &config, gpu.caps()).unwrap();
@@ -73,8 +76,23 @@ fn the_pipeline_cache_persists_between_runs() {
         renderer.render_frame(scene.head).unwrap();
         drop(renderer);
         assert_validation_clean(&gpu);
+        let saved = gpu
+            .save_pipeline_cache()
+            .unwrap()
+            .expect("a path was given");
         drop(gpu);
-        let data = std::fs::read(&path).unwrap_or_else(|e| panic!("run {run}: {e}"));
+        assert_eq!(saved.parent(), path.parent(), "beside the name given");
+        let name = saved.file_name().unwrap().to_string_lossy().into_owned();
+        assert!(
+            name.starts_with("pipelines-") && name.ends_with(".bin"),
+            "{name}"
+        );
+        assert!(
+            written.as_ref().is_none_or(|w| *w == saved),
+            "run {run}: one file a device"
+        );
+        written = Some(saved.clone());
+        let data = std::fs::read(&saved).unwrap_or_else(|e| panic!("run {run}: {e}"));
         assert!(data.len() >= 32, "run {run}: at least the header");
         assert_eq!(u32::from_le_bytes(data[0..4].try_into().unwrap()), 32);
     }
