@@ -26,11 +26,10 @@ pub struct StepShaders<'a> {
     pub executables: &'a [ShaderExecutable],
 }
 
-impl crate::gpu::Gpu {
-    /// Whether the device reports its compiler's statistics for the pipelines foveate
-    /// creates (`VK_KHR_pipeline_executable_properties` on a device foveate opened).
-    pub fn shader_statistics_offered(&self) -> bool {
-        self.executable_properties.is_some()
+impl StepShaders<'_> {
+    /// The views the step draws (1 for a pass without multiview).
+    pub fn views(&self) -> u32 {
+        self.view_mask.count_ones().max(1)
     }
 }
 

@@ -161,6 +161,12 @@ pub(crate) fn offered(
 }
 
 impl super::Gpu {
+    /// Whether the device reports its compiler's statistics for the pipelines foveate
+    /// creates (`VK_KHR_pipeline_executable_properties` on a device foveate opened).
+    pub fn shader_statistics_offered(&self) -> bool {
+        self.executable_properties.is_some()
+    }
+
     /// The flags a pipeline is created with: capturing its statistics where the device reports
     /// them (`VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR`), nothing else.
     pub(crate) fn statistics_flags(&self) -> vk::PipelineCreateFlags {

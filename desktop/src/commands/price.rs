@@ -34,7 +34,7 @@ pub struct PriceArgs {
     pub passes: bool,
 }
 
-/// One row: its label, its lavapipe GPU time and output pass time (medians), and its price.
+/// One row: its label, its median GPU time on the rendering device, and its price.
 struct Row {
     label: String,
     gpu_ms: f64,
@@ -61,9 +61,8 @@ pub fn price(options: &GpuOptions, args: &PriceArgs) -> Result<()> {
     let gaze = [gaze.unwrap_or(Vec2::ZERO); 2];
     let mut rows = Vec::new();
     for (label, config) in rows_to_price(&asked) {
-        let gpu_ms = timed(&runner, &scene, &config, gaze, args.frames)?;
+        let (gpu_ms, runner_plan) = timed(&runner, &scene, &config, gaze, args.frames)?;
         let counted = counting_frame(&runner, &scene, &config, gaze, scene.head)?;
-        let runner_plan = foveate::plan(&scene, &config, runner.caps())?;
         let counts = (&counted, &runner_plan);
         let Priced { price, work } = tile.price(&runner, &scene, &config, gaze, counts)?;
         rows.push(Row {
@@ -101,14 +100,15 @@ fn rows_to_price(asked: &RenderConfig) -> Vec<(String, RenderConfig)> {
     rows
 }
 
-/// The median GPU time of `frames` frames of `config` on `gpu`, after a warm-up and settling.
+/// The median GPU time of `frames` frames of `config` on `gpu`, after a warm-up and settling,
+/// and the plan they rendered.
 fn timed(
     gpu: &Gpu,
     scene: &foveate::scene::Scene,
     config: &RenderConfig,
     gaze: [Vec2; 2],
     frames: u32,
-) -> Result<f64> {
+) -> Result<(f64, foveate::plan::FramePlan)> {
     let plan = foveate::plan(scene, config, gpu.caps())?;
     let mut renderer = Renderer::new(gpu, &plan, scene)?;
     renderer.set_gaze(gaze)?;
@@ -119,8 +119,10 @@ fn timed(
         let stats = renderer.render_frame(scene.head)?;
         times.push(stats.gpu_ms.context("the frame has no GPU time")?);
     }
-    times.sort_by(f64::total_cmp);
-    Ok(times[times.len() / 2])
+    let median = foveate::metrics::Stats::of(&times)
+        .context("no timed frame")?
+        .median;
+    Ok((median, plan))
 }
 
 fn print_rows(rows: &[Row], passes: bool) {

@@ -122,15 +122,15 @@ pub fn shaders(options: &GpuOptions, args: &ShadersArgs) -> Result<()> {
                     s.step.name()
                 );
             }
+            for s in statistics.iter().flatten() {
+                csv_rows(&mut csv, mode.name(), s)?;
+            }
             match statistics {
                 None => println!(
                     "  the device does not report its compiler's statistics (no VK_KHR_pipeline_executable_properties)"
                 ),
                 Some(steps) if args.all => print_all(&steps),
                 Some(steps) => print_table(&steps),
-            }
-            for s in renderer.layer().shader_statistics().unwrap_or_default() {
-                csv_rows(&mut csv, mode.name(), &s)?;
             }
         }
         judges(&gpu, args.all)?;
@@ -189,7 +189,7 @@ fn csv_rows(csv: &mut CsvTable, mode: &str, s: &StepShaders) -> Result<()> {
                 &s.step.name(),
                 &s.pipeline,
                 &s.samples,
-                &s.view_mask.count_ones().max(1),
+                &s.views(),
                 &e.name,
                 &stat.name,
                 &stat.value,
@@ -244,7 +244,7 @@ fn print_table(steps: &[StepShaders]) {
                 "    {:<13} {:>3} {:>5}  {:<11}{}",
                 s.step.name(),
                 s.samples,
-                s.view_mask.count_ones().max(1),
+                s.views(),
                 e.name,
                 values(e)
             );
@@ -259,7 +259,7 @@ fn print_all(steps: &[StepShaders]) {
             s.pass,
             s.step.name(),
             s.samples,
-            s.view_mask.count_ones().max(1),
+            s.views(),
             s.pipeline
         );
         for e in s.executables {
