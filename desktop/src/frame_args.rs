@@ -121,6 +121,11 @@ pub struct ConfigArgs {
     /// Default: the library's.
     #[arg(long)]
     pub temporal_history: Option<HistoryAt>,
+    /// With --temporal-history periphery: the history's pass at this density (of the screen's
+    /// pixels per side) instead of the periphery's own, finer than the periphery's texels and
+    /// coarser than the output's. Default: the periphery's density.
+    #[arg(long)]
+    pub temporal_history_density: Option<f32>,
     /// With --temporal: accumulate only within this eccentricity of the gaze (degrees); beyond
     /// it each frame's periphery is shown as it is and does none of the accumulation's work
     /// (the two blend over the last 5°). Default: everywhere.
@@ -399,6 +404,7 @@ impl ConfigArgs {
                 neighbourhood: self.temporal_neighbourhood.unwrap_or(default.neighbourhood),
                 new_sample: self.temporal_new_sample.unwrap_or(default.new_sample),
                 history_at: self.temporal_history.unwrap_or(default.history_at),
+                history_density: self.temporal_history_density.or(default.history_density),
                 within_deg: self.temporal_within.or(default.within_deg),
                 ..default
             }),
@@ -495,6 +501,7 @@ impl ConfigArgs {
                     given("--temporal-neighbourhood", &self.temporal_neighbourhood),
                     given("--temporal-new-sample", &self.temporal_new_sample),
                     given("--temporal-history", &self.temporal_history),
+                    given("--temporal-history-density", &self.temporal_history_density),
                     given("--temporal-within", &self.temporal_within),
                 ],
             ),

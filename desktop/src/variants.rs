@@ -70,6 +70,11 @@ pub struct Accumulation {
     /// library's).
     #[arg(long, value_delimiter = ',')]
     pub histories: Vec<HistoryAt>,
+    /// With --temporal: beside each accumulated row, one per density (of the screen's pixels
+    /// per side) of a history kept in a pass of its own, between the periphery's texels and
+    /// the output's pixels.
+    #[arg(long, value_delimiter = ',')]
+    pub history_densities: Vec<f32>,
     /// With --temporal: one accumulated row per reach: the eccentricity (degrees) within which
     /// the periphery accumulates, each frame's periphery shown beyond it (default: everywhere).
     #[arg(long, value_delimiter = ',')]
@@ -88,6 +93,10 @@ pub struct Accumulation {
     /// 4 needs a device that resolves depth in a pass, VK_KHR_depth_stencil_resolve).
     #[arg(long, value_delimiter = ',')]
     pub temporal_msaa: Vec<u32>,
+    /// With --temporal: only the foveated rows whose name contains this text (e.g. `periphery
+    /// 0.6, temporal`; given again, either text); the stereo rows stay (default: every row).
+    #[arg(long)]
+    pub only: Vec<String>,
 }
 
 /// `variants` and, after them, each plain one (single-sample periphery, not sharpened,
@@ -128,6 +137,24 @@ pub fn with_temporal(
     ways = vary(ways, &accumulation.histories, |w, history_at| {
         TemporalConfig { history_at, ..w }
     });
+    // Beside each way, the same with its history at each density (the rows compared with
+    // the history where `--histories` keeps it).
+    let at_densities = vary(
+        ways.clone(),
+        &accumulation.history_densities,
+        |w, density| TemporalConfig {
+            history_at: HistoryAt::Periphery,
+            history_density: Some(density),
+            ..w
+        },
+    );
+    if !accumulation.history_densities.is_empty() {
+        for way in at_densities {
+            if !ways.contains(&way) {
+                ways.push(way);
+            }
+        }
+    }
     ways = vary(ways, &accumulation.withins, |w, within| TemporalConfig {
         within_deg: Some(within),
         ..w
@@ -165,7 +192,18 @@ pub fn with_temporal(
             })
         })
         .collect();
-    Ok(variants.into_iter().chain(temporal).collect())
+    let wanted = |name: &String| {
+        let only = &accumulation.only;
+        only.is_empty() || only.iter().any(|text| name.contains(text.as_str()))
+    };
+    let rows = variants.into_iter().chain(temporal);
+    let rows: Vec<_> = rows.filter(|(name, _)| wanted(name)).collect();
+    anyhow::ensure!(
+        !rows.is_empty(),
+        "--only {:?}: no foveated row's name contains any of these",
+        accumulation.only
+    );
+    Ok(rows)
 }
 
 /// Each of `ways` once per value in `values` (set by `set`), or `ways` as they are where no
@@ -200,8 +238,12 @@ fn way_words(way: TemporalConfig, default: TemporalConfig) -> String {
     if way.new_sample != default.new_sample {
         words.push(format!("{} sample", way.new_sample));
     }
-    if way.history_at != default.history_at {
-        words.push(format!("history at the {}'s pixels", way.history_at));
+    match way.history_density {
+        Some(density) => words.push(format!("history at density {density}")),
+        None if way.history_at != default.history_at => {
+            words.push(format!("history at the {}'s pixels", way.history_at))
+        }
+        None => {}
     }
     if let Some(within) = way
         .within_deg

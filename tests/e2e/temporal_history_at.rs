@@ -14,10 +14,17 @@ use super::temporal::{
 const SCREEN: u32 = 128;
 
 fn at_periphery(jitter_cycle: u32) -> RenderConfig {
+    at_density(jitter_cycle, None)
+}
+
+/// Accumulated in a pass of its own, its history at `density` of the screen's (`None`: the
+/// periphery's, 0.5 here).
+fn at_density(jitter_cycle: u32, density: Option<f32>) -> RenderConfig {
     config(
         SCREEN,
         Some(TemporalConfig {
             history_at: HistoryAt::Periphery,
+            history_density: density,
             jitter_cycle,
             ..Default::default()
         }),
@@ -56,11 +63,13 @@ fn unjittered_the_periphery_history_composes_as_a_fresh_output_history() {
 }
 
 /// On a still frame the periphery accumulated at its own texels approaches the supersampled
-/// reference as frames go by, and ends closer to it than one frame's periphery; the history at
-/// the output's pixels, which gathers detail beyond the periphery's density, ends closer still.
-/// Negative control in the test: without jitter the history gains nothing from frame to frame.
-/// Mutations: the jitter left out of the accumulation pass's block (samples credited to the
-/// wrong texels), or the history never blended, fail it.
+/// reference as frames go by, and ends closer to it than one frame's periphery; a history at a
+/// density between the periphery's and the output's ends closer than the periphery's texels,
+/// and the history at the output's pixels, which gathers detail beyond the periphery's
+/// density, ends closer still. Negative control in the test: without jitter the history gains
+/// nothing from frame to frame. Mutations: the jitter left out of the accumulation pass's block
+/// (samples credited to the wrong texels), the history never blended, or the density ignored
+/// (the periphery's texels), fail it.
 #[test]
 fn the_periphery_history_converges_on_a_still_frame() {
     let gpu = gpu();
@@ -81,9 +90,18 @@ fn the_periphery_history_converges_on_a_still_frame() {
     let at_output = error(&config(SCREEN, Some(TemporalConfig::default())));
     let accumulated = error(&at_periphery(TemporalConfig::default().jitter_cycle));
     let unjittered = error(&at_periphery(1));
+    let between = error(&at_density(
+        TemporalConfig::default().jitter_cycle,
+        Some(0.75),
+    ));
     eprintln!(
         "periphery error (first, last frame): one frame {single:?}, history at the output \
-         {at_output:?}, at the periphery {accumulated:?}, unjittered {unjittered:?}"
+         {at_output:?}, at the periphery {accumulated:?}, at 0.75 {between:?}, unjittered \
+         {unjittered:?}"
+    );
+    assert!(
+        between[1] < accumulated[1],
+        "a finer history keeps more detail: {between:?} against {accumulated:?}"
     );
     assert!(
         accumulated[1] < 0.95 * accumulated[0],

@@ -277,7 +277,7 @@ impl FoveationConfig {
         let accumulated_reach = match self.periphery_temporal {
             None => 0.0,
             Some(t) if t.history_at == HistoryAt::Periphery => {
-                margin(ACCUMULATED_REACH_PX) / periphery_scale
+                margin(ACCUMULATED_REACH_PX) / t.history_density.unwrap_or(periphery_scale)
             }
             Some(_) => margin(ACCUMULATED_REACH_PX),
         };

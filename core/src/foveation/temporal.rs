@@ -39,6 +39,11 @@ pub struct TemporalConfig {
     pub new_sample: NewSample,
     /// Where the history's pixels lie: the output's or the periphery's own texels.
     pub history_at: HistoryAt,
+    /// With [`HistoryAt::Periphery`]: the history's density, of the screen's pixels per side,
+    /// in place of the periphery's own (finer texels blur less each time the history is
+    /// resampled and keep more of the jitter's sub-texel detail, for more pixels accumulated).
+    /// `None`: the periphery's density.
+    pub history_density: Option<f32>,
     /// How far from the gaze the periphery accumulates: within this eccentricity (degrees,
     /// from the fovea's centre) it accumulates, beyond it each frame's periphery is shown as it
     /// is (the jitter undone) and its pixels read no history and do none of the accumulation's
@@ -60,7 +65,9 @@ pub enum HistoryAt {
     /// The periphery's own texels, in a pass of its own at the periphery's size before the
     /// output pass, which then upscales the accumulated periphery as it would a single frame:
     /// the periphery anti-aliased over time but no sharper than its density, for a history
-    /// the density² of the output's pixels.
+    /// the density² of the output's pixels. With [`TemporalConfig::history_density`] the pass
+    /// and its history are at that density instead, between the periphery's and the output's
+    /// (as temporal upscalers keep theirs at their output, not the display's).
     Periphery,
 }
 
@@ -316,6 +323,7 @@ impl Default for TemporalConfig {
             // (docs/notebook/2026-11-28-every-neighbour-as-a-new-sample.md).
             new_sample: NewSample::Nearest,
             history_at: HistoryAt::Output,
+            history_density: None,
             within_deg: None,
         }
     }
@@ -345,6 +353,22 @@ impl TemporalConfig {
                     "clip sigmas",
                     sigmas,
                     "> 0 and finite (HistoryClip::Range for the range alone)",
+                ));
+            }
+        }
+        if let Some(density) = self.history_density {
+            if self.history_at != HistoryAt::Periphery {
+                return Err(ConfigError::new(
+                    "temporal_history_density",
+                    density,
+                    "only with the history in a pass of its own (history_at: periphery)",
+                ));
+            }
+            if !(density > 0.0 && density <= 1.0) {
+                return Err(ConfigError::new(
+                    "temporal_history_density",
+                    density,
+                    "0 < density ≤ 1 (of the screen's pixels per side)",
                 ));
             }
         }

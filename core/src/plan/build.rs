@@ -21,7 +21,7 @@ use super::scene_sizes::{lod_plan, plan_instance_buffers, spare_total};
 use super::split_views::{layer_copy_pipeline, one_pass_per_view};
 use super::steps::{DrawSet, OutputSource, Step};
 use super::stereo_scene::{scene_passes, scene_pipeline, FoveaPasses, ViewSet};
-use super::temporal::{add_accumulation, periphery_image};
+use super::temporal::{add_accumulation, history_size, periphery_image};
 use super::validate::*;
 use super::{
     ConfigError, DeviceCaps, FoveaLayout, OutputStage, RenderConfig, Resolution, StereoMode,
@@ -354,17 +354,17 @@ fn add_technique_steps(
         .collect();
     // The periphery accumulated over frames: in the output pass, which samples the history and
     // the periphery's depth after its sources and writes the next history beside the output;
-    // or at the periphery's own texels, in a pass of its own whose image the output pass then
-    // composes as it would a single frame's periphery.
+    // or in a pass of its own (at the periphery's texels or the history's density) whose image
+    // the output pass then composes as it would a single frame's periphery.
     let temporal = foveation.and_then(|f| f.temporal);
     let periphery = temporal
         .filter(|t| t.history_at == HistoryAt::Periphery)
         .and_then(|_| periphery_image(passes, attachments));
-    let history_size = periphery.map_or(eye_resolution, |(_, size, _)| size);
-    let accumulation = temporal.and_then(|_| add_accumulation(passes, attachments, history_size));
+    let size = history_size(temporal, periphery.map(|(_, size, _)| size), eye_resolution);
+    let accumulation = temporal.and_then(|_| add_accumulation(passes, attachments, size));
     let in_output = accumulation.is_some() && periphery.is_none();
     match (&accumulation, periphery) {
-        (Some(a), Some((_, size, format))) => {
+        (Some(a), Some((_, _, format))) => {
             let mut sources = images.clone();
             sources.extend(a.samples());
             let mut pass = periphery_accumulation_pass(sources, source, size, format, attachments);

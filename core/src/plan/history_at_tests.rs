@@ -96,3 +96,53 @@ fn a_history_at_the_periphery_moves_fewer_bytes() {
         bytes(HistoryAt::Output)
     );
 }
+
+/// At a density of its own the history's pass and both its images are the screen at that
+/// density (0.5 of 512² here: 256², between the periphery's 128² and the output's 512²), and the
+/// hole the fovea leaves keeps clear of the output's reach in the history's texels. Mutations:
+/// the density ignored (the periphery's size), or applied to the periphery's size instead of
+/// the screen's, fail it.
+#[test]
+fn a_history_at_a_density_of_its_own_sizes_its_pass_and_images() {
+    let config = accumulated(HistoryAt::Periphery);
+    let with_density = |d: f32| RenderConfig {
+        foveation: config.foveation.map(|f| FoveationConfig {
+            periphery_temporal: f.periphery_temporal.map(|t| TemporalConfig {
+                history_density: Some(d),
+                ..t
+            }),
+            ..f
+        }),
+        ..config.clone()
+    };
+    let plan = planned(&with_density(0.5));
+    let pair = plan.history.expect("a history pair");
+    let accumulate = plan.passes.iter().find(|p| p.kind == PassKind::Accumulate);
+    let accumulate = accumulate.expect("an accumulation pass");
+    for id in [pair.read, pair.written, accumulate.color.attachment] {
+        let a = &plan.attachments[id];
+        assert_eq!((a.width, a.height), (256, 256), "{}", a.name);
+    }
+    let bytes = |c: &RenderConfig| planned(c).external_traffic_bytes();
+    assert!(bytes(&config) < bytes(&with_density(0.5)));
+}
+
+/// A history density is checked where it is given: within (0, 1], and only for a history in a
+/// pass of its own. Mutation: either check left out fails it.
+#[test]
+fn a_history_density_out_of_range_or_without_its_pass_is_refused() {
+    for (history_at, density) in [
+        (HistoryAt::Periphery, 0.0),
+        (HistoryAt::Periphery, 1.5),
+        (HistoryAt::Periphery, f32::NAN),
+        (HistoryAt::Output, 0.8),
+    ] {
+        let t = TemporalConfig {
+            history_at,
+            history_density: Some(density),
+            ..Default::default()
+        };
+        let e = t.validate().expect_err("refused");
+        assert!(e.to_string().contains("temporal_history_density"), "{e}");
+    }
+}

@@ -55,8 +55,9 @@ pub(super) fn output_pass(
     )
 }
 
-/// The pass that accumulates the periphery at its own texels (`size`, in `format`) before the
-/// output pass composes it ([`HistoryAt::Periphery`](crate::foveation::HistoryAt::Periphery)):
+/// The pass that accumulates the periphery at its own texels, or at the history's density
+/// (`size`, in `format`), before the output pass composes it
+/// ([`HistoryAt::Periphery`](crate::foveation::HistoryAt::Periphery)):
 /// the output stage's accumulation with no fovea over it and no lens, sampling `sources` as a
 /// temporal output pass does. Its target holds each eye's accumulated periphery, which the
 /// output pass samples in place of the periphery's own image.
@@ -84,7 +85,7 @@ pub(super) fn periphery_accumulation_pass(
         sources,
         target,
         attachments,
-        "periphery accumulated at its own texels",
+        "periphery accumulated in a pass of its own",
         PassKind::Accumulate,
         Step::Output(OutputStep {
             lens: false,

@@ -562,9 +562,12 @@ fn periphery_reason(g: &crate::foveation::FoveationGeometry, density: f64, scree
             "one frame at {density:.2} of the screen's density{prefiltered}, upscaled, nothing kept between frames: the cheapest foveated frame, no history to read or write, nothing that changes while the head is still, but it measured less accurate than stereo without MSAA over the frame (eFLIP p99) in every motion on the lit atrium at the Quest Pro's panel; the library's default accumulates it instead, at {RECOMMENDED_PERIPHERY_DENSITY} of the screen's density, for more time and a history's bytes (BENCHMARKS.md)"
         ),
         Some(t) => {
-            let history = match t.history_at {
-                HistoryAt::Output => "a history at the output's pixels",
-                HistoryAt::Periphery => "a history at the periphery's own texels",
+            let history = match (t.history_at, t.history_density) {
+                (HistoryAt::Output, _) => "a history at the output's pixels".to_string(),
+                (HistoryAt::Periphery, None) => "a history at the periphery's own texels".into(),
+                (HistoryAt::Periphery, Some(d)) => format!(
+                    "a history at {d:.2} of the screen's density, in a pass of its own"
+                ),
             };
             // The recommended density, up to the rounding of the views to whole pixels.
             let off_px = (density - f64::from(RECOMMENDED_PERIPHERY_DENSITY)).abs() * f64::from(screen);

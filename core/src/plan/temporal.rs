@@ -99,6 +99,28 @@ pub(super) fn add_accumulation(
     })
 }
 
+/// The history's size: the output's (`eye`); in a pass of its own, the periphery's (`periphery`,
+/// its size) or the screen's at the history's own density
+/// ([`TemporalConfig::history_density`](crate::foveation::TemporalConfig::history_density)),
+/// rounded as the periphery's views are.
+pub(super) fn history_size(
+    temporal: Option<crate::foveation::TemporalConfig>,
+    periphery: Option<Resolution>,
+    eye: Resolution,
+) -> Resolution {
+    let Some(periphery) = periphery else {
+        return eye;
+    };
+    let Some(density) = temporal.and_then(|t| t.history_density) else {
+        return periphery;
+    };
+    let side = |px: u32| ((px as f32 * density).round() as u32).max(1);
+    Resolution {
+        width: side(eye.width),
+        height: side(eye.height),
+    }
+}
+
 /// The periphery's image (its resolve when multisampled), its size and format: what the
 /// periphery pass (the scene pass of views 0 and 1) leaves for the passes after it.
 pub(super) fn periphery_image(
