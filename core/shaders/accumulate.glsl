@@ -38,6 +38,9 @@ layout(constant_id = 40) const bool REACH = false;
 // The scene passes mark instances that move (alpha below 1; scene.frag): only then are they
 // looked for in the neighbourhood, and only then is the box needed where nothing moved.
 layout(constant_id = 7) const bool MARK_MOVING = false;
+// The history keeps luma alone in one byte (HistoryFormat::Luma): code 0 holds nothing, 1 to 255
+// the square root of linear luma; the chroma comes from this frame's periphery.
+layout(constant_id = 44) const bool LUMA_HISTORY = false;
 
 layout(set = 0, binding = 4) uniform sampler2DArray history;
 layout(set = 0, binding = 5) uniform sampler2DArray periphery_depth;
@@ -65,7 +68,30 @@ const float MOVER_ALPHA = 1.0 - 0.5 / 255.0;
 #endif
 
 vec4 to_history(vec3 linear, float kind) {
-    return vec4(round(sqrt(clamp(linear, 0.0, 1.0)) * 1023.0) / 1023.0, kind);
+    if (!LUMA_HISTORY) {
+        return vec4(round(sqrt(clamp(linear, 0.0, 1.0)) * 1023.0) / 1023.0, kind);
+    }
+    if (kind == 0.0) {
+        return NOTHING;
+    }
+    // YCoCg's luma, rounded up with the probability of its fraction (interleaved gradient
+    // noise, Jimenez 2014, moved every frame with the jitter): in 254 steps a still blend of
+    // 0.05 moves a pixel by under half a step, which plain rounding would undo every frame.
+    float s = sqrt(clamp(dot(linear, vec3(0.25, 0.5, 0.25)), 0.0, 1.0)) * 254.0;
+    vec2 at = gl_FragCoord.xy + 67.0 * c.jitter.xy;
+    float noise = fract(52.9829189 * fract(dot(at, vec2(0.06711056, 0.00583715))));
+    return vec4((min(floor(s + noise), 254.0) + 1.0) / 255.0);
+}
+
+// A history texel as the colour history keeps it (the square root of linear light, its kind in
+// alpha); a luma history's as grey, its kind the accumulated periphery's or nothing's.
+vec4 history_texel(ivec2 texel, uint eye) {
+    vec4 h = texelFetch(history, ivec3(texel, eye), 0);
+    if (!LUMA_HISTORY) {
+        return h;
+    }
+    float code = round(h.r * 255.0);
+    return code < 0.5 ? NOTHING : vec4(vec3((code - 1.0) / 254.0), 1.0);
 }
 
 vec3 to_ycocg(vec3 c) {
@@ -168,8 +194,11 @@ vec3 previous_pixel(uint eye, vec2 here, vec2 t, vec2 display, float distance, b
     }
     at *= c.screen.xy;
     ivec2 nearest = clamp(ivec2(floor(at)), ivec2(0), ivec2(c.screen.xy) - 1);
-    float kind = texelFetch(history, ivec3(nearest, eye), 0).a;
-    bool under_fovea = abs(kind - FROM_FOVEA) < 0.1;
+    float kind = history_texel(nearest, eye).a;
+    // A luma history cannot say that it holds what the fovea showed: where it holds anything
+    // and the frame before's periphery has no depth (its hole, or the sky), it is trusted as
+    // the colour history trusts the fovea's (the clip's box still holds it where it moved).
+    bool under_fovea = LUMA_HISTORY ? kind > 0.5 : abs(kind - FROM_FOVEA) < 0.1;
     vec2 motion = (uv - here) * vec2(textureSize(previous_depth, 0).xy); // periphery texels
     moved = dot(motion, motion) >= 0.01;
 #ifdef COUNT_FRAGMENTS
@@ -200,7 +229,7 @@ vec4 history_at(uint eye, vec2 at, out bool mover) {
         if (any(lessThan(tap, ivec2(0))) || any(greaterThanEqual(tap, ivec2(c.screen.xy)))) {
             continue;
         }
-        vec4 h = texelFetch(history, ivec3(tap, eye), 0);
+        vec4 h = history_texel(tap, eye);
         if (h.a < 0.5 * MOVER) {
             continue;
         }
@@ -237,7 +266,7 @@ vec3 history_sharp(uint eye, vec2 at, vec3 bilinear) {
     vec3 hi = vec3(-1e30);
     for (int y = 0; y < 4; y++) {
         for (int x = 0; x < 4; x++) {
-            vec4 h = texelFetch(history, ivec3(base + ivec2(x, y), eye), 0);
+            vec4 h = history_texel(base + ivec2(x, y), eye);
             if (h.a < 0.5 * MOVER) {
                 return bilinear;
             }
@@ -384,6 +413,10 @@ vec3 accumulate(uint eye, vec2 uv, vec2 t, vec2 display, out vec4 next) {
         clipped = clipped || (clip_on && mover_before);
         if (HISTORY_CATMULL_ROM && moved && h.w > 0.99) {
             h.rgb = history_sharp(eye, at.xy, h.rgb);
+        }
+        if (LUMA_HISTORY) {
+            // Its luma (grey: every channel the same), this frame's periphery's chroma.
+            h.rgb = from_ycocg(vec3(h.r, to_ycocg(bilinear).yz));
         }
 #ifdef COUNT_FRAGMENTS
         if (h.w <= 0.01) {

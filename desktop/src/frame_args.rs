@@ -4,8 +4,8 @@
 use anyhow::Result;
 use clap::Args;
 use foveate::foveation::{
-    ClipNeighbourhood, FoveationConfig, HistoryAt, HistoryClip, HistoryFilter, NewSample,
-    PeripheryFilter, TemporalConfig,
+    ClipNeighbourhood, FoveationConfig, HistoryAt, HistoryClip, HistoryFilter, HistoryFormat,
+    NewSample, PeripheryFilter, TemporalConfig,
 };
 use foveate::mffr::MffrConfig;
 use foveate::plan::{FramePlan, RadialDensity, RenderConfig, Resolution, StereoMode};
@@ -126,6 +126,10 @@ pub struct ConfigArgs {
     /// coarser than the output's. Default: the periphery's density.
     #[arg(long)]
     pub temporal_history_density: Option<f32>,
+    /// With --temporal: what the history keeps of a pixel: `colour` (32 bits) or `luma` (one
+    /// byte, dithered; the chroma from each frame's periphery). Default: the library's.
+    #[arg(long)]
+    pub temporal_history_format: Option<HistoryFormat>,
     /// With --temporal: accumulate only within this eccentricity of the gaze (degrees); beyond
     /// it each frame's periphery is shown as it is and does none of the accumulation's work
     /// (the two blend over the last 5°). Default: everywhere.
@@ -405,6 +409,9 @@ impl ConfigArgs {
                 new_sample: self.temporal_new_sample.unwrap_or(default.new_sample),
                 history_at: self.temporal_history.unwrap_or(default.history_at),
                 history_density: self.temporal_history_density.or(default.history_density),
+                history_format: self
+                    .temporal_history_format
+                    .unwrap_or(default.history_format),
                 within_deg: self.temporal_within.or(default.within_deg),
                 ..default
             }),
@@ -502,6 +509,7 @@ impl ConfigArgs {
                     given("--temporal-new-sample", &self.temporal_new_sample),
                     given("--temporal-history", &self.temporal_history),
                     given("--temporal-history-density", &self.temporal_history_density),
+                    given("--temporal-history-format", &self.temporal_history_format),
                     given("--temporal-within", &self.temporal_within),
                 ],
             ),

@@ -2,8 +2,8 @@
 //! periphery at its own density and sample count, and accumulated over frames.
 
 use foveate::foveation::{
-    ClipNeighbourhood, FoveationConfig, HistoryAt, HistoryClip, HistoryFilter, NewSample,
-    PeripheryFilter, TemporalConfig,
+    ClipNeighbourhood, FoveationConfig, HistoryAt, HistoryClip, HistoryFilter, HistoryFormat,
+    NewSample, PeripheryFilter, TemporalConfig,
 };
 use foveate::plan::RenderConfig;
 
@@ -75,6 +75,10 @@ pub struct Accumulation {
     /// the output's pixels.
     #[arg(long, value_delimiter = ',')]
     pub history_densities: Vec<f32>,
+    /// With --temporal: one accumulated row per history format: `colour` (32 bits a pixel),
+    /// `luma` (one byte, the chroma from each frame's periphery) (default: the library's).
+    #[arg(long, value_delimiter = ',')]
+    pub history_formats: Vec<HistoryFormat>,
     /// With --temporal: one accumulated row per reach: the eccentricity (degrees) within which
     /// the periphery accumulates, each frame's periphery shown beyond it (default: everywhere).
     #[arg(long, value_delimiter = ',')]
@@ -133,6 +137,12 @@ pub fn with_temporal(
     });
     ways = vary(ways, &accumulation.new_samples, |w, new_sample| {
         TemporalConfig { new_sample, ..w }
+    });
+    ways = vary(ways, &accumulation.history_formats, |w, history_format| {
+        TemporalConfig {
+            history_format,
+            ..w
+        }
     });
     ways = vary(ways, &accumulation.histories, |w, history_at| {
         TemporalConfig { history_at, ..w }
@@ -237,6 +247,9 @@ fn way_words(way: TemporalConfig, default: TemporalConfig) -> String {
     }
     if way.new_sample != default.new_sample {
         words.push(format!("{} sample", way.new_sample));
+    }
+    if way.history_format != default.history_format {
+        words.push(format!("{} history", way.history_format));
     }
     match way.history_density {
         Some(density) => words.push(format!("history at density {density}")),

@@ -4,7 +4,7 @@
 
 use foveate::foveation::{
     fovea_centre_px, fovea_views, ClipNeighbourhood, FoveationConfig, HistoryAt, HistoryFilter,
-    TemporalConfig,
+    HistoryFormat, TemporalConfig,
 };
 use foveate::metrics::RgbaImage;
 use foveate::plan::{FoveaLayout, FramePlan, OutputStage, RenderConfig, Resolution, StereoMode};
@@ -139,8 +139,9 @@ pub(crate) fn periphery_error(
 /// On a still frame the accumulated periphery approaches the supersampled reference (the
 /// scene at 4× the resolution, box-filtered) as frames go by, and ends closer to it than the
 /// bilinear periphery does. Negative control in the test: without jitter (a cycle of 1) the
-/// history gains nothing from frame to frame. Mutations: the jitter applied with the wrong sign
-/// in the shader (samples credited to the wrong pixels), or the history never blended, fail it.
+/// history gains nothing from frame to frame. A history of luma alone in a byte converges too.
+/// Mutations: the jitter applied with the wrong sign in the shader (samples credited to the
+/// wrong pixels), the history never blended, or a luma history decoded as a colour one, fail it.
 #[test]
 fn accumulation_converges_on_a_still_frame() {
     let gpu = gpu();
@@ -171,7 +172,15 @@ fn accumulation_converges_on_a_still_frame() {
         jitter_cycle: 1,
         ..Default::default()
     }));
-    eprintln!("periphery error (first, last frame): bilinear {bilinear:?}, accumulated {accumulated:?}, unjittered {unjittered:?}");
+    let luma = error(Some(TemporalConfig {
+        history_format: HistoryFormat::Luma,
+        ..Default::default()
+    }));
+    eprintln!("periphery error (first, last frame): bilinear {bilinear:?}, accumulated {accumulated:?}, unjittered {unjittered:?}, luma {luma:?}");
+    assert!(
+        luma[1] < 0.85 * luma[0] && luma[1] < bilinear[1],
+        "a luma history converges too: {luma:?} against {bilinear:?}"
+    );
     assert!(
         accumulated[0] <= bilinear[0],
         "the first frame starts from the bilinear periphery (its textures at the screen's \

@@ -29,7 +29,7 @@ pub use latency::{
 };
 pub use ring::RingGeometry;
 pub use temporal::{
-    halton, ClipNeighbourhood, HistoryAt, HistoryClip, HistoryFilter, NewSample, TemporalConfig,
-    REACH_EDGE_DEG,
+    halton, ClipNeighbourhood, HistoryAt, HistoryClip, HistoryFilter, HistoryFormat, NewSample,
+    TemporalConfig, REACH_EDGE_DEG,
 };
 pub use views::{fovea_centre_px, fovea_views, gaze_tangent, mask_shapes, ring_views, MASK_SHAPES};

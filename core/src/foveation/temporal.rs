@@ -44,6 +44,8 @@ pub struct TemporalConfig {
     /// resampled and keep more of the jitter's sub-texel detail, for more pixels accumulated).
     /// `None`: the periphery's density.
     pub history_density: Option<f32>,
+    /// What the history keeps of a pixel: its colour, or its luma alone in a byte.
+    pub history_format: HistoryFormat,
     /// How far from the gaze the periphery accumulates: within this eccentricity (degrees,
     /// from the fovea's centre) it accumulates, beyond it each frame's periphery is shown as it
     /// is (the jitter undone) and its pixels read no history and do none of the accumulation's
@@ -74,6 +76,27 @@ pub enum HistoryAt {
 named_enum!(HistoryAt, "history at", [
     HistoryAt::Output => "output",
     HistoryAt::Periphery => "periphery",
+]);
+
+/// What the periphery's history keeps of each pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HistoryFormat {
+    /// Its colour: the square root of linear light in 10 bits a channel, and 2 bits saying
+    /// what it holds (nothing, the accumulated periphery, what the fovea showed, where a mover
+    /// lay): 32 bits a pixel.
+    Colour,
+    /// Its luma alone, in one byte (the square root of linear luma, rounded with a dither that
+    /// changes every frame, so a small blend of a new sample is not rounded away on average);
+    /// the chroma comes from each frame's periphery. A quarter of the colour history's bytes;
+    /// it cannot tell what the fovea showed or where a mover lay from the accumulated
+    /// periphery, so after a gaze jump the old hole starts from the periphery, and a mover's
+    /// trail is clipped only where a mover lies now.
+    Luma,
+}
+
+named_enum!(HistoryFormat, "history format", [
+    HistoryFormat::Colour => "colour",
+    HistoryFormat::Luma => "luma",
 ]);
 
 /// What of this frame's periphery enters the history at a pixel, each periphery texel weighted
@@ -324,6 +347,7 @@ impl Default for TemporalConfig {
             new_sample: NewSample::Nearest,
             history_at: HistoryAt::Output,
             history_density: None,
+            history_format: HistoryFormat::Colour,
             within_deg: None,
         }
     }

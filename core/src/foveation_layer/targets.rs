@@ -18,6 +18,7 @@ pub(crate) fn vk_format(format: Format) -> vk::Format {
         Format::Rgba8Unorm => vk::Format::R8G8B8A8_UNORM,
         Format::Rgba16F => vk::Format::R16G16B16A16_SFLOAT,
         Format::Rgb10A2 => vk::Format::A2B10G10R10_UNORM_PACK32,
+        Format::R8 => vk::Format::R8_UNORM,
         Format::D32 => vk::Format::D32_SFLOAT,
         Format::D32S8 => vk::Format::D32_SFLOAT_S8_UINT,
     }

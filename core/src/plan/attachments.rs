@@ -19,6 +19,10 @@ pub enum Format {
     /// bytes of half floats; alpha 0 marks a pixel with no history, 2/3 one that holds what
     /// the fovea showed over the periphery's hole.
     Rgb10A2,
+    /// One 8-bit channel (`R8_UNORM`): the periphery's luma history
+    /// ([`HistoryFormat::Luma`](crate::foveation::HistoryFormat::Luma)), its code 0 a pixel
+    /// with no history, 1 to 255 the square root of linear luma.
+    R8,
     /// Reverse-Z depth without stencil.
     D32,
     /// Reverse-Z depth with stencil, only when an effect writes stencil masks.
@@ -31,6 +35,7 @@ impl Format {
         match self {
             Format::Rgba8Srgb | Format::Rgba8Unorm | Format::Rgb10A2 | Format::D32 => 4,
             Format::Rgba16F => 8,
+            Format::R8 => 1,
             // D32_SFLOAT_S8_UINT is commonly stored as 4 + 1 bytes (plus padding).
             Format::D32S8 => 5,
         }

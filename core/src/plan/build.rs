@@ -361,7 +361,7 @@ fn add_technique_steps(
         .filter(|t| t.history_at == HistoryAt::Periphery)
         .and_then(|_| periphery_image(passes, attachments));
     let size = history_size(temporal, periphery.map(|(_, size, _)| size), eye_resolution);
-    let accumulation = temporal.and_then(|_| add_accumulation(passes, attachments, size));
+    let accumulation = temporal.and_then(|t| add_accumulation(passes, attachments, size, t));
     let in_output = accumulation.is_some() && periphery.is_none();
     match (&accumulation, periphery) {
         (Some(a), Some((_, _, format))) => {

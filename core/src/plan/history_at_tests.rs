@@ -4,7 +4,8 @@
 
 use super::tests::*;
 use super::*;
-use crate::foveation::{FoveationConfig, HistoryAt, TemporalConfig};
+use crate::foveation::{FoveationConfig, HistoryAt, HistoryFormat, TemporalConfig};
+use crate::plan::pipeline::Constant;
 
 fn accumulated(history_at: HistoryAt) -> RenderConfig {
     RenderConfig {
@@ -145,4 +146,34 @@ fn a_history_density_out_of_range_or_without_its_pass_is_refused() {
         let e = t.validate().expect_err("refused");
         assert!(e.to_string().contains("temporal_history_density"), "{e}");
     }
+}
+
+/// A luma history is one byte a pixel, a quarter of the colour history's bytes, at the same
+/// size; the output pass is told to read it as luma. Mutations: the format left at 32 bits, or
+/// the shader's constant left off, fail it.
+#[test]
+fn a_luma_history_is_one_byte_a_pixel() {
+    let config = |history_format| RenderConfig {
+        foveation: foveated(true).foveation.map(|f| FoveationConfig {
+            periphery_temporal: Some(TemporalConfig {
+                history_format,
+                ..Default::default()
+            }),
+            ..f
+        }),
+        fovea_layout: FoveaLayout::Auto,
+        ..foveated(true)
+    };
+    let (colour, luma) = (
+        planned(&config(HistoryFormat::Colour)),
+        planned(&config(HistoryFormat::Luma)),
+    );
+    let history = |p: &FramePlan| p.attachments[p.history.unwrap().written].clone();
+    assert_eq!(history(&luma).format, Format::R8);
+    assert_eq!(4 * history(&luma).bytes(), history(&colour).bytes());
+    let luma_constant = |p: &FramePlan| {
+        let output = p.passes.last().unwrap();
+        (output.pipelines.iter()).any(|d| d.constants.contains(&(Constant::LumaHistory, 1)))
+    };
+    assert!(luma_constant(&luma) && !luma_constant(&colour));
 }

@@ -9,7 +9,9 @@ use super::pipeline::{Constant, PipelineDesc, StepContext};
 use super::steps::{OutputSource, OutputStep, Step};
 use super::stereo_scene::marks_moving;
 use super::{ConfigError, OutputFormat, Resolution};
-use crate::foveation::{ClipNeighbourhood, HistoryFilter, NewSample, PeripheryFilter};
+use crate::foveation::{
+    ClipNeighbourhood, HistoryFilter, HistoryFormat, NewSample, PeripheryFilter,
+};
 use crate::shaders::{
     COMPOSITE_VERT, OUTPUT_FRAG, OUTPUT_FRAG_COUNTING, OUTPUT_TEMPORAL_FRAG,
     OUTPUT_TEMPORAL_FRAG_COUNTING,
@@ -212,6 +214,7 @@ pub(super) fn output_pipeline(
     let cross = temporal.is_some_and(|t| t.neighbourhood == ClipNeighbourhood::Cross);
     let weighted = temporal.is_some_and(|t| t.new_sample == NewSample::Weighted);
     let reach = temporal.is_some_and(|t| t.within_deg.is_some());
+    let luma = temporal.is_some_and(|t| t.history_format == HistoryFormat::Luma);
     let (fovea_layer, sharpen) = match step.source {
         OutputSource::Foveated {
             fovea_layer,
@@ -236,6 +239,7 @@ pub(super) fn output_pipeline(
         .flag(Constant::WeightedNewSample, weighted)
         .flag(Constant::PeripheryOnly, step.periphery_only)
         .flag(Constant::Reach, reach)
+        .flag(Constant::LumaHistory, luma)
         .flag(Constant::Ring, foveation.is_some_and(|f| f.ring.is_some()))
         .flag(Constant::MarkMoving, step.temporal && marks_moving(plan))
         .constant(

@@ -89,6 +89,9 @@ pub enum Constant {
     /// The output stage composes a parafoveal ring between the fovea and the periphery
     /// ([`FoveationConfig::ring_ratio`](crate::foveation::FoveationConfig::ring_ratio)).
     Ring,
+    /// The accumulating output stage keeps the periphery's luma alone in its history
+    /// ([`HistoryFormat::Luma`](crate::foveation::HistoryFormat::Luma)).
+    LumaHistory,
     /// Lit scenes: the point lights each fragment shades (the plan's `point_lights`), so the
     /// loop over them has a bound fixed when the pipeline is compiled.
     PointLights,
@@ -107,7 +110,7 @@ pub enum ConstantKind {
 
 impl Constant {
     /// Every constant, for the check against the GLSL.
-    pub const ALL: [Constant; 34] = {
+    pub const ALL: [Constant; 35] = {
         use Constant::*;
         [
             ViewSource,
@@ -144,6 +147,7 @@ impl Constant {
             PeripheryPrefilter,
             Ring,
             PointLights,
+            LumaHistory,
         ]
     };
 
@@ -186,6 +190,7 @@ impl Constant {
             PeripheryPrefilter => (41, "PERIPHERY_PREFILTER", Bool),
             Ring => (42, "RING", Bool),
             PointLights => (43, "POINT_LIGHTS", Uint),
+            LumaHistory => (44, "LUMA_HISTORY", Bool),
         }
     }
 

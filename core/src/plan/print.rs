@@ -550,7 +550,7 @@ fn clip_words(clip: crate::foveation::HistoryClip) -> String {
 /// behind them are measurements on one scene and panel (BENCHMARKS.md), so a plan names no
 /// measured figure, and says "measured" where a verdict is one.
 fn periphery_reason(g: &crate::foveation::FoveationGeometry, density: f64, screen: u32) -> String {
-    use crate::foveation::{HistoryAt, RECOMMENDED_PERIPHERY_DENSITY};
+    use crate::foveation::{HistoryAt, HistoryFormat, RECOMMENDED_PERIPHERY_DENSITY};
     let prefiltered = match g.periphery_prefilter {
         true => {
             ", its highlights prefiltered to the screen's (measured to lose, still and walking)"
@@ -572,7 +572,12 @@ fn periphery_reason(g: &crate::foveation::FoveationGeometry, density: f64, scree
             // The recommended density, up to the rounding of the views to whole pixels.
             let off_px = (density - f64::from(RECOMMENDED_PERIPHERY_DENSITY)).abs() * f64::from(screen);
             let recommended = off_px <= 0.5 + 1e-3
-                && t.history_at == HistoryAt::Output;
+                && t.history_at == HistoryAt::Output
+                && t.history_format == HistoryFormat::Colour;
+            let history = match t.history_format {
+                HistoryFormat::Colour => history,
+                HistoryFormat::Luma => history + ", its luma alone in a byte",
+            };
             let verdict = if recommended {
                 "; this is the library's default: the cheapest configuration measured at least as accurate as stereo without MSAA over the frame (eFLIP p99) with the head still, walking and through both saccade traces, at both gazes, on the lit atrium at the Quest Pro's panel (single frames at the fovea's ratio lost in every motion and those as accurate cost more, the history at the periphery's texels lost one walk)"
             } else {

@@ -9,6 +9,8 @@
 //! runs in a pass of its own at the periphery's size (`output::periphery_accumulation_pass`),
 //! its history at the periphery's texels, and the output pass composes its image.
 
+use crate::foveation::HistoryFormat;
+
 use super::model::{AttachmentPlan, AttachmentRole, Format, HistoryPair, PassKind, PassPlan};
 use super::ops::{Access, AttachmentId};
 use super::Resolution;
@@ -37,7 +39,7 @@ impl Accumulation {
     }
 }
 
-/// Adds the history pair at the output's size (`eye`); `None` without a periphery pass with
+/// Adds the history pair at the output's size (`eye`), in the format `temporal` keeps; `None` without a periphery pass with
 /// depth. A multisampled periphery resolves its depth to one sample in its pass (sample 0:
 /// the depth at the pixel's centre, as a single-sample periphery has it), and the pair holds
 /// that instead; the multisampled depth stays on tile.
@@ -45,6 +47,7 @@ pub(super) fn add_accumulation(
     passes: &mut [PassPlan],
     attachments: &mut Vec<AttachmentPlan>,
     eye: Resolution,
+    temporal: crate::foveation::TemporalConfig,
 ) -> Option<Accumulation> {
     let periphery = passes
         .iter_mut()
@@ -75,7 +78,10 @@ pub(super) fn add_accumulation(
     let image = |name| AttachmentPlan {
         name,
         role: AttachmentRole::Color,
-        format: Format::Rgb10A2,
+        format: match temporal.history_format {
+            HistoryFormat::Colour => Format::Rgb10A2,
+            HistoryFormat::Luma => Format::R8,
+        },
         samples: 1,
         width: eye.width,
         height: eye.height,
