@@ -1,5 +1,6 @@
+use super::history::HistoryAt;
 use super::ring::{resolve_ring, RingGeometry};
-use super::temporal::{HistoryAt, TemporalConfig};
+use super::temporal::TemporalConfig;
 use crate::vocab::{named_enum, ConfigError, Resolution};
 
 /// How the output stage upscales the periphery to the screen.

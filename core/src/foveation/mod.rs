@@ -6,6 +6,7 @@ mod budget;
 mod config;
 mod eye_movement;
 mod gaze;
+mod history;
 mod inset;
 mod latency;
 mod ring;
@@ -23,13 +24,14 @@ pub use eye_movement::{
     EyeMovementModel, EyeTrace, GazeSpace, SaccadeEvent, SeededRng, TRUTH_HZ,
 };
 pub use gaze::{check_gaze, parse_gaze_csv, simulated_trace, GazeError, GazeFilter, GazeSample};
+pub use history::{HistoryAt, HistoryFormat};
 pub use inset::{fovea_tangents, inset_fov_deg};
 pub use latency::{
     detect_saccades, DelayedGaze, GazeLatency, Prediction, MAX_LATENCY_MS, SACCADE_THRESHOLD_DEG_S,
 };
 pub use ring::RingGeometry;
 pub use temporal::{
-    halton, ClipNeighbourhood, HistoryAt, HistoryClip, HistoryFilter, HistoryFormat, NewSample,
-    TemporalConfig, REACH_EDGE_DEG,
+    halton, ClipNeighbourhood, HistoryClip, HistoryFilter, NewSample, TemporalConfig,
+    REACH_EDGE_DEG,
 };
 pub use views::{fovea_centre_px, fovea_views, gaze_tangent, mask_shapes, ring_views, MASK_SHAPES};

@@ -7,7 +7,8 @@
 
 use glam::{Mat4, Vec2};
 
-use crate::vocab::{named_enum, ConfigError};
+use super::history::{HistoryAt, HistoryFormat};
+use crate::vocab::ConfigError;
 
 /// What a user chooses about the periphery's temporal accumulation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,48 +57,6 @@ pub struct TemporalConfig {
 /// The band at the edge of [`TemporalConfig::within_deg`] over which the accumulated
 /// periphery blends into the single frame (degrees, smoothstep), so no seam shows.
 pub const REACH_EDGE_DEG: f32 = 5.0;
-
-/// Where the accumulated periphery's history keeps its pixels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HistoryAt {
-    /// The output's pixels, in the output pass: the jittered samples land all over each output
-    /// pixel, so the history holds detail beyond the periphery's density (supersampled over
-    /// time), at the price of a full-view history read and written every frame.
-    Output,
-    /// The periphery's own texels, in a pass of its own at the periphery's size before the
-    /// output pass, which then upscales the accumulated periphery as it would a single frame:
-    /// the periphery anti-aliased over time but no sharper than its density, for a history
-    /// the density² of the output's pixels. With [`TemporalConfig::history_density`] the pass
-    /// and its history are at that density instead, between the periphery's and the output's
-    /// (as temporal upscalers keep theirs at their output, not the display's).
-    Periphery,
-}
-
-named_enum!(HistoryAt, "history at", [
-    HistoryAt::Output => "output",
-    HistoryAt::Periphery => "periphery",
-]);
-
-/// What the periphery's history keeps of each pixel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HistoryFormat {
-    /// Its colour: the square root of linear light in 10 bits a channel, and 2 bits saying
-    /// what it holds (nothing, the accumulated periphery, what the fovea showed, where a mover
-    /// lay): 32 bits a pixel.
-    Colour,
-    /// Its luma alone, in one byte (the square root of linear luma, rounded with a dither that
-    /// changes every frame, so a small blend of a new sample is not rounded away on average);
-    /// the chroma comes from each frame's periphery. A quarter of the colour history's bytes;
-    /// it cannot tell what the fovea showed or where a mover lay from the accumulated
-    /// periphery, so after a gaze jump the old hole starts from the periphery, and a mover's
-    /// trail is clipped only where a mover lies now.
-    Luma,
-}
-
-named_enum!(HistoryFormat, "history format", [
-    HistoryFormat::Colour => "colour",
-    HistoryFormat::Luma => "luma",
-]);
 
 /// What of this frame's periphery enters the history at a pixel, each periphery texel weighted
 /// by `exp(−2d²)`, `d` its distance from the pixel's centre in screen pixels (Yang, Nehab &
