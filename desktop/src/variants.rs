@@ -158,11 +158,10 @@ pub fn with_temporal(
             ..w
         },
     );
-    if !accumulation.history_densities.is_empty() {
-        for way in at_densities {
-            if !ways.contains(&way) {
-                ways.push(way);
-            }
+    // Without densities `vary` gives the ways back unchanged: nothing new to add.
+    for way in at_densities {
+        if !ways.contains(&way) {
+            ways.push(way);
         }
     }
     ways = vary(ways, &accumulation.withins, |w, within| TemporalConfig {

@@ -200,10 +200,7 @@ impl FoveationConfig {
         let view = match self.view_resolution {
             Some(0) => return Err(ConfigError::new("view_resolution", 0, "at least 1 pixel")),
             Some(v) => Resolution::square(v),
-            None => Resolution {
-                width: ((screen.width as f32 * self.ratio).round() as u32).max(1),
-                height: ((screen.height as f32 * self.ratio).round() as u32).max(1),
-            },
+            None => screen.scaled(self.ratio),
         };
         // With the view size derived, the window is exactly the view's width in screen pixels
         // (ratio V / screen), so the fovea maps 1:1 onto the screen.
@@ -253,10 +250,7 @@ impl FoveationConfig {
         }
         let periphery_view = match self.periphery_density {
             None => view,
-            Some(d) if d.is_finite() && d > 0.0 && d <= 1.0 => Resolution {
-                width: ((screen.width as f32 * d).round() as u32).max(1),
-                height: ((screen.height as f32 * d).round() as u32).max(1),
-            },
+            Some(d) if d.is_finite() && d > 0.0 && d <= 1.0 => screen.scaled(d),
             Some(d) => {
                 return Err(ConfigError::new(
                     "periphery_density",

@@ -99,10 +99,10 @@ fn a_history_at_the_periphery_moves_fewer_bytes() {
 }
 
 /// At a density of its own the history's pass and both its images are the screen at that
-/// density (0.5 of 512² here: 256², between the periphery's 128² and the output's 512²), and the
-/// hole the fovea leaves keeps clear of the output's reach in the history's texels. Mutations:
-/// the density ignored (the periphery's size), or applied to the periphery's size instead of
-/// the screen's, fail it.
+/// density (0.5 of 512² here: 256², between the periphery's 128² and the output's 512²), and
+/// it moves more bytes than the history at the periphery's texels. Mutations: the density
+/// ignored (the periphery's size), or applied to the periphery's size instead of the
+/// screen's, fail it.
 #[test]
 fn a_history_at_a_density_of_its_own_sizes_its_pass_and_images() {
     let config = accumulated(HistoryAt::Periphery);

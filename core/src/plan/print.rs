@@ -564,7 +564,9 @@ fn periphery_reason(g: &crate::foveation::FoveationGeometry, density: f64, scree
         Some(t) => {
             let history = match (t.history_at, t.history_density) {
                 (HistoryAt::Output, _) => "a history at the output's pixels".to_string(),
-                (HistoryAt::Periphery, None) => "a history at the periphery's own texels".into(),
+                (HistoryAt::Periphery, None) => {
+                    "a history at the periphery's own texels".to_string()
+                }
                 (HistoryAt::Periphery, Some(d)) => format!(
                     "a history at {d:.2} of the screen's density, in a pass of its own"
                 ),

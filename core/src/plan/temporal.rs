@@ -39,8 +39,8 @@ impl Accumulation {
     }
 }
 
-/// Adds the history pair at the output's size (`eye`), in the format `temporal` keeps; `None` without a periphery pass with
-/// depth. A multisampled periphery resolves its depth to one sample in its pass (sample 0:
+/// Adds the history pair at `eye` size (`history_size`'s), in the format `temporal` keeps;
+/// `None` without a periphery pass with depth. A multisampled periphery resolves its depth to one sample in its pass (sample 0:
 /// the depth at the pixel's centre, as a single-sample periphery has it), and the pair holds
 /// that instead; the multisampled depth stays on tile.
 pub(super) fn add_accumulation(
@@ -120,11 +120,7 @@ pub(super) fn history_size(
     let Some(density) = temporal.and_then(|t| t.history_density) else {
         return periphery;
     };
-    let side = |px: u32| ((px as f32 * density).round() as u32).max(1);
-    Resolution {
-        width: side(eye.width),
-        height: side(eye.height),
-    }
+    eye.scaled(density)
 }
 
 /// The periphery's image (its resolve when multisampled), its size and format: what the

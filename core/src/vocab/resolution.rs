@@ -21,6 +21,15 @@ impl Resolution {
         }
     }
 
+    /// Each side times `factor`, rounded, at least a pixel: a view at a density of the screen's.
+    pub fn scaled(self, factor: f32) -> Self {
+        let side = |px: u32| ((px as f32 * factor).round() as u32).max(1);
+        Self {
+            width: side(self.width),
+            height: side(self.height),
+        }
+    }
+
     /// Width times height.
     pub fn pixels(self) -> u64 {
         self.width as u64 * self.height as u64
